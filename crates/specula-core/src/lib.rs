@@ -1,0 +1,11 @@
+//! Specula's core: the geometry of the half-difference parameterisation, the [`Brdf`]
+//! abstraction, the MERL `.binary` table, reference materials, the theta_h sampling functions
+//! and tabulation into the MERL grid. Pure computation: no terminal, network or database.
+
+pub mod brdf;
+pub mod geometry;
+pub mod merl;
+
+pub use brdf::{Brdf, Rgb};
+pub use geometry::{HalfDiff, Spherical};
+pub use merl::MerlBrdf;

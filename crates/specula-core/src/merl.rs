@@ -1,0 +1,368 @@
+//! The MERL `.binary` BRDF table (Matusik et al. 2003), the field's exchange format.
+//!
+//! Layout (DESIGN.md): little-endian; a header of three `i32` (90, 90, 180: theta_h,
+//! theta_d and phi_d bins), then three planes (R, G, B) of 1,458,000 `f64`, cell index
+//! `phi_d_i + 180 * theta_d_i + 180 * 90 * theta_h_i`. The BRDF in 1/sr is the stored value
+//! times a per-channel scale; a negative stored value means "not measured".
+//!
+//! Bins: `theta_h_i = floor(sqrt(theta_h_deg * 90))`, `theta_d_i = floor(theta_d_deg)`,
+//! `phi_d_i = floor(phi_d_deg)` with phi_d folded into `[0, 180)` (reciprocity), each clamped.
+//! Bin centres are taken in index space: `theta_h = (i + 0.5)^2 / 90` deg,
+//! `theta_d = j + 0.5` deg, `phi_d = k + 0.5` deg.
+
+use crate::brdf::{both_above_surface, Brdf, Rgb};
+use crate::geometry::HalfDiff;
+use glam::DVec3;
+use std::path::{Path, PathBuf};
+
+/// Number of theta_h bins.
+pub const THETA_H_BINS: usize = 90;
+/// Number of theta_d bins.
+pub const THETA_D_BINS: usize = 90;
+/// Number of phi_d bins (phi_d in `[0, 180)` degrees).
+pub const PHI_D_BINS: usize = 180;
+/// Number of cells of one channel.
+pub const CELLS: usize = THETA_H_BINS * THETA_D_BINS * PHI_D_BINS;
+/// Stored value times this gives f_r in 1/sr, per channel (R, G, B).
+pub const CHANNEL_SCALE: [f64; 3] = [1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0];
+/// Value written for a cell that was not measured.
+pub const NOT_MEASURED: f64 = -1.0;
+
+const HEADER_BYTES: usize = 12;
+const FILE_BYTES: usize = HEADER_BYTES + 3 * CELLS * 8;
+
+/// What is wrong with a MERL file; shown after the file's path.
+#[derive(Debug, thiserror::Error)]
+pub enum MerlError {
+    #[error("{path}: cannot read: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}: {problem}")]
+    Invalid { path: PathBuf, problem: String },
+}
+
+impl MerlError {
+    fn invalid(path: &Path, problem: impl Into<String>) -> Self {
+        MerlError::Invalid {
+            path: path.to_path_buf(),
+            problem: problem.into(),
+        }
+    }
+}
+
+/// Cell coordinates `(theta_h_i, theta_d_i, phi_d_i)` of the MERL grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Bin {
+    pub theta_h_i: usize,
+    pub theta_d_i: usize,
+    pub phi_d_i: usize,
+}
+
+impl Bin {
+    /// The flat cell index within one channel plane.
+    pub fn index(self) -> usize {
+        self.phi_d_i + PHI_D_BINS * self.theta_d_i + PHI_D_BINS * THETA_D_BINS * self.theta_h_i
+    }
+
+    /// The bin of a flat cell index.
+    pub fn from_index(index: usize) -> Self {
+        Self {
+            theta_h_i: index / (PHI_D_BINS * THETA_D_BINS),
+            theta_d_i: (index / PHI_D_BINS) % THETA_D_BINS,
+            phi_d_i: index % PHI_D_BINS,
+        }
+    }
+
+    /// The nearest bin of half-difference angles, exactly as MERL's reference reader.
+    pub fn of(hd: HalfDiff) -> Self {
+        let theta_h_deg = hd.theta_h.to_degrees().max(0.0);
+        let theta_d_deg = hd.theta_d.to_degrees();
+        let phi_d_deg = hd.phi_d.to_degrees().rem_euclid(180.0);
+        Self {
+            theta_h_i: clamp_bin((theta_h_deg * 90.0).sqrt(), THETA_H_BINS),
+            theta_d_i: clamp_bin(theta_d_deg, THETA_D_BINS),
+            phi_d_i: clamp_bin(phi_d_deg, PHI_D_BINS),
+        }
+    }
+
+    /// The centre of this bin in index space, radians, at the given phi_h.
+    pub fn centre(self, phi_h: f64) -> HalfDiff {
+        HalfDiff::from_degrees(
+            theta_h_centre_deg(self.theta_h_i),
+            phi_h.to_degrees(),
+            self.theta_d_i as f64 + 0.5,
+            self.phi_d_i as f64 + 0.5,
+        )
+    }
+}
+
+/// Centre of theta_h bin `i` in degrees: `(i + 0.5)^2 / 90`.
+pub fn theta_h_centre_deg(i: usize) -> f64 {
+    let x = i as f64 + 0.5;
+    x * x / 90.0
+}
+
+fn clamp_bin(value: f64, bins: usize) -> usize {
+    if value.is_nan() || value <= 0.0 {
+        0
+    } else {
+        (value.floor() as usize).min(bins - 1)
+    }
+}
+
+/// A MERL table held as the stored (unscaled) values of the file, so that reading and
+/// writing is byte-exact, with a mask of the cells that were measured.
+#[derive(Clone)]
+pub struct MerlBrdf {
+    name: String,
+    /// Three planes (R, G, B) of `CELLS` stored values each, as in the file.
+    stored: Vec<f64>,
+    /// `measured[i]`: all three channels of cell `i` hold a value (none negative).
+    measured: Vec<bool>,
+}
+
+impl MerlBrdf {
+    /// A table with every cell "not measured".
+    pub fn empty(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            stored: vec![NOT_MEASURED; 3 * CELLS],
+            measured: vec![false; CELLS],
+        }
+    }
+
+    /// Reads a `.binary` file, checking its header, its length and every value.
+    pub fn read(path: &Path) -> Result<Self, MerlError> {
+        if path.is_dir() {
+            return Err(MerlError::invalid(path, "is a directory, not a MERL .binary file"));
+        }
+        let bytes = std::fs::read(path).map_err(|source| MerlError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| path.display().to_string());
+        Self::from_bytes(name, &bytes).map_err(|problem| MerlError::invalid(path, problem))
+    }
+
+    /// Parses the bytes of a `.binary` file; the error says what is wrong.
+    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, String> {
+        if bytes.len() < HEADER_BYTES {
+            return Err(format!(
+                "too short for a MERL header ({} bytes, need {HEADER_BYTES})",
+                bytes.len()
+            ));
+        }
+        let dim = |i: usize| i32::from_le_bytes([bytes[4 * i], bytes[4 * i + 1], bytes[4 * i + 2], bytes[4 * i + 3]]);
+        let dims = [dim(0), dim(1), dim(2)];
+        if dims != [THETA_H_BINS as i32, THETA_D_BINS as i32, PHI_D_BINS as i32] {
+            return Err(format!(
+                "dimensions {} x {} x {}, expected 90 x 90 x 180 (theta_h, theta_d, phi_d)",
+                dims[0], dims[1], dims[2]
+            ));
+        }
+        if bytes.len() != FILE_BYTES {
+            let kind = if bytes.len() < FILE_BYTES { "truncated" } else { "over-long" };
+            return Err(format!(
+                "{kind} payload: {} bytes, expected {FILE_BYTES}",
+                bytes.len()
+            ));
+        }
+        let stored: Vec<f64> = bytes[HEADER_BYTES..]
+            .chunks_exact(8)
+            .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+            .collect();
+        if let Some(pos) = stored.iter().position(|v| !v.is_finite()) {
+            let channel = ["red", "green", "blue"][pos / CELLS];
+            let bin = Bin::from_index(pos % CELLS);
+            return Err(format!(
+                "non-finite value {} in the {channel} channel at cell (theta_h {}, theta_d {}, phi_d {})",
+                stored[pos], bin.theta_h_i, bin.theta_d_i, bin.phi_d_i
+            ));
+        }
+        let measured = (0..CELLS)
+            .map(|i| stored[i] >= 0.0 && stored[i + CELLS] >= 0.0 && stored[i + 2 * CELLS] >= 0.0)
+            .collect();
+        Ok(Self {
+            name: name.into(),
+            stored,
+            measured,
+        })
+    }
+
+    /// The bytes of the `.binary` file; cells not measured are written as -1.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(FILE_BYTES);
+        for d in [THETA_H_BINS, THETA_D_BINS, PHI_D_BINS] {
+            out.extend_from_slice(&(d as i32).to_le_bytes());
+        }
+        for (i, v) in self.stored.iter().enumerate() {
+            let value = if self.measured[i % CELLS] { *v } else { v.min(NOT_MEASURED) };
+            out.extend_from_slice(&value.to_le_bytes());
+        }
+        out
+    }
+
+    /// Writes the `.binary` file.
+    pub fn write(&self, path: &Path) -> Result<(), MerlError> {
+        std::fs::write(path, self.to_bytes()).map_err(|source| MerlError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+
+    /// f_r in 1/sr of a cell, or `None` when it was not measured.
+    pub fn cell(&self, index: usize) -> Option<Rgb> {
+        self.measured[index].then(|| {
+            Rgb::new(
+                self.stored[index] * CHANNEL_SCALE[0],
+                self.stored[index + CELLS] * CHANNEL_SCALE[1],
+                self.stored[index + 2 * CELLS] * CHANNEL_SCALE[2],
+            )
+        })
+    }
+
+    /// Sets a cell to f_r in 1/sr, or marks it not measured with `None`.
+    /// Negative or non-finite values are stored as "not measured".
+    pub fn set_cell(&mut self, index: usize, value: Option<Rgb>) {
+        match value.filter(|v| v.is_finite() && v.min_element() >= 0.0) {
+            Some(v) => {
+                for c in 0..3 {
+                    self.stored[index + c * CELLS] = v[c] / CHANNEL_SCALE[c];
+                }
+                self.measured[index] = true;
+            }
+            None => {
+                for c in 0..3 {
+                    self.stored[index + c * CELLS] = NOT_MEASURED;
+                }
+                self.measured[index] = false;
+            }
+        }
+    }
+
+    /// Whether each cell was measured.
+    pub fn measured_mask(&self) -> &[bool] {
+        &self.measured
+    }
+
+    /// Number of measured cells.
+    pub fn measured_count(&self) -> usize {
+        self.measured.iter().filter(|m| **m).count()
+    }
+
+    /// The nearest-bin lookup at half-difference angles.
+    pub fn lookup(&self, hd: HalfDiff) -> Option<Rgb> {
+        self.cell(Bin::of(hd).index())
+    }
+
+    pub fn set_name(&mut self, name: impl Into<String>) {
+        self.name = name.into();
+    }
+}
+
+impl std::fmt::Debug for MerlBrdf {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MerlBrdf")
+            .field("name", &self.name)
+            .field("measured", &self.measured_count())
+            .finish()
+    }
+}
+
+impl Brdf for MerlBrdf {
+    fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+        if !both_above_surface(wi, wo) {
+            return Some(Rgb::ZERO);
+        }
+        self.lookup(HalfDiff::from_directions(wi, wo))
+    }
+
+    fn eval_half_diff(&self, hd: HalfDiff) -> Option<Rgb> {
+        self.lookup(hd)
+    }
+
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample_table() -> MerlBrdf {
+        let mut t = MerlBrdf::empty("t");
+        for i in (0..CELLS).step_by(7) {
+            t.set_cell(i, Some(Rgb::new(i as f64, 2.0 * i as f64, 0.5) * 1e-3));
+        }
+        t
+    }
+
+    #[test]
+    fn bytes_round_trip_exactly() {
+        let t = sample_table();
+        let bytes = t.to_bytes();
+        assert_eq!(bytes.len(), FILE_BYTES);
+        let back = MerlBrdf::from_bytes("t", &bytes).unwrap();
+        assert_eq!(back.to_bytes(), bytes);
+        assert_eq!(back.measured_count(), t.measured_count());
+        assert_eq!(back.cell(1), None);
+        assert_eq!(back.cell(7), t.cell(7));
+    }
+
+    #[test]
+    fn header_and_layout_follow_the_format() {
+        let mut t = MerlBrdf::empty("t");
+        let bin = Bin { theta_h_i: 3, theta_d_i: 5, phi_d_i: 7 };
+        t.set_cell(bin.index(), Some(Rgb::new(1.0, 1.15, 1.66) / 1500.0));
+        let bytes = t.to_bytes();
+        assert_eq!(&bytes[0..4], &90i32.to_le_bytes());
+        assert_eq!(&bytes[8..12], &180i32.to_le_bytes());
+        let idx = 7 + 180 * 5 + 180 * 90 * 3;
+        for c in 0..3 {
+            let at = HEADER_BYTES + 8 * (c * CELLS + idx);
+            let v = f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+            assert!((v - 1.0).abs() < 1e-12, "channel {c}: {v}");
+        }
+    }
+
+    #[test]
+    fn bins_follow_the_reference_reader() {
+        let b = Bin::of(HalfDiff::from_degrees(1.0, 0.0, 40.3, 90.0));
+        assert_eq!(b.theta_h_i, 9); // sqrt(90) = 9.49
+        assert_eq!(b.theta_d_i, 40);
+        assert_eq!(b.phi_d_i, 90);
+        let folded = Bin::of(HalfDiff::from_degrees(89.99, 0.0, 89.99, 270.5));
+        assert_eq!((folded.theta_h_i, folded.theta_d_i, folded.phi_d_i), (89, 89, 90));
+        for i in 0..THETA_H_BINS {
+            let c = Bin { theta_h_i: i, theta_d_i: 12, phi_d_i: 170 };
+            assert_eq!(Bin::of(c.centre(0.3)), c);
+        }
+        for index in [0, 1, 180, CELLS - 1, 123_456] {
+            assert_eq!(Bin::from_index(index).index(), index);
+        }
+    }
+
+    #[test]
+    fn bad_input_is_described() {
+        assert!(MerlBrdf::from_bytes("x", &[0; 5]).unwrap_err().contains("too short"));
+        let mut bytes = sample_table().to_bytes();
+        let err = MerlBrdf::from_bytes("x", &bytes[..1000]).unwrap_err();
+        assert!(err.contains("truncated"), "{err}");
+        bytes.push(0);
+        assert!(MerlBrdf::from_bytes("x", &bytes).unwrap_err().contains("over-long"));
+        bytes.pop();
+        bytes[0..4].copy_from_slice(&(-5i32).to_le_bytes());
+        assert!(MerlBrdf::from_bytes("x", &bytes).unwrap_err().contains("dimensions -5"));
+        bytes[0..4].copy_from_slice(&90i32.to_le_bytes());
+        let at = HEADER_BYTES + 8 * (CELLS + 44);
+        bytes[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
+        let err = MerlBrdf::from_bytes("x", &bytes).unwrap_err();
+        assert!(err.contains("non-finite") && err.contains("green"), "{err}");
+    }
+}
