@@ -1,1 +1,47 @@
-fn main() {}
+//! `specula`: plan, simulate, drive, reconstruct and inspect BRDF measurements of highly
+//! specular materials. This crate only parses arguments, shows progress and reports errors;
+//! the work lives in the library crates.
+
+mod commands;
+mod progress;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Measure the BRDF of highly specular materials on a goniometer with few, well-placed samples.
+///
+/// BRDF arguments accept a MERL .binary file, a material .toml file, a preset name
+/// (silver-925, green-paint, chrome, steel) or a published fit as model:name.
+#[derive(Parser)]
+#[command(name = "specula", version, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    Demo(commands::demo::Args),
+    Tabulate(commands::tabulate::Args),
+    Info(commands::info::Args),
+    Eval(commands::eval::Args),
+    Compare(commands::compare::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo(args) => commands::demo::run(args),
+        Command::Tabulate(args) => commands::tabulate::run(args),
+        Command::Info(args) => commands::info::run(args),
+        Command::Eval(args) => commands::eval::run(args),
+        Command::Compare(args) => commands::compare::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::from(1)
+        }
+    }
+}

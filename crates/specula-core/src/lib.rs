@@ -9,3 +9,6 @@ pub mod merl;
 pub use brdf::{Brdf, Rgb};
 pub use geometry::{HalfDiff, Spherical};
 pub use merl::MerlBrdf;
+pub mod sampling;
+pub mod tabulate;
+pub mod compare;

@@ -1,0 +1,46 @@
+//! `specula compare`: error figures between two BRDFs.
+
+use anyhow::Result;
+use specula_core::compare::compare;
+use specula_core::tabulate::tabulate;
+
+/// Compare BRDF A against the reference B over the MERL grid (both are tabulated at the
+/// bin centres first; MERL files are used as they are).
+///
+/// Figures, over the cells measured in both (averaged over R, G, B):
+///
+///   relative_rmse  cosine-weighted relative RMSE: sqrt(sum w^2 (a-b)^2 / sum w^2 b^2),
+///                  w = cos(theta_i) cos(theta_o); 0.1 means 10 percent of B's radiance.
+///
+///   log_rmse       sqrt(mean (ln(1 + a cos theta_i) - ln(1 + b cos theta_i))^2): weighs the
+///                  peak and the tail alike.
+///
+///   slice_mae      the paper's figure: mean |a - b| (1/sr) on the characteristic slice
+///                  phi_d = 90 deg.
+///
+/// Each is given over all cells above the surface and over the cells whose light and camera
+/// are both within --max-elevation of the normal (the device's reach, 75 deg by default).
+#[derive(clap::Args)]
+pub struct Args {
+    /// The BRDF to judge.
+    pub a: String,
+    /// The reference BRDF.
+    pub b: String,
+    /// Largest elevation (degrees from the normal) of light and camera for the second set.
+    #[arg(long, default_value_t = 75.0)]
+    pub max_elevation: f64,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let a = tabulate(specula_formats::load_brdf(&args.a)?.as_ref(), 0.0);
+    let b = tabulate(specula_formats::load_brdf(&args.b)?.as_ref(), 0.0);
+    println!("set,cells,relative_rmse,log_rmse,slice_mae");
+    for (label, limit) in [("all", 90.0), ("within", args.max_elevation)] {
+        let e = compare(&a, &b, limit);
+        println!(
+            "{label},{},{:.6},{:.6},{:.6e}",
+            e.cells, e.relative_rmse, e.log_rmse, e.slice_mae
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,33 @@
+//! `specula tabulate`: any BRDF into a MERL `.binary` table at the bin centres.
+
+use anyhow::Result;
+use std::path::PathBuf;
+
+/// Tabulate a BRDF into the MERL grid (90 x 90 x 180 cells, at the bin centres) and write
+/// it as a MERL .binary file.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit.
+    pub brdf: String,
+    /// Azimuth of the half vector in degrees (matters only for anisotropic materials).
+    #[arg(long, default_value_t = 0.0)]
+    pub phi_h: f64,
+    /// The MERL .binary file to write.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let brdf = specula_formats::load_brdf(&args.brdf)?;
+    let spinner = crate::progress::spinner("tabulating");
+    let table = specula_core::tabulate::tabulate(brdf.as_ref(), args.phi_h.to_radians());
+    spinner.finish_and_clear();
+    table.write(&args.out)?;
+    println!(
+        "wrote {} ({} of {} cells measured)",
+        args.out.display(),
+        table.measured_count(),
+        specula_core::merl::CELLS
+    );
+    Ok(())
+}
