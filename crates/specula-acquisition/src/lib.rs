@@ -1,1 +1,14 @@
-//! placeholder
+//! Acquisition: the goniometer's model (device, kinematics, occlusion, timing), measurement
+//! planning and ordering (paper sections 4.1 and 5.3).
+
+pub mod calibration;
+pub mod checks;
+pub mod device;
+pub mod hdr;
+pub mod instrument;
+pub mod kinematics;
+pub mod occlusion;
+pub mod ordering;
+pub mod plan;
+pub mod simulator;
+pub mod timing;

@@ -26,6 +26,15 @@ enum Command {
     Info(commands::info::Args),
     Eval(commands::eval::Args),
     Compare(commands::compare::Args),
+    Convert(commands::convert::Args),
+    Render(commands::render::Args),
+    Plan(commands::plan::Args),
+    Reconstruct(commands::reconstruct::Args),
+    Evaluate(commands::evaluate::Args),
+    Probe(commands::probe::Args),
+    FitK(commands::fit_k::Args),
+    Analyze(commands::analyze::Args),
+    Placement(commands::placement::Args),
 }
 
 fn main() -> ExitCode {
@@ -36,6 +45,15 @@ fn main() -> ExitCode {
         Command::Info(args) => commands::info::run(args),
         Command::Eval(args) => commands::eval::run(args),
         Command::Compare(args) => commands::compare::run(args),
+        Command::Convert(args) => commands::convert::run(args),
+        Command::Render(args) => commands::render::run(args),
+        Command::Plan(args) => commands::plan::run(args),
+        Command::Reconstruct(args) => commands::reconstruct::run(args),
+        Command::Evaluate(args) => commands::evaluate::run(args),
+        Command::Probe(args) => commands::probe::run(args),
+        Command::FitK(args) => commands::fit_k::run(args),
+        Command::Analyze(args) => commands::analyze::run(args),
+        Command::Placement(args) => commands::placement::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

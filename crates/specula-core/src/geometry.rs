@@ -85,7 +85,12 @@ impl HalfDiff {
     }
 
     /// Half-difference angles given in degrees.
-    pub fn from_degrees(theta_h_deg: f64, phi_h_deg: f64, theta_d_deg: f64, phi_d_deg: f64) -> Self {
+    pub fn from_degrees(
+        theta_h_deg: f64,
+        phi_h_deg: f64,
+        theta_d_deg: f64,
+        phi_d_deg: f64,
+    ) -> Self {
         Self::new(
             theta_h_deg.to_radians(),
             phi_h_deg.to_radians(),
@@ -215,10 +220,19 @@ mod tests {
     #[test]
     fn special_configurations_are_finite() {
         let cases = [
-            (DVec3::Z, DVec3::Z),                               // theta_h = 0, theta_d = 0
-            (Spherical::from_degrees(30.0, 0.0).to_vector(), Spherical::from_degrees(30.0, 180.0).to_vector()), // mirror
-            (Spherical::from_degrees(90.0, 0.0).to_vector(), Spherical::from_degrees(90.0, 180.0).to_vector()), // opposite at horizon
-            (Spherical::from_degrees(90.0, 10.0).to_vector(), Spherical::from_degrees(90.0, 10.0).to_vector()), // retro at horizon
+            (DVec3::Z, DVec3::Z), // theta_h = 0, theta_d = 0
+            (
+                Spherical::from_degrees(30.0, 0.0).to_vector(),
+                Spherical::from_degrees(30.0, 180.0).to_vector(),
+            ), // mirror
+            (
+                Spherical::from_degrees(90.0, 0.0).to_vector(),
+                Spherical::from_degrees(90.0, 180.0).to_vector(),
+            ), // opposite at horizon
+            (
+                Spherical::from_degrees(90.0, 10.0).to_vector(),
+                Spherical::from_degrees(90.0, 10.0).to_vector(),
+            ), // retro at horizon
             (Spherical::from_degrees(90.0, 0.0).to_vector(), DVec3::Z),
         ];
         for (wi, wo) in cases {

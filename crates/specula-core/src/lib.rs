@@ -9,6 +9,7 @@ pub mod merl;
 pub use brdf::{Brdf, Rgb};
 pub use geometry::{HalfDiff, Spherical};
 pub use merl::MerlBrdf;
+pub mod compare;
+pub mod materials;
 pub mod sampling;
 pub mod tabulate;
-pub mod compare;

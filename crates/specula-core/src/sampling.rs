@@ -195,7 +195,9 @@ mod tests {
 
     #[test]
     fn positions_span_the_range() {
-        let p = SamplingFunction::new(Family::Exponential, 4.78).unwrap().positions_deg(30);
+        let p = SamplingFunction::new(Family::Exponential, 4.78)
+            .unwrap()
+            .positions_deg(30);
         assert_eq!(p.len(), 30);
         assert_eq!(p[0], 0.0);
         assert!((p[29] - 90.0).abs() < 1e-9);

@@ -33,7 +33,11 @@ mod tests {
     impl Brdf for Probe {
         fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
             let hd = HalfDiff::from_directions(wi, wo);
-            Some(Rgb::new(hd.theta_h, hd.theta_d, hd.phi_d.rem_euclid(std::f64::consts::PI)))
+            Some(Rgb::new(
+                hd.theta_h,
+                hd.theta_d,
+                hd.phi_d.rem_euclid(std::f64::consts::PI),
+            ))
         }
         fn name(&self) -> String {
             "probe".into()

@@ -1,1 +1,25 @@
-//! placeholder
+//! Reconstruction of sparse BRDF samples into the full MERL grid (paper 5.3's last step) and
+//! the accuracy harness that measures how good a plan and a method are against a known BRDF.
+//!
+//! Pipeline ([`reconstruct::reconstruct`]): fold phi_d by reciprocity and the mirror symmetry
+//! ([`sample`]), place the samples on their lattice ([`lattice`]) in the method's value domain
+//! ([`domain`], optionally relative to a fitted microfacet [`lobe`]), extrapolate the nodes
+//! no sample reached ([`extrapolate`]), interpolate at the MERL bin centres ([`grid`] with a
+//! [`kernel`]) and record each cell's [`provenance`].
+
+pub mod accuracy;
+pub mod axis;
+pub mod domain;
+pub mod extrapolate;
+pub mod grid;
+pub mod kernel;
+pub mod lattice;
+pub mod lobe;
+pub mod method;
+pub mod provenance;
+pub mod reconstruct;
+pub mod sample;
+
+pub use method::Method;
+pub use reconstruct::{reconstruct, Reconstruction, ReconstructError};
+pub use sample::Sample;

@@ -1,1 +1,22 @@
-//! placeholder
+//! Pictures of BRDFs: renders of a material on a sphere or a speedshape (paper Fig. 16, 17),
+//! the characteristic slice and the raw samples (Fig. 11, 15), the probe against the adaptive
+//! samples (Fig. 13), side-by-side grids, and a self-contained HTML report.
+
+pub mod camera;
+pub mod color;
+pub mod distribution;
+pub mod environment;
+pub mod font;
+pub mod frame;
+pub mod grid;
+pub mod heatmap;
+pub mod linear_image;
+pub mod lobe;
+pub mod render;
+pub mod shape;
+pub mod speedshape;
+
+pub use environment::Environment;
+pub use linear_image::LinearImage;
+pub use render::{render, Lighting, RenderSettings, Scene};
+pub use shape::ShapeKind;

@@ -1,7 +1,16 @@
 //! One module per subcommand: its arguments (with the `--help` text) and its `run`.
 
+pub mod analyze;
 pub mod compare;
+pub mod convert;
 pub mod demo;
 pub mod eval;
+pub mod evaluate;
+pub mod fit_k;
 pub mod info;
+pub mod placement;
+pub mod plan;
+pub mod probe;
+pub mod reconstruct;
+pub mod render;
 pub mod tabulate;

@@ -1,0 +1,386 @@
+//! Calibration: from the camera's raw rates to a BRDF in 1/sr (paper 4.1).
+//!
+//! Three steps, each with a reference target mounted on the turntable and measured at the
+//! 45/0 geometry (light at 45 deg, camera at the normal, the usual geometry for colour
+//! targets):
+//!
+//! 1. **Noise model** ([`measure_noise_model`]), the EMVA 1288 way: dark frames (light off) at
+//!    the shortest and longest exposure give the black level, the dark current and the read
+//!    noise; pairs of flat frames of the white reference at five exposures give the photon
+//!    transfer curve, whose slope `var = gain * signal + var_0` is the conversion gain. Pairs
+//!    of frames (half the variance of their difference) cancel any fixed pattern.
+//! 2. **Radiometric.** A white diffuse reference of known reflectance `rho` (Lambertian:
+//!    `f_r = rho / pi`) has the radiance factor `s = rho cos(theta_i) / pi`; its HDR rate
+//!    gives each channel's gain, DN/s at full light per unit radiance factor (1/sr).
+//! 3. **Colour.** The 24 ColorChecker patches ([`colorchecker`]), divided by those gains,
+//!    give the camera's colour response `u = M rho` to the patches' reference linear-sRGB
+//!    reflectances; a 3 x 3 matrix `C` by least squares (`rho ~ C u`, nalgebra's SVD)
+//!    undoes the crosstalk, "as the paper does" with its ColorChecker.
+//!
+//! A measured rate `r` at incidence `theta_i` is then `f_r = C (r / gain) / cos(theta_i)`
+//! ([`Calibration::brdf`]). `specula calibrate` stores the result as TOML for later runs.
+
+pub mod colorchecker;
+
+use crate::hdr::{HdrCapturer, HdrSettings, HdrValue, NoiseModel};
+use crate::instrument::{Capture, Instrument, InstrumentError};
+use crate::kinematics::AxisPositions;
+use glam::{DMat3, DVec3};
+use serde::{Deserialize, Serialize};
+use specula_core::{Brdf, Rgb};
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// A Lambertian reference target: `f_r = reflectance / pi` per channel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiffuseTarget {
+    pub name: String,
+    /// Diffuse reflectance (albedo) per channel.
+    pub reflectance: Rgb,
+}
+
+impl DiffuseTarget {
+    /// The white reference (a Spectralon-like tile of flat reflectance).
+    pub fn white(reflectance: f64) -> Self {
+        Self {
+            name: format!("white reference {reflectance}"),
+            reflectance: Rgb::splat(reflectance),
+        }
+    }
+
+    /// The ColorChecker patches as targets.
+    pub fn colorchecker() -> Vec<DiffuseTarget> {
+        colorchecker::PATCHES
+            .iter()
+            .map(|p| DiffuseTarget {
+                name: format!("ColorChecker {}", p.name),
+                reflectance: p.reflectance(),
+            })
+            .collect()
+    }
+}
+
+impl Brdf for DiffuseTarget {
+    fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+        Some(if wi.z > 0.0 && wo.z > 0.0 {
+            self.reflectance / PI
+        } else {
+            Rgb::ZERO
+        })
+    }
+
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+}
+
+/// The mount callback for the simulator: puts a reference target, aligned, on its turntable.
+pub fn mount_in_simulator(
+    simulator: &mut crate::simulator::Simulator,
+    target: &DiffuseTarget,
+) -> Result<(), InstrumentError> {
+    let brdf = std::sync::Arc::new(target.clone());
+    simulator.mount(crate::simulator::sample::MountedSample::new(
+        target.name.clone(),
+        brdf,
+        crate::simulator::sample::Tilt::default(),
+    ));
+    Ok(())
+}
+
+/// Why a calibration failed or could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum CalibrationError {
+    #[error("device: {0}")]
+    Instrument(#[from] InstrumentError),
+    #[error("calibration: {0}")]
+    Fit(String),
+    #[error("{path}: {message}")]
+    File { path: String, message: String },
+}
+
+/// How to calibrate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrationOptions {
+    /// Reflectance of the white reference (0.99 for a Spectralon tile).
+    pub white_reflectance: f64,
+    /// Elevation of the light, degrees (45 for the 45/0 geometry).
+    pub light_elevation_deg: f64,
+}
+
+impl Default for CalibrationOptions {
+    fn default() -> Self {
+        Self {
+            white_reflectance: 0.99,
+            light_elevation_deg: 45.0,
+        }
+    }
+}
+
+impl CalibrationOptions {
+    /// The axes of the reference geometry: camera at the normal, light in the x-z plane.
+    pub fn axes(&self) -> AxisPositions {
+        AxisPositions::from_degrees(0.0, 0.0, 180.0, self.light_elevation_deg)
+    }
+
+    fn cos_theta_i(&self) -> f64 {
+        self.light_elevation_deg.to_radians().cos()
+    }
+}
+
+/// The calibration of a device: stored by `specula calibrate`, used by later runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Calibration {
+    /// The device it belongs to ("model, serial").
+    pub device: String,
+    /// The reflectance of the white reference used.
+    pub white_reflectance: f64,
+    /// The light's elevation of the reference geometry, degrees.
+    pub light_elevation_deg: f64,
+    /// DN/s at full light per unit radiance factor (1/sr), per camera channel.
+    pub gain_dn_s_per_sr: [f64; 3],
+    /// Camera colour (gain-normalised) to linear sRGB, rows.
+    pub colour_matrix: [[f64; 3]; 3],
+    /// RMS error of the matrix over the 24 patches, linear sRGB reflectance.
+    pub colour_rms_error: f64,
+    /// The colour reference used.
+    pub colour_reference: String,
+    pub noise: NoiseModel,
+}
+
+impl Calibration {
+    fn matrix(&self) -> DMat3 {
+        DMat3::from_cols_array_2d(&self.colour_matrix).transpose()
+    }
+
+    /// The BRDF (1/sr) of a rate measured with the light at incidence `cos_theta_i`.
+    pub fn brdf(&self, rate_dn_s: [f64; 3], cos_theta_i: f64) -> Rgb {
+        let camera = DVec3::from(rate_dn_s) / DVec3::from(self.gain_dn_s_per_sr);
+        self.matrix() * camera / cos_theta_i
+    }
+
+    /// The BRDF of an HDR value and its standard deviation per channel (channels taken as
+    /// independent).
+    pub fn brdf_with_sigma(&self, value: &HdrValue, cos_theta_i: f64) -> (Rgb, Rgb) {
+        let m = self.matrix();
+        let sigma_camera = DVec3::from(value.sigma_dn_s) / DVec3::from(self.gain_dn_s_per_sr);
+        let squared = DMat3::from_cols(
+            m.x_axis * m.x_axis,
+            m.y_axis * m.y_axis,
+            m.z_axis * m.z_axis,
+        ) * (sigma_camera * sigma_camera);
+        (
+            self.brdf(value.rate_dn_s, cos_theta_i),
+            squared.map(f64::sqrt) / cos_theta_i,
+        )
+    }
+
+    /// The brightest channel's rate (DN/s at full light) a BRDF value should give: the
+    /// prediction that starts an HDR measurement.
+    pub fn predicted_rate_dn_s(&self, brdf: Rgb, cos_theta_i: f64) -> f64 {
+        let camera = self.matrix().inverse() * (brdf * cos_theta_i);
+        (camera * DVec3::from(self.gain_dn_s_per_sr)).max_element()
+    }
+
+    /// Writes the calibration as TOML.
+    pub fn save(&self, path: &Path) -> Result<(), CalibrationError> {
+        let text = toml::to_string_pretty(self).expect("a calibration always serialises");
+        let header = "# Specula camera calibration (specula calibrate): noise model, gains to 1/sr\n\
+                      # and the colour matrix to linear sRGB. See README, \"Simulated device, HDR\n\
+                      # and calibration\".\n";
+        std::fs::write(path, format!("{header}{text}")).map_err(|e| CalibrationError::File {
+            path: path.display().to_string(),
+            message: format!("cannot write: {e}"),
+        })
+    }
+
+    /// Reads a calibration written by [`Calibration::save`].
+    pub fn load(path: &Path) -> Result<Calibration, CalibrationError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| CalibrationError::File {
+            path: name.clone(),
+            message: format!("cannot read: {e}"),
+        })?;
+        toml::from_str(&text).map_err(|e| CalibrationError::File {
+            path: name,
+            message: e.message().to_string(),
+        })
+    }
+}
+
+/// The 3 x 3 matrix `C` minimising `sum |C camera_p - reference_p|^2`, by SVD least squares.
+pub fn fit_colour_matrix(camera: &[DVec3], reference: &[DVec3]) -> Result<DMat3, CalibrationError> {
+    if camera.len() != reference.len() || camera.len() < 3 {
+        return Err(CalibrationError::Fit(format!(
+            "need at least 3 pairs of colours, got {} and {}",
+            camera.len(),
+            reference.len()
+        )));
+    }
+    let a = nalgebra::DMatrix::from_fn(camera.len(), 3, |i, j| camera[i][j]);
+    let b = nalgebra::DMatrix::from_fn(reference.len(), 3, |i, j| reference[i][j]);
+    let svd = a.svd(true, true);
+    if svd.rank(1e-9 * svd.singular_values.max()) < 3 {
+        return Err(CalibrationError::Fit(
+            "the measured colours do not span three dimensions".into(),
+        ));
+    }
+    let x = svd
+        .solve(&b, 1e-12)
+        .map_err(|e| CalibrationError::Fit(e.to_string()))?;
+    // camera_row * x = reference_row, so C = x^T.
+    Ok(DMat3::from_cols_array_2d(&[
+        [x[(0, 0)], x[(1, 0)], x[(2, 0)]],
+        [x[(0, 1)], x[(1, 1)], x[(2, 1)]],
+        [x[(0, 2)], x[(1, 2)], x[(2, 2)]],
+    ])
+    .transpose())
+}
+
+/// Mean over pixels of channel `c`, and half the variance of the difference of two frames.
+fn pair_statistics(a: &Capture, b: &Capture, c: usize) -> Result<(f64, f64), CalibrationError> {
+    let (Some(pa), Some(pb)) = (a.pixels.as_ref(), b.pixels.as_ref()) else {
+        return Err(CalibrationError::Fit(
+            "the device returned no pixels for the noise measurement".into(),
+        ));
+    };
+    let n = pa.len().min(pb.len()) as f64;
+    let diffs: Vec<f64> = pa.iter().zip(pb).map(|(x, y)| (x[c] - y[c]) as f64).collect();
+    let mean_diff = diffs.iter().sum::<f64>() / n;
+    let var = diffs.iter().map(|d| (d - mean_diff).powi(2)).sum::<f64>() / (n - 1.0);
+    Ok(((a.mean_raw[c] + b.mean_raw[c]) / 2.0, var / 2.0))
+}
+
+/// Measures the sensor's noise model with a flat white target in view (see the module
+/// documentation). Leaves the light at full power.
+pub fn measure_noise_model(
+    instrument: &mut dyn Instrument,
+) -> Result<NoiseModel, CalibrationError> {
+    let info = instrument.info()?;
+    let (shortest, longest) = info.exposure_range_s;
+    let pair = |instrument: &mut dyn Instrument, t: f64| -> Result<(Capture, Capture), CalibrationError> {
+        Ok((instrument.capture(t, true)?, instrument.capture(t, true)?))
+    };
+
+    // Dark frames.
+    instrument.set_light(0.0)?;
+    let (short_a, short_b) = pair(instrument, shortest)?;
+    let long = instrument.capture(longest, false)?;
+    let mean3 = |v: [f64; 3]| v.iter().sum::<f64>() / 3.0;
+    let dark_short = (mean3(short_a.mean_raw) + mean3(short_b.mean_raw)) / 2.0;
+    let dark_current_dn_s = (mean3(long.mean_raw) - dark_short) / (longest - shortest);
+    let black_level_dn = dark_short - dark_current_dn_s * shortest;
+    let mut read_var = 0.0;
+    for c in 0..3 {
+        read_var += pair_statistics(&short_a, &short_b, c)?.1 / 3.0;
+    }
+    let read_noise_dn = (read_var - 1.0 / 12.0).max(0.0).sqrt();
+
+    // Photon transfer on the white target.
+    instrument.set_light(1.0)?;
+    let probe = instrument.capture(shortest, false)?;
+    let probe_signal = probe.mean_raw.iter().fold(f64::MIN, |m, v| m.max(*v)) - black_level_dn;
+    if probe.saturated_fraction.iter().any(|&f| f > 0.0) || probe_signal <= 1.0 {
+        return Err(CalibrationError::Fit(format!(
+            "the white target gives {probe_signal:.1} DN at the shortest exposure: \
+             too bright or too dark for the photon transfer curve"
+        )));
+    }
+    let headroom = info.white_level - black_level_dn;
+    let mut points = Vec::new();
+    for fraction in [0.1, 0.25, 0.4, 0.55, 0.7] {
+        let t = (shortest * fraction * headroom / probe_signal).clamp(shortest, longest);
+        let (a, b) = pair(instrument, t)?;
+        for c in 0..3 {
+            if a.saturated_fraction[c] > 0.0 || b.saturated_fraction[c] > 0.0 {
+                continue;
+            }
+            let (mean, var) = pair_statistics(&a, &b, c)?;
+            points.push((mean - black_level_dn - dark_current_dn_s * t, var));
+        }
+    }
+    let gain_dn_per_e = photon_transfer_slope(&points)?;
+    Ok(NoiseModel {
+        black_level_dn,
+        dark_current_dn_s,
+        gain_dn_per_e,
+        read_noise_dn,
+        white_level_dn: info.white_level,
+    })
+}
+
+/// Least-squares slope of variance against signal.
+fn photon_transfer_slope(points: &[(f64, f64)]) -> Result<f64, CalibrationError> {
+    let n = points.len() as f64;
+    let (sx, sy) = points
+        .iter()
+        .fold((0.0, 0.0), |(sx, sy), (x, y)| (sx + x, sy + y));
+    let (mx, my) = (sx / n, sy / n);
+    let sxx: f64 = points.iter().map(|(x, _)| (x - mx).powi(2)).sum();
+    let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    if points.len() < 3 || sxx <= 0.0 {
+        return Err(CalibrationError::Fit(
+            "too few unsaturated frames for the photon transfer curve".into(),
+        ));
+    }
+    Ok(sxy / sxx)
+}
+
+/// Calibrates a device. `mount` puts a reference target on the turntable (the operator's job
+/// on a real device; [`crate::simulator::Simulator::mount`] in simulation).
+pub fn calibrate<I: Instrument>(
+    instrument: &mut I,
+    mut mount: impl FnMut(&mut I, &DiffuseTarget) -> Result<(), InstrumentError>,
+    options: &CalibrationOptions,
+) -> Result<Calibration, CalibrationError> {
+    let info = instrument.info()?;
+    instrument.move_to(&options.axes())?;
+    let white = DiffuseTarget::white(options.white_reflectance);
+    mount(instrument, &white)?;
+    let noise = measure_noise_model(instrument)?;
+    let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), noise);
+
+    let cos_i = options.cos_theta_i();
+    let white_radiance = options.white_reflectance * cos_i / PI;
+    let white_rate = hdr.measure(instrument, None)?.value;
+    if white_rate.saturated.iter().any(|&s| s) {
+        return Err(CalibrationError::Fit("the white reference saturates".into()));
+    }
+    let gain = white_rate.rate_dn_s.map(|r| r / white_radiance);
+
+    let mut camera = Vec::with_capacity(colorchecker::PATCHES.len());
+    let mut reference = Vec::with_capacity(colorchecker::PATCHES.len());
+    let predicted = white_rate.brightest_rate_dn_s();
+    for (target, patch) in DiffuseTarget::colorchecker()
+        .iter()
+        .zip(colorchecker::PATCHES)
+    {
+        mount(instrument, target)?;
+        let value = hdr.measure(instrument, Some(predicted * target.reflectance.max_element()))?;
+        let rate = DVec3::from(value.value.rate_dn_s);
+        camera.push(rate / DVec3::from(gain) * PI / cos_i);
+        reference.push(patch.reflectance());
+    }
+    let matrix = fit_colour_matrix(&camera, &reference)?;
+    let squared: f64 = camera
+        .iter()
+        .zip(&reference)
+        .map(|(u, r)| (matrix * *u - *r).length_squared())
+        .sum();
+    Ok(Calibration {
+        device: format!("{}, {}", info.model, info.serial),
+        white_reflectance: options.white_reflectance,
+        light_elevation_deg: options.light_elevation_deg,
+        gain_dn_s_per_sr: gain,
+        colour_matrix: matrix.transpose().to_cols_array_2d(),
+        colour_rms_error: (squared / (3.0 * camera.len() as f64)).sqrt(),
+        colour_reference: "X-Rite ColorChecker Classic (November 2014 on), L*a*b* D50 as \
+                           linear sRGB D65"
+            .into(),
+        noise,
+    })
+}
+
+#[cfg(test)]
+mod tests;

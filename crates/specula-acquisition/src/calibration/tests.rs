@@ -1,0 +1,108 @@
+use super::*;
+use crate::device::Device;
+use crate::simulator::sample::{MountedSample, Tilt};
+use crate::simulator::{Simulator, SimulatorConfig};
+use std::sync::Arc;
+
+fn simulator(seed: u64) -> Simulator {
+    let device = Device::utia();
+    let config = SimulatorConfig::new(seed, &device);
+    let white = Arc::new(DiffuseTarget::white(0.99));
+    Simulator::new(device, MountedSample::new("white", white, Tilt::default()), config)
+}
+
+#[test]
+fn least_squares_recovers_an_exact_matrix() {
+    let truth = DMat3::from_cols_array(&[1.2, -0.1, 0.05, -0.2, 1.3, -0.15, 0.0, -0.2, 1.1]);
+    let camera: Vec<DVec3> = colorchecker::PATCHES
+        .iter()
+        .map(|p| p.reflectance())
+        .collect();
+    let reference: Vec<DVec3> = camera.iter().map(|u| truth * *u).collect();
+    let fitted = fit_colour_matrix(&camera, &reference).unwrap();
+    assert!((fitted - truth).to_cols_array().iter().all(|d| d.abs() < 1e-12));
+
+    let greys: Vec<DVec3> = (1..6).map(|k| DVec3::splat(k as f64 * 0.1)).collect();
+    let err = fit_colour_matrix(&greys, &greys).unwrap_err().to_string();
+    assert!(err.contains("three dimensions"), "{err}");
+}
+
+#[test]
+fn calibration_recovers_the_simulated_camera() {
+    let mut sim = simulator(21);
+    let camera = sim.config().camera.clone();
+    let options = CalibrationOptions::default();
+    let cal = calibrate(&mut sim, mount_in_simulator, &options).unwrap();
+
+    // The noise model (EMVA 1288 from dark frames and the photon transfer curve).
+    let truth = camera.noise_model();
+    let noise = cal.noise;
+    assert!((noise.black_level_dn - truth.black_level_dn).abs() < 0.05, "{noise:?}");
+    assert!((noise.gain_dn_per_e / truth.gain_dn_per_e - 1.0).abs() < 0.03, "{noise:?}");
+    assert!((noise.read_noise_dn / truth.read_noise_dn - 1.0).abs() < 0.05, "{noise:?}");
+    assert!((noise.dark_current_dn_s / truth.dark_current_dn_s - 1.0).abs() < 0.15, "{noise:?}");
+
+    // The known gain: responsivity times conversion gain, per channel.
+    for c in 0..3 {
+        let known = camera.responsivity_e_s[c] * camera.gain_dn_per_e;
+        let error = cal.gain_dn_s_per_sr[c] / known - 1.0;
+        assert!(error.abs() < 0.003, "channel {c}: gain off by {error}");
+    }
+
+    // The known crosstalk: the colour matrix is its inverse.
+    let crosstalk = DMat3::from_cols_array_2d(&camera.crosstalk).transpose();
+    let recovered = cal.matrix().inverse();
+    let worst = (recovered - crosstalk)
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |m, d| m.max(d.abs()));
+    assert!(worst < 0.01, "crosstalk off by {worst}: {recovered} vs {crosstalk}");
+    assert!(cal.colour_rms_error < 0.005, "{}", cal.colour_rms_error);
+
+    // A coloured diffuse sample at another geometry comes out in 1/sr.
+    let target = DiffuseTarget {
+        name: "test tile".into(),
+        reflectance: Rgb::new(0.6, 0.3, 0.1),
+    };
+    mount_in_simulator(&mut sim, &target).unwrap();
+    let axes = AxisPositions::from_degrees(30.0, 20.0, 150.0, 60.0);
+    sim.move_to(&axes).unwrap();
+    let (wi, _) = sim.actual_axes(&axes).directions();
+    let mut hdr = HdrCapturer::new(HdrSettings::for_device(&sim.info().unwrap()), cal.noise);
+    let value = hdr.measure(&mut sim, None).unwrap().value;
+    let (brdf, sigma) = cal.brdf_with_sigma(&value, wi.z);
+    let expected = target.reflectance / PI;
+    let relative = ((brdf - expected) / expected).abs().max_element();
+    assert!(relative < 0.01, "{brdf} vs {expected}");
+    assert!(sigma.max_element() < 0.002 * expected.max_element(), "{sigma}");
+    let predicted = cal.predicted_rate_dn_s(expected, wi.z);
+    assert!((predicted / value.brightest_rate_dn_s() - 1.0).abs() < 0.01);
+}
+
+#[test]
+fn calibration_file_round_trip_and_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cal.toml");
+    let cal = Calibration {
+        device: "sim".into(),
+        white_reflectance: 0.99,
+        light_elevation_deg: 45.0,
+        gain_dn_s_per_sr: [1e6, 2e6, 3e6],
+        colour_matrix: [[1.1, -0.1, 0.0], [0.0, 1.0, 0.0], [0.0, -0.05, 1.05]],
+        colour_rms_error: 0.001,
+        colour_reference: "test".into(),
+        noise: crate::simulator::camera::CameraModel::default().noise_model(),
+    };
+    cal.save(&path).unwrap();
+    assert_eq!(Calibration::load(&path).unwrap(), cal);
+    // A rate converts to 1/sr and back.
+    let brdf = cal.brdf([2e5, 3e5, 1e5], 0.8);
+    let camera = cal.matrix().inverse() * (brdf * 0.8) * DVec3::from(cal.gain_dn_s_per_sr);
+    assert!((camera - DVec3::new(2e5, 3e5, 1e5)).abs().max_element() < 1e-6);
+
+    std::fs::write(&path, "gain_dn_s_per_sr = 3\n").unwrap();
+    let err = Calibration::load(&path).unwrap_err().to_string();
+    assert!(err.starts_with(&path.display().to_string()), "{err}");
+    let missing = Calibration::load(&dir.path().join("none.toml")).unwrap_err().to_string();
+    assert!(missing.contains("none.toml") && missing.contains("cannot read"), "{missing}");
+}

@@ -1,0 +1,315 @@
+//! The goniometer: its axes, the geometry of its arms and the timing of a capture (paper 4.1).
+//!
+//! A device is described by a TOML file; `devices/utia.toml` is the default, the paper's UTIA
+//! gonioreflectometer (a turntable under the sample, a camera arm with one axis, a light arm
+//! with two), and documents every field. Values are in degrees, metres and seconds, as in the
+//! file; the kinematics, occlusion and timing modules convert to radians where they compute.
+
+use crate::kinematics::AxisPositions;
+use crate::timing::CaptureBracket;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The default device file, the paper's UTIA gonioreflectometer.
+pub const UTIA_TOML: &str = include_str!("../devices/utia.toml");
+
+/// A goniometer: a turntable holding the sample, a camera arm and a light arm.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Device {
+    /// A name for reports.
+    pub name: String,
+    /// Angular positioning accuracy of every axis, degrees (0.03 for UTIA, paper 4.1).
+    pub accuracy_deg: f64,
+    /// Where the axes rest before the first sample.
+    pub park: ParkPosition,
+    /// The rotary stage turning the sample about its normal.
+    pub turntable: Axis,
+    /// The camera and its one-axis arm.
+    pub camera: CameraArm,
+    /// The light and its two-axis arm.
+    pub light: LightArm,
+    /// The HDR capture made at every sample.
+    pub capture: CaptureBracket,
+}
+
+/// One rotary axis: its range and its motion (trapezoidal velocity profile, then settling).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axis {
+    /// Lowest reachable angle, degrees.
+    pub min_deg: f64,
+    /// Highest reachable angle, degrees.
+    pub max_deg: f64,
+    /// Top speed, degrees per second.
+    pub speed_deg_s: f64,
+    /// Acceleration and deceleration, degrees per second squared.
+    pub accel_deg_s2: f64,
+    /// Wait after a move of this axis before it is still within the accuracy, seconds.
+    pub settle_s: f64,
+}
+
+/// The axis angles, in degrees, where the device rests before the first sample.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParkPosition {
+    pub turntable_deg: f64,
+    pub camera_deg: f64,
+    pub light_azimuth_deg: f64,
+    pub light_elevation_deg: f64,
+}
+
+/// A cone from the sample to an optical aperture: the camera's view of the measured area or
+/// the light's beam onto it. Anything inside it blocks the measurement.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cone {
+    /// Radius at the sample, metres.
+    pub sample_radius_m: f64,
+    /// Distance from the sample to the aperture at the cone's far end, metres.
+    pub end_distance_m: f64,
+    /// Radius of that aperture, metres.
+    pub end_radius_m: f64,
+}
+
+/// A solid part of an arm, a capsule (a segment thickened by a radius) in the arm's plane.
+///
+/// A point `[u, v]` lies at `u * pointing + v * arm_axis` from the sample, metres, where
+/// `pointing` is the unit direction from the sample to the camera (light) and `arm_axis` the
+/// unit direction of the arm's rotation axis (lab +y for the camera, the elevation axis for
+/// the light).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Part {
+    pub name: String,
+    pub from_m: [f64; 2],
+    pub to_m: [f64; 2],
+    pub radius_m: f64,
+}
+
+/// The camera and its arm, turning about the lab y axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraArm {
+    /// Sensor to sample, metres (2 m for UTIA).
+    pub distance_m: f64,
+    /// The view cone from the measured area to the lens.
+    pub view: Cone,
+    /// The camera axis; its range bounds theta_v (75 deg for UTIA, paper 5.3).
+    pub axis: Axis,
+    /// Lens, body and arm.
+    pub parts: Vec<Part>,
+}
+
+/// The light and its arm: azimuth about the lab z axis, then elevation about a horizontal
+/// axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightArm {
+    /// Light's exit aperture to sample, metres (1.1 m for UTIA).
+    pub distance_m: f64,
+    /// The beam cone from the sample to the light's exit aperture.
+    pub beam: Cone,
+    pub azimuth: Axis,
+    pub elevation: Axis,
+    /// Light head and arm.
+    pub parts: Vec<Part>,
+}
+
+/// A device file that cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum DeviceError {
+    #[error("cannot read device file {path}: {source}")]
+    Read {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("device file {path}, line {line}: {message}")]
+    Parse {
+        path: String,
+        line: usize,
+        message: String,
+    },
+    #[error("device file {path}: {problem}")]
+    Invalid { path: String, problem: String },
+}
+
+impl Device {
+    /// The paper's UTIA gonioreflectometer (`devices/utia.toml`).
+    pub fn utia() -> Device {
+        Device::from_toml_str(UTIA_TOML, "devices/utia.toml")
+            .expect("the embedded device file is valid (tested)")
+    }
+
+    /// Reads a device TOML file.
+    pub fn load(path: &Path) -> Result<Device, DeviceError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| DeviceError::Read {
+            path: name.clone(),
+            source,
+        })?;
+        Device::from_toml_str(&text, &name)
+    }
+
+    /// Parses and checks a device description; `origin` names it in errors.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Device, DeviceError> {
+        let device: Device = toml::from_str(text).map_err(|e| DeviceError::Parse {
+            path: origin.to_string(),
+            line: e
+                .span()
+                .map_or(1, |span| text[..span.start].matches('\n').count() + 1),
+            message: e.message().trim().replace('\n', " "),
+        })?;
+        device.validate().map_err(|problem| DeviceError::Invalid {
+            path: origin.to_string(),
+            problem,
+        })?;
+        Ok(device)
+    }
+
+    /// The description as TOML (without the comments of the default file).
+    pub fn to_toml_string(&self) -> String {
+        toml::to_string_pretty(self).expect("a device always serialises")
+    }
+
+    /// The park position as axis angles.
+    pub fn park_axes(&self) -> AxisPositions {
+        let p = self.park;
+        AxisPositions::from_degrees(
+            p.turntable_deg,
+            p.camera_deg,
+            p.light_azimuth_deg,
+            p.light_elevation_deg,
+        )
+    }
+
+    /// The four axes in the order of [`AxisPositions::as_array`].
+    pub fn axes(&self) -> [&Axis; 4] {
+        [
+            &self.turntable,
+            &self.camera.axis,
+            &self.light.azimuth,
+            &self.light.elevation,
+        ]
+    }
+
+    /// True when every axis angle lies within its range (to within a nano-radian, so that a
+    /// grid point exactly at a limit counts as reachable).
+    pub fn within_limits(&self, axes: &AxisPositions) -> bool {
+        const EPS_RAD: f64 = 1e-9;
+        self.axes()
+            .iter()
+            .zip(axes.as_array())
+            .all(|(axis, angle_rad)| {
+                angle_rad >= axis.min_deg.to_radians() - EPS_RAD
+                    && angle_rad <= axis.max_deg.to_radians() + EPS_RAD
+            })
+    }
+
+    /// The first problem that makes the description unusable, if any.
+    fn validate(&self) -> Result<(), String> {
+        let positive = |value: f64, what: &str| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{what} must be a positive number, got {value}"))
+            }
+        };
+        let non_negative = |value: f64, what: &str| {
+            if value.is_finite() && value >= 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{what} must be zero or positive, got {value}"))
+            }
+        };
+        non_negative(self.accuracy_deg, "accuracy_deg")?;
+        let named = [
+            ("turntable", &self.turntable),
+            ("camera.axis", &self.camera.axis),
+            ("light.azimuth", &self.light.azimuth),
+            ("light.elevation", &self.light.elevation),
+        ];
+        for (name, axis) in named {
+            if !(axis.min_deg.is_finite() && axis.max_deg.is_finite() && axis.min_deg < axis.max_deg)
+            {
+                return Err(format!(
+                    "{name}: min_deg ({}) must be below max_deg ({})",
+                    axis.min_deg, axis.max_deg
+                ));
+            }
+            positive(axis.speed_deg_s, &format!("{name}.speed_deg_s"))?;
+            positive(axis.accel_deg_s2, &format!("{name}.accel_deg_s2"))?;
+            non_negative(axis.settle_s, &format!("{name}.settle_s"))?;
+        }
+        if self.camera.axis.min_deg < -90.0 || self.camera.axis.max_deg > 90.0 {
+            return Err("camera.axis must stay within [-90, 90] degrees".into());
+        }
+        if self.light.elevation.min_deg < -90.0 || self.light.elevation.max_deg > 90.0 {
+            return Err("light.elevation must stay within [-90, 90] degrees".into());
+        }
+        positive(self.camera.distance_m, "camera.distance_m")?;
+        positive(self.light.distance_m, "light.distance_m")?;
+        for (name, cone) in [("camera.view", &self.camera.view), ("light.beam", &self.light.beam)] {
+            non_negative(cone.sample_radius_m, &format!("{name}.sample_radius_m"))?;
+            positive(cone.end_distance_m, &format!("{name}.end_distance_m"))?;
+            non_negative(cone.end_radius_m, &format!("{name}.end_radius_m"))?;
+        }
+        for part in self.camera.parts.iter().chain(&self.light.parts) {
+            let finite = part.from_m.iter().chain(&part.to_m).all(|x| x.is_finite());
+            if !finite {
+                return Err(format!("part '{}' has a coordinate that is not a number", part.name));
+            }
+            non_negative(part.radius_m, &format!("part '{}' radius_m", part.name))?;
+        }
+        self.capture.validate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_device_is_the_papers() {
+        let d = Device::utia();
+        assert_eq!(d.accuracy_deg, 0.03);
+        assert_eq!(d.light.distance_m, 1.1);
+        assert_eq!(d.camera.distance_m, 2.0);
+        assert_eq!(d.camera.axis.max_deg, 75.0);
+        assert_eq!(d.camera.axis.min_deg, -75.0);
+        assert!(!d.camera.parts.is_empty() && !d.light.parts.is_empty());
+    }
+
+    #[test]
+    fn toml_round_trip() {
+        let d = Device::utia();
+        let back = Device::from_toml_str(&d.to_toml_string(), "round trip").unwrap();
+        assert_eq!(d, back);
+    }
+
+    #[test]
+    fn bad_files_name_the_problem() {
+        let broken = UTIA_TOML.replace("speed_deg_s = 20.0", "speed_deg_s = -1.0");
+        let err = Device::from_toml_str(&broken, "x.toml").unwrap_err().to_string();
+        assert!(err.contains("x.toml") && err.contains("turntable.speed_deg_s"), "{err}");
+
+        let unknown = UTIA_TOML.replace("[park]", "wobble = 3\n[park]");
+        let err = Device::from_toml_str(&unknown, "y.toml").unwrap_err().to_string();
+        assert!(err.contains("y.toml") && err.contains("wobble"), "{err}");
+        assert_eq!(err.lines().count(), 1, "one line: {err}");
+        let line = UTIA_TOML.lines().position(|l| l == "[park]").unwrap() + 1;
+        assert!(err.contains(&format!("line {line}:")), "{err}");
+
+        let missing = Device::load(Path::new("/nonexistent/device.toml")).unwrap_err();
+        assert!(missing.to_string().contains("/nonexistent/device.toml"));
+    }
+
+    #[test]
+    fn limits_are_inclusive() {
+        let d = Device::utia();
+        let at_limit = AxisPositions::from_degrees(0.0, 75.0, 0.0, -75.0);
+        assert!(d.within_limits(&at_limit));
+        let beyond = AxisPositions::from_degrees(0.0, 75.01, 0.0, 0.0);
+        assert!(!d.within_limits(&beyond));
+    }
+}

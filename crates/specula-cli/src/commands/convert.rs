@@ -1,0 +1,74 @@
+//! `specula convert`: a BRDF from one measured format into another.
+
+use crate::progress;
+use anyhow::Result;
+use specula_formats::convert::{convert, ConvertOptions, CsvGrid};
+use std::path::PathBuf;
+
+/// Convert a BRDF between MERL (.binary), UTIA (.bin), RGL (.bsdf, input only) and a samples
+/// CSV (.csv), resampling where the grids differ.
+///
+/// IN is any BRDF source: a measured file (recognised by its magic bytes or extension), a
+/// preset, a material .toml or a fit such as nbrdf:gold-metallic-paint or lafortune:NAME. The
+/// format of OUT is given by its extension. Same-format conversions copy. Otherwise the source
+/// is evaluated at the target's nodes with its own interpolation: MERL bin centres
+/// (theta_h = (i + 0.5)^2 / 90, theta_d = j + 0.5, phi_d = k + 0.5 deg), the UTIA nodes
+/// (elevations 0..75 deg by 15, azimuths by 7.5), or sample rows. Cells the source has not
+/// measured stay "not measured": negative in MERL, -1 in UTIA, no row in a CSV; a CSV source
+/// is binned into MERL cells (the mean of each cell's samples). The samples CSV has the header
+/// theta_h,phi_h,theta_d,phi_d,r,g,b (degrees, f_r in 1/sr).
+#[derive(clap::Args)]
+#[command(after_help = "Examples:
+  specula convert paper_white_rgb.bsdf paper_white.binary
+  specula convert gold.binary gold.bin
+  specula convert samples.csv binned.binary
+  specula convert nbrdf:chrome chrome.csv --grid utia")]
+pub struct Args {
+    /// The BRDF to convert: a .binary, .bin, .bsdf or .csv file, a preset or a model:name fit.
+    pub input: String,
+    /// The file to write; .binary (MERL), .bin (UTIA) or .csv (samples).
+    pub output: PathBuf,
+    /// Azimuth of the half vector (degrees) at which MERL cells and MERL-grid samples are
+    /// taken. Matters only for anisotropic sources (UTIA files); 45 is the paper's choice
+    /// (section 4.3), away from the scratch directions.
+    #[arg(long, default_value_t = 45.0)]
+    pub phi_h_deg: f64,
+    /// Where to sample a continuous source (RGL file, fit, preset) written as CSV: `merl`,
+    /// the 1,458,000 MERL bin centres, or `utia`, the 82,944 UTIA nodes.
+    #[arg(long, value_enum, default_value_t = Grid::Merl)]
+    pub grid: Grid,
+}
+
+/// Sample placement for continuous sources written as CSV.
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum Grid {
+    Merl,
+    Utia,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let options = ConvertOptions {
+        phi_h_rad: args.phi_h_deg.to_radians(),
+        csv_grid: match args.grid {
+            Grid::Merl => CsvGrid::Merl,
+            Grid::Utia => CsvGrid::Utia,
+        },
+    };
+    let spinner = progress::spinner("converting");
+    let result = convert(&args.input, &args.output, &options);
+    spinner.finish_and_clear();
+    let done = result?;
+    let holes = if done.not_measured > 0 {
+        format!(", {} not measured", done.not_measured)
+    } else {
+        String::new()
+    };
+    println!(
+        "{}: {} ({}), {} measured{holes}",
+        args.output.display(),
+        done.target.label(),
+        done.method,
+        done.measured
+    );
+    Ok(())
+}

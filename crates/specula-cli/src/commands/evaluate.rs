@@ -1,0 +1,268 @@
+//! `specula evaluate`: the accuracy harness. Measures a known BRDF on a plan without noise,
+//! reconstructs it and prints the error figures.
+
+use anyhow::{bail, Context, Result};
+use specula_acquisition::device::Device;
+use specula_acquisition::plan::{Plan, Status};
+use specula_core::materials::builtin_database;
+use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::tabulate::tabulate;
+use specula_core::{Brdf, HalfDiff};
+use specula_formats::fits::{load_fits, FitModel};
+use specula_formats::input::measured_file;
+use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
+use specula_formats::samples_csv::{Sample as SampleRow, SampleSet};
+use specula_reconstruct::accuracy::{evaluate, measure, Accuracy, GridPlan};
+use specula_reconstruct::Method;
+use specula_sampling::{fit_k, place_theta_h, Probe, ProbeSettings};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// Measure a known BRDF on a plan without noise, reconstruct it and print the error.
+///
+/// The plan is the paper's (5.3) unless told otherwise: theta_h at the 30 positions of the
+/// exponential sampling function with k-hat fitted to the material's probe (5.2: theta_d 40,
+/// phi_d 90, phi_h 45 deg, 90 square-root positions), theta_d 0, 3, ..., 87 deg, phi_d 0,
+/// 15, ..., 90 deg at phi_h 45 deg; the samples the device cannot take (limits, occlusion) are
+/// left out, as a real measurement would.
+///
+/// Figures (averaged over R, G, B; see `specula compare --help`): relative_rmse
+/// (cosine-weighted), log_rmse (of ln(1 + f cos theta_i)) and slice_mae (the paper's
+/// characteristic slice phi_d = 90), over the cells whose light and camera are both within
+/// --max-elevation of the normal ("within") and over all cells above the surface ("all").
+///
+/// Examples:
+///
+///   specula evaluate --truth silver-925 --method linear     # the paper's pipeline
+///
+///   specula evaluate --builtin --method lobe                # the built-in database, a table
+#[derive(clap::Args)]
+pub struct Args {
+    /// The ground-truth BRDF: a preset name, a material .toml, a MERL .binary or a
+    /// model:name fit. Repeat for several.
+    #[arg(long, required_unless_present_any = ["builtin", "merl_fits"])]
+    pub truth: Vec<String>,
+    /// Evaluate over every material of the built-in database (and the --truth ones) and
+    /// print a table with the mean.
+    #[arg(long)]
+    pub builtin: bool,
+    /// Evaluate over the 100 MERL materials as fitted by a published model: sgd (Bagher et
+    /// al. 2012), abc (Low et al. 2012) or nbrdf (Sztrajman et al. 2021, neural). Repeat for
+    /// several.
+    #[arg(long, value_enum)]
+    pub merl_fits: Vec<MerlFits>,
+    /// Reconstruction method: lobe (ours: log ratio to a fitted microfacet lobe), log, or
+    /// linear (the paper's baseline).
+    #[arg(long, default_value = "lobe")]
+    pub method: Method,
+    /// k of the theta_h sampling function; default: k-hat fitted to each material's probe.
+    #[arg(long)]
+    pub k: Option<f64>,
+    /// Sampling function family: exponential (paper eq. 3), power (eq. 2) or base (eq. 4).
+    #[arg(long, default_value = "exponential")]
+    pub family: Family,
+    /// How theta_h positions are placed: `function` (the sampling function, paper 5.2) or
+    /// `probe` (the least-error placement on the material's probe).
+    #[arg(long, value_enum, default_value_t = Placement::Function)]
+    pub placement: Placement,
+    /// Number of theta_h positions.
+    #[arg(long, default_value_t = 30)]
+    pub theta_h_samples: usize,
+    /// Step of theta_d in degrees (0, step, ... below 90).
+    #[arg(long, default_value_t = 3.0)]
+    pub theta_d_step: f64,
+    /// Step of phi_d in degrees (0, step, ... up to 90).
+    #[arg(long, default_value_t = 15.0)]
+    pub phi_d_step: f64,
+    /// phi_h in degrees, the sample's orientation.
+    #[arg(long, default_value_t = 45.0)]
+    pub phi_h: f64,
+    /// Device description (TOML) deciding which samples are taken; default: the paper's
+    /// UTIA gonioreflectometer.
+    #[arg(long)]
+    pub device: Option<PathBuf>,
+    /// Largest elevation (degrees from the normal) of light and camera for the "within"
+    /// figures.
+    #[arg(long, default_value_t = 75.0)]
+    pub max_elevation: f64,
+    /// Also write the simulated samples (CSV, the input of `specula reconstruct`); one
+    /// --truth only.
+    #[arg(long, conflicts_with_all = ["builtin", "merl_fits"])]
+    pub samples_out: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum MerlFits {
+    Sgd,
+    Abc,
+    Nbrdf,
+}
+
+impl MerlFits {
+    /// The 100 fitted materials.
+    fn load(self) -> Result<Vec<Arc<dyn Brdf>>> {
+        match self {
+            MerlFits::Sgd | MerlFits::Abc => {
+                let model = if self == MerlFits::Sgd { FitModel::Sgd } else { FitModel::Abc };
+                load_fits(&measured_file(model.table())?)
+            }
+            MerlFits::Nbrdf => NbrdfSet::Merl100
+                .names()?
+                .iter()
+                .map(|name| Ok(Arc::new(Nbrdf::load(NbrdfSet::Merl100, name)?) as Arc<dyn Brdf>))
+                .collect(),
+        }
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Placement {
+    Function,
+    Probe,
+}
+
+/// One evaluated material.
+struct Row {
+    name: String,
+    k: Option<f64>,
+    measured: usize,
+    accuracy: Accuracy,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    check_args(&args)?;
+    let device = match &args.device {
+        Some(path) => Device::load(path)?,
+        None => Device::utia(),
+    };
+    let mut truths: Vec<Arc<dyn Brdf>> = Vec::new();
+    for spec in &args.truth {
+        truths.push(specula_formats::load_brdf(spec)?);
+    }
+    if args.builtin {
+        truths.extend(builtin_database().into_iter().map(|m| Arc::new(m) as Arc<dyn Brdf>));
+    }
+    for fits in &args.merl_fits {
+        truths.extend(fits.load()?);
+    }
+    let bar = crate::progress::bar(truths.len() as u64, "evaluating");
+    let mut rows = Vec::with_capacity(truths.len());
+    for truth in &truths {
+        rows.push(evaluate_one(truth.as_ref(), &args, &device)?);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    print_rows(&args, &rows);
+    Ok(())
+}
+
+fn check_args(args: &Args) -> Result<()> {
+    if args.theta_h_samples < 2 {
+        bail!("--theta-h-samples must be at least 2");
+    }
+    for (flag, step) in [("--theta-d-step", args.theta_d_step), ("--phi-d-step", args.phi_d_step)] {
+        if !(step.is_finite() && step > 0.0 && step <= 90.0) {
+            bail!("{flag} must be a number of degrees in (0, 90], got {step}");
+        }
+    }
+    if !(args.max_elevation > 0.0 && args.max_elevation <= 90.0) {
+        bail!("--max-elevation must be in (0, 90] degrees");
+    }
+    if let Some(k) = args.k {
+        SamplingFunction::new(args.family, k)?;
+    }
+    if args.samples_out.is_some() && args.truth.len() != 1 {
+        bail!("--samples-out needs exactly one --truth");
+    }
+    Ok(())
+}
+
+/// The plan for one material, its noise-free measurement, the reconstruction and the error.
+fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
+    let name = truth.name();
+    let (theta_h, k) = theta_h_positions(truth, args).with_context(|| format!("{name}: placing theta_h"))?;
+    let grid = GridPlan::with_steps(theta_h, args.theta_d_step, args.phi_d_step, args.phi_h);
+    let plan = Plan::from_grid(&grid.theta_h_deg, &grid.theta_d_deg, &grid.phi_d_deg, grid.phi_h_deg, device);
+    let reached: Vec<HalfDiff> = plan
+        .samples
+        .iter()
+        .filter(|s| s.status == Status::Ok)
+        .map(|s| s.hd)
+        .collect();
+    let samples = measure(truth, &reached);
+    if let Some(path) = &args.samples_out {
+        let rows = samples.iter().map(|s| SampleRow { angles: s.hd, value: s.value }).collect();
+        SampleSet::new(name.clone(), rows).write(path)?;
+    }
+    let table = tabulate(truth, args.phi_h.to_radians());
+    let (_, accuracy) = evaluate(&samples, args.method, &table, args.max_elevation)
+        .with_context(|| format!("{name}: reconstructing {} samples", samples.len()))?;
+    Ok(Row {
+        name,
+        k,
+        measured: samples.len(),
+        accuracy,
+    })
+}
+
+/// theta_h positions in degrees and the k they come from (None for the probe placement).
+fn theta_h_positions(truth: &dyn Brdf, args: &Args) -> Result<(Vec<f64>, Option<f64>)> {
+    let n = args.theta_h_samples;
+    if let (Placement::Function, Some(k)) = (args.placement, args.k) {
+        return Ok((SamplingFunction::new(args.family, k)?.positions_deg(n), Some(k)));
+    }
+    let probe = Probe::take(truth, &ProbeSettings::default())?;
+    match args.placement {
+        Placement::Function => {
+            let fit = fit_k(&probe.column(), args.family, n)?;
+            Ok((fit.function.positions_deg(n), Some(fit.function.k)))
+        }
+        Placement::Probe => Ok((place_theta_h(&probe, n), None)),
+    }
+}
+
+fn print_rows(args: &Args, rows: &[Row]) {
+    println!(
+        "# method {}, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, phi_h {} deg; within = light and camera <= {} deg",
+        args.method,
+        args.theta_h_samples,
+        match args.placement {
+            Placement::Function => format!("{} function", args.family),
+            Placement::Probe => "probe placement".to_string(),
+        },
+        args.theta_d_step,
+        args.phi_d_step,
+        args.phi_h,
+        args.max_elevation
+    );
+    println!("material,k,measured,rel_rmse_within,log_rmse_within,slice_mae_within,rel_rmse_all,log_rmse_all,slice_mae_all");
+    for row in rows {
+        let k = row.k.map_or(String::new(), |k| format!("{k:.3}"));
+        print_figures(&row.name, &k, row.measured as f64, &row.accuracy);
+    }
+    if rows.len() > 1 {
+        let n = rows.len() as f64;
+        let mean = |f: &dyn Fn(&Accuracy) -> f64| rows.iter().map(|r| f(&r.accuracy)).sum::<f64>() / n;
+        let measured = rows.iter().map(|r| r.measured as f64).sum::<f64>() / n;
+        let mut accuracy = rows[0].accuracy;
+        accuracy.within.relative_rmse = mean(&|a| a.within.relative_rmse);
+        accuracy.within.log_rmse = mean(&|a| a.within.log_rmse);
+        accuracy.within.slice_mae = mean(&|a| a.within.slice_mae);
+        accuracy.all.relative_rmse = mean(&|a| a.all.relative_rmse);
+        accuracy.all.log_rmse = mean(&|a| a.all.log_rmse);
+        accuracy.all.slice_mae = mean(&|a| a.all.slice_mae);
+        print_figures(&format!("mean of {}", rows.len()), "", measured, &accuracy);
+    }
+}
+
+fn print_figures(name: &str, k: &str, measured: f64, a: &Accuracy) {
+    println!(
+        "{name},{k},{measured:.0},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e}",
+        a.within.relative_rmse,
+        a.within.log_rmse,
+        a.within.slice_mae,
+        a.all.relative_rmse,
+        a.all.log_rmse,
+        a.all.slice_mae
+    );
+}

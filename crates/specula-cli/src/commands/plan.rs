@@ -1,0 +1,189 @@
+//! `specula plan`: the sparse sampling of paper 5.3 turned into device positions, with
+//! reachability, occlusion, an execution order and a time estimate.
+
+use anyhow::{bail, Context, Result};
+use specula_acquisition::device::Device;
+use specula_acquisition::ordering::{order, transition_time_s};
+use specula_acquisition::plan::{Plan, PlanSummary};
+use specula_core::sampling::{Family, SamplingFunction};
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::PathBuf;
+
+/// Plan a measurement: turn a theta_h x theta_d x phi_d grid (paper 5.3) into goniometer
+/// positions, find which samples the device can take, order them and estimate the time.
+///
+/// The grid: theta_h at the positions of the sampling function (--family, --k) or the
+/// explicit --theta-h-list; theta_d = 0, step, 2 step, ... below 90 deg; phi_d = 0, step, ...
+/// up to 90 deg (the rest follows by symmetry); one phi_h. The paper's plan is the default:
+/// 30 x 30 x 7 = 6300 samples.
+///
+/// A sample is `ok`, `limit` (no axis position reaches it: light or camera beyond 75 deg from
+/// the normal on the default device) or `occluded` (every reachable position has the light
+/// head or arm in the camera's view, the camera or its arm in the light's beam, or the arms
+/// colliding). Among the free positions (camera on either side, light arm tilted either way)
+/// the planner picks one; --order optimized then reorders the samples and re-picks the
+/// positions to cut the move and settle time.
+///
+/// Writes PLAN.csv in execution order, one row per sample:
+/// index,theta_h,phi_h,theta_d,phi_d,theta_i,phi_i,theta_o,phi_o,status (degrees), then
+/// turntable_deg,camera_deg,light_azimuth_deg,light_elevation_deg (empty when excluded) and
+/// time_s (move from the previous sample + settle + capture). Prints a summary with the time
+/// of the nested-loop order and of the optimized order.
+///
+/// Example: specula plan --k 4.78 --out plan.csv
+#[derive(clap::Args)]
+pub struct Args {
+    /// k of the theta_h sampling function: the material's fitted k-hat (the paper: green
+    /// paint 5.64, silver 925 4.78).
+    #[arg(long, allow_negative_numbers = true, required_unless_present_any = ["theta_h_list", "print_device"])]
+    pub k: Option<f64>,
+    /// Sampling function family: exponential (paper eq. 3), power (eq. 2) or base (eq. 4).
+    #[arg(long, default_value = "exponential")]
+    pub family: Family,
+    /// Number of theta_h positions of the sampling function.
+    #[arg(long, default_value_t = 30)]
+    pub theta_h_samples: usize,
+    /// Explicit theta_h positions in degrees, comma-separated, instead of --k
+    /// (e.g. from adaptive placement).
+    #[arg(long, value_delimiter = ',', conflicts_with = "k")]
+    pub theta_h_list: Option<Vec<f64>>,
+    /// Step of theta_d in degrees (0, step, ... below 90).
+    #[arg(long, default_value_t = 3.0)]
+    pub theta_d_step: f64,
+    /// Step of phi_d in degrees (0, step, ... up to 90).
+    #[arg(long, default_value_t = 15.0)]
+    pub phi_d_step: f64,
+    /// phi_h in degrees: the sample's orientation, chosen to avoid anisotropic scratches
+    /// (paper 4.3). It only turns the turntable; reachability does not depend on it.
+    #[arg(long, default_value_t = 45.0, allow_negative_numbers = true)]
+    pub phi_h: f64,
+    /// Device description (TOML); default: the paper's UTIA gonioreflectometer. See
+    /// --print-device for the format.
+    #[arg(long)]
+    pub device: Option<PathBuf>,
+    /// Execution order written to PLAN.csv: `optimized` (a travelling-salesman path over the
+    /// axes) or `nested` (theta_h, theta_d, phi_d loops, as the paper).
+    #[arg(long, value_enum, default_value_t = Order::Optimized)]
+    pub order: Order,
+    /// Where to write the plan (CSV).
+    #[arg(long, required_unless_present = "print_device")]
+    pub out: Option<PathBuf>,
+    /// Print the device description (the default, or --device) as TOML and exit.
+    #[arg(long)]
+    pub print_device: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Order {
+    Optimized,
+    Nested,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let device = match &args.device {
+        Some(path) => Device::load(path)?,
+        None => Device::utia(),
+    };
+    if args.print_device {
+        match &args.device {
+            Some(_) => print!("{}", device.to_toml_string()),
+            None => print!("{}", specula_acquisition::device::UTIA_TOML),
+        }
+        return Ok(());
+    }
+    let out = args.out.clone().context("--out is required")?;
+    let theta_h = theta_h_positions(&args)?;
+    let theta_d = steps_deg(args.theta_d_step, "--theta-d-step", false)?;
+    let phi_d = steps_deg(args.phi_d_step, "--phi-d-step", true)?;
+    if !args.phi_h.is_finite() {
+        bail!("--phi-h must be a number of degrees");
+    }
+
+    let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, args.phi_h, &device);
+    let spinner = crate::progress::spinner("ordering");
+    let optimized = order(&nested);
+    spinner.finish_and_clear();
+
+    let chosen = match args.order {
+        Order::Optimized => &optimized,
+        Order::Nested => &nested,
+    };
+    let file = File::create(&out).with_context(|| format!("cannot create {}", out.display()))?;
+    chosen
+        .write_csv(BufWriter::new(file))
+        .with_context(|| format!("cannot write {}", out.display()))?;
+
+    println!("device: {}", device.name);
+    println!(
+        "grid: {} theta_h x {} theta_d x {} phi_d at phi_h = {} deg",
+        theta_h.len(),
+        theta_d.len(),
+        phi_d.len(),
+        args.phi_h
+    );
+    print_summary(&nested.summary(&device), &optimized.summary(&device));
+    println!(
+        "motion (moves + settling): nested {:.2} h, optimized {:.2} h ({:.0}% less)",
+        transition_time_s(&nested) / 3600.0,
+        transition_time_s(&optimized) / 3600.0,
+        100.0 * (1.0 - transition_time_s(&optimized) / transition_time_s(&nested).max(1e-9))
+    );
+    let label = match args.order {
+        Order::Optimized => "optimized",
+        Order::Nested => "nested",
+    };
+    println!("wrote {} ({label} order)", out.display());
+    Ok(())
+}
+
+/// theta_h positions: the explicit list, or the sampling function's.
+fn theta_h_positions(args: &Args) -> Result<Vec<f64>> {
+    if let Some(list) = &args.theta_h_list {
+        if list.is_empty() || list.iter().any(|t| !(0.0..=90.0).contains(t)) {
+            bail!("--theta-h-list needs values between 0 and 90 degrees");
+        }
+        return Ok(list.clone());
+    }
+    let k = args.k.context("give --k or --theta-h-list")?;
+    if args.theta_h_samples == 0 {
+        bail!("--theta-h-samples must be at least 1");
+    }
+    let function = SamplingFunction::new(args.family, k)?;
+    Ok(function.positions_deg(args.theta_h_samples))
+}
+
+/// `0, step, 2 step, ...` below 90 degrees, or up to and including 90 with `include_90`.
+fn steps_deg(step: f64, flag: &str, include_90: bool) -> Result<Vec<f64>> {
+    if !(step.is_finite() && step > 0.0 && step <= 90.0) {
+        bail!("{flag} must be a number of degrees in (0, 90], got {step}");
+    }
+    let count = (90.0 / step + 1e-9).floor() as usize;
+    let mut values: Vec<f64> = (0..=count).map(|i| i as f64 * step).collect();
+    values.retain(|&v| if include_90 { v <= 90.0 + 1e-9 } else { v < 90.0 - 1e-9 });
+    Ok(values)
+}
+
+fn print_summary(nested: &PlanSummary, optimized: &PlanSummary) {
+    println!("samples: {}", nested.total);
+    println!("measurable: {}", nested.measurable);
+    println!(
+        "excluded: {} (limit {}, occluded {})",
+        nested.limit + nested.occluded,
+        nested.limit,
+        nested.occluded
+    );
+    for (reason, count) in &nested.occluded_by {
+        println!("  occluded, {reason}: {count}");
+    }
+    println!("time           moves   settle  captures     total");
+    for (label, s) in [("nested", nested), ("optimized", optimized)] {
+        println!(
+            "{label:<10} {:>8.2} h {:>6.2} h {:>7.2} h {:>7.2} h",
+            s.move_s / 3600.0,
+            s.settle_s / 3600.0,
+            s.capture_s / 3600.0,
+            s.duration_s() / 3600.0
+        );
+    }
+}

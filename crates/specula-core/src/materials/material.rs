@@ -1,0 +1,110 @@
+//! A reference material: a base (rough conductor or clear-coated paint) and an optional
+//! scratch lobe, usable wherever a [`Brdf`] is (simulated device, tabulation, comparisons).
+//!
+//! With a scratch lobe of weight `w`, a fraction `w` of the surface is scratched:
+//! `f = (1 - w) f_base + w F_base(wi . h) f_scratch`, where `F_base` is the base's specular
+//! Fresnel term (the metal's, or the lacquer's for a paint). Each part keeps its directional
+//! albedo within 1, and so does the mixture.
+//!
+//! Materials are read from and written to TOML (schema in `material_file.rs` and the README).
+
+use super::clearcoat::ClearCoat;
+use super::conductor::RoughConductor;
+use super::microfacet::IsotropicCosines;
+use super::scratch::ScratchLobe;
+use crate::brdf::{Brdf, Rgb};
+use crate::geometry::HalfDiff;
+use glam::DVec3;
+
+/// The isotropic part of a material.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Base {
+    /// A polished metal.
+    Conductor(RoughConductor),
+    /// A lacquer over a pigmented base.
+    ClearCoat(ClearCoat),
+}
+
+impl Base {
+    /// f_r in 1/sr from the cosines of an isotropic configuration.
+    fn eval_cosines(&self, c: IsotropicCosines) -> Rgb {
+        match self {
+            Base::Conductor(conductor) => conductor.eval_cosines(c),
+            Base::ClearCoat(coat) => coat.eval_cosines(c),
+        }
+    }
+
+    /// The Fresnel reflectance of the top surface at `cos_d = wi . h`.
+    fn fresnel(&self, cos_d: f64) -> Rgb {
+        match self {
+            Base::Conductor(conductor) => conductor.fresnel(cos_d),
+            Base::ClearCoat(coat) => Rgb::splat(coat.fresnel(cos_d)),
+        }
+    }
+}
+
+/// A named reference material (see the module documentation).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(
+    try_from = "super::material_file::MaterialFile",
+    into = "super::material_file::MaterialFile"
+)]
+pub struct Material {
+    pub name: String,
+    pub base: Base,
+    pub scratch: Option<ScratchLobe>,
+}
+
+impl Material {
+    /// An isotropic material without scratches.
+    pub fn new(name: impl Into<String>, base: Base) -> Self {
+        Self {
+            name: name.into(),
+            base,
+            scratch: None,
+        }
+    }
+
+    /// The same material with a scratch lobe.
+    pub fn with_scratch(self, scratch: ScratchLobe) -> Self {
+        Self {
+            scratch: Some(scratch),
+            ..self
+        }
+    }
+
+    /// f_r in 1/sr for unit directions; zero at or below the horizon.
+    pub fn eval_rgb(&self, wi: DVec3, wo: DVec3) -> Rgb {
+        let Some(c) = IsotropicCosines::from_directions(wi, wo) else {
+            return Rgb::ZERO;
+        };
+        let base = self.base.eval_cosines(c);
+        match &self.scratch {
+            None => base,
+            Some(lobe) => {
+                let scratched = self.base.fresnel(c.cos_d) * lobe.reflection(wi, wo);
+                base * (1.0 - lobe.weight) + scratched * lobe.weight
+            }
+        }
+    }
+}
+
+impl Brdf for Material {
+    fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+        Some(self.eval_rgb(wi, wo))
+    }
+
+    /// Isotropic materials skip building the directions (tabulation's fast path); a scratch
+    /// lobe needs them, for it depends on `phi_h`.
+    fn eval_half_diff(&self, hd: HalfDiff) -> Option<Rgb> {
+        if self.scratch.is_some() {
+            let (wi, wo) = hd.to_directions();
+            return Some(self.eval_rgb(wi, wo));
+        }
+        Some(IsotropicCosines::from_half_diff(hd).map_or(Rgb::ZERO, |c| self.base.eval_cosines(c)))
+    }
+
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+}

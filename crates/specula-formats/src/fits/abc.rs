@@ -1,0 +1,99 @@
+//! The ABC model of Löw, Kronander, Ynnerman & Unger, "BRDF models for accurate and efficient
+//! rendering of glossy surfaces", ACM TOG 31(1), 2012, with the parameters fitted to the MERL
+//! materials. With `i` towards the light, `o` towards the camera, `h = normalize(i + o)`:
+//!
+//! ```text
+//! f_r = kD / pi + F(i . h; ior) D G / (pi i.z o.z)
+//! D   = A / (1 + B (1 - cos theta_h))^C          (A and kD per channel)
+//! G   = min(1, 2 h.z i.z / (i . h), 2 h.z o.z / (o . h))   (Cook-Torrance V-groove)
+//! F   = the unpolarised Fresnel reflectance of a dielectric of real index ior
+//! ```
+
+use super::TableRow;
+use glam::DVec3;
+use specula_core::brdf::both_above_surface;
+use specula_core::{Brdf, Rgb};
+use std::f64::consts::PI;
+
+/// One material's ABC fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Abc {
+    pub name: String,
+    pub k_d: Rgb,
+    pub a: Rgb,
+    pub b: f64,
+    pub c: f64,
+    pub ior: f64,
+}
+
+impl Abc {
+    pub(crate) fn from_row(row: &TableRow) -> Result<Self, String> {
+        let fit = Self {
+            name: row.text("material")?.to_string(),
+            k_d: row.rgb("kD")?,
+            a: row.rgb("A")?,
+            b: row.number("B")?,
+            c: row.number("C")?,
+            ior: row.number("ior")?,
+        };
+        if fit.ior <= 0.0 || fit.b < 0.0 {
+            return Err(format!("{}: needs ior > 0 and B >= 0", fit.name));
+        }
+        Ok(fit)
+    }
+}
+
+/// Unpolarised Fresnel reflectance of a dielectric interface of relative index `ior` for
+/// light arriving at `cos_i` from the outside; 1 beyond the critical angle.
+pub fn fresnel_dielectric(cos_i: f64, ior: f64) -> f64 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let sin_t2 = (1.0 - cos_i * cos_i) / (ior * ior);
+    if sin_t2 >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin_t2).sqrt();
+    let r_s = (cos_i - ior * cos_t) / (cos_i + ior * cos_t);
+    let r_p = (ior * cos_i - cos_t) / (ior * cos_i + cos_t);
+    0.5 * (r_s * r_s + r_p * r_p)
+}
+
+impl Brdf for Abc {
+    fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+        if !both_above_surface(wi, wo) {
+            return Some(Rgb::ZERO);
+        }
+        let (wi, wo) = (wi.normalize(), wo.normalize());
+        let h = (wi + wo).normalize();
+        let (i_h, o_h) = (wi.dot(h), wo.dot(h));
+        let shadowing = 1f64
+            .min(2.0 * h.z * wi.z / i_h)
+            .min(2.0 * h.z * wo.z / o_h)
+            .max(0.0);
+        let fresnel = fresnel_dielectric(i_h, self.ior);
+        let falloff = (1.0 + self.b * (1.0 - h.z)).powf(self.c);
+        let specular = self.a / falloff * (fresnel * shadowing / (PI * wi.z * wo.z));
+        Some((self.k_d / PI + specular).max(Rgb::ZERO))
+    }
+
+    fn name(&self) -> String {
+        format!("abc:{}", self.name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fresnel_has_its_known_values() {
+        // Normal incidence: ((n - 1) / (n + 1))^2; grazing: 1; Brewster: r_p = 0.
+        let n: f64 = 1.5;
+        assert!((fresnel_dielectric(1.0, n) - 0.04).abs() < 1e-12);
+        assert!((fresnel_dielectric(0.0, n) - 1.0).abs() < 1e-12);
+        let brewster = n.atan();
+        let cos_b = brewster.cos();
+        let sin_t = brewster.sin() / n;
+        let r_s = (cos_b - n * (1.0 - sin_t * sin_t).sqrt()) / (cos_b + n * (1.0 - sin_t * sin_t).sqrt());
+        assert!((fresnel_dielectric(cos_b, n) - 0.5 * r_s * r_s).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,326 @@
+//! The `tensor_file` container of Mitsuba and the RGL material database (Dupuy & Jakob 2018).
+//!
+//! Layout, little-endian:
+//! - bytes 0..12: the magic `"tensor_file\0"`; bytes 12, 13: version 1.0; then a `u32` field count;
+//! - per field: `u16` name length, the name, `u16` rank, `u8` dtype, `u64` byte offset of the
+//!   data from the start of the file, then `rank` sizes as `u64`;
+//! - dtype codes: 1 u8, 2 i8, 3 u16, 4 i16, 5 u32, 6 i32, 7 u64, 8 i64, 9 f16, 10 f32, 11 f64.
+//!
+//! Only the parts Specula needs are decoded: any field is located and bounds-checked, and
+//! `f32` and `u8` fields can be read out.
+
+use std::collections::HashMap;
+
+/// The first 12 bytes of every tensor file.
+pub const MAGIC: &[u8; 12] = b"tensor_file\0";
+
+/// Element type of a field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dtype {
+    U8,
+    I8,
+    U16,
+    I16,
+    U32,
+    I32,
+    U64,
+    I64,
+    F16,
+    F32,
+    F64,
+}
+
+impl Dtype {
+    fn from_code(code: u8) -> Option<Self> {
+        use Dtype::*;
+        Some(match code {
+            1 => U8,
+            2 => I8,
+            3 => U16,
+            4 => I16,
+            5 => U32,
+            6 => I32,
+            7 => U64,
+            8 => I64,
+            9 => F16,
+            10 => F32,
+            11 => F64,
+            _ => return None,
+        })
+    }
+
+    /// Size of one element in bytes.
+    pub fn size_bytes(self) -> usize {
+        use Dtype::*;
+        match self {
+            U8 | I8 => 1,
+            U16 | I16 | F16 => 2,
+            U32 | I32 | F32 => 4,
+            U64 | I64 | F64 => 8,
+        }
+    }
+}
+
+/// One named array of a tensor file: its type, shape and where its bytes are.
+#[derive(Debug, Clone)]
+pub struct Field {
+    pub dtype: Dtype,
+    pub shape: Vec<usize>,
+    data_start: usize,
+    data_len: usize,
+}
+
+/// A parsed tensor file: the field table over the file's bytes.
+pub struct TensorFile<'a> {
+    bytes: &'a [u8],
+    fields: HashMap<String, Field>,
+}
+
+/// A bounds-checked little-endian reader over the header.
+struct Cursor<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Cursor<'a> {
+    fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
+        let end = self
+            .at
+            .checked_add(n)
+            .filter(|end| *end <= self.bytes.len());
+        match end {
+            Some(end) => {
+                let slice = &self.bytes[self.at..end];
+                self.at = end;
+                Ok(slice)
+            }
+            None => Err(format!(
+                "truncated header: {what} at byte {} runs past the end of the file ({} bytes)",
+                self.at,
+                self.bytes.len()
+            )),
+        }
+    }
+
+    fn u8(&mut self, what: &str) -> Result<u8, String> {
+        Ok(self.take(1, what)?[0])
+    }
+
+    fn u16(&mut self, what: &str) -> Result<u16, String> {
+        let b = self.take(2, what)?;
+        Ok(u16::from_le_bytes([b[0], b[1]]))
+    }
+
+    fn u32(&mut self, what: &str) -> Result<u32, String> {
+        let b = self.take(4, what)?;
+        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+
+    fn u64(&mut self, what: &str) -> Result<u64, String> {
+        let b = self.take(8, what)?;
+        Ok(u64::from_le_bytes([
+            b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7],
+        ]))
+    }
+}
+
+impl<'a> TensorFile<'a> {
+    /// Parses the field table, checking the magic, the version and that every field's data
+    /// lies inside the file. The error says what is wrong.
+    pub fn parse(bytes: &'a [u8]) -> Result<Self, String> {
+        if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
+            return Err("not a tensor file (the first 12 bytes are not \"tensor_file\\0\")".into());
+        }
+        let mut cursor = Cursor {
+            bytes,
+            at: MAGIC.len(),
+        };
+        let version = [cursor.u8("version")?, cursor.u8("version")?];
+        if version != [1, 0] {
+            return Err(format!(
+                "unsupported tensor file version {}.{} (expected 1.0)",
+                version[0], version[1]
+            ));
+        }
+        let count = cursor.u32("field count")?;
+        let mut fields = HashMap::new();
+        for index in 0..count {
+            let (name, field) = Self::parse_field(&mut cursor, index)?;
+            if fields.insert(name.clone(), field).is_some() {
+                return Err(format!("field '{name}' appears twice"));
+            }
+        }
+        Ok(Self { bytes, fields })
+    }
+
+    fn parse_field(cursor: &mut Cursor<'a>, index: u32) -> Result<(String, Field), String> {
+        let name_len = cursor.u16("field name length")? as usize;
+        let name = String::from_utf8_lossy(cursor.take(name_len, "field name")?).into_owned();
+        let rank = cursor.u16("field rank")? as usize;
+        let code = cursor.u8("field dtype")?;
+        let dtype = Dtype::from_code(code)
+            .ok_or_else(|| format!("field '{name}' (#{index}) has unknown dtype code {code}"))?;
+        let offset = cursor.u64("field offset")?;
+        let mut shape = Vec::with_capacity(rank.min(16));
+        for _ in 0..rank {
+            shape.push(cursor.u64("field shape")?);
+        }
+        let file_len = cursor.bytes.len() as u64;
+        let data_len = shape
+            .iter()
+            .try_fold(dtype.size_bytes() as u64, |acc, d| acc.checked_mul(*d))
+            .ok_or_else(|| format!("field '{name}' has an impossible shape {shape:?}"))?;
+        let end = offset.checked_add(data_len).filter(|end| *end <= file_len);
+        if end.is_none() {
+            return Err(format!(
+                "truncated: field '{name}' ({dtype:?}{shape:?}) needs bytes {offset}..{} but the file has {file_len}",
+                offset.saturating_add(data_len)
+            ));
+        }
+        let field = Field {
+            dtype,
+            shape: shape.iter().map(|d| *d as usize).collect(),
+            data_start: offset as usize,
+            data_len: data_len as usize,
+        };
+        Ok((name, field))
+    }
+
+    /// The field called `name`, or an error naming it.
+    pub fn field(&self, name: &str) -> Result<&Field, String> {
+        self.fields
+            .get(name)
+            .ok_or_else(|| format!("missing field '{name}'"))
+    }
+
+    /// The raw bytes of a field.
+    fn data(&self, field: &Field) -> &'a [u8] {
+        &self.bytes[field.data_start..field.data_start + field.data_len]
+    }
+
+    /// The elements of an `f32` field of the given rank, with its shape; every value must be
+    /// finite.
+    pub fn f32_field(&self, name: &str, rank: usize) -> Result<(Vec<f32>, Vec<usize>), String> {
+        let field = self.field(name)?;
+        if field.dtype != Dtype::F32 || field.shape.len() != rank {
+            return Err(format!(
+                "field '{name}' is {:?}{:?}, expected a rank-{rank} f32 array",
+                field.dtype, field.shape
+            ));
+        }
+        let values: Vec<f32> = self
+            .data(field)
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        if let Some(pos) = values.iter().position(|v| !v.is_finite()) {
+            return Err(format!(
+                "field '{name}' holds a non-finite value ({}) at element {pos}",
+                values[pos]
+            ));
+        }
+        Ok((values, field.shape.clone()))
+    }
+
+    /// The bytes of a rank-1 `u8` field.
+    pub fn u8_field(&self, name: &str) -> Result<&'a [u8], String> {
+        let field = self.field(name)?;
+        if field.dtype != Dtype::U8 || field.shape.len() != 1 {
+            return Err(format!(
+                "field '{name}' is {:?}{:?}, expected a rank-1 u8 array",
+                field.dtype, field.shape
+            ));
+        }
+        Ok(self.data(field))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tensor file with the given fields `(name, dtype code, shape, data)`.
+    fn build(fields: &[(&str, u8, Vec<u64>, Vec<u8>)]) -> Vec<u8> {
+        let mut header = MAGIC.to_vec();
+        header.extend_from_slice(&[1, 0]);
+        header.extend_from_slice(&(fields.len() as u32).to_le_bytes());
+        let header_len: usize = header.len()
+            + fields
+                .iter()
+                .map(|(n, _, s, _)| 2 + n.len() + 2 + 1 + 8 + 8 * s.len())
+                .sum::<usize>();
+        let mut data = Vec::new();
+        for (name, code, shape, bytes) in fields {
+            header.extend_from_slice(&(name.len() as u16).to_le_bytes());
+            header.extend_from_slice(name.as_bytes());
+            header.extend_from_slice(&(shape.len() as u16).to_le_bytes());
+            header.push(*code);
+            header.extend_from_slice(&((header_len + data.len()) as u64).to_le_bytes());
+            for d in shape {
+                header.extend_from_slice(&d.to_le_bytes());
+            }
+            data.extend_from_slice(bytes);
+        }
+        header.extend_from_slice(&data);
+        header
+    }
+
+    fn f32_bytes(values: &[f32]) -> Vec<u8> {
+        values.iter().flat_map(|v| v.to_le_bytes()).collect()
+    }
+
+    #[test]
+    fn reads_fields_back() {
+        let bytes = build(&[
+            ("a", 10, vec![2, 2], f32_bytes(&[1.0, 2.0, 3.0, 4.0])),
+            ("flag", 1, vec![1], vec![7]),
+        ]);
+        let tf = TensorFile::parse(&bytes).unwrap();
+        let (a, shape) = tf.f32_field("a", 2).unwrap();
+        assert_eq!(a, vec![1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(shape, vec![2, 2]);
+        assert_eq!(tf.u8_field("flag").unwrap(), &[7]);
+        assert!(tf.field("b").unwrap_err().contains("missing field 'b'"));
+        assert!(tf
+            .f32_field("flag", 1)
+            .unwrap_err()
+            .contains("expected a rank-1 f32"));
+    }
+
+    #[test]
+    fn bad_containers_are_described() {
+        assert!(TensorFile::parse(b"tensor_fil").is_err());
+        assert!(TensorFile::parse(b"MERL........xx")
+            .err()
+            .unwrap()
+            .contains("not a tensor file"));
+        let good = build(&[("a", 10, vec![3], f32_bytes(&[1.0, f32::NAN, 3.0]))]);
+        let err = TensorFile::parse(&good[..good.len() - 1]).err().unwrap();
+        assert!(err.contains("truncated"), "{err}");
+        let err = TensorFile::parse(&good[..20]).err().unwrap();
+        assert!(err.contains("truncated header"), "{err}");
+        let tf = TensorFile::parse(&good).unwrap();
+        assert!(tf.f32_field("a", 1).unwrap_err().contains("non-finite"));
+        let mut version = good.clone();
+        version[12] = 2;
+        assert!(TensorFile::parse(&version)
+            .err()
+            .unwrap()
+            .contains("version 2.0"));
+        let huge = build(&[("a", 10, vec![u64::MAX, 4], vec![])]);
+        assert!(TensorFile::parse(&huge)
+            .err()
+            .unwrap()
+            .contains("impossible shape"));
+        let big = build(&[("a", 10, vec![1 << 40], vec![])]);
+        assert!(TensorFile::parse(&big)
+            .err()
+            .unwrap()
+            .contains("truncated: field 'a'"));
+        let dtype = build(&[("a", 42, vec![1], vec![0])]);
+        assert!(TensorFile::parse(&dtype)
+            .err()
+            .unwrap()
+            .contains("unknown dtype code 42"));
+    }
+}

@@ -1,0 +1,29 @@
+//! Shared helpers of the integration tests: where the measured data and the committed
+//! reference vectors are.
+
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+/// A file of the measured data directory (`shared/data/measured`, or `$SPECULA_MEASURED_DIR`).
+pub fn measured(relative: &str) -> PathBuf {
+    let path = specula_formats::input::measured_data_dir().join(relative);
+    assert!(path.is_file(), "{}: measured data missing", path.display());
+    path
+}
+
+/// A file of this crate's `tests/data`.
+pub fn test_data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// The five isotropic RGL files shipped in `rgl_bsdf/`.
+pub const RGL_MATERIALS: [&str; 5] = [
+    "cc_ibiza_sunset_rgb",
+    "cc_iris_purple_gem_rgb",
+    "colodur_napoli_4f_rgb",
+    "paper_white_rgb",
+    "satin_rosaline_rgb",
+];

@@ -1,0 +1,162 @@
+//! The accuracy harness: measure a known BRDF on a plan without noise, reconstruct, and
+//! compare the reconstruction with the BRDF tabulated at the MERL bin centres
+//! ([`specula_core::compare`]), over the cells whose light and camera are both within the
+//! device's elevation limit and over all cells above the surface.
+//!
+//! Which planned samples a device reaches is the planner's business
+//! (`specula_acquisition::plan`); [`within_elevation`] is the simple stand-in of the paper's
+//! limit (theta_v <= 75 deg, section 5.3) for tests and benchmarks.
+
+use crate::sample::Sample;
+use crate::{reconstruct, Method, ReconstructError, Reconstruction};
+use specula_core::compare::{compare, ErrorFigures};
+use specula_core::{Brdf, HalfDiff, MerlBrdf};
+
+/// A plan on a grid: every combination of the theta_h, theta_d and phi_d positions (degrees)
+/// at one phi_h, theta_h outermost and phi_d innermost (the paper's nested loops, 5.3).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridPlan {
+    pub theta_h_deg: Vec<f64>,
+    pub theta_d_deg: Vec<f64>,
+    pub phi_d_deg: Vec<f64>,
+    pub phi_h_deg: f64,
+}
+
+/// The paper's theta_d step (degrees), from 0 up to 87.
+pub const PAPER_THETA_D_STEP_DEG: f64 = 3.0;
+/// The paper's phi_d step (degrees), from 0 to 90.
+pub const PAPER_PHI_D_STEP_DEG: f64 = 15.0;
+/// The paper's phi_h (degrees).
+pub const PAPER_PHI_H_DEG: f64 = 45.0;
+
+impl GridPlan {
+    /// theta_d from 0 in steps below 90 degrees, phi_d from 0 to 90 inclusive in steps.
+    pub fn with_steps(theta_h_deg: Vec<f64>, theta_d_step_deg: f64, phi_d_step_deg: f64, phi_h_deg: f64) -> Self {
+        Self {
+            theta_h_deg,
+            theta_d_deg: steps_below(theta_d_step_deg, 90.0, false),
+            phi_d_deg: steps_below(phi_d_step_deg, 90.0, true),
+            phi_h_deg,
+        }
+    }
+
+    /// The paper's plan (5.3) around the given theta_h positions: theta_d 0, 3, ..., 87,
+    /// phi_d 0, 15, ..., 90, phi_h 45 degrees.
+    pub fn paper(theta_h_deg: Vec<f64>) -> Self {
+        Self::with_steps(theta_h_deg, PAPER_THETA_D_STEP_DEG, PAPER_PHI_D_STEP_DEG, PAPER_PHI_H_DEG)
+    }
+
+    /// Every planned configuration, in the plan's order.
+    pub fn configurations(&self) -> Vec<HalfDiff> {
+        let mut out = Vec::with_capacity(self.len());
+        for &th in &self.theta_h_deg {
+            for &td in &self.theta_d_deg {
+                for &pd in &self.phi_d_deg {
+                    out.push(HalfDiff::from_degrees(th, self.phi_h_deg, td, pd));
+                }
+            }
+        }
+        out
+    }
+
+    pub fn len(&self) -> usize {
+        self.theta_h_deg.len() * self.theta_d_deg.len() * self.phi_d_deg.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// `0, step, 2 step, ...` below `end` (or up to it, inclusive, within float noise).
+fn steps_below(step: f64, end: f64, inclusive: bool) -> Vec<f64> {
+    let n = (end / step + 1e-9).floor() as usize;
+    (0..=n)
+        .map(|i| i as f64 * step)
+        .filter(|&v| v < end - 1e-9 || (inclusive && v <= end + 1e-9))
+        .collect()
+}
+
+/// The stand-in reach: light and camera both within `max_elevation_deg` of the normal.
+pub fn within_elevation(hd: HalfDiff, max_elevation_deg: f64) -> bool {
+    let (wi, wo) = hd.to_directions();
+    let min_cos = max_elevation_deg.to_radians().cos() - 1e-12;
+    wi.z >= min_cos && wo.z >= min_cos
+}
+
+/// Noise-free measurement of `truth` at each configuration; configurations the BRDF does not
+/// answer are left out.
+pub fn measure(truth: &dyn Brdf, configurations: &[HalfDiff]) -> Vec<Sample> {
+    configurations
+        .iter()
+        .filter_map(|&hd| truth.eval_half_diff(hd).map(|v| Sample::new(hd, v)))
+        .collect()
+}
+
+/// Error figures of a reconstruction against the truth, near the normal and everywhere.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Accuracy {
+    /// Cells with light and camera within the elevation limit.
+    pub within: ErrorFigures,
+    /// All cells above the surface.
+    pub all: ErrorFigures,
+}
+
+impl Accuracy {
+    /// Compares `reconstructed` with the tabulated truth.
+    pub fn of(reconstructed: &MerlBrdf, truth: &MerlBrdf, max_elevation_deg: f64) -> Self {
+        Self {
+            within: compare(reconstructed, truth, max_elevation_deg),
+            all: compare(reconstructed, truth, 90.0),
+        }
+    }
+}
+
+/// Reconstructs the samples with a method and compares with the tabulated truth.
+pub fn evaluate(
+    samples: &[Sample],
+    method: Method,
+    truth: &MerlBrdf,
+    max_elevation_deg: f64,
+) -> Result<(Reconstruction, Accuracy), ReconstructError> {
+    let reconstruction = reconstruct(samples, method, "reconstruction")?;
+    let accuracy = Accuracy::of(&reconstruction.brdf, truth, max_elevation_deg);
+    Ok((reconstruction, accuracy))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use specula_core::materials::preset;
+    use specula_core::sampling::{Family, SamplingFunction};
+    use specula_core::tabulate::tabulate;
+
+    #[test]
+    fn the_paper_plan_has_6300_configurations() {
+        let theta_h = SamplingFunction::new(Family::Exponential, 4.78).unwrap().positions_deg(30);
+        let plan = GridPlan::paper(theta_h);
+        assert_eq!((plan.theta_d_deg.len(), plan.phi_d_deg.len(), plan.len()), (30, 7, 6300));
+        assert_eq!(plan.theta_d_deg[29], 87.0);
+        assert_eq!(plan.phi_d_deg[6], 90.0);
+        let reached = plan.configurations().into_iter().filter(|&hd| within_elevation(hd, 75.0)).count();
+        // The 75 degree limit alone; the UTIA arms' occlusion takes the paper's count to 4073.
+        assert_eq!(reached, 4316);
+    }
+
+    #[test]
+    fn a_dense_plan_reconstructs_a_smooth_material_closely() {
+        let truth = preset("silver-925").unwrap();
+        let theta_h = SamplingFunction::new(Family::Exponential, 5.0).unwrap().positions_deg(30);
+        let plan = GridPlan::paper(theta_h);
+        let reached: Vec<HalfDiff> = plan.configurations().into_iter().filter(|&hd| within_elevation(hd, 75.0)).collect();
+        let samples = measure(&truth, &reached);
+        assert_eq!(samples.len(), reached.len());
+        let table = tabulate(&truth, 0.0);
+        let (_, linear) = evaluate(&samples, Method::LINEAR, &table, 75.0).unwrap();
+        let (_, lobe) = evaluate(&samples, Method::LOBE, &table, 75.0).unwrap();
+        assert!(linear.within.relative_rmse < 0.5, "{linear:?}");
+        // The lobe method is the better one on a microfacet material.
+        assert!(lobe.within.relative_rmse < linear.within.relative_rmse, "{lobe:?} vs {linear:?}");
+        assert!(lobe.within.log_rmse < linear.within.log_rmse);
+    }
+}

@@ -1,0 +1,377 @@
+//! A microfacet lobe fitted to the samples, whose ratio to the measurement the `lobe` method
+//! interpolates (see [`crate::domain`]). The lobe carries what the lattice resolves poorly:
+//! the shape of the peak between theta_h nodes, the phi_d dependence of the foreshortening,
+//! and the Fresnel rise towards grazing theta_d, where the device cannot reach.
+//!
+//! Model, per channel c (Cook-Torrance with a Student-t distribution of normals):
+//!
+//! ```text
+//! f_c = kd_c / pi + D(theta_h) G / (4 cos_i cos_o) * (s_c + g_c (1 - cos theta_d)^5)
+//! D   = (1 + tan^2 theta_h / ((gamma - 1) alpha^2))^-gamma / (pi alpha^2 cos^4 theta_h)
+//! G   = G1(theta_i) G1(theta_o),  G1(theta) = 2 / (1 + sqrt(1 + alpha^2 tan^2 theta))
+//! ```
+//!
+//! D is normalised for every gamma > 1; gamma = 2 is GGX and gamma -> infinity Beckmann.
+//! `s_c + g_c (1 - cos theta_d)^5` is Schlick's Fresnel term scaled (`s = k F0`,
+//! `g = k (1 - F0)`), G Smith's separable shadowing-masking term of GGX (Walter et al. 2007),
+//! used for every gamma.
+//!
+//! Fit: for each (alpha, gamma) the six weights (kd, s, g per channel) come from a
+//! non-negative least-squares fit with relative weights `1 / (f + eps)^2`; (alpha, gamma)
+//! minimise the squared log error `sum (ln(model + eps) - ln(f + eps))^2`, found by a coarse
+//! grid and then a compass search in (ln alpha, ln(gamma - 1)).
+
+use crate::domain::LOG_OFFSET;
+use crate::sample::Sample;
+use rayon::prelude::*;
+use specula_core::{HalfDiff, Rgb};
+use std::f64::consts::PI;
+
+/// The angles of one configuration the lobe needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Geometry {
+    pub cos_theta_h: f64,
+    pub cos_theta_d: f64,
+    /// cos of the light's and the camera's angle from the normal.
+    pub cos_i: f64,
+    pub cos_o: f64,
+}
+
+impl Geometry {
+    /// From the sines and cosines of theta_h, theta_d and phi_d (phi_h does not matter).
+    pub fn from_trig(sin_h: f64, cos_h: f64, sin_d: f64, cos_d: f64, cos_phi_d: f64) -> Self {
+        let cos_i = cos_h * cos_d - sin_h * sin_d * cos_phi_d;
+        Self {
+            cos_theta_h: cos_h,
+            cos_theta_d: cos_d,
+            cos_i,
+            cos_o: 2.0 * cos_d * cos_h - cos_i,
+        }
+    }
+
+    pub fn of(hd: HalfDiff) -> Self {
+        let (sin_h, cos_h) = hd.theta_h.sin_cos();
+        let (sin_d, cos_d) = hd.theta_d.sin_cos();
+        Self::from_trig(sin_h, cos_h, sin_d, cos_d, hd.phi_d.cos())
+    }
+
+    /// Both directions above the surface.
+    pub fn above_surface(&self) -> bool {
+        self.cos_i > 0.0 && self.cos_o > 0.0
+    }
+
+    /// `G / (4 cos_i cos_o)` for roughness `alpha`, zero below the surface.
+    pub fn shadowing_over_foreshortening(&self, alpha: f64) -> f64 {
+        if !self.above_surface() {
+            return 0.0;
+        }
+        smith_g1_over_cos(self.cos_i, alpha) * smith_g1_over_cos(self.cos_o, alpha) / 4.0
+    }
+
+    /// Schlick's `(1 - cos theta_d)^5`.
+    pub fn schlick_weight(&self) -> f64 {
+        (1.0 - self.cos_theta_d).max(0.0).powi(5)
+    }
+
+    /// `tan^2 theta_h`.
+    pub fn tan2_theta_h(&self) -> f64 {
+        let c2 = self.cos_theta_h * self.cos_theta_h;
+        (1.0 - c2).max(0.0) / c2.max(1e-300)
+    }
+}
+
+/// Smith's GGX masking term over the cosine, `G1(theta) / cos theta`, for `cos theta > 0`:
+/// `2 / (cos + sqrt(cos^2 + alpha^2 (1 - cos^2)))`.
+fn smith_g1_over_cos(cos: f64, alpha: f64) -> f64 {
+    let c2 = cos * cos;
+    2.0 / (cos + (c2 + alpha * alpha * (1.0 - c2)).sqrt())
+}
+
+/// The shape of the distribution of normals.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shape {
+    /// Roughness (width of the peak in tan theta_h).
+    pub alpha: f64,
+    /// Tail exponent, > 1 (2: GGX, large: Beckmann).
+    pub gamma: f64,
+}
+
+impl Shape {
+    /// D(theta_h) given `tan^2 theta_h` and `cos theta_h`.
+    pub fn distribution(&self, tan2_h: f64, cos_h: f64) -> f64 {
+        let a2 = self.alpha * self.alpha;
+        let x = tan2_h / ((self.gamma - 1.0) * a2);
+        let c2 = cos_h * cos_h;
+        (-self.gamma * x.ln_1p()).exp() / (PI * a2 * c2 * c2)
+    }
+}
+
+/// A fitted lobe (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lobe {
+    pub shape: Shape,
+    /// kd per channel.
+    pub diffuse: Rgb,
+    /// `k F0` per channel.
+    pub specular: Rgb,
+    /// `k (1 - F0)` per channel.
+    pub grazing: Rgb,
+}
+
+impl Lobe {
+    /// f in 1/sr at a configuration; zero below the surface.
+    pub fn eval(&self, g: &Geometry) -> Rgb {
+        if !g.above_surface() {
+            return Rgb::ZERO;
+        }
+        let d = self.shape.distribution(g.tan2_theta_h(), g.cos_theta_h);
+        let s = d * g.shadowing_over_foreshortening(self.shape.alpha);
+        self.diffuse / PI + s * (self.specular + g.schlick_weight() * self.grazing)
+    }
+
+    /// The lobe that best fits the samples (see the module documentation); `None` when no
+    /// sample lies above the surface.
+    pub fn fit(samples: &[Sample]) -> Option<Lobe> {
+        let points: Vec<FitPoint> = samples.iter().filter_map(FitPoint::of).collect();
+        if points.is_empty() {
+            return None;
+        }
+        let grid: Vec<(f64, f64)> = ALPHA_GRID
+            .iter()
+            .flat_map(|&a| GAMMA_MINUS_ONE_GRID.iter().map(move |&g| (f64::ln(a), f64::ln(g))))
+            .collect();
+        let (mut best, mut best_cost) = grid
+            .par_iter()
+            .map(|&p| (p, fit_weights(&points, shape_of(p)).1))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("grid is not empty");
+        let mut step = 0.5 * GRID_LOG_STEP;
+        while step > MIN_LOG_STEP {
+            let moves = [(step, 0.0), (-step, 0.0), (0.0, step), (0.0, -step)];
+            let candidate = moves
+                .par_iter()
+                .map(|m| {
+                    let p = (best.0 + m.0, best.1 + m.1);
+                    (p, fit_weights(&points, shape_of(p)).1)
+                })
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .expect("four moves");
+            if candidate.1 < best_cost {
+                (best, best_cost) = candidate;
+            } else {
+                step *= 0.5;
+            }
+        }
+        Some(fit_weights(&points, shape_of(best)).0)
+    }
+}
+
+/// Coarse grid of alpha for the fit.
+const ALPHA_GRID: [f64; 14] = [
+    0.0005, 0.001, 0.002, 0.004, 0.008, 0.016, 0.03, 0.06, 0.12, 0.2, 0.3, 0.45, 0.65, 0.9,
+];
+/// Coarse grid of gamma - 1 for the fit.
+const GAMMA_MINUS_ONE_GRID: [f64; 5] = [0.3, 1.0, 3.0, 10.0, 50.0];
+/// The first compass step in ln units (about the grid's spacing).
+const GRID_LOG_STEP: f64 = 0.7;
+const MIN_LOG_STEP: f64 = 0.02;
+
+fn shape_of((ln_alpha, ln_gamma_minus_one): (f64, f64)) -> Shape {
+    Shape {
+        alpha: ln_alpha.exp().clamp(1e-5, 2.0),
+        gamma: 1.0 + ln_gamma_minus_one.exp().clamp(0.05, 1e4),
+    }
+}
+
+/// A sample prepared for the fit: the shape-independent parts of the model.
+struct FitPoint {
+    tan2_h: f64,
+    cos_h: f64,
+    cos_i: f64,
+    cos_o: f64,
+    schlick: f64,
+    value: [f64; 3],
+}
+
+impl FitPoint {
+    fn of(sample: &Sample) -> Option<Self> {
+        let g = Geometry::of(sample.hd);
+        g.above_surface().then(|| Self {
+            tan2_h: g.tan2_theta_h(),
+            cos_h: g.cos_theta_h,
+            cos_i: g.cos_i,
+            cos_o: g.cos_o,
+            schlick: g.schlick_weight(),
+            value: sample.value.to_array(),
+        })
+    }
+
+    /// The three basis functions of the linear weights (kd, s, g).
+    fn basis(&self, shape: Shape) -> [f64; 3] {
+        let geometric = smith_g1_over_cos(self.cos_i, shape.alpha) * smith_g1_over_cos(self.cos_o, shape.alpha) / 4.0;
+        let s = shape.distribution(self.tan2_h, self.cos_h) * geometric;
+        [1.0 / PI, s, s * self.schlick]
+    }
+}
+
+/// The best non-negative weights for a shape, and the squared log error they leave.
+fn fit_weights(points: &[FitPoint], shape: Shape) -> (Lobe, f64) {
+    let mut normal = [[[0.0; 3]; 3]; 3];
+    let mut rhs = [[0.0; 3]; 3];
+    for p in points {
+        let phi = p.basis(shape);
+        for c in 0..3 {
+            let w = 1.0 / (p.value[c] + LOG_OFFSET).powi(2);
+            for a in 0..3 {
+                rhs[c][a] += w * phi[a] * p.value[c];
+                for b in 0..3 {
+                    normal[c][a][b] += w * phi[a] * phi[b];
+                }
+            }
+        }
+    }
+    let weights: [[f64; 3]; 3] = std::array::from_fn(|c| nonnegative_least_squares(&normal[c], &rhs[c]));
+    let lobe = Lobe {
+        shape,
+        diffuse: Rgb::new(weights[0][0], weights[1][0], weights[2][0]),
+        specular: Rgb::new(weights[0][1], weights[1][1], weights[2][1]),
+        grazing: Rgb::new(weights[0][2], weights[1][2], weights[2][2]),
+    };
+    let cost = points
+        .iter()
+        .map(|p| {
+            let phi = p.basis(shape);
+            (0..3)
+                .map(|c| {
+                    let m: f64 = (0..3).map(|a| weights[c][a] * phi[a]).sum();
+                    ((m + LOG_OFFSET) / (p.value[c] + LOG_OFFSET)).ln().powi(2)
+                })
+                .sum::<f64>()
+        })
+        .sum();
+    (lobe, cost)
+}
+
+/// Minimises `x' A x - 2 b' x` over `x >= 0` for a 3 x 3 positive semi-definite `A`, by
+/// trying every set of free variables.
+fn nonnegative_least_squares(a: &[[f64; 3]; 3], b: &[f64; 3]) -> [f64; 3] {
+    let mut best = ([0.0; 3], 0.0);
+    for set in 1u8..8 {
+        let free: Vec<usize> = (0..3).filter(|i| set & (1 << i) != 0).collect();
+        let Some(sol) = solve_subset(a, b, &free) else {
+            continue;
+        };
+        if sol.iter().any(|v| *v < 0.0) {
+            continue;
+        }
+        let mut x = [0.0; 3];
+        for (k, &i) in free.iter().enumerate() {
+            x[i] = sol[k];
+        }
+        let quad: f64 = (0..3).map(|i| (0..3).map(|j| x[i] * a[i][j] * x[j]).sum::<f64>()).sum();
+        let objective = quad - 2.0 * (0..3).map(|i| b[i] * x[i]).sum::<f64>();
+        if objective < best.1 {
+            best = (x, objective);
+        }
+    }
+    best.0
+}
+
+/// Solves the normal equations restricted to the `free` variables by Gaussian elimination
+/// with partial pivoting; `None` when singular.
+fn solve_subset(a: &[[f64; 3]; 3], b: &[f64; 3], free: &[usize]) -> Option<Vec<f64>> {
+    let n = free.len();
+    let mut m: Vec<Vec<f64>> = free
+        .iter()
+        .map(|&i| free.iter().map(|&j| a[i][j]).chain([b[i]]).collect())
+        .collect();
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&x, &y| m[x][col].abs().total_cmp(&m[y][col].abs()))?;
+        let scale = m[col][col].abs().max(m[pivot][col].abs());
+        if scale <= 1e-300 || m[pivot][col].abs() <= 1e-12 * (0..n).map(|k| a[free[k]][free[k]]).fold(0.0, f64::max) {
+            return None;
+        }
+        m.swap(col, pivot);
+        for row in 0..n {
+            if row != col {
+                let f = m[row][col] / m[col][col];
+                for k in col..=n {
+                    m[row][k] -= f * m[col][k];
+                }
+            }
+        }
+    }
+    Some((0..n).map(|i| m[i][n] / m[i][i]).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn geometry_matches_the_directions() {
+        for (h, d, p) in [(0.0, 40.0, 90.0), (10.0, 30.0, 0.0), (25.0, 50.0, 130.0), (3.0, 80.0, 200.0)] {
+            let hd = HalfDiff::from_degrees(h, 45.0, d, p);
+            let (wi, wo) = hd.to_directions();
+            let g = Geometry::of(hd);
+            assert!((g.cos_i - wi.z).abs() < 1e-12 && (g.cos_o - wo.z).abs() < 1e-12, "{h} {d} {p}");
+        }
+    }
+
+    #[test]
+    fn the_distribution_is_normalised_for_every_tail() {
+        for shape in [Shape { alpha: 0.05, gamma: 1.5 }, Shape { alpha: 0.2, gamma: 2.0 }, Shape { alpha: 0.3, gamma: 60.0 }] {
+            // Projected area: integral of D cos theta_h over the hemisphere is 1.
+            let n = 200_000;
+            let integral: f64 = (0..n)
+                .map(|i| {
+                    let t = (i as f64 + 0.5) / n as f64 * PI / 2.0;
+                    let (s, c) = t.sin_cos();
+                    shape.distribution(s * s / (c * c), c) * c * s * 2.0 * PI * (PI / 2.0 / n as f64)
+                })
+                .sum();
+            // The heavy tail (gamma 1.5, alpha 0.05) loses a little past 90 degrees of tan.
+            assert!((integral - 1.0).abs() < 0.01, "{shape:?}: {integral}");
+        }
+        // gamma = 2 is GGX.
+        let (a, t2, c): (f64, f64, f64) = (0.1, 0.04, 1.0 / 1.04f64.sqrt());
+        let ggx = a * a / (PI * c.powi(4) * (a * a + t2).powi(2));
+        assert!((Shape { alpha: a, gamma: 2.0 }.distribution(t2, c) - ggx).abs() < 1e-9 * ggx);
+    }
+
+    #[test]
+    fn a_lobe_is_recovered_from_its_own_samples() {
+        let truth = Lobe {
+            shape: Shape { alpha: 0.03, gamma: 3.0 },
+            diffuse: Rgb::new(0.05, 0.1, 0.02),
+            specular: Rgb::new(0.9, 0.8, 0.5),
+            grazing: Rgb::new(0.1, 0.2, 0.5),
+        };
+        let mut samples = Vec::new();
+        for h in [0.0, 0.3, 0.8, 1.5, 3.0, 6.0, 12.0, 25.0, 45.0] {
+            for d in [0.0, 20.0, 40.0, 60.0, 70.0] {
+                for p in [0.0, 45.0, 90.0] {
+                    let hd = HalfDiff::from_degrees(h, 45.0, d, p);
+                    let g = Geometry::of(hd);
+                    if g.above_surface() {
+                        samples.push(Sample::new(hd, truth.eval(&g)));
+                    }
+                }
+            }
+        }
+        let fit = Lobe::fit(&samples).unwrap();
+        assert!((fit.shape.alpha / truth.shape.alpha - 1.0).abs() < 0.03, "{fit:?}");
+        for s in &samples {
+            let m = fit.eval(&Geometry::of(s.hd));
+            let rel = ((m - s.value) / (s.value + Rgb::splat(LOG_OFFSET))).abs().max_element();
+            assert!(rel < 0.05, "{:?}: {m} vs {}", s.hd, s.value);
+        }
+    }
+
+    #[test]
+    fn nnls_clamps_negative_weights() {
+        // Unconstrained solution of diag(1,1,1) x = (1, -2, 3) is (1, -2, 3).
+        let a = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        assert_eq!(nonnegative_least_squares(&a, &[1.0, -2.0, 3.0]), [1.0, 0.0, 3.0]);
+    }
+}

@@ -1,0 +1,89 @@
+//! Reconstruction methods: the value domain, the theta_h coordinate and the interpolation
+//! kernel used between lattice nodes.
+
+use crate::axis::Coordinate;
+use crate::domain::Domain;
+use crate::kernel::Kernel;
+
+/// How samples become a full table (see [`crate::reconstruct`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Method {
+    pub domain: Domain,
+    /// The coordinate theta_h is interpolated in (theta_d and phi_d: degrees).
+    pub theta_h: Coordinate,
+    pub kernel: Kernel,
+}
+
+impl Method {
+    /// The paper's baseline (5.3): f linear in theta_h, theta_d and phi_d (degrees), with
+    /// nearest-node extrapolation.
+    pub const LINEAR: Method = Method {
+        domain: Domain::Linear,
+        theta_h: Coordinate::Degrees,
+        kernel: Kernel::Linear,
+    };
+    /// ln f, monotone cubic, theta_h in MERL's index coordinate.
+    pub const LOG: Method = Method {
+        domain: Domain::Log,
+        theta_h: Coordinate::MerlThetaH,
+        kernel: Kernel::MonotoneCubic,
+    };
+    /// The log ratio to a fitted microfacet lobe, monotone cubic, theta_h in MERL's index
+    /// coordinate.
+    pub const LOBE: Method = Method {
+        domain: Domain::LobeResidual,
+        theta_h: Coordinate::MerlThetaH,
+        kernel: Kernel::MonotoneCubic,
+    };
+
+    /// The names accepted by [`Method::from_str`], with what each does.
+    pub const NAMES: [(&'static str, &'static str); 3] = [
+        ("linear", "the paper's baseline: f linear in theta_h, theta_d, phi_d (degrees)"),
+        ("log", "ln f, monotone cubic, theta_h in MERL's index coordinate"),
+        ("lobe", "ln of f over a fitted microfacet lobe, monotone cubic, MERL theta_h coordinate"),
+    ];
+
+    pub fn name(&self) -> String {
+        match *self {
+            Method::LINEAR => "linear".into(),
+            Method::LOG => "log".into(),
+            Method::LOBE => "lobe".into(),
+            m => format!("{m:?}"),
+        }
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "linear" => Ok(Method::LINEAR),
+            "log" => Ok(Method::LOG),
+            "lobe" => Ok(Method::LOBE),
+            other => Err(format!(
+                "unknown reconstruction method '{other}' (expected {})",
+                Method::NAMES.map(|(n, _)| n).join(", ")
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parse_and_print() {
+        for (name, _) in Method::NAMES {
+            let m: Method = name.parse().unwrap();
+            assert_eq!(m.to_string(), name);
+        }
+        assert!("cubic".parse::<Method>().unwrap_err().contains("expected linear, log, lobe"));
+    }
+}

@@ -1,0 +1,186 @@
+//! The provenance sidecar: for every MERL cell, where its reconstructed value comes from,
+//! which the MERL format itself cannot say.
+//!
+//! File: NumPy `.npy` (format 1.0), dtype `uint8`, shape `(90, 90, 180)` in C order, i.e. the
+//! MERL cell order (theta_h, theta_d, phi_d); `numpy.load` reads it. Codes:
+//!
+//! - 0 measured: a sample lies in the cell's bin (directly or through the phi_d symmetry);
+//! - 1 interpolated: the value comes from measured lattice nodes only;
+//! - 2 extrapolated: the bin centre lies beyond the lattice on some axis, or a node that
+//!   brackets it was extrapolated ([`crate::extrapolate`]).
+//!
+//! Beside `OUT.binary` it is written as `OUT.provenance.npy`.
+
+use crate::sample::Sample;
+use specula_core::merl::{Bin, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use std::path::{Path, PathBuf};
+
+/// Where a cell's value comes from (the code stored in the file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum CellOrigin {
+    Measured = 0,
+    Interpolated = 1,
+    Extrapolated = 2,
+}
+
+impl CellOrigin {
+    fn from_code(code: u8) -> Option<Self> {
+        match code {
+            0 => Some(CellOrigin::Measured),
+            1 => Some(CellOrigin::Interpolated),
+            2 => Some(CellOrigin::Extrapolated),
+            _ => None,
+        }
+    }
+}
+
+/// The origin of every MERL cell, in cell order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Provenance {
+    pub cells: Vec<CellOrigin>,
+}
+
+/// What is wrong with a provenance file.
+#[derive(Debug, thiserror::Error)]
+pub enum ProvenanceError {
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("{path}: {problem}")]
+    Invalid { path: PathBuf, problem: String },
+}
+
+const MAGIC: &[u8] = b"\x93NUMPY\x01\x00";
+const HEADER: &str = "{'descr': '|u1', 'fortran_order': False, 'shape': (90, 90, 180), }";
+
+impl Provenance {
+    /// Cells are extrapolated where `extrapolated` says so, otherwise interpolated, and
+    /// measured where a sample lies in the bin.
+    pub fn new(samples: &[Sample], extrapolated: &[bool]) -> Self {
+        let mut cells: Vec<CellOrigin> = extrapolated
+            .iter()
+            .map(|&e| if e { CellOrigin::Extrapolated } else { CellOrigin::Interpolated })
+            .collect();
+        for s in samples {
+            let phi_d_deg = s.hd.phi_d.to_degrees().rem_euclid(180.0);
+            for phi in [phi_d_deg, 180.0 - phi_d_deg] {
+                cells[bin_of(s.hd.theta_h.to_degrees(), s.hd.theta_d.to_degrees(), phi).index()] =
+                    CellOrigin::Measured;
+            }
+        }
+        Self { cells }
+    }
+
+    /// How many cells have each origin: (measured, interpolated, extrapolated).
+    pub fn counts(&self) -> (usize, usize, usize) {
+        let count = |o| self.cells.iter().filter(|c| **c == o).count();
+        (
+            count(CellOrigin::Measured),
+            count(CellOrigin::Interpolated),
+            count(CellOrigin::Extrapolated),
+        )
+    }
+
+    /// The bytes of the `.npy` file.
+    pub fn to_npy(&self) -> Vec<u8> {
+        // Header padded with spaces and a newline so that the data starts on 64 bytes.
+        let unpadded = MAGIC.len() + 2 + HEADER.len() + 1;
+        let padding = (64 - unpadded % 64) % 64;
+        let header = format!("{HEADER}{}\n", " ".repeat(padding));
+        let mut out = Vec::with_capacity(MAGIC.len() + 2 + header.len() + CELLS);
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+        out.extend_from_slice(header.as_bytes());
+        out.extend(self.cells.iter().map(|c| *c as u8));
+        out
+    }
+
+    /// Parses the bytes of a file written by [`Provenance::to_npy`].
+    pub fn from_npy(bytes: &[u8]) -> Result<Self, String> {
+        if !bytes.starts_with(MAGIC) || bytes.len() < MAGIC.len() + 2 {
+            return Err("not a NumPy 1.0 .npy file".into());
+        }
+        let len = u16::from_le_bytes([bytes[MAGIC.len()], bytes[MAGIC.len() + 1]]) as usize;
+        let start = MAGIC.len() + 2;
+        let header = bytes
+            .get(start..start + len)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .ok_or("truncated or non-text .npy header")?;
+        if header.trim_end() != HEADER {
+            return Err(format!("header '{}', expected '{HEADER}'", header.trim_end()));
+        }
+        let data = &bytes[start + len..];
+        if data.len() != THETA_H_BINS * THETA_D_BINS * PHI_D_BINS {
+            return Err(format!("{} cells, expected {CELLS}", data.len()));
+        }
+        let cells = data
+            .iter()
+            .enumerate()
+            .map(|(i, &code)| CellOrigin::from_code(code).ok_or(format!("unknown code {code} at cell {i}")))
+            .collect::<Result<_, _>>()?;
+        Ok(Self { cells })
+    }
+
+    pub fn write(&self, path: &Path) -> Result<(), ProvenanceError> {
+        std::fs::write(path, self.to_npy()).map_err(|source| ProvenanceError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+
+    pub fn read(path: &Path) -> Result<Self, ProvenanceError> {
+        let bytes = std::fs::read(path).map_err(|source| ProvenanceError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_npy(&bytes).map_err(|problem| ProvenanceError::Invalid {
+            path: path.to_path_buf(),
+            problem,
+        })
+    }
+}
+
+/// The MERL bin of angles in degrees as MERL's reader bins them, except that a value within
+/// float noise (1e-9) below a bin boundary counts as on it: plans put samples on whole
+/// degrees, which the round trip through radians may leave a hair below.
+fn bin_of(theta_h_deg: f64, theta_d_deg: f64, phi_d_deg: f64) -> Bin {
+    const NOISE: f64 = 1e-9;
+    let index = |x: f64, bins: usize| ((x + NOISE).floor().max(0.0) as usize).min(bins - 1);
+    Bin {
+        theta_h_i: index((theta_h_deg.max(0.0) * 90.0).sqrt(), THETA_H_BINS),
+        theta_d_i: index(theta_d_deg, THETA_D_BINS),
+        phi_d_i: index(phi_d_deg.rem_euclid(180.0), PHI_D_BINS),
+    }
+}
+
+/// The sidecar path of a MERL output: `OUT.binary` -> `OUT.provenance.npy`.
+pub fn sidecar_path(merl_path: &Path) -> PathBuf {
+    merl_path.with_extension("provenance.npy")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use specula_core::{HalfDiff, Rgb};
+
+    #[test]
+    fn npy_round_trips_and_aligns_the_data() {
+        let mut extrapolated = vec![false; CELLS];
+        extrapolated[CELLS - 1] = true;
+        let samples = [Sample::new(HalfDiff::from_degrees(1.0, 45.0, 40.0, 15.0), Rgb::ONE)];
+        let p = Provenance::new(&samples, &extrapolated);
+        assert_eq!(p.counts(), (2, CELLS - 3, 1));
+        let bytes = p.to_npy();
+        assert_eq!((bytes.len() - CELLS) % 64, 0);
+        assert_eq!(Provenance::from_npy(&bytes).unwrap(), p);
+        // The sample (theta_h 1 deg -> bin 9, theta_d 40, phi_d 15) and its mirror 165.
+        let at = |k| p.cells[Bin { theta_h_i: 9, theta_d_i: 40, phi_d_i: k }.index()];
+        assert_eq!((at(15), at(165), at(16)), (CellOrigin::Measured, CellOrigin::Measured, CellOrigin::Interpolated));
+        let mut bad = bytes.clone();
+        *bad.last_mut().unwrap() = 7;
+        assert!(Provenance::from_npy(&bad).unwrap_err().contains("unknown code 7"));
+        assert!(Provenance::from_npy(&bytes[..1000]).unwrap_err().contains("cells"));
+        assert!(Provenance::from_npy(&bytes[..100]).unwrap_err().contains("truncated"));
+        assert_eq!(sidecar_path(Path::new("out/silver.binary")), Path::new("out/silver.provenance.npy"));
+    }
+}

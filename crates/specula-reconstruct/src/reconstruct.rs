@@ -1,0 +1,101 @@
+//! Samples to a full MERL table (paper 5.3's last step): fold phi_d by symmetry, place the
+//! samples on their lattice in the method's value domain, extrapolate the nodes the device
+//! could not reach, interpolate at every MERL bin centre, and record each cell's provenance.
+
+use crate::domain::Domain;
+use crate::extrapolate::fill_missing;
+use crate::grid::{extrapolated_cells, interpolate_to_merl};
+use crate::lattice::Lattice;
+use crate::lobe::{Geometry, Lobe};
+use crate::method::Method;
+use crate::provenance::Provenance;
+use crate::sample::Sample;
+use rayon::prelude::*;
+use specula_core::merl::{theta_h_centre_deg, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::Rgb;
+
+/// Why samples cannot be reconstructed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReconstructError {
+    #[error("no samples to reconstruct from")]
+    NoSamples,
+    #[error("no sample has both light and camera above the surface: cannot fit a lobe")]
+    NoLobe,
+}
+
+/// A reconstructed table with what it was made from.
+#[derive(Debug, Clone)]
+pub struct Reconstruction {
+    pub brdf: MerlBrdf,
+    pub provenance: Provenance,
+    /// The fitted lobe of the `lobe` method.
+    pub lobe: Option<Lobe>,
+    /// Lattice nodes along theta_h, theta_d, phi_d.
+    pub lattice_shape: [usize; 3],
+    /// Lattice nodes measured and extrapolated.
+    pub measured_nodes: usize,
+    pub filled_nodes: usize,
+}
+
+/// Reconstructs the full MERL table named `name` from the samples with a method.
+pub fn reconstruct(samples: &[Sample], method: Method, name: &str) -> Result<Reconstruction, ReconstructError> {
+    if samples.is_empty() {
+        return Err(ReconstructError::NoSamples);
+    }
+    let lobe = if method.domain.uses_lobe() {
+        Some(Lobe::fit(samples).ok_or(ReconstructError::NoLobe)?)
+    } else {
+        None
+    };
+    let domain_values: Vec<[f64; 3]> = samples
+        .par_iter()
+        .map(|s| {
+            let model = lobe.map_or(Rgb::ZERO, |l| l.eval(&Geometry::of(s.hd)));
+            std::array::from_fn(|c| method.domain.forward(s.value[c], model[c]))
+        })
+        .collect();
+    let mut lattice = Lattice::of_samples(samples, &domain_values, method.theta_h);
+    let (measured_nodes, _, _) = lattice.status_counts();
+    fill_missing(&mut lattice);
+    let planes = interpolate_to_merl(&lattice, method.kernel);
+    let values = back_transform(&planes, method.domain, lobe.as_ref());
+    let mut brdf = MerlBrdf::empty(name);
+    for (index, value) in values.into_iter().enumerate() {
+        brdf.set_cell(index, Some(value));
+    }
+    Ok(Reconstruction {
+        brdf,
+        provenance: Provenance::new(samples, &extrapolated_cells(&lattice)),
+        lobe,
+        lattice_shape: lattice.shape(),
+        measured_nodes,
+        filled_nodes: lattice.status.len() - measured_nodes,
+    })
+}
+
+/// f at every cell from the interpolated domain values (and the lobe at the bin centres).
+fn back_transform(planes: &[Vec<f64>; 3], domain: Domain, lobe: Option<&Lobe>) -> Vec<Rgb> {
+    let trig = |deg: f64| deg.to_radians().sin_cos();
+    let theta_h: Vec<(f64, f64)> = (0..THETA_H_BINS).map(|i| trig(theta_h_centre_deg(i))).collect();
+    let theta_d: Vec<(f64, f64)> = (0..THETA_D_BINS).map(|j| trig(j as f64 + 0.5)).collect();
+    let cos_phi_d: Vec<f64> = (0..PHI_D_BINS).map(|k| (k as f64 + 0.5).to_radians().cos()).collect();
+    let mut out = vec![Rgb::ZERO; CELLS];
+    out.par_chunks_mut(THETA_D_BINS * PHI_D_BINS)
+        .enumerate()
+        .for_each(|(i, slab)| {
+            let (sin_h, cos_h) = theta_h[i];
+            for (offset, cell) in slab.iter_mut().enumerate() {
+                let index = i * THETA_D_BINS * PHI_D_BINS + offset;
+                let model = lobe.map_or(Rgb::ZERO, |l| {
+                    let (sin_d, cos_d) = theta_d[offset / PHI_D_BINS];
+                    l.eval(&Geometry::from_trig(sin_h, cos_h, sin_d, cos_d, cos_phi_d[offset % PHI_D_BINS]))
+                });
+                *cell = Rgb::new(
+                    domain.inverse(planes[0][index], model.x),
+                    domain.inverse(planes[1][index], model.y),
+                    domain.inverse(planes[2][index], model.z),
+                );
+            }
+        });
+    out
+}

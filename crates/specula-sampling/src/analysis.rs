@@ -1,0 +1,235 @@
+//! The database analysis of section 5.1: which sampling family, with k fitted on which
+//! theta_d column, rebuilds the characteristic slice best from 30 theta_h samples.
+//!
+//! For one material ([`analyze_slice`]), for each family (power, exponential, base-k) and each
+//! candidate column theta_d = 0..89 degrees: fit k to that column (section 5.2's fit, 90
+//! square-root-spaced nodes at phi_d = 90), sample every column of the slice at the 30
+//! positions of that function, interpolate back and take the mean absolute error over the
+//! slice. Over a database ([`DatabaseSummary`]): the mean and the median of that error over
+//! the materials, per family and column; the best pair has the lowest mean (the paper found
+//! exponential at theta_d = 40 degrees on MERL-100).
+
+use crate::column::Interpolation;
+use crate::fit::fit_k;
+use crate::slice::{CharacteristicSlice, THETA_D_COLUMNS};
+use anyhow::{Context, Result};
+use specula_core::sampling::Family;
+use std::path::Path;
+
+/// One material's result: per family (in [`Family::ALL`] order) and theta_d column, the
+/// fitted k and the slice error (NaN where the column had too few measured cells).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialAnalysis {
+    pub name: String,
+    pub k: [Vec<f64>; 3],
+    pub error: [Vec<f64>; 3],
+}
+
+/// Analyses one material's slice with `n` samples per function.
+pub fn analyze_slice(slice: &CharacteristicSlice, n: usize) -> MaterialAnalysis {
+    let columns = slice.columns();
+    let mut k: [Vec<f64>; 3] = Default::default();
+    let mut error: [Vec<f64>; 3] = Default::default();
+    for (f, family) in Family::ALL.into_iter().enumerate() {
+        for column in &columns {
+            let fitted = column.as_ref().and_then(|c| fit_k(c, family, n).ok());
+            match fitted {
+                Some(fit) => {
+                    k[f].push(fit.function.k);
+                    error[f].push(slice.error(&fit.function.positions_deg(n), Interpolation::Linear));
+                }
+                None => {
+                    k[f].push(f64::NAN);
+                    error[f].push(f64::NAN);
+                }
+            }
+        }
+    }
+    MaterialAnalysis {
+        name: slice.name().to_string(),
+        k,
+        error,
+    }
+}
+
+/// The mean and median slice error over a database, per family and theta_d column.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DatabaseSummary {
+    /// `mean[f][j]`: family `Family::ALL[f]`, column theta_d = j degrees, 1/sr.
+    pub mean: [Vec<f64>; 3],
+    pub median: [Vec<f64>; 3],
+    /// Materials that entered each figure (those with the column measured).
+    pub materials: [Vec<usize>; 3],
+}
+
+/// The best (family, column) pair: the lowest mean error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BestPair {
+    pub family: Family,
+    pub theta_d_deg: usize,
+    pub mean: f64,
+    pub median: f64,
+}
+
+impl DatabaseSummary {
+    pub fn of(analyses: &[MaterialAnalysis]) -> Self {
+        let mut summary = Self {
+            mean: Default::default(),
+            median: Default::default(),
+            materials: Default::default(),
+        };
+        for f in 0..Family::ALL.len() {
+            for j in 0..THETA_D_COLUMNS {
+                let mut errors: Vec<f64> = analyses
+                    .iter()
+                    .map(|a| a.error[f][j])
+                    .filter(|e| e.is_finite())
+                    .collect();
+                summary.materials[f].push(errors.len());
+                summary.mean[f].push(errors.iter().sum::<f64>() / errors.len() as f64);
+                summary.median[f].push(median(&mut errors));
+            }
+        }
+        summary
+    }
+
+    /// The pair with the lowest mean error; ties go to the earlier family of
+    /// [`Family::ALL`], then the lower theta_d. `None` for an empty database.
+    pub fn best(&self) -> Option<BestPair> {
+        let mut best: Option<BestPair> = None;
+        for (f, family) in Family::ALL.into_iter().enumerate() {
+            for j in 0..THETA_D_COLUMNS {
+                let mean = self.mean[f][j];
+                if mean.is_finite() && best.is_none_or(|b| mean < b.mean) {
+                    best = Some(BestPair {
+                        family,
+                        theta_d_deg: j,
+                        mean,
+                        median: self.median[f][j],
+                    });
+                }
+            }
+        }
+        best
+    }
+
+    /// Writes `family,theta_d,mean_error,median_error,materials` (errors in 1/sr).
+    pub fn write_csv(&self, path: &Path) -> Result<()> {
+        let name = path.display();
+        let mut w = csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
+        w.write_record(["family", "theta_d", "mean_error", "median_error", "materials"])?;
+        for (f, family) in Family::ALL.into_iter().enumerate() {
+            for j in 0..THETA_D_COLUMNS {
+                w.write_record([
+                    family.name().to_string(),
+                    j.to_string(),
+                    format!("{:e}", self.mean[f][j]),
+                    format!("{:e}", self.median[f][j]),
+                    self.materials[f][j].to_string(),
+                ])
+                .with_context(|| format!("{name}: cannot write"))?;
+            }
+        }
+        w.flush().with_context(|| format!("{name}: cannot write"))?;
+        Ok(())
+    }
+}
+
+/// Writes every material's k and error: `material,family,theta_d,k,error`.
+pub fn write_materials_csv(analyses: &[MaterialAnalysis], path: &Path) -> Result<()> {
+    let name = path.display();
+    let mut w = csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
+    w.write_record(["material", "family", "theta_d", "k", "error"])?;
+    for a in analyses {
+        for (f, family) in Family::ALL.into_iter().enumerate() {
+            for j in 0..THETA_D_COLUMNS {
+                w.write_record([
+                    a.name.clone(),
+                    family.name().to_string(),
+                    j.to_string(),
+                    format!("{}", a.k[f][j]),
+                    format!("{:e}", a.error[f][j]),
+                ])
+                .with_context(|| format!("{name}: cannot write"))?;
+            }
+        }
+    }
+    w.flush().with_context(|| format!("{name}: cannot write"))?;
+    Ok(())
+}
+
+/// The median of the values (sorted in place); NaN when empty.
+pub fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    values.sort_by(f64::total_cmp);
+    let mid = values.len() / 2;
+    if values.len() % 2 == 1 {
+        values[mid]
+    } else {
+        0.5 * (values[mid - 1] + values[mid])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::slice::THETA_H_NODES;
+    use specula_core::sampling::SamplingFunction;
+
+    /// A slice whose columns are Gaussian lobes whose width grows with theta_d.
+    fn lobe_slice(name: &str, scale: f64) -> CharacteristicSlice {
+        let xs = SamplingFunction::square_root().positions_deg(THETA_H_NODES);
+        let values = (0..THETA_D_COLUMNS)
+            .flat_map(|j| {
+                let width = 1.0 + j as f64 / 30.0;
+                xs.iter()
+                    .map(move |x| Some(scale * (0.05 + 20.0 * (-(x / width).powi(2)).exp())))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        CharacteristicSlice::from_grid(name, xs, values)
+    }
+
+    #[test]
+    fn each_pair_reports_the_slice_error_of_its_fitted_function() {
+        let slice = lobe_slice("lobes", 1.0);
+        let a = analyze_slice(&slice, 30);
+        assert_eq!(a.error[0].len(), THETA_D_COLUMNS);
+        let (f, j) = (1, 40);
+        let function = SamplingFunction::new(Family::Exponential, a.k[f][j]).unwrap();
+        let direct = slice.error(&function.positions_deg(30), Interpolation::Linear);
+        assert!((a.error[f][j] - direct).abs() < 1e-12);
+        // The fitted function beats the square-root mapping on this peaked slice.
+        let sqrt = slice.error(&SamplingFunction::square_root().positions_deg(30), Interpolation::Linear);
+        assert!(a.error[f][j] < sqrt, "{} vs sqrt {sqrt}", a.error[f][j]);
+        // Base-k is the exponential family reparameterised (see fit.rs).
+        assert!((a.error[2][j] - a.error[1][j]).abs() <= 1e-9 * a.error[1][j]);
+    }
+
+    #[test]
+    fn summary_takes_mean_and_median_over_materials() {
+        let analyses: Vec<MaterialAnalysis> = [1.0, 2.0, 6.0]
+            .iter()
+            .map(|&s| analyze_slice(&lobe_slice("x", s), 30))
+            .collect();
+        let summary = DatabaseSummary::of(&analyses);
+        let (f, j) = (0, 12);
+        let e: Vec<f64> = analyses.iter().map(|a| a.error[f][j]).collect();
+        assert!((summary.mean[f][j] - (e[0] + e[1] + e[2]) / 3.0).abs() < 1e-12);
+        // The error scales with the material: the median is the middle one.
+        assert!((summary.median[f][j] - e[1]).abs() < 1e-12);
+        assert_eq!(summary.materials[f][j], 3);
+        let best = summary.best().unwrap();
+        let lowest = summary.mean.iter().flatten().copied().fold(f64::INFINITY, f64::min);
+        assert_eq!(best.mean, lowest);
+    }
+
+    #[test]
+    fn median_of_even_and_odd_counts() {
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert!(median(&mut []).is_nan());
+    }
+}

@@ -1,0 +1,280 @@
+//! A theta_h column: one scalar BRDF value (the mean of R, G and B, 1/sr) at increasing
+//! theta_h positions, with the piecewise-linear interpolation and the re-interpolation error
+//! that sections 5.1 and 5.2 of the paper are built on.
+//!
+//! The re-interpolation error of a set of sample positions is the error of measuring a column
+//! at those positions only: each sample takes the column's value there (linear interpolation
+//! between the column's nodes), the samples are interpolated back at every node, and the mean
+//! absolute difference from the column is the error.
+
+use specula_core::Rgb;
+
+/// The domain in which samples are interpolated back to the column's nodes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Interpolation {
+    /// Piecewise linear in the value, as the paper does.
+    Linear,
+    /// Piecewise linear in `ln(value + floor)`, i.e. piecewise exponential in the value; the
+    /// floor is [`LOG_FLOOR_FRACTION`] of the column's largest value, so zeros stay finite.
+    Log,
+}
+
+impl Interpolation {
+    pub const ALL: [Interpolation; 2] = [Interpolation::Linear, Interpolation::Log];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Interpolation::Linear => "linear",
+            Interpolation::Log => "log",
+        }
+    }
+}
+
+/// In the log domain, values are offset by this fraction of the column's peak before the
+/// logarithm, so that zeros (the horizon) and noise floors stay finite.
+pub const LOG_FLOOR_FRACTION: f64 = 1e-6;
+
+/// The scalar a column holds for an RGB value: the mean of the three channels (DESIGN.md,
+/// "Fitting k").
+pub fn scalar_of(rgb: Rgb) -> f64 {
+    rgb.element_sum() / 3.0
+}
+
+/// A column of values at strictly increasing theta_h positions in degrees.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    theta_h_deg: Vec<f64>,
+    values: Vec<f64>,
+}
+
+/// Why a column cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ColumnError {
+    #[error("a column needs at least 2 samples, got {0}")]
+    TooShort(usize),
+    #[error("theta_h must increase strictly: {previous_deg} deg is followed by {next_deg} deg")]
+    NotIncreasing { previous_deg: f64, next_deg: f64 },
+    #[error("theta_h {0} deg is outside [0, 90]")]
+    OutOfRange(f64),
+    #[error("the value {value} at theta_h {theta_h_deg} deg is not a finite non-negative number")]
+    BadValue { theta_h_deg: f64, value: f64 },
+}
+
+impl Column {
+    /// A column from positions (degrees, strictly increasing within `[0, 90]`) and values
+    /// (finite, non-negative, 1/sr).
+    pub fn new(theta_h_deg: Vec<f64>, values: Vec<f64>) -> Result<Self, ColumnError> {
+        assert_eq!(theta_h_deg.len(), values.len(), "one value per position");
+        if theta_h_deg.len() < 2 {
+            return Err(ColumnError::TooShort(theta_h_deg.len()));
+        }
+        for (&x, &v) in theta_h_deg.iter().zip(&values) {
+            if !(0.0..=90.0).contains(&x) {
+                return Err(ColumnError::OutOfRange(x));
+            }
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(ColumnError::BadValue {
+                    theta_h_deg: x,
+                    value: v,
+                });
+            }
+        }
+        if let Some(w) = theta_h_deg.windows(2).find(|w| w[0] >= w[1]) {
+            return Err(ColumnError::NotIncreasing {
+                previous_deg: w[0],
+                next_deg: w[1],
+            });
+        }
+        Ok(Self {
+            theta_h_deg,
+            values,
+        })
+    }
+
+    /// A column from samples where some may be missing (`None`, e.g. cells of a MERL table
+    /// that were not measured); the missing ones are left out. `None` when fewer than two
+    /// remain.
+    pub fn from_partial(theta_h_deg: &[f64], values: &[Option<f64>]) -> Option<Self> {
+        let (xs, ys): (Vec<f64>, Vec<f64>) = theta_h_deg
+            .iter()
+            .zip(values)
+            .filter_map(|(&x, v)| v.filter(|v| v.is_finite() && *v >= 0.0).map(|v| (x, v)))
+            .unzip();
+        Self::new(xs, ys).ok()
+    }
+
+    pub fn theta_h_deg(&self) -> &[f64] {
+        &self.theta_h_deg
+    }
+
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    pub fn len(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Always false: a column has at least two samples.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The column's value at each of the increasing positions `at_deg`, by linear
+    /// interpolation between nodes, constant beyond the first and last node.
+    pub fn sample(&self, at_deg: &[f64]) -> Vec<f64> {
+        let mut out = Vec::with_capacity(at_deg.len());
+        lerp_sorted(&self.theta_h_deg, &self.values, at_deg, |v| out.push(v));
+        out
+    }
+
+    /// The error of measuring this column only at `positions_deg` (increasing) and
+    /// interpolating the samples back in the given domain: the mean absolute difference from
+    /// the column over its nodes, 1/sr.
+    pub fn reinterpolation_error(&self, positions_deg: &[f64], domain: Interpolation) -> f64 {
+        let samples = self.sample(positions_deg);
+        self.error_of_samples(positions_deg, &samples, domain)
+    }
+
+    /// The mean absolute difference over the column's nodes between the column and the
+    /// interpolation of the given samples (positions increasing) in the given domain.
+    pub fn error_of_samples(&self, positions_deg: &[f64], samples: &[f64], domain: Interpolation) -> f64 {
+        let mut total = 0.0;
+        let mut node = 0;
+        match domain {
+            Interpolation::Linear => lerp_sorted(positions_deg, samples, &self.theta_h_deg, |r| {
+                total += (r - self.values[node]).abs();
+                node += 1;
+            }),
+            Interpolation::Log => {
+                let floor = self.log_floor();
+                let logs: Vec<f64> = samples.iter().map(|v| (v + floor).ln()).collect();
+                lerp_sorted(positions_deg, &logs, &self.theta_h_deg, |r| {
+                    total += (r.exp() - floor - self.values[node]).abs();
+                    node += 1;
+                })
+            }
+        }
+        total / self.len() as f64
+    }
+
+    /// The offset added before taking logarithms (see [`LOG_FLOOR_FRACTION`]); positive.
+    pub fn log_floor(&self) -> f64 {
+        let peak = self.values.iter().copied().fold(0.0, f64::max);
+        (peak * LOG_FLOOR_FRACTION).max(f64::MIN_POSITIVE)
+    }
+}
+
+/// Linear interpolation of the polyline `(xs, ys)` (xs increasing) at the increasing
+/// positions `at`, constant beyond its ends, handing each result to `emit` in order. One merge
+/// walk: O(len(xs) + len(at)).
+pub fn lerp_sorted(xs: &[f64], ys: &[f64], at: &[f64], mut emit: impl FnMut(f64)) {
+    debug_assert_eq!(xs.len(), ys.len());
+    let last = xs.len() - 1;
+    let mut seg = 0;
+    for &x in at {
+        if x <= xs[0] {
+            emit(ys[0]);
+            continue;
+        }
+        if x >= xs[last] {
+            emit(ys[last]);
+            continue;
+        }
+        while xs[seg + 1] < x {
+            seg += 1;
+        }
+        let (x0, x1) = (xs[seg], xs[seg + 1]);
+        let w = (x - x0) / (x1 - x0);
+        emit(ys[seg] + w * (ys[seg + 1] - ys[seg]));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn column(xs: &[f64], ys: &[f64]) -> Column {
+        Column::new(xs.to_vec(), ys.to_vec()).unwrap()
+    }
+
+    #[test]
+    fn sample_interpolates_and_clamps() {
+        let c = column(&[0.0, 10.0, 30.0], &[4.0, 2.0, 6.0]);
+        assert_eq!(c.sample(&[0.0, 5.0, 10.0, 20.0, 30.0]), vec![4.0, 3.0, 2.0, 4.0, 6.0]);
+        let beyond = column(&[1.0, 2.0], &[1.0, 3.0]);
+        assert_eq!(beyond.sample(&[0.0, 1.5, 90.0]), vec![1.0, 2.0, 3.0]);
+    }
+
+    #[test]
+    fn a_linear_column_is_rebuilt_exactly_from_its_ends() {
+        let xs: Vec<f64> = (0..=90).map(f64::from).collect();
+        let ys: Vec<f64> = xs.iter().map(|x| 2.0 + 0.5 * x).collect();
+        let c = column(&xs, &ys);
+        assert!(c.reinterpolation_error(&[0.0, 90.0], Interpolation::Linear) < 1e-12);
+    }
+
+    #[test]
+    fn an_exponential_column_is_rebuilt_exactly_in_the_log_domain() {
+        let xs: Vec<f64> = (0..=90).map(f64::from).collect();
+        let ys: Vec<f64> = xs.iter().map(|x| 100.0 * (-0.1 * x).exp()).collect();
+        let c = column(&xs, &ys);
+        // ln(y + floor) is not exactly linear in x, so the log domain is not exact, but
+        // three orders of magnitude better than the linear one.
+        let log = c.reinterpolation_error(&[0.0, 90.0], Interpolation::Log);
+        let linear = c.reinterpolation_error(&[0.0, 90.0], Interpolation::Linear);
+        assert!(linear > 1.0 && log < 1e-3 * linear, "log {log}, linear {linear}");
+    }
+
+    #[test]
+    fn a_peak_between_samples_is_missed_by_its_full_height() {
+        // Nodes 0, 1, 2 with a spike at 1: sampling the ends gives a flat line, error 10/3.
+        let c = column(&[0.0, 1.0, 2.0], &[0.0, 10.0, 0.0]);
+        let e = c.reinterpolation_error(&[0.0, 2.0], Interpolation::Linear);
+        assert!((e - 10.0 / 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_columns_are_refused() {
+        assert_eq!(Column::new(vec![1.0], vec![1.0]), Err(ColumnError::TooShort(1)));
+        assert!(matches!(
+            Column::new(vec![1.0, 1.0], vec![1.0, 2.0]),
+            Err(ColumnError::NotIncreasing { .. })
+        ));
+        assert!(matches!(Column::new(vec![0.0, 91.0], vec![1.0, 2.0]), Err(ColumnError::OutOfRange(_))));
+        assert!(matches!(Column::new(vec![0.0, 1.0], vec![-1.0, 2.0]), Err(ColumnError::BadValue { .. })));
+        assert!(Column::from_partial(&[0.0, 1.0, 2.0], &[Some(1.0), None, None]).is_none());
+        let c = Column::from_partial(&[0.0, 1.0, 2.0], &[Some(1.0), None, Some(3.0)]).unwrap();
+        assert_eq!(c.theta_h_deg(), &[0.0, 2.0]);
+    }
+
+    proptest! {
+        /// Sampling a column at its own nodes and interpolating back is exact, in both domains.
+        #[test]
+        fn own_nodes_rebuild_the_column(ys in proptest::collection::vec(0.0..100.0f64, 2..40)) {
+            let n = ys.len();
+            let xs: Vec<f64> = (0..n).map(|i| 90.0 * (i as f64 / (n - 1) as f64).powi(2)).collect();
+            let c = column(&xs, &ys);
+            prop_assert!(c.reinterpolation_error(&xs, Interpolation::Linear) < 1e-9);
+            prop_assert!(c.reinterpolation_error(&xs, Interpolation::Log) < 1e-9);
+        }
+
+        /// The merge walk agrees with a per-point binary search.
+        #[test]
+        fn merge_walk_matches_search(ys in proptest::collection::vec(0.0..10.0f64, 2..20),
+                                     mut at in proptest::collection::vec(-5.0..95.0f64, 0..50)) {
+            at.sort_by(f64::total_cmp);
+            let n = ys.len();
+            let xs: Vec<f64> = (0..n).map(|i| 90.0 * i as f64 / (n - 1) as f64).collect();
+            let c = column(&xs, &ys);
+            let fast = c.sample(&at);
+            for (x, v) in at.iter().zip(fast) {
+                let i = xs.partition_point(|&p| p <= *x).clamp(1, n - 1);
+                let w = ((x - xs[i - 1]) / (xs[i] - xs[i - 1])).clamp(0.0, 1.0);
+                let slow = ys[i - 1] + w * (ys[i] - ys[i - 1]);
+                prop_assert!((v - slow).abs() < 1e-9, "{x}: {v} vs {slow}");
+            }
+        }
+    }
+}

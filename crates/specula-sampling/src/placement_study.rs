@@ -1,0 +1,164 @@
+//! How well each way of placing n theta_h samples rebuilds a material's characteristic slice.
+//!
+//! Every method but the oracle sees only the probe (section 5.2: the column at theta_d = 40
+//! degrees, 90 square-root-spaced samples), and places one set of theta_h positions that the
+//! measurement then uses at every theta_d. The error is the slice's re-interpolation error
+//! (mean absolute error over all its cells, 1/sr), the figure of section 5.1, taken against a
+//! truth three times denser than the probe ([`crate::slice::DENSE_NODES`] nodes per column
+//! for a BRDF; a MERL file has only its 90 bins). A truth no denser than the probe would let
+//! the oracle pick exactly the nodes where the error is measured and report a near-zero error
+//! that no real placement can approach.
+//!
+//! - square root: MERL's mapping (eq. 1) with n samples;
+//! - paper: the exponential function (eq. 3) with k-hat fitted to the probe (section 5.2);
+//! - ours: the dynamic programme of [`crate::placement`] run on the probe;
+//! - oracle: for every column its own optimal placement among the truth's nodes, computed
+//!   from the truth: the lower bound for placements on those nodes, out of reach of a real
+//!   measurement.
+
+use crate::column::Interpolation;
+use crate::fit::fit_k;
+use crate::placement::optimal_placement;
+use crate::slice::{mean_over_cells, CharacteristicSlice, PROBE_THETA_D_DEG};
+use anyhow::{anyhow, Result};
+use specula_core::sampling::{Family, SamplingFunction};
+
+/// A way to place the samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    SquareRoot,
+    PaperExponential,
+    Ours,
+    Oracle,
+}
+
+impl Method {
+    pub const ALL: [Method; 4] = [Method::SquareRoot, Method::PaperExponential, Method::Ours, Method::Oracle];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Method::SquareRoot => "square root (eq. 1)",
+            Method::PaperExponential => "paper: exponential, k-hat (eq. 3)",
+            Method::Ours => "ours: DP on the probe",
+            Method::Oracle => "oracle: DP per column on the truth",
+        }
+    }
+}
+
+/// One material's slice error per method, in [`Method::ALL`] order, 1/sr.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialPlacement {
+    pub name: String,
+    /// The paper's k-hat, fitted to the probe.
+    pub k_hat: f64,
+    pub error: [f64; 4],
+}
+
+/// Evaluates every method on one material with `n` samples, interpolating in `domain`.
+pub fn study_slice(slice: &CharacteristicSlice, n: usize, domain: Interpolation) -> Result<MaterialPlacement> {
+    let probe = slice
+        .probe()
+        .ok_or_else(|| anyhow!("{}: the probe column theta_d = {PROBE_THETA_D_DEG} is not measured", slice.name()))?;
+    let k_hat = fit_k(&probe, Family::Exponential, n)?.function;
+    let ours = optimal_placement(&probe, n, domain).theta_h_deg;
+    let columns = slice.columns();
+    let error = Method::ALL.map(|method| match method {
+        Method::SquareRoot => slice.error(&SamplingFunction::square_root().positions_deg(n), domain),
+        Method::PaperExponential => slice.error(&k_hat.positions_deg(n), domain),
+        Method::Ours => slice.error(&ours, domain),
+        Method::Oracle => mean_over_cells(&columns, |c| optimal_placement(c, n, domain).error),
+    });
+    Ok(MaterialPlacement {
+        name: slice.name().to_string(),
+        k_hat: k_hat.k,
+        error,
+    })
+}
+
+/// One row of the comparison table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodSummary {
+    pub method: Method,
+    /// Mean over the materials of the slice error, 1/sr.
+    pub mean_error: f64,
+    /// `mean_error` over the oracle's.
+    pub ratio_of_means: f64,
+    /// Geometric mean over the materials of each one's error over its oracle error
+    /// (materials whose oracle error is zero are left out).
+    pub geometric_mean_ratio: f64,
+    /// Median of the same per-material ratios.
+    pub median_ratio: f64,
+    /// Largest per-material ratio.
+    pub worst_ratio: f64,
+}
+
+/// The comparison table over a database.
+pub fn summarize(materials: &[MaterialPlacement]) -> Vec<MethodSummary> {
+    let oracle = Method::ALL.iter().position(|m| *m == Method::Oracle).expect("listed");
+    let mean_of = |i: usize| materials.iter().map(|m| m.error[i]).sum::<f64>() / materials.len() as f64;
+    let oracle_mean = mean_of(oracle);
+    Method::ALL
+        .iter()
+        .enumerate()
+        .map(|(i, &method)| {
+            let mut ratios: Vec<f64> = materials
+                .iter()
+                .filter(|m| m.error[oracle] > 0.0)
+                .map(|m| m.error[i] / m.error[oracle])
+                .collect();
+            MethodSummary {
+                method,
+                mean_error: mean_of(i),
+                ratio_of_means: mean_of(i) / oracle_mean,
+                geometric_mean_ratio: (ratios.iter().map(|r| r.ln()).sum::<f64>() / ratios.len() as f64).exp(),
+                worst_ratio: ratios.iter().copied().fold(f64::NAN, f64::max),
+                median_ratio: crate::analysis::median(&mut ratios),
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::slice::{THETA_D_COLUMNS, THETA_H_NODES};
+
+    /// Lobes of the same shape in every column, scaled by a Fresnel-like factor of theta_d.
+    fn same_shape_slice(width_deg: f64) -> CharacteristicSlice {
+        let xs = SamplingFunction::square_root().positions_deg(THETA_H_NODES);
+        let values = (0..THETA_D_COLUMNS)
+            .flat_map(|j| {
+                let scale = 1.0 + (j as f64 / 90.0).powi(5) * 10.0;
+                xs.iter()
+                    .map(move |x| Some(scale * (0.02 + 30.0 * (-(x / width_deg).powi(2)).exp())))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        CharacteristicSlice::from_grid("same-shape", xs, values)
+    }
+
+    #[test]
+    fn when_every_column_has_the_probe_shape_ours_is_the_oracle() {
+        let result = study_slice(&same_shape_slice(8.0), 30, Interpolation::Linear).unwrap();
+        let [sqrt, paper, ours, oracle] = result.error;
+        assert!(oracle > 1e-4 && (ours - oracle).abs() <= 1e-9 * oracle, "{result:?}");
+        assert!(oracle < paper && oracle < sqrt, "{result:?}");
+        assert!(result.k_hat > 1.0);
+    }
+
+    #[test]
+    fn the_table_reports_ratios_to_the_oracle() {
+        let materials = vec![
+            MaterialPlacement { name: "a".into(), k_hat: 5.0, error: [4.0, 3.0, 2.0, 1.0] },
+            MaterialPlacement { name: "b".into(), k_hat: 5.0, error: [8.0, 6.0, 4.0, 4.0] },
+        ];
+        let table = summarize(&materials);
+        assert_eq!(table[3].ratio_of_means, 1.0);
+        let ours = table[2];
+        assert_eq!(ours.mean_error, 3.0);
+        assert_eq!(ours.ratio_of_means, 3.0 / 2.5);
+        assert!((ours.geometric_mean_ratio - 2f64.sqrt()).abs() < 1e-12);
+        assert_eq!(ours.worst_ratio, 2.0);
+        assert_eq!(table[0].median_ratio, 3.0);
+    }
+}

@@ -1,0 +1,226 @@
+//! The probe of section 5.2: a dense theta_h column of a material, taken at fixed
+//! `theta_d = 40`, `phi_d = 90`, `phi_h = 45` degrees with up to 90 samples placed by the
+//! square-root mapping (paper eq. 1), from which k is fitted and samples are placed.
+//!
+//! File form: CSV with the header `theta_h,r,g,b`, theta_h in degrees, f_r in 1/sr.
+
+use crate::column::{scalar_of, Column, ColumnError};
+use anyhow::{bail, Context, Result};
+use specula_core::sampling::SamplingFunction;
+use specula_core::{Brdf, HalfDiff, Rgb};
+use std::path::Path;
+
+/// Where and how densely the probe is taken (defaults: the paper's 5.2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProbeSettings {
+    pub theta_d_deg: f64,
+    pub phi_d_deg: f64,
+    pub phi_h_deg: f64,
+    /// Number of theta_h samples, placed by the square-root mapping over `[0, 90]`.
+    pub samples: usize,
+}
+
+impl Default for ProbeSettings {
+    fn default() -> Self {
+        Self {
+            theta_d_deg: 40.0,
+            phi_d_deg: 90.0,
+            phi_h_deg: 45.0,
+            samples: 90,
+        }
+    }
+}
+
+/// The probe's samples: theta_h in degrees (increasing) and f_r in 1/sr.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Probe {
+    theta_h_deg: Vec<f64>,
+    rgb: Vec<Rgb>,
+}
+
+#[derive(serde::Serialize, serde::Deserialize)]
+struct ProbeRow {
+    theta_h: f64,
+    r: f64,
+    g: f64,
+    b: f64,
+}
+
+impl Probe {
+    /// A probe from samples; checked as a [`Column`] is (increasing theta_h in `[0, 90]`,
+    /// finite non-negative values, at least two samples).
+    pub fn new(theta_h_deg: Vec<f64>, rgb: Vec<Rgb>) -> Result<Self, ColumnError> {
+        assert_eq!(theta_h_deg.len(), rgb.len(), "one value per position");
+        for (&theta_h_deg, v) in theta_h_deg.iter().zip(&rgb) {
+            if !(v.is_finite() && v.min_element() >= 0.0) {
+                return Err(ColumnError::BadValue {
+                    theta_h_deg,
+                    value: if v.is_finite() { v.min_element() } else { f64::NAN },
+                });
+            }
+        }
+        let probe = Self { theta_h_deg, rgb };
+        probe.try_column()?;
+        Ok(probe)
+    }
+
+    /// Takes the probe from a BRDF. Samples the BRDF reports as not measured are left out.
+    pub fn take(brdf: &dyn Brdf, settings: &ProbeSettings) -> Result<Self> {
+        if settings.samples < 2 {
+            bail!("a probe needs at least 2 samples, got {}", settings.samples);
+        }
+        for (what, value, max) in [
+            ("theta_d", settings.theta_d_deg, 90.0),
+            ("phi_d", settings.phi_d_deg, 360.0),
+            ("phi_h", settings.phi_h_deg, 360.0),
+        ] {
+            if !(0.0..=max).contains(&value) {
+                bail!("{what} = {value} deg is outside [0, {max}]");
+            }
+        }
+        let (theta_h_deg, rgb): (Vec<f64>, Vec<Rgb>) = SamplingFunction::square_root()
+            .positions_deg(settings.samples)
+            .into_iter()
+            .filter_map(|theta_h| {
+                let hd = HalfDiff::from_degrees(
+                    theta_h,
+                    settings.phi_h_deg,
+                    settings.theta_d_deg,
+                    settings.phi_d_deg,
+                );
+                brdf.eval_half_diff(hd).map(|v| (theta_h, v))
+            })
+            .unzip();
+        Self::new(theta_h_deg, rgb)
+            .with_context(|| format!("{}: the probe has too few measured samples", brdf.name()))
+    }
+
+    pub fn theta_h_deg(&self) -> &[f64] {
+        &self.theta_h_deg
+    }
+
+    pub fn rgb(&self) -> &[Rgb] {
+        &self.rgb
+    }
+
+    pub fn len(&self) -> usize {
+        self.rgb.len()
+    }
+
+    /// Always false: a probe has at least two samples.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    fn try_column(&self) -> Result<Column, ColumnError> {
+        Column::new(self.theta_h_deg.clone(), self.rgb.iter().map(|v| scalar_of(*v)).collect())
+    }
+
+    /// The probe as a column of the mean of R, G and B.
+    pub fn column(&self) -> Column {
+        self.try_column().expect("checked when the probe was made")
+    }
+
+    /// Writes the CSV file (header `theta_h,r,g,b`).
+    pub fn write_csv(&self, path: &Path) -> Result<()> {
+        let name = path.display();
+        let mut writer = csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
+        for (&theta_h, v) in self.theta_h_deg.iter().zip(&self.rgb) {
+            writer
+                .serialize(ProbeRow {
+                    theta_h,
+                    r: v.x,
+                    g: v.y,
+                    b: v.z,
+                })
+                .with_context(|| format!("{name}: cannot write"))?;
+        }
+        writer.flush().with_context(|| format!("{name}: cannot write"))?;
+        Ok(())
+    }
+
+    /// Reads a CSV file written by [`Probe::write_csv`] (or by hand, or by a device).
+    pub fn read_csv(path: &Path) -> Result<Self> {
+        let name = path.display();
+        let mut reader = csv::Reader::from_path(path).with_context(|| format!("{name}: cannot open"))?;
+        let headers = reader.headers().with_context(|| format!("{name}: cannot read the header"))?;
+        if headers.iter().map(str::trim).collect::<Vec<_>>() != ["theta_h", "r", "g", "b"] {
+            bail!("{name}: expected the header theta_h,r,g,b, found {}", headers.iter().collect::<Vec<_>>().join(","));
+        }
+        let mut theta_h_deg = Vec::new();
+        let mut rgb = Vec::new();
+        for (i, record) in reader.deserialize::<ProbeRow>().enumerate() {
+            let row = record.with_context(|| format!("{name}: row {}: expected four numbers", i + 2))?;
+            theta_h_deg.push(row.theta_h);
+            rgb.push(Rgb::new(row.r, row.g, row.b));
+        }
+        Self::new(theta_h_deg, rgb).with_context(|| format!("{name}: not a usable probe"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    /// f = (1 + theta_h_deg) * (1, 2, 3), a known function of theta_h only.
+    struct Ramp;
+    impl Brdf for Ramp {
+        fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+            let hd = HalfDiff::from_directions(wi, wo);
+            Some(Rgb::new(1.0, 2.0, 3.0) * (1.0 + hd.theta_h.to_degrees()))
+        }
+        fn name(&self) -> String {
+            "ramp".into()
+        }
+    }
+
+    #[test]
+    fn takes_samples_at_the_square_root_positions() {
+        let probe = Probe::take(&Ramp, &ProbeSettings::default()).unwrap();
+        assert_eq!(probe.len(), 90);
+        for (i, (&x, v)) in probe.theta_h_deg().iter().zip(probe.rgb()).enumerate() {
+            let t = 90.0 * i as f64 / 89.0;
+            assert!((x - t * t / 90.0).abs() < 1e-9);
+            assert!((v.x - (1.0 + x)).abs() < 1e-6, "{x}: {v}");
+        }
+        let column = probe.column();
+        assert!((column.values()[10] - 2.0 * (1.0 + column.theta_h_deg()[10])).abs() < 1e-6);
+    }
+
+    #[test]
+    fn csv_round_trips() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("probe.csv");
+        let probe = Probe::take(&Ramp, &ProbeSettings { samples: 17, ..Default::default() }).unwrap();
+        probe.write_csv(&path).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.starts_with("theta_h,r,g,b\n"), "{text}");
+        assert_eq!(Probe::read_csv(&path).unwrap(), probe);
+    }
+
+    #[test]
+    fn bad_files_name_the_file_and_the_problem() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bad.csv");
+        std::fs::write(&path, "theta,r,g,b\n0,1,1,1\n").unwrap();
+        let err = format!("{:#}", Probe::read_csv(&path).unwrap_err());
+        assert!(err.contains("bad.csv") && err.contains("header"), "{err}");
+        std::fs::write(&path, "theta_h,r,g,b\n0,1,1,1\n1,x,1,1\n").unwrap();
+        let err = format!("{:#}", Probe::read_csv(&path).unwrap_err());
+        assert!(err.contains("row 3"), "{err}");
+        std::fs::write(&path, "theta_h,r,g,b\n5,1,1,1\n1,1,1,1\n").unwrap();
+        let err = format!("{:#}", Probe::read_csv(&path).unwrap_err());
+        assert!(err.contains("increase"), "{err}");
+        let err = format!("{:#}", Probe::read_csv(&dir.path().join("missing.csv")).unwrap_err());
+        assert!(err.contains("missing.csv"), "{err}");
+    }
+
+    #[test]
+    fn settings_are_checked() {
+        let bad = ProbeSettings { theta_d_deg: 95.0, ..Default::default() };
+        assert!(Probe::take(&Ramp, &bad).is_err());
+        let few = ProbeSettings { samples: 1, ..Default::default() };
+        assert!(Probe::take(&Ramp, &few).is_err());
+    }
+}

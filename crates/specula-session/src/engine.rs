@@ -1,0 +1,331 @@
+//! The acquisition loop (paper 5.3): for each planned sample of a stage that the journal does
+//! not hold yet, in execution order: move, HDR capture, calibrate to 1/sr, and write the
+//! sample with its captures in one transaction.
+//!
+//! Faults: a motor fault re-homes the axes and retries the sample; a timeout or a camera
+//! fault retries it; after [`EngineSettings::max_attempts`] tries, or on an error no retry
+//! can fix (an axis limit, a link the client has given up on), the loop stops with an error
+//! that names the sample. Nothing half-done reaches the journal, so the same command resumes.
+//!
+//! Stopping: a raised stop flag (Ctrl-C) is checked between samples, so the sample in
+//! progress is finished and written first.
+
+use crate::journal::{unix_now_s, CaptureRecord, Journal, JournalError, PlannedRow, SampleRecord};
+use crate::predict::{cos_theta_i, Predictor};
+use crate::protocol::client::LinkNotes;
+use specula_acquisition::calibration::Calibration;
+use specula_acquisition::hdr::{HdrCapturer, HdrMeasurement};
+use specula_acquisition::instrument::{Capture, Instrument, InstrumentError};
+use specula_acquisition::kinematics::AxisPositions;
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
+use std::time::Instant;
+
+/// How a sample's HDR captures are chosen.
+#[derive(Debug, Clone, PartialEq)]
+pub enum HdrMode {
+    /// Adaptive, starting from the predicted rate (one or two captures for most samples).
+    Predicted,
+    /// The paper's way: every exposure at every light level (the device file's `[capture]`).
+    Bracket {
+        exposures_s: Vec<f64>,
+        light_levels: Vec<f64>,
+    },
+}
+
+/// How to measure and how hard to try.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EngineSettings {
+    /// Tries per sample before the run stops.
+    pub max_attempts: u32,
+    pub hdr: HdrMode,
+}
+
+impl Default for EngineSettings {
+    fn default() -> Self {
+        Self {
+            max_attempts: 3,
+            hdr: HdrMode::Predicted,
+        }
+    }
+}
+
+/// Why a stage stopped early.
+#[derive(Debug, thiserror::Error)]
+pub enum EngineError {
+    #[error(transparent)]
+    Journal(#[from] JournalError),
+    #[error("{stage} sample {seq}: {error} (after {attempts} tries); the journal holds every sample before it: run the same command again to resume")]
+    Device {
+        stage: String,
+        seq: u32,
+        attempts: u32,
+        error: InstrumentError,
+    },
+}
+
+/// What a stage run did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageOutcome {
+    /// Samples in the stage's plan.
+    pub planned: usize,
+    /// Samples the journal held before this run.
+    pub resumed: usize,
+    /// Samples measured by this run.
+    pub measured: usize,
+    /// True when the stop flag ended the run before the stage was complete.
+    pub stopped: bool,
+}
+
+impl StageOutcome {
+    pub fn complete(&self) -> bool {
+        self.resumed + self.measured == self.planned
+    }
+}
+
+/// Progress after each sample, for a progress bar.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress {
+    pub done: usize,
+    pub planned: usize,
+    /// Device time of this stage's finished samples, seconds.
+    pub device_s_done: f64,
+    /// The time model's estimate for the finished samples, seconds.
+    pub predicted_s_done: f64,
+    /// The time model's estimate for the samples left, seconds.
+    pub predicted_s_left: f64,
+}
+
+impl Progress {
+    /// Device time left, seconds: the time model's estimate for the samples left, scaled by
+    /// how the finished samples compared with their estimate (the model assumes a fixed
+    /// bracket; predicted exposures take less).
+    pub fn eta_device_s(&self) -> f64 {
+        if self.predicted_s_done > 0.0 && self.device_s_done > 0.0 {
+            self.predicted_s_left * self.device_s_done / self.predicted_s_done
+        } else {
+            self.predicted_s_left
+        }
+    }
+}
+
+/// Runs stages of a session on an instrument.
+pub struct Engine<'a> {
+    pub instrument: &'a mut dyn Instrument,
+    pub journal: &'a mut Journal,
+    pub hdr: &'a mut HdrCapturer,
+    pub calibration: &'a Calibration,
+    pub settings: EngineSettings,
+    /// Raised (by Ctrl-C) to stop after the sample in progress.
+    pub stop: Arc<AtomicBool>,
+    /// Retries and reconnections of a remote device, copied into the journal's events.
+    pub link_notes: Option<LinkNotes>,
+}
+
+impl Engine<'_> {
+    /// Measures every sample of `stage`'s plan (already in the journal) that the journal does
+    /// not hold, in execution order. `on_sample` hears the progress after each.
+    pub fn run_stage(
+        &mut self,
+        stage: &str,
+        predictor: &Predictor,
+        on_sample: &mut dyn FnMut(Progress),
+    ) -> Result<StageOutcome, EngineError> {
+        let plan = self.journal.plan(stage)?;
+        let mut done: BTreeMap<u32, SampleRecord> = self.journal.samples(stage)?;
+        let mut outcome = StageOutcome {
+            planned: plan.len(),
+            resumed: done.len(),
+            ..StageOutcome::default()
+        };
+        let mut device_s_done: f64 = done.values().map(|s| s.device_s).sum();
+        let mut predicted_s_done: f64 = plan
+            .iter()
+            .filter(|r| done.contains_key(&r.seq))
+            .map(|r| r.predicted_s)
+            .sum();
+        let mut predicted_s_left: f64 = plan.iter().map(|r| r.predicted_s).sum::<f64>() - predicted_s_done;
+        if outcome.resumed > 0 && outcome.resumed < plan.len() {
+            self.journal.log_event(
+                "resumed",
+                &format!("{stage}: {} of {} samples already measured", outcome.resumed, plan.len()),
+            )?;
+        }
+        for row in &plan {
+            if done.contains_key(&row.seq) {
+                continue;
+            }
+            if self.stop.load(Ordering::SeqCst) {
+                outcome.stopped = true;
+                self.journal.log_event(
+                    "interrupted",
+                    &format!("{stage}: stopped by the user after {} samples", done.len()),
+                )?;
+                break;
+            }
+            let previous = row
+                .seq
+                .checked_sub(1)
+                .and_then(|p| done.get(&p).map(|record| (&plan[p as usize], record)));
+            let prediction = predictor.predict(row, previous);
+            let record = self.measure_sample(stage, row, prediction)?;
+            self.journal.record_sample(&record)?;
+            device_s_done += record.device_s;
+            predicted_s_done += row.predicted_s;
+            predicted_s_left -= row.predicted_s;
+            done.insert(row.seq, record);
+            outcome.measured += 1;
+            on_sample(Progress {
+                done: done.len(),
+                planned: plan.len(),
+                device_s_done,
+                predicted_s_done,
+                predicted_s_left: predicted_s_left.max(0.0),
+            });
+        }
+        Ok(outcome)
+    }
+
+    /// One sample, with retries.
+    fn measure_sample(
+        &mut self,
+        stage: &str,
+        row: &PlannedRow,
+        prediction: Option<f64>,
+    ) -> Result<SampleRecord, EngineError> {
+        let started = Instant::now();
+        let clock_start = self.instrument.simulated_clock_s();
+        let mut attempts = 0;
+        let (readback, measurement) = loop {
+            attempts += 1;
+            match self.try_sample(&row.axes, prediction) {
+                Ok(done) => break done,
+                Err(error) => {
+                    self.copy_link_notes()?;
+                    self.journal.log_event(
+                        "fault",
+                        &format!("{stage} sample {} try {attempts}: {error}", row.seq),
+                    )?;
+                    let retryable = matches!(
+                        error,
+                        InstrumentError::MotorFault(_)
+                            | InstrumentError::Timeout(_)
+                            | InstrumentError::CameraFault(_)
+                    );
+                    let mut error = error;
+                    if retryable && attempts < self.settings.max_attempts {
+                        match self.recover(&error) {
+                            Ok(()) => continue,
+                            Err(recovery) => error = recovery,
+                        }
+                    }
+                    return Err(EngineError::Device {
+                        stage: stage.to_string(),
+                        seq: row.seq,
+                        attempts,
+                        error,
+                    });
+                }
+            }
+        };
+        self.copy_link_notes()?;
+        let wall_s = started.elapsed().as_secs_f64();
+        let device_s = match (clock_start, self.instrument.simulated_clock_s()) {
+            (Some(a), Some(b)) => b - a,
+            _ => wall_s,
+        };
+        let value = self
+            .calibration
+            .brdf(measurement.value.rate_dn_s, cos_theta_i(row).max(1e-6));
+        let now = unix_now_s();
+        Ok(SampleRecord {
+            stage: stage.to_string(),
+            seq: row.seq,
+            value,
+            rate_dn_s: measurement.value.rate_dn_s,
+            sigma_dn_s: measurement.value.sigma_dn_s,
+            lower_bound: measurement.value.saturated.iter().any(|&s| s),
+            readback,
+            device_s,
+            wall_s,
+            finished_unix_s: now,
+            attempts,
+            captures: measurement.captures.iter().map(|c| capture_record(c, now)).collect(),
+        })
+    }
+
+    /// Move, then HDR capture.
+    fn try_sample(
+        &mut self,
+        axes: &AxisPositions,
+        prediction: Option<f64>,
+    ) -> Result<(AxisPositions, HdrMeasurement), InstrumentError> {
+        let readback = self.instrument.move_to(axes)?;
+        let measurement = match &self.settings.hdr {
+            HdrMode::Predicted => self.hdr.measure(&mut *self.instrument, prediction)?,
+            HdrMode::Bracket {
+                exposures_s,
+                light_levels,
+            } => self.hdr.bracket(&mut *self.instrument, exposures_s, light_levels)?,
+        };
+        Ok((readback, measurement))
+    }
+
+    /// Gets the device ready for another try: re-home after a motor fault; in any case the
+    /// light level is no longer known.
+    fn recover(&mut self, error: &InstrumentError) -> Result<(), InstrumentError> {
+        self.hdr.forget_light_level();
+        if matches!(error, InstrumentError::MotorFault(_)) {
+            self.instrument.home()?;
+            self.journal
+                .log_event("recovered", "homed the axes after a motor fault")
+                .map_err(|e| InstrumentError::Disconnected(e.to_string()))?;
+        }
+        Ok(())
+    }
+
+    fn copy_link_notes(&mut self) -> Result<(), JournalError> {
+        let Some(notes) = &self.link_notes else {
+            return Ok(());
+        };
+        let drained: Vec<(String, String)> = notes.lock().map(|mut n| n.drain(..).collect()).unwrap_or_default();
+        for (kind, message) in drained {
+            self.journal.log_event(&kind, &message)?;
+        }
+        Ok(())
+    }
+}
+
+/// A capture as the journal keeps it: without pixels, with whether the merge used it.
+fn capture_record(capture: &Capture, unix_s: f64) -> CaptureRecord {
+    CaptureRecord {
+        exposure_s: capture.exposure_s,
+        light_level: capture.light_level,
+        mean_raw: capture.mean_raw,
+        saturated_fraction: capture.saturated_fraction,
+        pixel_count: capture.pixel_count,
+        used: capture.light_level > 0.0 && capture.saturated_fraction.iter().any(|&f| f == 0.0),
+        unix_s,
+    }
+}
+
+/// The process's stop flag, raised by Ctrl-C (or SIGTERM): the first press lets the sample
+/// in progress finish and the run stop cleanly and resumably; a second press ends the
+/// process at once (the journal is still consistent: the sample in progress is lost).
+pub fn stop_on_ctrl_c() -> Result<Arc<AtomicBool>, ctrlc::Error> {
+    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+    if let Some(flag) = FLAG.get() {
+        return Ok(flag.clone());
+    }
+    let flag = Arc::new(AtomicBool::new(false));
+    let handler_flag = flag.clone();
+    ctrlc::set_handler(move || {
+        if handler_flag.swap(true, Ordering::SeqCst) {
+            eprintln!("\nstopping now; the sample in progress is lost, the journal is intact");
+            std::process::exit(130);
+        }
+        eprintln!("\nfinishing the sample in progress, then stopping (Ctrl-C again to stop now)");
+    })?;
+    Ok(FLAG.get_or_init(|| flag).clone())
+}

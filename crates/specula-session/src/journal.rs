@@ -1,0 +1,920 @@
+//! The session journal: one SQLite file per measurement session (paper 5.3: a measurement runs
+//! for hours), written so that a crash, a power cut or a `kill -9` loses at most the sample
+//! in progress and a rerun resumes without measuring a finished sample twice.
+//!
+//! What it holds (schema version [`SCHEMA_VERSION`]):
+//! - `meta`: key -> JSON value: the session's settings, the device model, the calibration,
+//!   the instrument's description, the probe's fit, the alignment and orientation checks;
+//! - `plan`: every planned sample of every stage (`probe`, `main`, ...) in execution order,
+//!   with its half-difference angles, axis positions and predicted step time; a stage's plan
+//!   is written once, in one transaction, and never changes;
+//! - `samples`: every finished sample (the calibrated BRDF value, the read-back positions, the
+//!   device time it took, the wall-clock time, the attempts), keyed by (stage, seq) so that
+//!   SQLite itself refuses a second measurement of the same sample;
+//! - `captures`: every raw capture of a sample (exposure, light level, raw statistics, time),
+//!   written in the sample's transaction;
+//! - `events`: faults, retries, reconnections, interruptions and resumptions.
+//!
+//! Durability: WAL mode with `synchronous = FULL`, so a committed sample survives a power
+//! cut, and one transaction per sample, so a sample is either wholly there or not at all.
+//! Only one process may write a session at a time (an advisory lock on `S.sqlite.lock`);
+//! `specula session status` reads it while a measurement runs.
+
+use rusqlite::{params, Connection, OpenFlags, OptionalExtension, Transaction};
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use specula_acquisition::kinematics::AxisPositions;
+use specula_core::{HalfDiff, Rgb};
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+/// The version of the tables below; a journal of another version is refused.
+pub const SCHEMA_VERSION: i64 = 1;
+
+const SCHEMA: &str = "
+CREATE TABLE IF NOT EXISTS meta (
+    key   TEXT PRIMARY KEY,
+    value TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS plan (
+    stage               TEXT    NOT NULL,
+    seq                 INTEGER NOT NULL,
+    theta_h_rad         REAL    NOT NULL,
+    phi_h_rad           REAL    NOT NULL,
+    theta_d_rad         REAL    NOT NULL,
+    phi_d_rad           REAL    NOT NULL,
+    turntable_rad       REAL    NOT NULL,
+    camera_rad          REAL    NOT NULL,
+    light_azimuth_rad   REAL    NOT NULL,
+    light_elevation_rad REAL    NOT NULL,
+    predicted_s         REAL    NOT NULL,
+    PRIMARY KEY (stage, seq)
+);
+CREATE TABLE IF NOT EXISTS samples (
+    stage               TEXT    NOT NULL,
+    seq                 INTEGER NOT NULL,
+    r                   REAL    NOT NULL,
+    g                   REAL    NOT NULL,
+    b                   REAL    NOT NULL,
+    rate_r              REAL    NOT NULL,
+    rate_g              REAL    NOT NULL,
+    rate_b              REAL    NOT NULL,
+    sigma_r             REAL    NOT NULL,
+    sigma_g             REAL    NOT NULL,
+    sigma_b             REAL    NOT NULL,
+    lower_bound         INTEGER NOT NULL,
+    turntable_rad       REAL    NOT NULL,
+    camera_rad          REAL    NOT NULL,
+    light_azimuth_rad   REAL    NOT NULL,
+    light_elevation_rad REAL    NOT NULL,
+    device_s            REAL    NOT NULL,
+    wall_s              REAL    NOT NULL,
+    finished_unix_s     REAL    NOT NULL,
+    attempts            INTEGER NOT NULL,
+    PRIMARY KEY (stage, seq),
+    FOREIGN KEY (stage, seq) REFERENCES plan (stage, seq)
+);
+CREATE TABLE IF NOT EXISTS captures (
+    id                  INTEGER PRIMARY KEY,
+    stage               TEXT    NOT NULL,
+    seq                 INTEGER NOT NULL,
+    exposure_s          REAL    NOT NULL,
+    light_level         REAL    NOT NULL,
+    mean_r              REAL    NOT NULL,
+    mean_g              REAL    NOT NULL,
+    mean_b              REAL    NOT NULL,
+    saturated_r         REAL    NOT NULL,
+    saturated_g         REAL    NOT NULL,
+    saturated_b         REAL    NOT NULL,
+    pixel_count         INTEGER NOT NULL,
+    used                INTEGER NOT NULL,
+    unix_s              REAL    NOT NULL,
+    FOREIGN KEY (stage, seq) REFERENCES samples (stage, seq)
+);
+CREATE INDEX IF NOT EXISTS captures_by_sample ON captures (stage, seq);
+CREATE TABLE IF NOT EXISTS events (
+    id      INTEGER PRIMARY KEY,
+    unix_s  REAL NOT NULL,
+    kind    TEXT NOT NULL,
+    message TEXT NOT NULL
+);
+";
+
+/// Why the journal cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum JournalError {
+    #[error("{path}: {source}")]
+    Sqlite {
+        path: String,
+        source: rusqlite::Error,
+    },
+    #[error("{path}: journal schema version {found}, this specula reads version {expected}")]
+    Version {
+        path: String,
+        found: i64,
+        expected: i64,
+    },
+    #[error("{path}: another specula process is writing this session (lock file {lock})")]
+    Locked { path: String, lock: String },
+    #[error("{path}: cannot create the lock file: {source}")]
+    Lock {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{path}: not a specula session journal (no schema version)")]
+    NotAJournal { path: String },
+    #[error("{path}: meta '{key}' holds unreadable JSON: {source}")]
+    Json {
+        path: String,
+        key: String,
+        source: serde_json::Error,
+    },
+    #[error("{path}: the {stage} plan in the journal differs from the one asked for ({problem}); use a new --session file for a different measurement")]
+    PlanMismatch {
+        path: String,
+        stage: String,
+        problem: String,
+    },
+    #[error("{path}: sample {seq} of stage {stage} is already measured")]
+    Duplicate { path: String, stage: String, seq: u32 },
+}
+
+/// One planned sample of a stage, in execution order.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlannedRow {
+    /// Position in the stage's execution order, from 0.
+    pub seq: u32,
+    /// The sample in half-difference angles, radians.
+    pub hd: HalfDiff,
+    /// Where the axes go for it.
+    pub axes: AxisPositions,
+    /// The time model's estimate of its step (move, settle, capture), seconds.
+    pub predicted_s: f64,
+}
+
+/// One raw capture of a sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CaptureRecord {
+    pub exposure_s: f64,
+    pub light_level: f64,
+    pub mean_raw: [f64; 3],
+    pub saturated_fraction: [f64; 3],
+    pub pixel_count: u32,
+    /// Whether the HDR merge used it (not saturated, above the noise).
+    pub used: bool,
+    /// When it was taken, seconds since the Unix epoch.
+    pub unix_s: f64,
+}
+
+/// A finished sample with its captures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampleRecord {
+    pub stage: String,
+    pub seq: u32,
+    /// The calibrated BRDF value, 1/sr per channel.
+    pub value: Rgb,
+    /// The HDR merge: each channel's dark-subtracted raw rate at full light, DN/s.
+    pub rate_dn_s: [f64; 3],
+    /// One standard deviation of each rate, DN/s (infinite for a lower bound).
+    pub sigma_dn_s: [f64; 3],
+    /// A channel saturated in every capture: the value is only a lower bound.
+    pub lower_bound: bool,
+    /// The positions the encoders read back after the move.
+    pub readback: AxisPositions,
+    /// Device time of the step (move, settle, light changes, captures) from the time model,
+    /// seconds.
+    pub device_s: f64,
+    /// Wall-clock time the step took here, seconds.
+    pub wall_s: f64,
+    pub finished_unix_s: f64,
+    /// How many tries the sample needed (1 when nothing failed).
+    pub attempts: u32,
+    pub captures: Vec<CaptureRecord>,
+}
+
+/// Progress of one stage.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageStatus {
+    pub stage: String,
+    pub planned: usize,
+    pub done: usize,
+    /// Device time of the finished samples, seconds.
+    pub device_s_done: f64,
+    /// The time model's estimate for the samples left, seconds.
+    pub predicted_s_left: f64,
+    /// Wall-clock time of the finished samples, seconds.
+    pub wall_s_done: f64,
+    pub captures: usize,
+}
+
+/// What `specula session status` shows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SessionStatus {
+    pub schema_version: i64,
+    pub meta_keys: Vec<String>,
+    pub stages: Vec<StageStatus>,
+    /// Events by kind (fault, retry, reconnect, interrupted, resumed, ...).
+    pub events: BTreeMap<String, usize>,
+    /// The most recent events, newest last: (unix time, kind, message).
+    pub recent_events: Vec<(f64, String, String)>,
+}
+
+/// An open session journal.
+pub struct Journal {
+    conn: Connection,
+    path: PathBuf,
+    /// Held while this process may write the session.
+    _lock: Option<File>,
+}
+
+/// Seconds since the Unix epoch, now.
+pub fn unix_now_s() -> f64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map(|d| d.as_secs_f64())
+        .unwrap_or(0.0)
+}
+
+impl Journal {
+    /// Opens the session at `path` for writing, creating it if it does not exist; takes the
+    /// session's lock so that no second process writes it at the same time.
+    pub fn open(path: &Path) -> Result<Journal, JournalError> {
+        let lock = take_lock(path)?;
+        let conn = Connection::open(path).map_err(|e| sql_error(path, e))?;
+        let mut journal = Journal {
+            conn,
+            path: path.to_path_buf(),
+            _lock: Some(lock),
+        };
+        journal.prepare()?;
+        Ok(journal)
+    }
+
+    /// Opens an existing session read-only (for `specula session status`), even while
+    /// another process measures into it.
+    pub fn open_read_only(path: &Path) -> Result<Journal, JournalError> {
+        let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+        let conn = Connection::open_with_flags(path, flags).map_err(|e| sql_error(path, e))?;
+        let journal = Journal {
+            conn,
+            path: path.to_path_buf(),
+            _lock: None,
+        };
+        let version = journal.schema_version()?;
+        match version {
+            None => Err(JournalError::NotAJournal {
+                path: journal.name(),
+            }),
+            Some(v) if v != SCHEMA_VERSION => Err(JournalError::Version {
+                path: journal.name(),
+                found: v,
+                expected: SCHEMA_VERSION,
+            }),
+            Some(_) => Ok(journal),
+        }
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn name(&self) -> String {
+        self.path.display().to_string()
+    }
+
+    fn err(&self, source: rusqlite::Error) -> JournalError {
+        sql_error(&self.path, source)
+    }
+
+    /// WAL, full sync, the tables, and the schema version check.
+    fn prepare(&mut self) -> Result<(), JournalError> {
+        self.conn
+            .pragma_update(None, "journal_mode", "WAL")
+            .map_err(|e| self.err(e))?;
+        self.conn
+            .pragma_update(None, "synchronous", "FULL")
+            .map_err(|e| self.err(e))?;
+        self.conn
+            .pragma_update(None, "foreign_keys", "ON")
+            .map_err(|e| self.err(e))?;
+        let existing: i64 = self
+            .conn
+            .query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))
+            .map_err(|e| self.err(e))?;
+        if existing > 0 {
+            match self.schema_version()? {
+                Some(v) if v == SCHEMA_VERSION => return Ok(()),
+                Some(v) => {
+                    return Err(JournalError::Version {
+                        path: self.name(),
+                        found: v,
+                        expected: SCHEMA_VERSION,
+                    })
+                }
+                None => return Err(JournalError::NotAJournal { path: self.name() }),
+            }
+        }
+        let tx = self.conn.transaction().map_err(|e| sql_error(&self.path, e))?;
+        tx.execute_batch(SCHEMA).map_err(|e| sql_error(&self.path, e))?;
+        tx.execute(
+            "INSERT INTO meta (key, value) VALUES ('schema_version', ?1)",
+            params![SCHEMA_VERSION.to_string()],
+        )
+        .map_err(|e| sql_error(&self.path, e))?;
+        tx.execute(
+            "INSERT INTO meta (key, value) VALUES ('created_unix_s', ?1)",
+            params![unix_now_s().to_string()],
+        )
+        .map_err(|e| sql_error(&self.path, e))?;
+        tx.commit().map_err(|e| sql_error(&self.path, e))
+    }
+
+    fn schema_version(&self) -> Result<Option<i64>, JournalError> {
+        let has_meta: i64 = self
+            .conn
+            .query_row(
+                "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'meta'",
+                [],
+                |r| r.get(0),
+            )
+            .map_err(|e| self.err(e))?;
+        if has_meta == 0 {
+            return Ok(None);
+        }
+        let text: Option<String> = self
+            .conn
+            .query_row("SELECT value FROM meta WHERE key = 'schema_version'", [], |r| {
+                r.get(0)
+            })
+            .optional()
+            .map_err(|e| self.err(e))?;
+        Ok(text.and_then(|t| t.parse().ok()))
+    }
+
+    /// Stores a metadata value as JSON (replacing an earlier one).
+    pub fn put_meta<T: Serialize + ?Sized>(&self, key: &str, value: &T) -> Result<(), JournalError> {
+        let text = serde_json::to_string(value).map_err(|source| JournalError::Json {
+            path: self.name(),
+            key: key.to_string(),
+            source,
+        })?;
+        self.conn
+            .execute(
+                "INSERT INTO meta (key, value) VALUES (?1, ?2)
+                 ON CONFLICT (key) DO UPDATE SET value = excluded.value",
+                params![key, text],
+            )
+            .map_err(|e| self.err(e))?;
+        Ok(())
+    }
+
+    /// A metadata value, if stored.
+    pub fn meta<T: DeserializeOwned>(&self, key: &str) -> Result<Option<T>, JournalError> {
+        let text: Option<String> = self
+            .conn
+            .query_row("SELECT value FROM meta WHERE key = ?1", params![key], |r| r.get(0))
+            .optional()
+            .map_err(|e| self.err(e))?;
+        text.map(|t| {
+            serde_json::from_str(&t).map_err(|source| JournalError::Json {
+                path: self.name(),
+                key: key.to_string(),
+                source,
+            })
+        })
+        .transpose()
+    }
+
+    /// Stores `value` under `key` the first time; later, returns what is stored (a resumed
+    /// session keeps its first settings, fit and plan).
+    pub fn meta_or_insert<T: Serialize + DeserializeOwned>(
+        &self,
+        key: &str,
+        value: impl FnOnce() -> T,
+    ) -> Result<T, JournalError> {
+        if let Some(stored) = self.meta(key)? {
+            return Ok(stored);
+        }
+        let value = value();
+        self.put_meta(key, &value)?;
+        Ok(value)
+    }
+
+    /// Writes a stage's plan in one transaction. If the stage already has a plan (a resumed
+    /// session), it must be the same samples; the stored one is kept.
+    pub fn set_plan(&mut self, stage: &str, rows: &[PlannedRow]) -> Result<(), JournalError> {
+        let stored = self.plan(stage)?;
+        if !stored.is_empty() {
+            return self.check_same_plan(stage, &stored, rows);
+        }
+        let path = self.path.clone();
+        let tx = self.conn.transaction().map_err(|e| sql_error(&path, e))?;
+        insert_plan(&tx, stage, rows).map_err(|e| sql_error(&path, e))?;
+        tx.commit().map_err(|e| sql_error(&path, e))
+    }
+
+    fn check_same_plan(
+        &self,
+        stage: &str,
+        stored: &[PlannedRow],
+        asked: &[PlannedRow],
+    ) -> Result<(), JournalError> {
+        let mismatch = |problem: String| JournalError::PlanMismatch {
+            path: self.name(),
+            stage: stage.to_string(),
+            problem,
+        };
+        if stored.len() != asked.len() {
+            return Err(mismatch(format!(
+                "{} samples stored, {} asked for",
+                stored.len(),
+                asked.len()
+            )));
+        }
+        for (a, b) in stored.iter().zip(asked) {
+            if a != b {
+                return Err(mismatch(format!("sample {} differs", a.seq)));
+            }
+        }
+        Ok(())
+    }
+
+    /// A stage's plan in execution order (empty when the stage has none yet).
+    pub fn plan(&self, stage: &str) -> Result<Vec<PlannedRow>, JournalError> {
+        let mut statement = self
+            .conn
+            .prepare(
+                "SELECT seq, theta_h_rad, phi_h_rad, theta_d_rad, phi_d_rad, turntable_rad,
+                        camera_rad, light_azimuth_rad, light_elevation_rad, predicted_s
+                 FROM plan WHERE stage = ?1 ORDER BY seq",
+            )
+            .map_err(|e| self.err(e))?;
+        let rows = statement
+            .query_map(params![stage], |r| {
+                Ok(PlannedRow {
+                    seq: r.get(0)?,
+                    hd: HalfDiff {
+                        theta_h: r.get(1)?,
+                        phi_h: r.get(2)?,
+                        theta_d: r.get(3)?,
+                        phi_d: r.get(4)?,
+                    },
+                    axes: AxisPositions::new(r.get(5)?, r.get(6)?, r.get(7)?, r.get(8)?),
+                    predicted_s: r.get(9)?,
+                })
+            })
+            .map_err(|e| self.err(e))?;
+        rows.collect::<Result<_, _>>().map_err(|e| self.err(e))
+    }
+
+    /// Writes a finished sample and its captures in one transaction. A sample already in the
+    /// journal is refused ([`JournalError::Duplicate`]) and the journal left as it was.
+    pub fn record_sample(&mut self, sample: &SampleRecord) -> Result<(), JournalError> {
+        let path = self.path.clone();
+        let tx = self.conn.transaction().map_err(|e| sql_error(&path, e))?;
+        match insert_sample(&tx, sample) {
+            Ok(()) => {}
+            Err(rusqlite::Error::SqliteFailure(code, _))
+                if code.extended_code == rusqlite::ffi::SQLITE_CONSTRAINT_PRIMARYKEY =>
+            {
+                return Err(JournalError::Duplicate {
+                    path: path.display().to_string(),
+                    stage: sample.stage.clone(),
+                    seq: sample.seq,
+                });
+            }
+            Err(e) => return Err(sql_error(&path, e)),
+        }
+        tx.commit().map_err(|e| sql_error(&path, e))
+    }
+
+    /// The finished samples of a stage, by seq, without their captures.
+    pub fn samples(&self, stage: &str) -> Result<BTreeMap<u32, SampleRecord>, JournalError> {
+        let mut statement = self
+            .conn
+            .prepare(
+                "SELECT seq, r, g, b, rate_r, rate_g, rate_b, sigma_r, sigma_g, sigma_b,
+                        lower_bound, turntable_rad, camera_rad, light_azimuth_rad,
+                        light_elevation_rad, device_s, wall_s, finished_unix_s, attempts
+                 FROM samples WHERE stage = ?1 ORDER BY seq",
+            )
+            .map_err(|e| self.err(e))?;
+        let rows = statement
+            .query_map(params![stage], |r| {
+                Ok(SampleRecord {
+                    stage: stage.to_string(),
+                    seq: r.get(0)?,
+                    value: Rgb::new(r.get(1)?, r.get(2)?, r.get(3)?),
+                    rate_dn_s: [r.get(4)?, r.get(5)?, r.get(6)?],
+                    sigma_dn_s: [r.get(7)?, r.get(8)?, r.get(9)?],
+                    lower_bound: r.get(10)?,
+                    readback: AxisPositions::new(r.get(11)?, r.get(12)?, r.get(13)?, r.get(14)?),
+                    device_s: r.get(15)?,
+                    wall_s: r.get(16)?,
+                    finished_unix_s: r.get(17)?,
+                    attempts: r.get(18)?,
+                    captures: Vec::new(),
+                })
+            })
+            .map_err(|e| self.err(e))?;
+        rows.map(|row| row.map(|s| (s.seq, s)))
+            .collect::<Result<_, _>>()
+            .map_err(|e| self.err(e))
+    }
+
+    /// The captures of one sample, in the order they were taken.
+    pub fn captures(&self, stage: &str, seq: u32) -> Result<Vec<CaptureRecord>, JournalError> {
+        let mut statement = self
+            .conn
+            .prepare(
+                "SELECT exposure_s, light_level, mean_r, mean_g, mean_b, saturated_r,
+                        saturated_g, saturated_b, pixel_count, used, unix_s
+                 FROM captures WHERE stage = ?1 AND seq = ?2 ORDER BY id",
+            )
+            .map_err(|e| self.err(e))?;
+        let rows = statement
+            .query_map(params![stage, seq], |r| {
+                Ok(CaptureRecord {
+                    exposure_s: r.get(0)?,
+                    light_level: r.get(1)?,
+                    mean_raw: [r.get(2)?, r.get(3)?, r.get(4)?],
+                    saturated_fraction: [r.get(5)?, r.get(6)?, r.get(7)?],
+                    pixel_count: r.get(8)?,
+                    used: r.get(9)?,
+                    unix_s: r.get(10)?,
+                })
+            })
+            .map_err(|e| self.err(e))?;
+        rows.collect::<Result<_, _>>().map_err(|e| self.err(e))
+    }
+
+    /// Notes an event (fault, retry, reconnect, interrupted, resumed, ...).
+    pub fn log_event(&self, kind: &str, message: &str) -> Result<(), JournalError> {
+        self.conn
+            .execute(
+                "INSERT INTO events (unix_s, kind, message) VALUES (?1, ?2, ?3)",
+                params![unix_now_s(), kind, message],
+            )
+            .map_err(|e| self.err(e))?;
+        Ok(())
+    }
+
+    /// Progress by stage, capture counts and events.
+    pub fn status(&self) -> Result<SessionStatus, JournalError> {
+        let mut stages = Vec::new();
+        let names: Vec<String> = self.column("SELECT DISTINCT stage FROM plan ORDER BY rowid")?;
+        for stage in names {
+            stages.push(self.stage_status(&stage)?);
+        }
+        let mut events = BTreeMap::new();
+        let mut statement = self
+            .conn
+            .prepare("SELECT kind, count(*) FROM events GROUP BY kind")
+            .map_err(|e| self.err(e))?;
+        let counts = statement
+            .query_map([], |r| Ok((r.get::<_, String>(0)?, r.get::<_, i64>(1)? as usize)))
+            .map_err(|e| self.err(e))?;
+        for count in counts {
+            let (kind, n) = count.map_err(|e| self.err(e))?;
+            events.insert(kind, n);
+        }
+        let mut statement = self
+            .conn
+            .prepare("SELECT unix_s, kind, message FROM events ORDER BY id DESC LIMIT 5")
+            .map_err(|e| self.err(e))?;
+        let mut recent_events = statement
+            .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
+            .map_err(|e| self.err(e))?
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| self.err(e))?;
+        recent_events.reverse();
+        Ok(SessionStatus {
+            schema_version: self.schema_version()?.unwrap_or(0),
+            meta_keys: self.column("SELECT key FROM meta ORDER BY key")?,
+            stages,
+            events,
+            recent_events,
+        })
+    }
+
+    fn stage_status(&self, stage: &str) -> Result<StageStatus, JournalError> {
+        let (planned, predicted_s_left): (i64, f64) = self
+            .conn
+            .query_row(
+                "SELECT count(*), coalesce(sum(CASE WHEN s.seq IS NULL THEN p.predicted_s END), 0)
+                 FROM plan p LEFT JOIN samples s ON s.stage = p.stage AND s.seq = p.seq
+                 WHERE p.stage = ?1",
+                params![stage],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )
+            .map_err(|e| self.err(e))?;
+        let (done, device_s_done, wall_s_done): (i64, f64, f64) = self
+            .conn
+            .query_row(
+                "SELECT count(*), coalesce(sum(device_s), 0), coalesce(sum(wall_s), 0)
+                 FROM samples WHERE stage = ?1",
+                params![stage],
+                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
+            )
+            .map_err(|e| self.err(e))?;
+        let captures: i64 = self
+            .conn
+            .query_row("SELECT count(*) FROM captures WHERE stage = ?1", params![stage], |r| {
+                r.get(0)
+            })
+            .map_err(|e| self.err(e))?;
+        Ok(StageStatus {
+            stage: stage.to_string(),
+            planned: planned as usize,
+            done: done as usize,
+            device_s_done,
+            predicted_s_left,
+            wall_s_done,
+            captures: captures as usize,
+        })
+    }
+
+    fn column(&self, sql: &str) -> Result<Vec<String>, JournalError> {
+        let mut statement = self.conn.prepare(sql).map_err(|e| self.err(e))?;
+        let rows = statement.query_map([], |r| r.get(0)).map_err(|e| self.err(e))?;
+        rows.collect::<Result<_, _>>().map_err(|e| self.err(e))
+    }
+}
+
+fn sql_error(path: &Path, source: rusqlite::Error) -> JournalError {
+    JournalError::Sqlite {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// The lock file beside the journal, locked exclusively for as long as it is open (the OS
+/// releases it when the process dies, however it dies).
+fn take_lock(path: &Path) -> Result<File, JournalError> {
+    let mut lock_path = path.as_os_str().to_owned();
+    lock_path.push(".lock");
+    let lock_path = PathBuf::from(lock_path);
+    let file = File::options()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(&lock_path)
+        .map_err(|source| JournalError::Lock {
+            path: path.display().to_string(),
+            source,
+        })?;
+    match file.try_lock() {
+        Ok(()) => Ok(file),
+        Err(std::fs::TryLockError::WouldBlock) => Err(JournalError::Locked {
+            path: path.display().to_string(),
+            lock: lock_path.display().to_string(),
+        }),
+        Err(std::fs::TryLockError::Error(source)) => Err(JournalError::Lock {
+            path: path.display().to_string(),
+            source,
+        }),
+    }
+}
+
+fn insert_plan(tx: &Transaction, stage: &str, rows: &[PlannedRow]) -> rusqlite::Result<()> {
+    let mut statement = tx.prepare(
+        "INSERT INTO plan (stage, seq, theta_h_rad, phi_h_rad, theta_d_rad, phi_d_rad,
+                           turntable_rad, camera_rad, light_azimuth_rad, light_elevation_rad,
+                           predicted_s)
+         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)",
+    )?;
+    for row in rows {
+        let a = row.axes;
+        statement.execute(params![
+            stage,
+            row.seq,
+            row.hd.theta_h,
+            row.hd.phi_h,
+            row.hd.theta_d,
+            row.hd.phi_d,
+            a.turntable_rad,
+            a.camera_rad,
+            a.light_azimuth_rad,
+            a.light_elevation_rad,
+            row.predicted_s
+        ])?;
+    }
+    Ok(())
+}
+
+fn insert_sample(tx: &Transaction, s: &SampleRecord) -> rusqlite::Result<()> {
+    let a = s.readback;
+    tx.execute(
+        "INSERT INTO samples (stage, seq, r, g, b, rate_r, rate_g, rate_b, sigma_r, sigma_g,
+                              sigma_b, lower_bound, turntable_rad, camera_rad, light_azimuth_rad,
+                              light_elevation_rad, device_s, wall_s, finished_unix_s, attempts)
+         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17,
+                 ?18, ?19, ?20)",
+        params![
+            s.stage,
+            s.seq,
+            s.value.x,
+            s.value.y,
+            s.value.z,
+            s.rate_dn_s[0],
+            s.rate_dn_s[1],
+            s.rate_dn_s[2],
+            s.sigma_dn_s[0],
+            s.sigma_dn_s[1],
+            s.sigma_dn_s[2],
+            s.lower_bound,
+            a.turntable_rad,
+            a.camera_rad,
+            a.light_azimuth_rad,
+            a.light_elevation_rad,
+            s.device_s,
+            s.wall_s,
+            s.finished_unix_s,
+            s.attempts
+        ],
+    )?;
+    let mut statement = tx.prepare(
+        "INSERT INTO captures (stage, seq, exposure_s, light_level, mean_r, mean_g, mean_b,
+                               saturated_r, saturated_g, saturated_b, pixel_count, used, unix_s)
+         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
+    )?;
+    for c in &s.captures {
+        statement.execute(params![
+            s.stage,
+            s.seq,
+            c.exposure_s,
+            c.light_level,
+            c.mean_raw[0],
+            c.mean_raw[1],
+            c.mean_raw[2],
+            c.saturated_fraction[0],
+            c.saturated_fraction[1],
+            c.saturated_fraction[2],
+            c.pixel_count,
+            c.used,
+            c.unix_s
+        ])?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(seq: u32) -> PlannedRow {
+        PlannedRow {
+            seq,
+            hd: HalfDiff::from_degrees(seq as f64, 45.0, 40.0, 90.0),
+            axes: AxisPositions::from_degrees(seq as f64, 10.0, 20.0, 30.0),
+            predicted_s: 2.5,
+        }
+    }
+
+    fn sample(stage: &str, seq: u32) -> SampleRecord {
+        SampleRecord {
+            stage: stage.into(),
+            seq,
+            value: Rgb::new(0.1 * seq as f64, 1e-7, 1234.5),
+            rate_dn_s: [1e5, 2e-3, 7.0],
+            sigma_dn_s: [10.0, 1e-4, f64::INFINITY],
+            lower_bound: true,
+            readback: AxisPositions::from_degrees(seq as f64 + 0.01, 10.0, 20.0, 30.0),
+            device_s: 3.0,
+            wall_s: 0.01,
+            finished_unix_s: unix_now_s(),
+            attempts: 1,
+            captures: vec![
+                CaptureRecord {
+                    exposure_s: 0.01,
+                    light_level: 1.0,
+                    mean_raw: [4095.0, 4000.0, 100.0],
+                    saturated_fraction: [1.0, 0.5, 0.0],
+                    pixel_count: 1849,
+                    used: false,
+                    unix_s: 1.0,
+                },
+                CaptureRecord {
+                    exposure_s: 0.001,
+                    light_level: 0.05,
+                    mean_raw: [300.0, 290.0, 64.0],
+                    saturated_fraction: [0.0; 3],
+                    pixel_count: 1849,
+                    used: true,
+                    unix_s: 2.0,
+                },
+            ],
+        }
+    }
+
+    #[test]
+    fn samples_and_captures_round_trip_exactly() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.sqlite");
+        let mut journal = Journal::open(&path).unwrap();
+        let plan: Vec<PlannedRow> = (0..5).map(row).collect();
+        journal.set_plan("main", &plan).unwrap();
+        assert_eq!(journal.plan("main").unwrap(), plan);
+        let s = sample("main", 3);
+        journal.record_sample(&s).unwrap();
+        drop(journal);
+
+        let journal = Journal::open(&path).unwrap();
+        let stored = journal.samples("main").unwrap();
+        assert_eq!(stored.len(), 1);
+        let back = &stored[&3];
+        assert_eq!(back.value, s.value, "f64 values are stored bit for bit");
+        assert_eq!(back.readback, s.readback);
+        assert_eq!((back.rate_dn_s, back.sigma_dn_s, back.lower_bound), (s.rate_dn_s, s.sigma_dn_s, true));
+        assert_eq!(journal.captures("main", 3).unwrap(), s.captures);
+        let status = journal.status().unwrap();
+        assert_eq!(status.stages.len(), 1);
+        let main = &status.stages[0];
+        assert_eq!((main.planned, main.done, main.captures), (5, 1, 2));
+        assert!((main.predicted_s_left - 4.0 * 2.5).abs() < 1e-12);
+        assert!((main.device_s_done - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_sample_is_never_recorded_twice() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut journal = Journal::open(&dir.path().join("s.sqlite")).unwrap();
+        journal.set_plan("main", &[row(0)]).unwrap();
+        journal.record_sample(&sample("main", 0)).unwrap();
+        let err = journal.record_sample(&sample("main", 0)).unwrap_err();
+        assert!(matches!(err, JournalError::Duplicate { seq: 0, .. }), "{err}");
+        // The failed transaction left nothing behind: still two captures.
+        assert_eq!(journal.captures("main", 0).unwrap().len(), 2);
+        // A sample outside the plan is refused by the foreign key.
+        assert!(journal.record_sample(&sample("main", 9)).is_err());
+        assert!(journal.samples("main").unwrap().contains_key(&0));
+        assert!(!journal.samples("main").unwrap().contains_key(&9));
+    }
+
+    #[test]
+    fn a_stage_plan_is_written_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut journal = Journal::open(&dir.path().join("s.sqlite")).unwrap();
+        let plan: Vec<PlannedRow> = (0..3).map(row).collect();
+        journal.set_plan("probe", &plan).unwrap();
+        journal.set_plan("probe", &plan).unwrap();
+        let mut other = plan.clone();
+        other[1].axes.camera_rad += 1e-6;
+        let err = journal.set_plan("probe", &other).unwrap_err().to_string();
+        assert!(err.contains("sample 1 differs") && err.contains("probe"), "{err}");
+        let err = journal.set_plan("probe", &plan[..2]).unwrap_err().to_string();
+        assert!(err.contains("3 samples stored, 2 asked for"), "{err}");
+    }
+
+    #[test]
+    fn meta_is_json_and_first_value_wins() {
+        let dir = tempfile::tempdir().unwrap();
+        let journal = Journal::open(&dir.path().join("s.sqlite")).unwrap();
+        assert_eq!(journal.meta::<f64>("k_hat").unwrap(), None);
+        assert_eq!(journal.meta_or_insert("k_hat", || 4.78).unwrap(), 4.78);
+        assert_eq!(journal.meta_or_insert("k_hat", || 9.0).unwrap(), 4.78);
+        journal.put_meta("device", "name = \"x\"").unwrap();
+        assert_eq!(journal.meta::<String>("device").unwrap().unwrap(), "name = \"x\"");
+        let wrong: Result<Option<Vec<u8>>, _> = journal.meta("device");
+        assert!(wrong.unwrap_err().to_string().contains("device"));
+    }
+
+    #[test]
+    fn one_writer_at_a_time_and_readers_alongside() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.sqlite");
+        let mut writer = Journal::open(&path).unwrap();
+        let err = Journal::open(&path).err().expect("second writer refused");
+        assert!(err.to_string().contains("another specula process"), "{err}");
+        writer.set_plan("main", &[row(0), row(1)]).unwrap();
+        writer.record_sample(&sample("main", 1)).unwrap();
+        let reader = Journal::open_read_only(&path).unwrap();
+        assert_eq!(reader.status().unwrap().stages[0].done, 1);
+        drop(writer);
+        Journal::open(&path).expect("the lock goes with the writer");
+    }
+
+    #[test]
+    fn foreign_files_are_refused_with_their_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("other.sqlite");
+        {
+            let conn = Connection::open(&path).unwrap();
+            conn.execute_batch("CREATE TABLE t (x INTEGER);").unwrap();
+        }
+        let err = Journal::open(&path).err().unwrap().to_string();
+        assert!(err.contains("other.sqlite") && err.contains("not a specula"), "{err}");
+        let text = dir.path().join("text.sqlite");
+        std::fs::write(&text, "hello, this is not a database at all, not even close....").unwrap();
+        let err = Journal::open_read_only(&text).err().unwrap().to_string();
+        assert!(err.contains("text.sqlite"), "{err}");
+        {
+            let journal = Journal::open(&dir.path().join("v.sqlite")).unwrap();
+            journal.put_meta("schema_version", &99).unwrap();
+        }
+        let err = Journal::open(&dir.path().join("v.sqlite")).err().unwrap().to_string();
+        assert!(err.contains("version 99"), "{err}");
+    }
+}

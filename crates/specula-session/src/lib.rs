@@ -1,0 +1,18 @@
+//! Measurement sessions: what turns a plan into a measured BRDF on a real or simulated
+//! device, for hours, without losing or repeating a sample (paper 4, 5.3).
+//!
+//! - [`journal`]: the session's SQLite file (one transaction per sample, resumable);
+//! - [`protocol`]: the JSON-lines driver protocol for real hardware (client and server);
+//! - [`engine`]: the acquisition loop: move, HDR capture, calibrate, journal; Ctrl-C;
+//! - [`predict`]: predicted exposures from the probe and the previous sample;
+//! - [`workflow`]: the paper's workflow behind `specula measure`;
+//! - [`ideal`], [`pace`]: a noise-free simulated device, and a simulated one paced in real
+//!   time.
+
+pub mod engine;
+pub mod ideal;
+pub mod journal;
+pub mod pace;
+pub mod predict;
+pub mod protocol;
+pub mod workflow;

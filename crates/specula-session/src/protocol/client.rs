@@ -1,0 +1,330 @@
+//! The client side of the driver protocol: a device behind TCP or a child process, seen as
+//! an [`Instrument`].
+//!
+//! Every method is safe to repeat (moves are absolute, a capture is another frame), so a
+//! request that gets no usable reply is sent again on a fresh link: the link is closed and
+//! reopened (a new connection, or the adapter program started again), after a pause that
+//! doubles with each failure ([`ClientSettings::backoff_initial`] up to
+//! [`ClientSettings::backoff_max`]). After [`ClientSettings::max_failures`] failures in a row
+//! the call fails with an error that says what was tried. Errors the device itself reports
+//! (motor fault, limit, ...) are returned at once: what to do about them is the engine's
+//! decision.
+
+use super::link::{Endpoint, Link, LinkError};
+use super::message::{
+    CaptureParams, HelloParams, HelloResult, LightParams, MoveParams, Reply, Request, WireError,
+    PROTOCOL_VERSION,
+};
+use serde::de::DeserializeOwned;
+use serde_json::{json, Value};
+use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
+use specula_acquisition::kinematics::AxisPositions;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// Retries, timeouts and the token.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClientSettings {
+    /// How long to wait for a reply (a real move can take a minute).
+    pub reply_timeout: Duration,
+    /// How long to wait for a TCP connection.
+    pub connect_timeout: Duration,
+    /// Failures in a row on one call before giving up.
+    pub max_failures: u32,
+    /// Pause after the first failure; doubled after each further one.
+    pub backoff_initial: Duration,
+    /// The longest pause.
+    pub backoff_max: Duration,
+    /// The shared secret `hello` sends, if the server asks for one.
+    pub token: Option<String>,
+}
+
+impl Default for ClientSettings {
+    fn default() -> Self {
+        Self {
+            reply_timeout: Duration::from_secs(120),
+            connect_timeout: Duration::from_secs(10),
+            max_failures: 5,
+            backoff_initial: Duration::from_millis(250),
+            backoff_max: Duration::from_secs(15),
+            token: None,
+        }
+    }
+}
+
+impl ClientSettings {
+    /// The pause after the `failures`-th failure in a row.
+    pub fn backoff(&self, failures: u32) -> Duration {
+        let factor = 2u32.saturating_pow(failures.saturating_sub(1).min(30));
+        self.backoff_initial.saturating_mul(factor).min(self.backoff_max)
+    }
+}
+
+/// What happened on the link that did not fail the call: `(kind, message)` with kind
+/// `retry` or `reconnect`. The engine copies them into the journal's events.
+pub type LinkNotes = Arc<Mutex<Vec<(String, String)>>>;
+
+/// Why one attempt failed.
+enum AttemptError {
+    /// Worth another try on a fresh link.
+    Transport { timeout: bool, why: String },
+    /// The device answered with an error.
+    Device(InstrumentError),
+    /// The server refused us (token, protocol version) or does not understand us: another
+    /// try would fail the same way.
+    Refused(String),
+}
+
+/// A device reached through the driver protocol.
+pub struct RemoteInstrument {
+    endpoint: Endpoint,
+    settings: ClientSettings,
+    link: Option<Link>,
+    next_id: u64,
+    clock_s: Option<f64>,
+    notes: LinkNotes,
+    server: Option<String>,
+}
+
+impl RemoteInstrument {
+    /// A client for `endpoint`; nothing is opened until the first call.
+    pub fn new(endpoint: Endpoint, settings: ClientSettings) -> Self {
+        Self {
+            endpoint,
+            settings,
+            link: None,
+            next_id: 1,
+            clock_s: None,
+            notes: LinkNotes::default(),
+            server: None,
+        }
+    }
+
+    /// Opens the link now and checks the server (protocol version, token).
+    pub fn connect(endpoint: Endpoint, settings: ClientSettings) -> Result<Self, InstrumentError> {
+        let mut client = Self::new(endpoint, settings);
+        client.call("info", Value::Null).map(|_: InstrumentInfo| ())?;
+        Ok(client)
+    }
+
+    /// The notes of retries and reconnections (shared; drain it now and then).
+    pub fn notes(&self) -> LinkNotes {
+        self.notes.clone()
+    }
+
+    /// The server's name from `hello`, once connected.
+    pub fn server_name(&self) -> Option<&str> {
+        self.server.as_deref()
+    }
+
+    pub fn endpoint(&self) -> &Endpoint {
+        &self.endpoint
+    }
+
+    fn note(&self, kind: &str, message: String) {
+        if let Ok(mut notes) = self.notes.lock() {
+            notes.push((kind.to_string(), message));
+        }
+    }
+
+    /// Calls a method, retrying on a fresh link as the settings say.
+    fn call<T: DeserializeOwned>(&mut self, method: &str, params: Value) -> Result<T, InstrumentError> {
+        let mut failures = 0u32;
+        loop {
+            let why = match self.attempt(method, &params) {
+                Ok(value) => {
+                    return serde_json::from_value(value).map_err(|e| {
+                        InstrumentError::Disconnected(format!(
+                            "{}: the reply to {method} is not what the protocol says: {e}",
+                            self.endpoint
+                        ))
+                    })
+                }
+                Err(AttemptError::Device(error)) => return Err(error),
+                Err(AttemptError::Refused(why)) => {
+                    self.link = None;
+                    return Err(InstrumentError::Disconnected(format!("{}: {why}", self.endpoint)));
+                }
+                Err(AttemptError::Transport { timeout, why }) => (timeout, why),
+            };
+            self.link = None;
+            failures += 1;
+            if failures >= self.settings.max_failures.max(1) {
+                let message = format!(
+                    "{}: {method} failed {failures} times in a row, giving up (last: {})",
+                    self.endpoint, why.1
+                );
+                return Err(if why.0 {
+                    InstrumentError::Timeout(message)
+                } else {
+                    InstrumentError::Disconnected(message)
+                });
+            }
+            let pause = self.settings.backoff(failures);
+            self.note(
+                "retry",
+                format!("{method}: {} (failure {failures}); reconnecting in {:.2} s", why.1, pause.as_secs_f64()),
+            );
+            std::thread::sleep(pause);
+        }
+    }
+
+    /// One try: open the link if needed, send, wait for the reply with our id.
+    fn attempt(&mut self, method: &str, params: &Value) -> Result<Value, AttemptError> {
+        if self.link.is_none() {
+            self.open()?;
+        }
+        let id = self.next_id;
+        self.next_id += 1;
+        let request = Request {
+            id,
+            method: method.to_string(),
+            params: params.clone(),
+        };
+        let reply = self.exchange(&request)?;
+        match reply.error {
+            None => Ok(reply.result.unwrap_or(Value::Null)),
+            Some(error) => Err(match error.to_instrument() {
+                Some(device) => AttemptError::Device(device),
+                None => AttemptError::Refused(format!("{method}: {}: {}", error.kind, error.message)),
+            }),
+        }
+    }
+
+    /// Opens a link and says hello.
+    fn open(&mut self) -> Result<(), AttemptError> {
+        let link = Link::open(&self.endpoint, self.settings.connect_timeout).map_err(|e| {
+            AttemptError::Transport {
+                timeout: false,
+                why: format!("cannot connect: {e}"),
+            }
+        })?;
+        self.link = Some(link);
+        let params = HelloParams {
+            protocol: PROTOCOL_VERSION,
+            token: self.settings.token.clone(),
+        };
+        let request = Request {
+            id: self.next_id,
+            method: "hello".into(),
+            params: serde_json::to_value(params).expect("serialises"),
+        };
+        self.next_id += 1;
+        let reply = self.exchange(&request)?;
+        if let Some(error) = reply.error {
+            return Err(AttemptError::Refused(format!("refused: {}: {}", error.kind, error.message)));
+        }
+        let hello: HelloResult = serde_json::from_value(reply.result.unwrap_or(Value::Null))
+            .map_err(|e| AttemptError::Refused(format!("hello: unexpected reply: {e}")))?;
+        if self.server.is_some() {
+            self.note("reconnect", format!("reconnected to {} ({})", self.endpoint, hello.server));
+        }
+        self.server = Some(hello.server);
+        Ok(())
+    }
+
+    /// Sends a request and waits for its reply, skipping stale replies to earlier requests.
+    fn exchange(&mut self, request: &Request) -> Result<Reply, AttemptError> {
+        let link = self.link.as_mut().expect("the link is open");
+        let line = serde_json::to_string(request).expect("requests serialise");
+        let transport = |timeout: bool, why: String| AttemptError::Transport { timeout, why };
+        link.send(&line).map_err(|e| match e {
+            LinkError::Timeout => transport(true, "send timed out".into()),
+            LinkError::Closed(why) => transport(false, format!("send failed: {why}")),
+        })?;
+        let deadline = Instant::now() + self.settings.reply_timeout;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            let line = link.receive(left).map_err(|e| match e {
+                LinkError::Timeout => transport(
+                    true,
+                    format!("no reply within {:.1} s", self.settings.reply_timeout.as_secs_f64()),
+                ),
+                LinkError::Closed(why) => transport(false, why),
+            })?;
+            let reply: Reply = serde_json::from_str(&line)
+                .map_err(|e| transport(false, format!("corrupt reply line ({e})")))?;
+            match reply.id {
+                Some(id) if id == request.id => {
+                    if reply.clock_s.is_some() {
+                        self.clock_s = reply.clock_s;
+                    }
+                    return Ok(reply);
+                }
+                Some(id) if id < request.id => continue,
+                _ => {
+                    let why = reply.error.map_or("reply to an unknown request".into(), |e: WireError| e.message);
+                    return Err(transport(false, format!("the device could not read our request: {why}")));
+                }
+            }
+        }
+    }
+}
+
+impl Instrument for RemoteInstrument {
+    fn home(&mut self) -> Result<AxisPositions, InstrumentError> {
+        self.call("home", Value::Null)
+    }
+
+    fn move_to(&mut self, target: &AxisPositions) -> Result<AxisPositions, InstrumentError> {
+        let params = MoveParams { target: *target };
+        self.call("move_to", serde_json::to_value(params).expect("serialises"))
+    }
+
+    fn set_light(&mut self, level: f64) -> Result<(), InstrumentError> {
+        let params = LightParams { level };
+        self.call::<Value>("set_light", serde_json::to_value(params).expect("serialises"))
+            .map(|_| ())
+    }
+
+    fn capture(&mut self, exposure_s: f64, with_pixels: bool) -> Result<Capture, InstrumentError> {
+        let params = CaptureParams {
+            exposure_s,
+            with_pixels,
+        };
+        self.call("capture", json!(params))
+    }
+
+    fn info(&mut self) -> Result<InstrumentInfo, InstrumentError> {
+        self.call("info", Value::Null)
+    }
+
+    fn simulated_clock_s(&self) -> Option<f64> {
+        self.clock_s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn backoff_doubles_up_to_the_cap() {
+        let settings = ClientSettings {
+            backoff_initial: Duration::from_millis(100),
+            backoff_max: Duration::from_millis(700),
+            ..ClientSettings::default()
+        };
+        let pauses: Vec<u128> = (1..=6).map(|n| settings.backoff(n).as_millis()).collect();
+        assert_eq!(pauses, vec![100, 200, 400, 700, 700, 700]);
+        assert_eq!(settings.backoff(u32::MAX), Duration::from_millis(700));
+    }
+
+    #[test]
+    fn an_unreachable_device_fails_after_the_configured_tries() {
+        // A port nothing listens on: bind one, then close it.
+        let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+        let settings = ClientSettings {
+            max_failures: 3,
+            backoff_initial: Duration::from_millis(1),
+            connect_timeout: Duration::from_millis(200),
+            ..ClientSettings::default()
+        };
+        let mut client = RemoteInstrument::new(Endpoint::Tcp(format!("127.0.0.1:{port}")), settings);
+        let err = client.home().unwrap_err();
+        let text = err.to_string();
+        assert!(matches!(err, InstrumentError::Disconnected(_)), "{text}");
+        assert!(text.contains("home failed 3 times in a row") && text.contains("cannot connect"), "{text}");
+        assert_eq!(client.notes().lock().unwrap().len(), 2, "two retries before giving up");
+    }
+}

@@ -1,0 +1,780 @@
+//! The paper's measurement workflow in one call, as `specula measure` runs it (paper 4.2,
+//! 4.3, 5.2, 5.3; DESIGN.md's data flow):
+//!
+//! 1. **calibration**: measured on the simulator with its white reference and ColorChecker
+//!    (exact with `--ideal`), or read from a file for a real device;
+//! 2. **checks**: alignment (the tilt from the highlight at several turntable rotations) and
+//!    orientation (a phi_h free of the scratch lobe; when the planned one is not, the plan
+//!    uses the recommended one, as turning the sample on its holder would);
+//! 3. **probe**: the dense theta_h column at theta_d = 40, phi_d = 90 deg (section 5.2);
+//! 4. **fit k** of the sampling function to the probe;
+//! 5. **plan** the grid of 5.3 with k-hat, reachability, occlusion and ordering;
+//! 6. **acquire** it with predicted exposures ([`crate::engine`]);
+//! 7. **reconstruct** the MERL table and write it with a summary.
+//!
+//! Every result is kept in the session journal the first time it is made and read back
+//! afterwards, so a rerun of the same command resumes where the last one stopped and, with
+//! the same seed, writes byte for byte the same table as an uninterrupted run.
+
+use crate::engine::{Engine, EngineSettings, HdrMode, Progress, StageOutcome};
+use crate::ideal::{exact_calibration, NoiselessSimulator};
+use crate::journal::{Journal, PlannedRow, SampleRecord};
+use crate::pace::Paced;
+use crate::predict::{Predictor, ProbeModel};
+use crate::protocol::{ClientSettings, Endpoint, RemoteInstrument};
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+use specula_acquisition::calibration::{calibrate, mount_in_simulator, Calibration, CalibrationOptions};
+use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
+use specula_acquisition::checks::orientation::{check_orientation, OrientationSettings};
+use specula_acquisition::device::Device;
+use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
+use specula_acquisition::instrument::Instrument;
+use specula_acquisition::ordering::order;
+use specula_acquisition::plan::Plan;
+use specula_acquisition::simulator::sample::{MountedSample, Tilt};
+use specula_acquisition::simulator::{Simulator, SimulatorConfig};
+use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::{Brdf, HalfDiff, Rgb};
+use specula_reconstruct::provenance::sidecar_path;
+use specula_reconstruct::{reconstruct, Method, Sample};
+use specula_sampling::{fit_k, Probe};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+/// The probe's stage name in the journal.
+pub const STAGE_PROBE: &str = "probe";
+/// The main measurement's stage name in the journal.
+pub const STAGE_MAIN: &str = "main";
+
+/// Execution order of the main plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlanOrder {
+    /// A short path through axis space ([`specula_acquisition::ordering`]).
+    Optimized,
+    /// theta_h, theta_d, phi_d loops, as the paper.
+    Nested,
+}
+
+/// How HDR captures are chosen at each sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HdrChoice {
+    /// Adaptive from a predicted rate.
+    Predicted,
+    /// The device file's fixed bracket at every sample (the paper's way).
+    Bracket,
+}
+
+/// What a measurement is; kept in the journal, and a resumed session must ask the same.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MeasureSettings {
+    pub seed: u64,
+    /// Noise-free camera, exact positioning, exact calibration (simulated devices only).
+    pub ideal: bool,
+    /// Probe samples along theta_h (square-root placement, paper 5.2).
+    pub probe_samples: usize,
+    pub family: Family,
+    pub theta_h_samples: usize,
+    pub theta_d_step_deg: f64,
+    pub phi_d_step_deg: f64,
+    pub phi_h_deg: f64,
+    pub order: PlanOrder,
+    pub hdr: HdrChoice,
+    /// Reconstruction method name (lobe, log, linear).
+    pub method: String,
+    /// Run the alignment and orientation checks.
+    pub checks: bool,
+    /// The simulated sample's tilt on the turntable, degrees, and its azimuth.
+    pub tilt_deg: f64,
+    pub tilt_azimuth_deg: f64,
+}
+
+impl Default for MeasureSettings {
+    /// The paper's measurement (5.2, 5.3) with our ordering and predicted exposures.
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            ideal: false,
+            probe_samples: 90,
+            family: Family::Exponential,
+            theta_h_samples: 30,
+            theta_d_step_deg: 3.0,
+            phi_d_step_deg: 15.0,
+            phi_h_deg: 45.0,
+            order: PlanOrder::Optimized,
+            hdr: HdrChoice::Predicted,
+            method: "lobe".into(),
+            checks: true,
+            tilt_deg: 0.0,
+            tilt_azimuth_deg: 0.0,
+        }
+    }
+}
+
+/// Where the samples come from.
+pub enum Source {
+    /// The simulated device with a ground-truth BRDF.
+    Simulated {
+        truth: Arc<dyn Brdf>,
+        /// Runs the simulated clock in real time divided by this (rehearsals, tests).
+        speedup: Option<f64>,
+    },
+    /// A device behind the driver protocol, with its calibration.
+    Remote {
+        endpoint: Endpoint,
+        client: ClientSettings,
+        calibration: Calibration,
+    },
+}
+
+impl Source {
+    /// What the journal records as the measured thing.
+    fn describe(&self) -> String {
+        match self {
+            Source::Simulated { truth, .. } => format!("simulated: {}", truth.name()),
+            Source::Remote { endpoint, .. } => format!("device: {endpoint}"),
+        }
+    }
+}
+
+/// Hears what the workflow is doing (the CLI draws progress bars).
+pub trait Observer {
+    /// A step without samples of its own ("calibrating", "alignment check: ...").
+    fn step(&mut self, message: &str);
+    /// A stage of samples starts, `done` of `planned` already in the journal.
+    fn stage_started(&mut self, stage: &str, planned: usize, done: usize);
+    fn sample(&mut self, progress: &Progress);
+    fn stage_finished(&mut self, stage: &str, outcome: &StageOutcome);
+}
+
+/// An observer that ignores everything.
+pub struct Quiet;
+
+impl Observer for Quiet {
+    fn step(&mut self, _: &str) {}
+    fn stage_started(&mut self, _: &str, _: usize, _: usize) {}
+    fn sample(&mut self, _: &Progress) {}
+    fn stage_finished(&mut self, _: &str, _: &StageOutcome) {}
+}
+
+/// The checks' results as the journal keeps them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ChecksRecord {
+    pub tilt_deg: Option<f64>,
+    pub tilt_azimuth_deg: Option<f64>,
+    /// What the operator should do about the alignment, or why the check failed.
+    pub alignment: String,
+    pub anisotropic: Option<bool>,
+    /// The phi_h the plan uses, degrees.
+    pub plan_phi_h_deg: f64,
+    /// What the orientation check said.
+    pub orientation: String,
+    /// Device time of the checks, seconds.
+    pub device_s: f64,
+}
+
+/// The fit of k as the journal keeps it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FitRecord {
+    pub function: SamplingFunction,
+    /// The fit error (DESIGN.md), 1/sr.
+    pub error: f64,
+}
+
+/// The main plan's counts as the journal keeps them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PlanRecord {
+    pub total: usize,
+    pub measurable: usize,
+    pub limit: usize,
+    pub occluded: usize,
+    /// The time model's estimate of the paper's way: nested order, fixed bracket, seconds.
+    pub nested_bracket_s: f64,
+    /// The time model's estimate for the plan as ordered (fixed bracket), seconds.
+    pub ordered_bracket_s: f64,
+}
+
+/// What a finished measurement reports (the summary file, `key=value` lines).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    pub source: String,
+    pub session: PathBuf,
+    pub out: PathBuf,
+    pub k_hat: f64,
+    pub fit_error: f64,
+    pub family: Family,
+    pub checks: Option<ChecksRecord>,
+    pub plan: PlanRecord,
+    pub probe_samples: usize,
+    pub measured_samples: usize,
+    pub captures: usize,
+    pub lower_bounds: usize,
+    /// Device time of checks, probe and main measurement, seconds.
+    pub device_s: f64,
+    /// Device time of the main measurement alone, seconds.
+    pub main_device_s: f64,
+    /// True when the device time is a simulated clock.
+    pub simulated: bool,
+    pub method: String,
+    /// Events in the journal by kind (faults, retries, resumptions).
+    pub events: Vec<(String, usize)>,
+}
+
+impl Summary {
+    /// The summary as `key=value` lines.
+    pub fn lines(&self) -> Vec<String> {
+        let mut lines = vec![
+            format!("source={}", self.source),
+            format!("session={}", self.session.display()),
+            format!("out={}", self.out.display()),
+            format!("family={}", self.family),
+            format!("k_hat={:.4}", self.k_hat),
+            format!("fit_error={:.6e}", self.fit_error),
+        ];
+        if let Some(checks) = &self.checks {
+            if let Some(tilt) = checks.tilt_deg {
+                lines.push(format!("alignment_tilt_deg={tilt:.4}"));
+            }
+            lines.push(format!("alignment={}", checks.alignment));
+            lines.push(format!("orientation={}", checks.orientation));
+            lines.push(format!("phi_h_deg={}", checks.plan_phi_h_deg));
+        }
+        let hours = |s: f64| s / 3600.0;
+        lines.extend([
+            format!("planned_samples={}", self.plan.total),
+            format!("excluded_limit={}", self.plan.limit),
+            format!("excluded_occluded={}", self.plan.occluded),
+            format!("probe_samples={}", self.probe_samples),
+            format!("measured_samples={}", self.measured_samples),
+            format!("captures={}", self.captures),
+            format!(
+                "captures_per_sample={:.3}",
+                self.captures as f64 / self.measured_samples.max(1) as f64
+            ),
+            format!("lower_bound_samples={}", self.lower_bounds),
+        ]);
+        let clock = if self.simulated { "simulated" } else { "device" };
+        lines.push(format!("{clock}_hours={:.3}", hours(self.device_s)));
+        lines.push(format!("{clock}_main_hours={:.3}", hours(self.main_device_s)));
+        lines.push(format!(
+            "model_nested_bracket_hours={:.3}",
+            hours(self.plan.nested_bracket_s)
+        ));
+        lines.push(format!("method={}", self.method));
+        for (kind, count) in &self.events {
+            lines.push(format!("events_{kind}={count}"));
+        }
+        lines
+    }
+}
+
+/// How a call to [`measure`] ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeasureOutcome {
+    Complete(Box<Summary>),
+    /// Stopped by the stop flag; the same call resumes.
+    Stopped {
+        stage: String,
+        done: usize,
+        planned: usize,
+    },
+}
+
+/// The summary file beside the table: `OUT.summary.txt`.
+pub fn summary_path(out: &Path) -> PathBuf {
+    out.with_extension("summary.txt")
+}
+
+/// The default session journal beside the table: `OUT.session.sqlite`.
+pub fn default_session_path(out: &Path) -> PathBuf {
+    out.with_extension("session.sqlite")
+}
+
+/// The instrument and what goes with it.
+struct Connected {
+    instrument: Box<dyn Instrument>,
+    calibration: Calibration,
+    link_notes: Option<crate::protocol::client::LinkNotes>,
+    simulated: bool,
+}
+
+/// Runs the whole workflow (see the module documentation) into `session`, writing `out` and
+/// its summary when complete.
+pub fn measure(
+    source: Source,
+    device: &Device,
+    settings: &MeasureSettings,
+    session: &Path,
+    out: &Path,
+    stop: Arc<AtomicBool>,
+    observer: &mut dyn Observer,
+) -> Result<MeasureOutcome> {
+    let method: Method = settings.method.parse().map_err(anyhow::Error::msg)?;
+    let mut journal = Journal::open(session)?;
+    let description = source.describe();
+    start_session(&journal, settings, &description, device)?;
+    let mut connected = connect(source, device, settings, &journal, observer)?;
+    let info = connected
+        .instrument
+        .info()
+        .with_context(|| format!("{description}: cannot describe the device"))?;
+    journal.put_meta("instrument", &info)?;
+    let calibration = connected.calibration.clone();
+    let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
+
+    let checks = if settings.checks {
+        Some(run_checks(&mut journal, connected.instrument.as_mut(), &mut hdr, device, settings, observer)?)
+    } else {
+        None
+    };
+    let phi_h_deg = checks.as_ref().map_or(settings.phi_h_deg, |c| c.plan_phi_h_deg);
+    let mut engine = Engine {
+        instrument: connected.instrument.as_mut(),
+        journal: &mut journal,
+        hdr: &mut hdr,
+        calibration: &calibration,
+        settings: EngineSettings {
+            hdr: hdr_mode(settings, device),
+            ..EngineSettings::default()
+        },
+        stop,
+        link_notes: connected.link_notes.clone(),
+    };
+
+    // The probe (5.2), then k-hat.
+    let probe_rows = probe_plan(device, settings, phi_h_deg);
+    engine.journal.set_plan(STAGE_PROBE, &probe_rows)?;
+    let outcome = run_stage(&mut engine, STAGE_PROBE, &Predictor::new(calibration.clone(), None), observer)?;
+    if !outcome.complete() {
+        return Ok(stopped(STAGE_PROBE, &outcome));
+    }
+    let probe = probe_samples(engine.journal)?;
+    let fit = engine
+        .journal
+        .meta_or_insert("fit", || fit_probe(&probe, settings))?
+        .context("fitting k to the probe")?;
+    observer.step(&format!("k-hat = {:.3} ({})", fit.function.k, fit.function.family));
+
+    // The plan (5.3) with k-hat, then the acquisition.
+    let plan = main_plan(engine.journal, device, settings, &fit.function, phi_h_deg, observer)?;
+    let model = ProbeModel::new(&probe);
+    let outcome = run_stage(&mut engine, STAGE_MAIN, &Predictor::new(calibration.clone(), model), observer)?;
+    if !outcome.complete() {
+        return Ok(stopped(STAGE_MAIN, &outcome));
+    }
+
+    observer.step("reconstructing");
+    let main = engine.journal.samples(STAGE_MAIN)?;
+    let samples = measured_samples(&engine.journal.plan(STAGE_MAIN)?, &main);
+    let name = out
+        .file_stem()
+        .map_or_else(|| "measured".into(), |s| s.to_string_lossy().into_owned());
+    let result = reconstruct(&samples, method, &name).context("reconstructing the samples")?;
+    result
+        .brdf
+        .write(out)
+        .with_context(|| format!("{}: cannot write", out.display()))?;
+    result
+        .provenance
+        .write(&sidecar_path(out))
+        .with_context(|| format!("{}: cannot write", sidecar_path(out).display()))?;
+
+    let summary = summarise(
+        &journal,
+        session,
+        out,
+        description,
+        &fit,
+        checks,
+        plan,
+        connected.simulated,
+        settings,
+    )?;
+    let text = summary.lines().join("\n") + "\n";
+    let path = summary_path(out);
+    std::fs::write(&path, text).with_context(|| format!("{}: cannot write", path.display()))?;
+    journal.log_event("complete", &format!("wrote {}", out.display()))?;
+    Ok(MeasureOutcome::Complete(Box::new(summary)))
+}
+
+/// Records the settings of a new session, or checks that a resumed one asks the same.
+fn start_session(journal: &Journal, settings: &MeasureSettings, source: &str, device: &Device) -> Result<()> {
+    let name = journal.path().display().to_string();
+    let stored: MeasureSettings = journal.meta_or_insert("settings", || settings.clone())?;
+    if stored != *settings {
+        bail!(
+            "{name}: this session was started with other settings ({}); rerun with those or use another --session",
+            differences(&stored, settings)
+        );
+    }
+    let stored_source: String = journal.meta_or_insert("source", || source.to_string())?;
+    if stored_source != source {
+        bail!("{name}: this session measures '{stored_source}', not '{source}'; use another --session");
+    }
+    let stored_device: String = journal.meta_or_insert("device", || device.to_toml_string())?;
+    if stored_device != device.to_toml_string() {
+        bail!("{name}: this session was started with another device model; use another --session");
+    }
+    journal.meta_or_insert("specula_version", || env!("CARGO_PKG_VERSION").to_string())?;
+    Ok(())
+}
+
+/// The settings that differ, as `name: stored vs asked`.
+fn differences(stored: &MeasureSettings, asked: &MeasureSettings) -> String {
+    let a = serde_json::to_value(stored).unwrap_or_default();
+    let b = serde_json::to_value(asked).unwrap_or_default();
+    let (Some(a), Some(b)) = (a.as_object(), b.as_object()) else {
+        return "unreadable settings".into();
+    };
+    a.iter()
+        .filter(|(k, v)| b.get(*k) != Some(*v))
+        .map(|(k, v)| format!("{k}: {v} vs {}", b.get(k).cloned().unwrap_or_default()))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Opens the instrument and finds its calibration (the journal's, once there is one).
+fn connect(
+    source: Source,
+    device: &Device,
+    settings: &MeasureSettings,
+    journal: &Journal,
+    observer: &mut dyn Observer,
+) -> Result<Connected> {
+    match source {
+        Source::Simulated { truth, speedup } => {
+            let mut config = SimulatorConfig::new(settings.seed, device);
+            let tilt = if settings.ideal {
+                config.positioning.sigma_deg = 0.0;
+                Tilt::default()
+            } else {
+                Tilt::new(settings.tilt_deg, settings.tilt_azimuth_deg)
+            };
+            let sample = MountedSample::new(truth.name(), truth, tilt);
+            let mut simulator = Simulator::new(device.clone(), sample.clone(), config);
+            let calibration = match journal.meta::<Calibration>("calibration")? {
+                Some(stored) => stored,
+                None => {
+                    let calibration = if settings.ideal {
+                        exact_calibration(&simulator.config().camera, &simulator.info()?.model)
+                    } else {
+                        observer.step("calibrating: white reference and ColorChecker");
+                        let c = calibrate(&mut simulator, mount_in_simulator, &CalibrationOptions::default())
+                            .context("calibrating the simulated device")?;
+                        simulator.mount(sample);
+                        c
+                    };
+                    journal.put_meta("calibration", &calibration)?;
+                    calibration
+                }
+            };
+            let instrument: Box<dyn Instrument> = match (settings.ideal, speedup) {
+                (true, Some(s)) => Box::new(Paced::new(NoiselessSimulator::new(simulator), s)),
+                (true, None) => Box::new(NoiselessSimulator::new(simulator)),
+                (false, Some(s)) => Box::new(Paced::new(simulator, s)),
+                (false, None) => Box::new(simulator),
+            };
+            Ok(Connected {
+                instrument,
+                calibration,
+                link_notes: None,
+                simulated: true,
+            })
+        }
+        Source::Remote {
+            endpoint,
+            client,
+            calibration,
+        } => {
+            if settings.ideal {
+                bail!("--ideal is for the simulated device (--truth), not {endpoint}");
+            }
+            let stored: Calibration = journal.meta_or_insert("calibration", || calibration.clone())?;
+            if stored != calibration {
+                bail!(
+                    "{}: this session was measured with another calibration; give the same --calibration or use another --session",
+                    journal.path().display()
+                );
+            }
+            let remote = RemoteInstrument::connect(endpoint.clone(), client)
+                .with_context(|| format!("{endpoint}: cannot reach the device"))?;
+            let notes = remote.notes();
+            let simulated = remote.simulated_clock_s().is_some();
+            Ok(Connected {
+                instrument: Box::new(remote),
+                calibration,
+                link_notes: Some(notes),
+                simulated,
+            })
+        }
+    }
+}
+
+fn hdr_mode(settings: &MeasureSettings, device: &Device) -> HdrMode {
+    match settings.hdr {
+        HdrChoice::Predicted => HdrMode::Predicted,
+        HdrChoice::Bracket => HdrMode::Bracket {
+            exposures_s: device.capture.exposures_s.clone(),
+            light_levels: device.capture.light_levels.clone(),
+        },
+    }
+}
+
+/// Alignment and orientation (paper 4.2, 4.3), once per session.
+fn run_checks(
+    journal: &mut Journal,
+    instrument: &mut dyn Instrument,
+    hdr: &mut HdrCapturer,
+    device: &Device,
+    settings: &MeasureSettings,
+    observer: &mut dyn Observer,
+) -> Result<ChecksRecord> {
+    if let Some(stored) = journal.meta::<ChecksRecord>("checks")? {
+        return Ok(stored);
+    }
+    let clock = |i: &dyn Instrument| i.simulated_clock_s();
+    let started = (clock(instrument), std::time::Instant::now());
+    observer.step("alignment check: the highlight at 8 turntable rotations");
+    instrument.home().context("homing the device")?;
+    let (tilt_deg, tilt_azimuth_deg, alignment) = match check_alignment(instrument, hdr, &AlignmentSettings::default()) {
+        Ok(report) => {
+            journal.put_meta("alignment_report", &report)?;
+            let advice = report.adjustment(device.accuracy_deg);
+            (Some(report.fit.tilt_deg), Some(report.fit.azimuth_deg), advice)
+        }
+        Err(e) => (None, None, format!("not done: {e}")),
+    };
+    observer.step(&format!("alignment: {alignment}"));
+    observer.step("orientation check: rings of phi_h for the scratch lobe");
+    let orientation_settings = OrientationSettings {
+        planned_phi_h_deg: settings.phi_h_deg,
+        ..OrientationSettings::default()
+    };
+    let (anisotropic, plan_phi_h_deg, orientation) = match check_orientation(instrument, hdr, device, &orientation_settings) {
+        Ok(report) => {
+            journal.put_meta("orientation_report", &report)?;
+            if report.planned_is_clean {
+                let what = if report.anisotropic { "anisotropic, but" } else { "isotropic:" };
+                (Some(report.anisotropic), settings.phi_h_deg, format!("{what} phi_h {} deg is clean", settings.phi_h_deg))
+            } else {
+                let chosen = report.recommended_phi_h_deg;
+                let message = format!(
+                    "scratch lobe at phi_h {} deg: measuring at phi_h {chosen} deg instead (turn the sample by {:.1} deg to keep {})",
+                    settings.phi_h_deg,
+                    report.turn_sample_deg(),
+                    settings.phi_h_deg
+                );
+                (Some(true), chosen, message)
+            }
+        }
+        Err(e) => (None, settings.phi_h_deg, format!("not done: {e}")),
+    };
+    observer.step(&format!("orientation: {orientation}"));
+    let device_s = match (started.0, clock(instrument)) {
+        (Some(a), Some(b)) => b - a,
+        _ => started.1.elapsed().as_secs_f64(),
+    };
+    let record = ChecksRecord {
+        tilt_deg,
+        tilt_azimuth_deg,
+        alignment,
+        anisotropic,
+        plan_phi_h_deg,
+        orientation,
+        device_s,
+    };
+    journal.put_meta("checks", &record)?;
+    Ok(record)
+}
+
+/// The probe's samples (paper 5.2) as a stage plan: square-root theta_h at theta_d = 40,
+/// phi_d = 90 deg, in increasing theta_h; the ones the device cannot take are left out.
+fn probe_plan(device: &Device, settings: &MeasureSettings, phi_h_deg: f64) -> Vec<PlannedRow> {
+    let hds: Vec<HalfDiff> = SamplingFunction::square_root()
+        .positions_deg(settings.probe_samples)
+        .into_iter()
+        .map(|theta_h| HalfDiff::from_degrees(theta_h, phi_h_deg, 40.0, 90.0))
+        .collect();
+    rows_of(&Plan::from_half_diffs(&hds, device))
+}
+
+/// The measurable samples of a plan as journal rows, in execution order.
+fn rows_of(plan: &Plan) -> Vec<PlannedRow> {
+    plan.measured()
+        .enumerate()
+        .map(|(seq, s)| PlannedRow {
+            seq: seq as u32,
+            hd: s.hd,
+            axes: s.axes.expect("measured samples have axes"),
+            predicted_s: s.time_s,
+        })
+        .collect()
+}
+
+/// `(theta_h_deg, f)` of the probe's samples, in increasing theta_h.
+fn probe_samples(journal: &Journal) -> Result<Vec<(f64, Rgb)>> {
+    let rows = journal.plan(STAGE_PROBE)?;
+    let samples = journal.samples(STAGE_PROBE)?;
+    let mut probe: Vec<(f64, Rgb)> = rows
+        .iter()
+        .filter_map(|r| samples.get(&r.seq).map(|s| (r.hd.theta_h.to_degrees(), s.value.max(Rgb::ZERO))))
+        .collect();
+    probe.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Ok(probe)
+}
+
+/// k-hat of the settings' family for the probe (paper 5.2).
+fn fit_probe(probe: &[(f64, Rgb)], settings: &MeasureSettings) -> Result<FitRecord, String> {
+    let (theta_h, values): (Vec<f64>, Vec<Rgb>) = probe.iter().copied().unzip();
+    let probe = Probe::new(theta_h, values).map_err(|e| e.to_string())?;
+    let fit = fit_k(&probe.column(), settings.family, settings.theta_h_samples).map_err(|e| e.to_string())?;
+    Ok(FitRecord {
+        function: fit.function,
+        error: fit.error,
+    })
+}
+
+/// `0, step, 2 step, ...` below `end` (or up to it when `inclusive`), degrees.
+fn steps_deg(step: f64, end: f64, inclusive: bool) -> Vec<f64> {
+    let count = (end / step + 1e-9).floor() as usize;
+    (0..=count)
+        .map(|i| i as f64 * step)
+        .filter(|v| if inclusive { *v <= end + 1e-9 } else { *v < end - 1e-9 })
+        .collect()
+}
+
+/// The main plan (5.3): made, ordered and journaled the first time, read back afterwards.
+fn main_plan(
+    journal: &mut Journal,
+    device: &Device,
+    settings: &MeasureSettings,
+    function: &SamplingFunction,
+    phi_h_deg: f64,
+    observer: &mut dyn Observer,
+) -> Result<PlanRecord> {
+    if let (Some(record), false) = (journal.meta::<PlanRecord>("plan")?, journal.plan(STAGE_MAIN)?.is_empty()) {
+        return Ok(record);
+    }
+    if !(settings.theta_d_step_deg > 0.0 && settings.phi_d_step_deg > 0.0) {
+        bail!("the theta_d and phi_d steps must be positive");
+    }
+    observer.step("planning and ordering the samples");
+    let theta_h = function.positions_deg(settings.theta_h_samples);
+    let theta_d = steps_deg(settings.theta_d_step_deg, 90.0, false);
+    let phi_d = steps_deg(settings.phi_d_step_deg, 90.0, true);
+    let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, phi_h_deg, device);
+    let chosen = match settings.order {
+        PlanOrder::Optimized => order(&nested),
+        PlanOrder::Nested => nested.clone(),
+    };
+    let summary = nested.summary(device);
+    let record = PlanRecord {
+        total: summary.total,
+        measurable: summary.measurable,
+        limit: summary.limit,
+        occluded: summary.occluded,
+        nested_bracket_s: summary.duration_s(),
+        ordered_bracket_s: chosen.summary(device).duration_s(),
+    };
+    journal.set_plan(STAGE_MAIN, &rows_of(&chosen))?;
+    journal.put_meta("plan", &record)?;
+    Ok(record)
+}
+
+fn run_stage(
+    engine: &mut Engine,
+    stage: &str,
+    predictor: &Predictor,
+    observer: &mut dyn Observer,
+) -> Result<StageOutcome> {
+    let planned = engine.journal.plan(stage)?.len();
+    let done = engine.journal.samples(stage)?.len();
+    observer.stage_started(stage, planned, done);
+    let outcome = engine.run_stage(stage, predictor, &mut |p| observer.sample(&p))?;
+    observer.stage_finished(stage, &outcome);
+    Ok(outcome)
+}
+
+fn stopped(stage: &str, outcome: &StageOutcome) -> MeasureOutcome {
+    MeasureOutcome::Stopped {
+        stage: stage.to_string(),
+        done: outcome.resumed + outcome.measured,
+        planned: outcome.planned,
+    }
+}
+
+/// The journal's samples of a stage as reconstruction samples, in plan order.
+pub fn measured_samples(
+    plan: &[PlannedRow],
+    samples: &std::collections::BTreeMap<u32, SampleRecord>,
+) -> Vec<Sample> {
+    plan.iter()
+        .filter_map(|row| samples.get(&row.seq).map(|s| Sample::new(row.hd, s.value)))
+        .collect()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn summarise(
+    journal: &Journal,
+    session: &Path,
+    out: &Path,
+    source: String,
+    fit: &FitRecord,
+    checks: Option<ChecksRecord>,
+    plan: PlanRecord,
+    simulated: bool,
+    settings: &MeasureSettings,
+) -> Result<Summary> {
+    let status = journal.status()?;
+    let stage = |name: &str| status.stages.iter().find(|s| s.stage == name).cloned();
+    let probe = stage(STAGE_PROBE).context("the journal has no probe")?;
+    let main = stage(STAGE_MAIN).context("the journal has no main stage")?;
+    let lower_bounds = journal.samples(STAGE_MAIN)?.values().filter(|s| s.lower_bound).count();
+    let checks_s = checks.as_ref().map_or(0.0, |c| c.device_s);
+    Ok(Summary {
+        source,
+        session: session.to_path_buf(),
+        out: out.to_path_buf(),
+        k_hat: fit.function.k,
+        fit_error: fit.error,
+        family: fit.function.family,
+        checks,
+        plan,
+        probe_samples: probe.done,
+        measured_samples: main.done,
+        captures: main.captures,
+        lower_bounds,
+        device_s: checks_s + probe.device_s_done + main.device_s_done,
+        main_device_s: main.device_s_done,
+        simulated,
+        method: settings.method.clone(),
+        events: status.events.into_iter().collect(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_steps_match_the_paper() {
+        let theta_d = steps_deg(3.0, 90.0, false);
+        assert_eq!(theta_d.len(), 30);
+        assert_eq!(theta_d.last(), Some(&87.0));
+        let phi_d = steps_deg(15.0, 90.0, true);
+        assert_eq!(phi_d, vec![0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0]);
+    }
+
+    #[test]
+    fn settings_differences_name_the_field() {
+        let a = MeasureSettings::default();
+        let b = MeasureSettings {
+            seed: 7,
+            ..MeasureSettings::default()
+        };
+        assert_eq!(differences(&a, &b), "seed: 1 vs 7");
+    }
+}

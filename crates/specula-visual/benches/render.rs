@@ -1,0 +1,33 @@
+//! The renderer's speed target (issue 8): a 512 x 512 sphere under the studio environment at
+//! 64 samples per pixel in under 5 s on 2 cores, for a measured table (the `silver-925` preset
+//! tabulated into the MERL grid, nearest-bin lookups) and for the analytic preset itself.
+//!
+//! Run: `cargo bench -p specula-visual --bench render`.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use specula_core::brdf::Brdf;
+use specula_core::materials::presets::preset;
+use specula_core::tabulate::tabulate;
+use specula_visual::{render, Environment, Lighting, RenderSettings, Scene, ShapeKind};
+use std::sync::Arc;
+use std::time::Duration;
+
+fn bench(c: &mut Criterion) {
+    let analytic = preset("silver-925").expect("the silver-925 preset exists");
+    let table = tabulate(&analytic, 0.0);
+    let scene = Scene::new(
+        ShapeKind::Sphere,
+        Lighting::Environment(Arc::new(Environment::studio())),
+    );
+    let settings = RenderSettings::square(512, 64);
+    let mut group = c.benchmark_group("render 512x512 64spp studio");
+    group.sample_size(10).measurement_time(Duration::from_secs(30));
+    let materials: [(&str, &dyn Brdf); 2] = [("merl-table", &table), ("analytic", &analytic)];
+    for (label, brdf) in materials {
+        group.bench_function(label, |b| b.iter(|| render(brdf, &scene, &settings, &|_| {})));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,92 @@
+//! The renderer against Mitsuba 3 at equal settings (tools/mitsuba_render_check.py made the
+//! references): an analytic rough conductor on the unit sphere, under the standard point light
+//! and under a constant environment. The mean relative difference over the pixels fully
+//! covered by the sphere (reference luminance above 0.1 percent of the brightest) must stay
+//! under 2 percent.
+
+use glam::DVec3;
+use specula_core::materials::Material;
+use specula_visual::camera::Camera;
+use specula_visual::color::luminance;
+use specula_visual::{
+    render, Environment, Lighting, LinearImage, RenderSettings, Scene, ShapeKind,
+};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// Pixels whose four corners all see the unit sphere.
+fn covered(camera: &Camera, x: usize, y: usize) -> bool {
+    [(0, 0), (1, 0), (0, 1), (1, 1)].iter().all(|(dx, dy)| {
+        let ray = camera.ray((x + dx) as f64, (y + dy) as f64);
+        let b = ray.origin.dot(ray.dir);
+        b * b - (ray.origin.length_squared() - 1.0) >= 0.0
+    })
+}
+
+fn mean_relative_difference(ours: &LinearImage, reference: &LinearImage) -> (f64, usize) {
+    assert_eq!(
+        (ours.width, ours.height),
+        (reference.width, reference.height)
+    );
+    let camera = Camera::standard(reference.width, reference.height);
+    let brightest = (0..reference.height)
+        .flat_map(|y| (0..reference.width).map(move |x| (x, y)))
+        .filter(|(x, y)| covered(&camera, *x, *y))
+        .map(|(x, y)| luminance(reference.get(x, y)))
+        .fold(0.0, f64::max);
+    let mut total = 0.0;
+    let mut count = 0;
+    for y in 0..reference.height {
+        for x in 0..reference.width {
+            let r = reference.get(x, y);
+            if !covered(&camera, x, y) || luminance(r) <= 1e-3 * brightest {
+                continue;
+            }
+            let o = ours.get(x, y);
+            total += ((o - r).abs() / r.max(DVec3::splat(1e-12))).element_sum();
+            count += 3;
+        }
+    }
+    (total / count as f64, count / 3)
+}
+
+fn check(lighting: Lighting, reference: &str, spp: usize) {
+    let material = Material::from_toml_file(data("mitsuba_conductor.toml")).unwrap();
+    let reference = LinearImage::load(&data(reference)).unwrap();
+    let scene = Scene::new(ShapeKind::Sphere, lighting);
+    let settings = RenderSettings {
+        width: reference.width,
+        height: reference.height,
+        samples_per_pixel: spp,
+        seed: 7,
+    };
+    let ours = render(&material, &scene, &settings, &|_| {});
+    let (difference, pixels) = mean_relative_difference(&ours, &reference);
+    println!(
+        "{}: mean relative difference {difference:.4} over {pixels} pixels",
+        reference.width
+    );
+    assert!(pixels > 1500, "too few pixels compared: {pixels}");
+    assert!(difference < 0.02, "mean relative difference {difference}");
+}
+
+#[test]
+fn point_light_matches_mitsuba() {
+    check(Lighting::standard_point(), "mitsuba_point.exr", 64);
+}
+
+#[test]
+fn constant_environment_matches_mitsuba() {
+    let env = Environment::constant(DVec3::ONE);
+    check(
+        Lighting::Environment(Arc::new(env)),
+        "mitsuba_constant.exr",
+        256,
+    );
+}
