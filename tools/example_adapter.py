@@ -161,4 +161,8 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except (BrokenPipeError, KeyboardInterrupt):
+        # Specula closed the link (or the operator pressed Ctrl-C): nothing left to answer.
+        sys.exit(0)

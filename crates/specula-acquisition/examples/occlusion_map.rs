@@ -82,7 +82,9 @@ fn classify(device: &Device, hd: HalfDiff) -> Cell {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    let out = args.next().unwrap_or_else(|| "docs/occlusion.png".to_string());
+    let out = args
+        .next()
+        .unwrap_or_else(|| "docs/occlusion.png".to_string());
     let device = match args.next() {
         Some(path) => Device::load(Path::new(&path))?,
         None => Device::utia(),
@@ -133,7 +135,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for (i, cell) in Cell::LEGEND.iter().enumerate() {
         let x = 20 + (i as i32 % 2) * 430;
         let y = 10 + (i as i32 / 2) * 26;
-        legend_area.draw(&Rectangle::new([(x, y), (x + 18, y + 18)], cell.colour().filled()))?;
+        legend_area.draw(&Rectangle::new(
+            [(x, y), (x + 18, y + 18)],
+            cell.colour().filled(),
+        ))?;
         legend_area.draw(&Text::new(
             cell.label(),
             (x + 26, y + 2),

@@ -186,7 +186,8 @@ impl Calibration {
     /// Writes the calibration as TOML.
     pub fn save(&self, path: &Path) -> Result<(), CalibrationError> {
         let text = toml::to_string_pretty(self).expect("a calibration always serialises");
-        let header = "# Specula camera calibration (specula calibrate): noise model, gains to 1/sr\n\
+        let header =
+            "# Specula camera calibration (specula calibrate): noise model, gains to 1/sr\n\
                       # and the colour matrix to linear sRGB. See README, \"Simulated device, HDR\n\
                       # and calibration\".\n";
         std::fs::write(path, format!("{header}{text}")).map_err(|e| CalibrationError::File {
@@ -246,7 +247,11 @@ fn pair_statistics(a: &Capture, b: &Capture, c: usize) -> Result<(f64, f64), Cal
         ));
     };
     let n = pa.len().min(pb.len()) as f64;
-    let diffs: Vec<f64> = pa.iter().zip(pb).map(|(x, y)| (x[c] - y[c]) as f64).collect();
+    let diffs: Vec<f64> = pa
+        .iter()
+        .zip(pb)
+        .map(|(x, y)| (x[c] - y[c]) as f64)
+        .collect();
     let mean_diff = diffs.iter().sum::<f64>() / n;
     let var = diffs.iter().map(|d| (d - mean_diff).powi(2)).sum::<f64>() / (n - 1.0);
     Ok(((a.mean_raw[c] + b.mean_raw[c]) / 2.0, var / 2.0))
@@ -259,9 +264,10 @@ pub fn measure_noise_model(
 ) -> Result<NoiseModel, CalibrationError> {
     let info = instrument.info()?;
     let (shortest, longest) = info.exposure_range_s;
-    let pair = |instrument: &mut dyn Instrument, t: f64| -> Result<(Capture, Capture), CalibrationError> {
-        Ok((instrument.capture(t, true)?, instrument.capture(t, true)?))
-    };
+    let pair =
+        |instrument: &mut dyn Instrument, t: f64| -> Result<(Capture, Capture), CalibrationError> {
+            Ok((instrument.capture(t, true)?, instrument.capture(t, true)?))
+        };
 
     // Dark frames.
     instrument.set_light(0.0)?;
@@ -345,7 +351,9 @@ pub fn calibrate<I: Instrument>(
     let white_radiance = options.white_reflectance * cos_i / PI;
     let white_rate = hdr.measure(instrument, None)?.value;
     if white_rate.saturated.iter().any(|&s| s) {
-        return Err(CalibrationError::Fit("the white reference saturates".into()));
+        return Err(CalibrationError::Fit(
+            "the white reference saturates".into(),
+        ));
     }
     let gain = white_rate.rate_dn_s.map(|r| r / white_radiance);
 
@@ -357,7 +365,10 @@ pub fn calibrate<I: Instrument>(
         .zip(colorchecker::PATCHES)
     {
         mount(instrument, target)?;
-        let value = hdr.measure(instrument, Some(predicted * target.reflectance.max_element()))?;
+        let value = hdr.measure(
+            instrument,
+            Some(predicted * target.reflectance.max_element()),
+        )?;
         let rate = DVec3::from(value.value.rate_dn_s);
         camera.push(rate / DVec3::from(gain) * PI / cos_i);
         reference.push(patch.reflectance());

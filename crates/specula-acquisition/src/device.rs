@@ -230,7 +230,9 @@ impl Device {
             ("light.elevation", &self.light.elevation),
         ];
         for (name, axis) in named {
-            if !(axis.min_deg.is_finite() && axis.max_deg.is_finite() && axis.min_deg < axis.max_deg)
+            if !(axis.min_deg.is_finite()
+                && axis.max_deg.is_finite()
+                && axis.min_deg < axis.max_deg)
             {
                 return Err(format!(
                     "{name}: min_deg ({}) must be below max_deg ({})",
@@ -249,7 +251,10 @@ impl Device {
         }
         positive(self.camera.distance_m, "camera.distance_m")?;
         positive(self.light.distance_m, "light.distance_m")?;
-        for (name, cone) in [("camera.view", &self.camera.view), ("light.beam", &self.light.beam)] {
+        for (name, cone) in [
+            ("camera.view", &self.camera.view),
+            ("light.beam", &self.light.beam),
+        ] {
             non_negative(cone.sample_radius_m, &format!("{name}.sample_radius_m"))?;
             positive(cone.end_distance_m, &format!("{name}.end_distance_m"))?;
             non_negative(cone.end_radius_m, &format!("{name}.end_radius_m"))?;
@@ -257,7 +262,10 @@ impl Device {
         for part in self.camera.parts.iter().chain(&self.light.parts) {
             let finite = part.from_m.iter().chain(&part.to_m).all(|x| x.is_finite());
             if !finite {
-                return Err(format!("part '{}' has a coordinate that is not a number", part.name));
+                return Err(format!(
+                    "part '{}' has a coordinate that is not a number",
+                    part.name
+                ));
             }
             non_negative(part.radius_m, &format!("part '{}' radius_m", part.name))?;
         }
@@ -290,11 +298,18 @@ mod tests {
     #[test]
     fn bad_files_name_the_problem() {
         let broken = UTIA_TOML.replace("speed_deg_s = 20.0", "speed_deg_s = -1.0");
-        let err = Device::from_toml_str(&broken, "x.toml").unwrap_err().to_string();
-        assert!(err.contains("x.toml") && err.contains("turntable.speed_deg_s"), "{err}");
+        let err = Device::from_toml_str(&broken, "x.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("x.toml") && err.contains("turntable.speed_deg_s"),
+            "{err}"
+        );
 
         let unknown = UTIA_TOML.replace("[park]", "wobble = 3\n[park]");
-        let err = Device::from_toml_str(&unknown, "y.toml").unwrap_err().to_string();
+        let err = Device::from_toml_str(&unknown, "y.toml")
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("y.toml") && err.contains("wobble"), "{err}");
         assert_eq!(err.lines().count(), 1, "one line: {err}");
         let line = UTIA_TOML.lines().position(|l| l == "[park]").unwrap() + 1;

@@ -94,7 +94,10 @@ impl AxisPositions {
 
     /// The light's direction in the lab frame.
     pub fn light_direction(&self) -> DVec3 {
-        rotate_z(rotate_y(DVec3::Z, self.light_elevation_rad), self.light_azimuth_rad)
+        rotate_z(
+            rotate_y(DVec3::Z, self.light_elevation_rad),
+            self.light_azimuth_rad,
+        )
     }
 
     /// The light arm's elevation axis in the lab frame (horizontal).
@@ -233,10 +236,19 @@ mod tests {
         let device = Device::utia();
         let high = Spherical::from_degrees(80.0, 0.0).to_vector();
         let low = Spherical::from_degrees(20.0, 90.0).to_vector();
-        assert!(solutions(&device, high, low).is_empty(), "light beyond 75 deg");
-        assert!(solutions(&device, low, high).is_empty(), "camera beyond 75 deg");
+        assert!(
+            solutions(&device, high, low).is_empty(),
+            "light beyond 75 deg"
+        );
+        assert!(
+            solutions(&device, low, high).is_empty(),
+            "camera beyond 75 deg"
+        );
         let below = Spherical::from_degrees(100.0, 0.0).to_vector();
-        assert!(solutions(&device, low, below).is_empty(), "camera below the surface");
+        assert!(
+            solutions(&device, low, below).is_empty(),
+            "camera below the surface"
+        );
     }
 
     #[test]
@@ -258,9 +270,13 @@ mod tests {
     }
 
     fn axes_in_range() -> impl Strategy<Value = AxisPositions> {
-        (-179.9..179.9f64, -75.0..75.0f64, -179.9..179.9f64, -75.0..75.0f64).prop_map(
-            |(t, c, a, e)| AxisPositions::from_degrees(t, c, a, e),
+        (
+            -179.9..179.9f64,
+            -75.0..75.0f64,
+            -179.9..179.9f64,
+            -75.0..75.0f64,
         )
+            .prop_map(|(t, c, a, e)| AxisPositions::from_degrees(t, c, a, e))
     }
 
     proptest! {

@@ -38,11 +38,17 @@ impl Blockage {
         let camera = |i: usize| device.camera.parts[i].name.as_str();
         match *self {
             Blockage::View { light_part } => format!("{} in the camera's view", light(light_part)),
-            Blockage::Beam { camera_part } => format!("{} in the light's beam", camera(camera_part)),
+            Blockage::Beam { camera_part } => {
+                format!("{} in the light's beam", camera(camera_part))
+            }
             Blockage::Collision {
                 light_part,
                 camera_part,
-            } => format!("{} collides with {}", light(light_part), camera(camera_part)),
+            } => format!(
+                "{} collides with {}",
+                light(light_part),
+                camera(camera_part)
+            ),
         }
     }
 }
@@ -354,6 +360,9 @@ mod tests {
         }
         let axes = AxisPositions::from_degrees(0.0, 30.0, 0.0, 32.0);
         let b = blockage(&device, &axes);
-        assert!(matches!(b, Some(Blockage::Beam { camera_part: 0 | 1 })), "{b:?}");
+        assert!(
+            matches!(b, Some(Blockage::Beam { camera_part: 0 | 1 })),
+            "{b:?}"
+        );
     }
 }

@@ -17,6 +17,7 @@ use crate::kinematics::AxisPositions;
 use crate::plan::{Plan, PlannedSample, Status};
 use crate::timing::TimeModel;
 use rayon::prelude::*;
+use std::collections::BinaryHeap;
 
 /// Tuning of [`order_with`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,14 +47,10 @@ pub fn order(plan: &Plan) -> Plan {
 pub fn order_with(plan: &Plan, options: &OrderingOptions) -> Plan {
     let measured: Vec<&PlannedSample> = plan.measured().collect();
     let mut path = Path::new(&plan.time_model, &measured);
-    let t0 = std::time::Instant::now();
     let mut tour = path.nearest_neighbour_tour();
-    eprintln!("nn {:?}", t0.elapsed());
     for _ in 0..options.rounds.max(1) {
         let neighbours = path.candidate_lists(options.neighbours);
-        eprintln!("cand {:?}", t0.elapsed());
         path.improve(&mut tour, &neighbours);
-        eprintln!("improve {:?}", t0.elapsed());
         if !path.repick_alternatives(&tour, &measured) {
             break;
         }
@@ -66,7 +63,12 @@ pub fn order_with(plan: &Plan, options: &OrderingOptions) -> Plan {
             sample
         })
         .collect();
-    samples.extend(plan.samples.iter().filter(|s| s.status != Status::Ok).cloned());
+    samples.extend(
+        plan.samples
+            .iter()
+            .filter(|s| s.status != Status::Ok)
+            .cloned(),
+    );
     let mut ordered = Plan {
         samples,
         time_model: plan.time_model.clone(),
@@ -88,7 +90,11 @@ const MIN_GAIN_S: f64 = 1e-9;
 impl<'a> Path<'a> {
     fn new(model: &'a TimeModel, measured: &[&PlannedSample]) -> Self {
         let mut points = vec![model.park];
-        points.extend(measured.iter().map(|s| s.axes.expect("measured samples have axes")));
+        points.extend(
+            measured
+                .iter()
+                .map(|s| s.axes.expect("measured samples have axes")),
+        );
         Self { model, points }
     }
 
@@ -97,43 +103,108 @@ impl<'a> Path<'a> {
     }
 
     /// For each node, its `k` cheapest other nodes, cheapest first (never the park node,
-    /// which stays first).
+    /// which stays first). Scans outwards along the bounding axis and stops once that axis
+    /// alone costs more than the k-th best found.
     fn candidate_lists(&self, k: usize) -> Vec<Vec<usize>> {
+        let index = AxisIndex::new(self);
         let n = self.points.len();
         (0..n)
             .into_par_iter()
             .map(|a| {
-                let mut near: Vec<(f64, usize)> = (1..n)
-                    .filter(|&b| b != a)
-                    .map(|b| (self.cost(a, b), b))
-                    .collect();
-                let k = k.min(near.len());
-                if k < near.len() {
-                    near.select_nth_unstable_by(k, |x, y| x.0.total_cmp(&y.0));
-                    near.truncate(k);
+                let mut best: BinaryHeap<(u64, usize)> = BinaryHeap::with_capacity(k + 1);
+                let r = index.rank[a];
+                let (mut left, mut right) = (r, r + 1);
+                loop {
+                    let gap_left = (left > 0).then(|| index.coord[a] - index.coord_at(left - 1));
+                    let gap_right = (right < n).then(|| index.coord_at(right) - index.coord[a]);
+                    let (b, gap) = match (gap_left, gap_right) {
+                        (Some(l), Some(h)) if l <= h => {
+                            left -= 1;
+                            (index.sorted[left], l)
+                        }
+                        (_, Some(h)) => {
+                            right += 1;
+                            (index.sorted[right - 1], h)
+                        }
+                        (Some(l), None) => {
+                            left -= 1;
+                            (index.sorted[left], l)
+                        }
+                        (None, None) => break,
+                    };
+                    if best.len() == k
+                        && index.bound_s(self, gap) >= f64::from_bits(best.peek().expect("k > 0").0)
+                    {
+                        break;
+                    }
+                    if b == 0 {
+                        continue;
+                    }
+                    // Costs are non-negative, so their bit patterns sort like the numbers.
+                    best.push((self.cost(a, b).to_bits(), b));
+                    if best.len() > k {
+                        best.pop();
+                    }
                 }
-                near.sort_by(|x, y| x.0.total_cmp(&y.0));
-                near.into_iter().map(|(_, b)| b).collect()
+                best.into_sorted_vec().into_iter().map(|(_, b)| b).collect()
             })
             .collect()
     }
 
-    /// Greedy path from the park node: always the cheapest unvisited node next.
+    /// Greedy path from the park node: always the cheapest unvisited node next. The
+    /// unvisited nodes form a linked list in bounding-axis order, searched outwards from the
+    /// current node until the axis bound exceeds the best found.
     fn nearest_neighbour_tour(&self) -> Vec<usize> {
+        const NONE: usize = usize::MAX;
+        let index = AxisIndex::new(self);
         let n = self.points.len();
-        let mut visited = vec![false; n];
+        // prev/next over ranks of unvisited nodes.
+        let mut prev: Vec<usize> = (0..n).map(|r| if r == 0 { NONE } else { r - 1 }).collect();
+        let mut next: Vec<usize> = (0..n)
+            .map(|r| if r + 1 == n { NONE } else { r + 1 })
+            .collect();
         let mut tour = Vec::with_capacity(n);
         let mut current = 0;
-        visited[0] = true;
-        tour.push(0);
-        for _ in 1..n {
-            let next = (1..n)
-                .filter(|&b| !visited[b])
-                .min_by(|&x, &y| self.cost(current, x).total_cmp(&self.cost(current, y)))
-                .expect("an unvisited node remains");
-            visited[next] = true;
-            tour.push(next);
-            current = next;
+        for _ in 0..n {
+            tour.push(current);
+            let r = index.rank[current];
+            let (p, q) = (prev[r], next[r]);
+            if p != NONE {
+                next[p] = q;
+            }
+            if q != NONE {
+                prev[q] = p;
+            }
+            let (mut left, mut right) = (p, q);
+            let mut best: Option<(f64, usize)> = None;
+            loop {
+                let gap_left = (left != NONE).then(|| index.coord[current] - index.coord_at(left));
+                let gap_right =
+                    (right != NONE).then(|| index.coord_at(right) - index.coord[current]);
+                let (rank, gap) = match (gap_left, gap_right) {
+                    (Some(l), Some(h)) if l <= h => (left, l),
+                    (_, Some(h)) => (right, h),
+                    (Some(l), None) => (left, l),
+                    (None, None) => break,
+                };
+                if best.is_some_and(|(c, _)| index.bound_s(self, gap) >= c) {
+                    break;
+                }
+                if rank == left {
+                    left = prev[left];
+                } else {
+                    right = next[right];
+                }
+                let b = index.sorted[rank];
+                let c = self.cost(current, b);
+                if best.is_none_or(|(bc, _)| c < bc) {
+                    best = Some((c, b));
+                }
+            }
+            match best {
+                Some((_, b)) => current = b,
+                None => break,
+            }
         }
         tour
     }
@@ -141,11 +212,8 @@ impl<'a> Path<'a> {
     /// 2-opt and Or-opt until neither finds an improving move.
     fn improve(&self, tour: &mut Vec<usize>, neighbours: &[Vec<usize>]) {
         loop {
-            let t0 = std::time::Instant::now();
             let a = self.two_opt(tour, neighbours);
-            eprintln!("  2opt {:?}", t0.elapsed());
             let b = self.or_opt(tour, neighbours);
-            eprintln!("  oropt {:?}", t0.elapsed());
             if !(a || b) {
                 break;
             }
@@ -193,7 +261,11 @@ impl<'a> Path<'a> {
                         if j == 0 {
                             continue;
                         }
-                        let (p, q) = if j > i { (i - 1, j - 1) } else { (j - 1, i - 1) };
+                        let (p, q) = if j > i {
+                            (i - 1, j - 1)
+                        } else {
+                            (j - 1, i - 1)
+                        };
                         if q > p + 1 && self.two_opt_gain(tour, p, q) > MIN_GAIN_S {
                             reverse(tour, &mut pos, p + 1, q);
                             improved = true;
@@ -260,8 +332,8 @@ impl<'a> Path<'a> {
         let (first, last) = (tour[start], tour[end]);
         let prev = tour[start - 1];
         let next = tour.get(end + 1).copied();
-        let removal_gain = self.cost(prev, first)
-            + next.map_or(0.0, |x| self.cost(last, x) - self.cost(prev, x));
+        let removal_gain =
+            self.cost(prev, first) + next.map_or(0.0, |x| self.cost(last, x) - self.cost(prev, x));
         if removal_gain <= MIN_GAIN_S {
             return None;
         }
@@ -282,11 +354,17 @@ impl<'a> Path<'a> {
                 }
             }
         };
-        for &c in neighbours[first].iter().chain(&neighbours[last]) {
-            let k = pos[c];
-            consider(k);
-            if k >= 1 {
-                consider(k - 1);
+        // Only joins to a neighbour cheaper than what removing the run saves can gain.
+        for end_node in [first, last] {
+            for &c in &neighbours[end_node] {
+                if self.cost(end_node, c) >= removal_gain {
+                    break;
+                }
+                let k = pos[c];
+                consider(k);
+                if k >= 1 {
+                    consider(k - 1);
+                }
             }
         }
         best.map(|(_, k, reversed)| (k, reversed))
@@ -321,6 +399,65 @@ impl<'a> Path<'a> {
     }
 }
 
+/// The nodes sorted along the axis whose own move and settle time bounds the transition cost
+/// best: as the axes move in parallel and the settle is the longest of the moved axes, that
+/// axis's move plus settle never exceeds the full cost.
+struct AxisIndex {
+    axis: usize,
+    /// Node ids in increasing coordinate.
+    sorted: Vec<usize>,
+    /// `rank[node]`: its place in `sorted`.
+    rank: Vec<usize>,
+    /// `coord[node]`: its coordinate on the axis, radians.
+    coord: Vec<f64>,
+}
+
+impl AxisIndex {
+    /// Picks the axis that needs the longest time to cross the spread of the nodes.
+    fn new(path: &Path) -> Self {
+        let axis = (0..4)
+            .max_by(|&x, &y| {
+                let span_time = |axis: usize| {
+                    let values = path.points.iter().map(|p| p.as_array()[axis]);
+                    let (lo, hi) = values
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                            (lo.min(v), hi.max(v))
+                        });
+                    path.model.axes[axis].move_time_s(hi - lo)
+                };
+                span_time(x).total_cmp(&span_time(y))
+            })
+            .expect("four axes");
+        let coord: Vec<f64> = path.points.iter().map(|p| p.as_array()[axis]).collect();
+        let mut sorted: Vec<usize> = (0..coord.len()).collect();
+        sorted.sort_by(|&a, &b| coord[a].total_cmp(&coord[b]));
+        let mut rank = vec![0; coord.len()];
+        for (r, &node) in sorted.iter().enumerate() {
+            rank[node] = r;
+        }
+        Self {
+            axis,
+            sorted,
+            rank,
+            coord,
+        }
+    }
+
+    fn coord_at(&self, rank: usize) -> f64 {
+        self.coord[self.sorted[rank]]
+    }
+
+    /// A lower bound of the transition cost between nodes `gap` apart on this axis.
+    fn bound_s(&self, path: &Path, gap: f64) -> f64 {
+        if gap > path.model.deadband_rad {
+            let motion = &path.model.axes[self.axis];
+            motion.move_time_s(gap) + motion.settle_s
+        } else {
+            0.0
+        }
+    }
+}
+
 /// `pos[node]` = index of `node` in `tour`.
 fn positions(tour: &[usize]) -> Vec<usize> {
     let mut pos = vec![0; tour.len()];
@@ -345,7 +482,11 @@ fn move_run(tour: &mut Vec<usize>, start: usize, len: usize, after: usize, rever
     if reversed {
         run.reverse();
     }
-    let insert_at = if after < start { after + 1 } else { after + 1 - len };
+    let insert_at = if after < start {
+        after + 1
+    } else {
+        after + 1 - len
+    };
     tour.splice(insert_at..insert_at, run);
 }
 
@@ -382,7 +523,10 @@ mod tests {
         assert_eq!(before, after);
 
         let (a, b) = (plan.summary(&device), ordered.summary(&device));
-        assert_eq!((a.measurable, a.limit, a.occluded), (b.measurable, b.limit, b.occluded));
+        assert_eq!(
+            (a.measurable, a.limit, a.occluded),
+            (b.measurable, b.limit, b.occluded)
+        );
         assert!((a.capture_s - b.capture_s).abs() < 1e-6);
         assert!(
             transition_time_s(&ordered) < transition_time_s(&plan),
@@ -445,7 +589,10 @@ mod tests {
             let total = costs.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
             best = best.min(total);
         });
-        assert!(heuristic <= best * 1.05 + 1e-9, "heuristic {heuristic} vs optimum {best}");
+        assert!(
+            heuristic <= best * 1.05 + 1e-9,
+            "heuristic {heuristic} vs optimum {best}"
+        );
         assert!(heuristic >= best - 1e-9);
     }
 

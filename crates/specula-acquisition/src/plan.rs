@@ -322,14 +322,23 @@ mod tests {
         let order: Vec<usize> = plan.samples.iter().map(|s| s.index).collect();
         assert_eq!(order, vec![0, 1, 2]);
         let summary = plan.summary(&d);
-        assert_eq!((summary.measurable, summary.limit, summary.occluded), (1, 1, 1));
+        assert_eq!(
+            (summary.measurable, summary.limit, summary.occluded),
+            (1, 1, 1)
+        );
         assert_eq!(summary.occluded_by.values().sum::<usize>(), 1);
     }
 
     #[test]
     fn chosen_positions_give_the_planned_directions() {
         let d = device();
-        let plan = Plan::from_grid(&[0.5, 8.0, 30.0], &[0.0, 9.0, 45.0], &[0.0, 45.0, 90.0], 45.0, &d);
+        let plan = Plan::from_grid(
+            &[0.5, 8.0, 30.0],
+            &[0.0, 9.0, 45.0],
+            &[0.0, 45.0, 90.0],
+            45.0,
+            &d,
+        );
         assert_eq!(plan.samples.len(), 27);
         for s in plan.measured() {
             let axes = s.axes.unwrap();

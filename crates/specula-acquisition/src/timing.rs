@@ -43,14 +43,19 @@ impl CaptureBracket {
         if self.exposures_s.is_empty() || self.light_levels.is_empty() {
             return Err("capture needs at least one exposure and one light level".into());
         }
-        let times = self
-            .exposures_s
-            .iter()
-            .chain([&self.readout_s, &self.light_change_s, &self.overhead_s]);
+        let times = self.exposures_s.iter().chain([
+            &self.readout_s,
+            &self.light_change_s,
+            &self.overhead_s,
+        ]);
         if times.into_iter().any(|t| !(t.is_finite() && *t >= 0.0)) {
             return Err("capture times must be zero or positive numbers of seconds".into());
         }
-        if self.light_levels.iter().any(|l| !(l.is_finite() && *l > 0.0)) {
+        if self
+            .light_levels
+            .iter()
+            .any(|l| !(l.is_finite() && *l > 0.0))
+        {
             return Err("capture.light_levels must be positive".into());
         }
         Ok(())
@@ -223,7 +228,10 @@ mod tests {
         let turntable = model.axes[0].move_time_s(90f64.to_radians());
         let light = model.axes[3].move_time_s(10f64.to_radians());
         assert!((step.move_s - turntable.max(light)).abs() < 1e-12);
-        let settle = device.turntable.settle_s.max(device.light.elevation.settle_s);
+        let settle = device
+            .turntable
+            .settle_s
+            .max(device.light.elevation.settle_s);
         assert_eq!(step.settle_s, settle);
         assert_eq!(step.capture_s, device.capture.duration_s());
         assert!((model.transition_s(&from, &to) - step.move_s - step.settle_s).abs() < 1e-12);

@@ -29,7 +29,11 @@ fn paper_plan_counts_times_and_ordering() {
         assert_eq!(summary.total, 6300);
         assert_eq!(summary.measurable + summary.limit + summary.occluded, 6300);
         let off = summary.measurable as f64 / PAPER_MEASURED - 1.0;
-        assert!(off.abs() < 0.07, "k {k}: {} measurable ({off:+.3})", summary.measurable);
+        assert!(
+            off.abs() < 0.07,
+            "k {k}: {} measurable ({off:+.3})",
+            summary.measurable
+        );
 
         // Every retro-reflection (theta_d = 0) within reach is occluded by the light head.
         for s in plan.samples.iter().filter(|s| s.hd.theta_d == 0.0) {

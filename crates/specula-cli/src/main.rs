@@ -35,6 +35,11 @@ enum Command {
     FitK(commands::fit_k::Args),
     Analyze(commands::analyze::Args),
     Placement(commands::placement::Args),
+    Calibrate(commands::calibrate::Args),
+    Check(commands::check::Args),
+    Measure(commands::measure::Args),
+    Session(commands::session::Args),
+    Device(commands::device::Args),
 }
 
 fn main() -> ExitCode {
@@ -54,6 +59,11 @@ fn main() -> ExitCode {
         Command::FitK(args) => commands::fit_k::run(args),
         Command::Analyze(args) => commands::analyze::run(args),
         Command::Placement(args) => commands::placement::run(args),
+        Command::Calibrate(args) => commands::calibrate::run(args),
+        Command::Check(args) => commands::check::run(args),
+        Command::Measure(args) => commands::measure::run(args),
+        Command::Session(args) => commands::session::run(args),
+        Command::Device(args) => commands::device::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -55,7 +55,14 @@ fn print_device_gives_a_usable_file() {
     std::fs::write(&device, &output.stdout).unwrap();
     let out = dir.path().join("plan.csv");
     specula()
-        .args(["plan", "--theta-h-list", "5", "--theta-d-step", "45", "--device"])
+        .args([
+            "plan",
+            "--theta-h-list",
+            "5",
+            "--theta-d-step",
+            "45",
+            "--device",
+        ])
         .arg(&device)
         .arg("--out")
         .arg(&out)

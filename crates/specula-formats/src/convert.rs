@@ -105,7 +105,7 @@ impl FileFormat {
 pub enum Loaded {
     Merl(MerlBrdf),
     Utia(UtiaBrdf),
-    Rgl(RglBsdf),
+    Rgl(Box<RglBsdf>),
     Samples(SampleSet),
     /// A preset, a material file or a model fit.
     Other(BrdfSource),
@@ -121,7 +121,7 @@ impl Loaded {
                 Self::Merl(MerlBrdf::from_bytes(name, &bytes).map_err(|p| file_error(path, p))?)
             }
             FileFormat::Utia => Self::Utia(UtiaBrdf::read(path)?),
-            FileFormat::Rgl => Self::Rgl(RglBsdf::read(path)?),
+            FileFormat::Rgl => Self::Rgl(Box::new(RglBsdf::read(path)?)),
             FileFormat::SamplesCsv => Self::Samples(SampleSet::read(path)?),
         })
     }
@@ -143,7 +143,7 @@ impl Loaded {
         match self {
             Self::Merl(t) => Arc::new(t),
             Self::Utia(t) => Arc::new(t),
-            Self::Rgl(t) => Arc::new(t),
+            Self::Rgl(t) => Arc::new(*t),
             Self::Samples(t) => Arc::new(t),
             Self::Other(b) => b,
         }
@@ -153,7 +153,7 @@ impl Loaded {
         match self {
             Self::Merl(t) => t,
             Self::Utia(t) => t,
-            Self::Rgl(t) => t,
+            Self::Rgl(t) => t.as_ref(),
             Self::Samples(t) => t,
             Self::Other(b) => b.as_ref(),
         }

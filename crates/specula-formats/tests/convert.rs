@@ -24,11 +24,11 @@ fn run(input: &Path, output: &Path) -> specula_formats::convert::Conversion {
     convert(input.to_str().unwrap(), output, &OPTIONS).unwrap()
 }
 
-/// A MERL table of a smooth fit with a hole: every cell with theta_d >= 30 deg unmeasured.
+/// A MERL table of a smooth fit with a hole: every cell with theta_d >= 15 deg unmeasured.
 fn merl_with_hole() -> MerlBrdf {
     let mut table = tabulate(&Lafortune::by_name("white-diffuse-bball").unwrap(), 0.0);
     for index in 0..CELLS {
-        if Bin::from_index(index).theta_d_i >= 30 {
+        if Bin::from_index(index).theta_d_i >= 15 {
             table.set_cell(index, None);
         }
     }

@@ -3,14 +3,21 @@
 //! ([`specula_core::compare`]), over the cells whose light and camera are both within the
 //! device's elevation limit and over all cells above the surface.
 //!
-//! Which planned samples a device reaches is the planner's business
-//! (`specula_acquisition::plan`); [`within_elevation`] is the simple stand-in of the paper's
-//! limit (theta_v <= 75 deg, section 5.3) for tests and benchmarks.
+//! The plan ([`PlanSettings`]) is the paper's (5.3) by default: theta_h placed by a sampling
+//! function whose k is fitted to the material's probe (5.2, `specula_sampling`), or by the
+//! least-error placement on the probe; a theta_d x phi_d grid at one phi_h; the samples the
+//! device cannot take are left out (`specula_acquisition::plan`). [`within_elevation`] is a
+//! simple stand-in for the device (theta_v <= 75 deg, section 5.3) for tests and benchmarks.
 
 use crate::sample::Sample;
 use crate::{reconstruct, Method, ReconstructError, Reconstruction};
+use anyhow::{Context, Result};
+use specula_acquisition::device::Device;
+use specula_acquisition::plan::{Plan, Status};
 use specula_core::compare::{compare, ErrorFigures};
+use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, HalfDiff, MerlBrdf};
+use specula_sampling::{fit_k, place_theta_h, Probe, ProbeSettings};
 
 /// A plan on a grid: every combination of the theta_h, theta_d and phi_d positions (degrees)
 /// at one phi_h, theta_h outermost and phi_d innermost (the paper's nested loops, 5.3).
@@ -82,6 +89,97 @@ pub fn within_elevation(hd: HalfDiff, max_elevation_deg: f64) -> bool {
     let (wi, wo) = hd.to_directions();
     let min_cos = max_elevation_deg.to_radians().cos() - 1e-12;
     wi.z >= min_cos && wo.z >= min_cos
+}
+
+/// How theta_h positions are placed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ThetaHPlacement {
+    /// A sampling function (paper eq. 2-4) with a given k.
+    Function(SamplingFunction),
+    /// A sampling function of this family with k-hat fitted to the material's probe (5.2).
+    FittedFunction(Family),
+    /// The least-error placement on the material's probe (`specula_sampling::place_theta_h`).
+    Probe,
+}
+
+/// A plan on a grid, decided per material (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanSettings {
+    pub placement: ThetaHPlacement,
+    pub theta_h_samples: usize,
+    pub theta_d_step_deg: f64,
+    pub phi_d_step_deg: f64,
+    pub phi_h_deg: f64,
+}
+
+impl PlanSettings {
+    /// The paper's plan (5.3): 30 theta_h of the exponential function with k-hat, theta_d
+    /// step 3 deg, phi_d step 15 deg, phi_h 45 deg.
+    pub fn paper() -> Self {
+        Self {
+            placement: ThetaHPlacement::FittedFunction(Family::Exponential),
+            theta_h_samples: 30,
+            theta_d_step_deg: PAPER_THETA_D_STEP_DEG,
+            phi_d_step_deg: PAPER_PHI_D_STEP_DEG,
+            phi_h_deg: PAPER_PHI_H_DEG,
+        }
+    }
+
+    /// theta_h positions (degrees) for a material, with the k they come from (none for the
+    /// probe placement).
+    pub fn theta_h_deg(&self, truth: &dyn Brdf) -> Result<(Vec<f64>, Option<f64>)> {
+        let n = self.theta_h_samples;
+        if let ThetaHPlacement::Function(f) = self.placement {
+            return Ok((f.positions_deg(n), Some(f.k)));
+        }
+        let probe = Probe::take(truth, &ProbeSettings::default())?;
+        match self.placement {
+            ThetaHPlacement::FittedFunction(family) => {
+                let fit = fit_k(&probe.column(), family, n)?;
+                Ok((fit.function.positions_deg(n), Some(fit.function.k)))
+            }
+            _ => Ok((place_theta_h(&probe, n), None)),
+        }
+    }
+
+    /// The grid for a material.
+    pub fn grid(&self, truth: &dyn Brdf) -> Result<(GridPlan, Option<f64>)> {
+        let (theta_h, k) = self.theta_h_deg(truth)?;
+        Ok((
+            GridPlan::with_steps(theta_h, self.theta_d_step_deg, self.phi_d_step_deg, self.phi_h_deg),
+            k,
+        ))
+    }
+}
+
+/// The configurations of a grid that the device takes (status ok), in plan order.
+pub fn reached_by(grid: &GridPlan, device: &Device) -> Vec<HalfDiff> {
+    Plan::from_grid(&grid.theta_h_deg, &grid.theta_d_deg, &grid.phi_d_deg, grid.phi_h_deg, device)
+        .samples
+        .iter()
+        .filter(|s| s.status == Status::Ok)
+        .map(|s| s.hd)
+        .collect()
+}
+
+/// A material measured on its plan, without noise.
+#[derive(Debug, Clone)]
+pub struct Measurement {
+    pub grid: GridPlan,
+    /// k of the sampling function, when one placed theta_h.
+    pub k: Option<f64>,
+    pub samples: Vec<Sample>,
+}
+
+impl Measurement {
+    /// Plans the material's measurement and takes the reachable samples from the truth.
+    pub fn simulate(truth: &dyn Brdf, settings: &PlanSettings, device: &Device) -> Result<Self> {
+        let (grid, k) = settings
+            .grid(truth)
+            .with_context(|| format!("{}: placing theta_h", truth.name()))?;
+        let samples = measure(truth, &reached_by(&grid, device));
+        Ok(Self { grid, k, samples })
+    }
 }
 
 /// Noise-free measurement of `truth` at each configuration; configurations the BRDF does not

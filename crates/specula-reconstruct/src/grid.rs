@@ -51,7 +51,7 @@ fn even_ends(axis: &Axis, first: Option<f64>, last: Option<f64>) -> [bool; 2] {
 pub fn interpolate_to_merl(lattice: &Lattice, kernel: Kernel) -> [Vec<f64>; 3] {
     let targets = Targets::of(lattice);
     let lines = [
-        Line { nodes: &lattice.theta_h.nodes, even_ends: even_ends(&lattice.theta_h, Some(0.0), None) },
+        Line { nodes: &lattice.theta_h.nodes, even_ends: even_ends(&lattice.theta_h, None, None) },
         Line { nodes: &lattice.theta_d.nodes, even_ends: even_ends(&lattice.theta_d, Some(0.0), None) },
         Line { nodes: &lattice.phi_d.nodes, even_ends: even_ends(&lattice.phi_d, Some(0.0), Some(90.0)) },
     ];

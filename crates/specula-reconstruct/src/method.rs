@@ -25,14 +25,14 @@ impl Method {
     /// ln f, monotone cubic, theta_h in MERL's index coordinate.
     pub const LOG: Method = Method {
         domain: Domain::Log,
-        theta_h: Coordinate::MerlThetaH,
+        theta_h: Coordinate::Degrees,
         kernel: Kernel::MonotoneCubic,
     };
     /// The log ratio to a fitted microfacet lobe, monotone cubic, theta_h in MERL's index
     /// coordinate.
     pub const LOBE: Method = Method {
         domain: Domain::LobeResidual,
-        theta_h: Coordinate::MerlThetaH,
+        theta_h: Coordinate::Degrees,
         kernel: Kernel::MonotoneCubic,
     };
 

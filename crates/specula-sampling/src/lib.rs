@@ -20,6 +20,7 @@ pub mod merl_slice;
 pub mod placement;
 pub mod placement_study;
 pub mod probe;
+pub mod probe_model;
 pub mod slice;
 
 pub use column::{Column, Interpolation};

@@ -8,13 +8,15 @@
 //! `E[m][b] = min_a E[m-1][a] + cost(a, b)` is the least error of `m + 1` knots from the
 //! first node to node `b`. O(N^3) for the costs, O(n N^2) for the recursion (N = nodes).
 //!
-//! **The practical placement** ([`place_theta_h`]): the same dynamic programme run on the
-//! probe (section 5.2's dense column at theta_d = 40 degrees) instead of on the unknown
-//! truth. The measurement plan then uses those theta_h for every theta_d; how well that
-//! transfers to the other columns is measured by [`crate::placement_study`].
+//! **The practical placement** ([`place_theta_h`]): the same dynamic programme run on a dense
+//! model of the probe (section 5.2's column at theta_d = 40 degrees, interpolated smoothly in
+//! the log domain by [`crate::probe_model`]) instead of on the unknown truth. The measurement
+//! plan then uses those theta_h for every theta_d; how well that transfers to the other
+//! columns is measured by [`crate::placement_study`].
 
 use crate::column::{Column, Interpolation};
 use crate::probe::Probe;
+use crate::probe_model::dense_model;
 
 /// A placement and its re-interpolation error on the column it was made for.
 #[derive(Debug, Clone, PartialEq)]
@@ -102,12 +104,22 @@ fn segment_costs(column: &Column, domain: Interpolation) -> Vec<f64> {
     cost
 }
 
+/// Nodes of the probe's dense model on which [`place_theta_h`] places: three per probe sample.
+pub const MODEL_NODES: usize = 3 * 89 + 1;
+
 /// The practical placement: `n >= 2` theta_h positions in degrees (increasing, the probe's
-/// first and last positions included) chosen from the probe alone, by running the oracle's
-/// dynamic programme on the probe's column (linear interpolation, as the reconstruction
-/// uses). Reusable by the measurement planner.
+/// first and last positions included) chosen from the probe alone: the oracle's dynamic
+/// programme (linear interpolation, as the reconstruction uses) run on the probe's dense
+/// model ([`crate::probe_model`]), so that samples may fall between the probe's own.
+/// Reusable by the measurement planner.
 pub fn place_theta_h(probe: &Probe, n: usize) -> Vec<f64> {
-    optimal_placement(&probe.column(), n, Interpolation::Linear).theta_h_deg
+    place_on_probe_column(&probe.column(), n, Interpolation::Linear)
+}
+
+/// [`place_theta_h`] for a probe held as a column, for a reconstruction in `domain`.
+pub fn place_on_probe_column(probe: &Column, n: usize, domain: Interpolation) -> Vec<f64> {
+    let model = dense_model(probe, MODEL_NODES.max(probe.len()));
+    optimal_placement(&model, n, domain).theta_h_deg
 }
 
 #[cfg(test)]
@@ -217,13 +229,20 @@ mod tests {
     }
 
     #[test]
-    fn the_practical_placement_is_the_oracle_of_the_probe() {
+    fn the_practical_placement_is_the_oracle_of_the_probe_model() {
         let column = lobe_column(90, 2.0);
         let rgb = column.values().iter().map(|&v| Rgb::splat(v)).collect();
         let probe = Probe::new(column.theta_h_deg().to_vec(), rgb).unwrap();
         let placed = place_theta_h(&probe, 30);
-        assert_eq!(placed, optimal_placement(&column, 30, Interpolation::Linear).theta_h_deg);
+        let model = dense_model(&column, MODEL_NODES);
+        assert_eq!(placed, optimal_placement(&model, 30, Interpolation::Linear).theta_h_deg);
         // Crowded at the peak: half the samples within the lobe's first 3 widths.
         assert!(placed.iter().filter(|&&x| x < 6.0).count() >= 15, "{placed:?}");
+        // On a dense truth it beats the best placement among the probe's own samples.
+        let truth = lobe_column(MODEL_NODES, 2.0);
+        let on_probe = optimal_placement(&column, 30, Interpolation::Linear).theta_h_deg;
+        let ours = truth.reinterpolation_error(&placed, Interpolation::Linear);
+        let probe_only = truth.reinterpolation_error(&on_probe, Interpolation::Linear);
+        assert!(ours < probe_only, "{ours} vs {probe_only}");
     }
 }

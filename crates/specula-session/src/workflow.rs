@@ -352,10 +352,16 @@ pub fn measure(
         return Ok(stopped(STAGE_PROBE, &outcome));
     }
     let probe = probe_samples(engine.journal)?;
-    let fit = engine
-        .journal
-        .meta_or_insert("fit", || fit_probe(&probe, settings))?
-        .context("fitting k to the probe")?;
+    let fit = match engine.journal.meta::<FitRecord>("fit")? {
+        Some(stored) => stored,
+        None => {
+            let fit = fit_probe(&probe, settings)
+                .map_err(anyhow::Error::msg)
+                .context("fitting k to the probe")?;
+            engine.journal.put_meta("fit", &fit)?;
+            fit
+        }
+    };
     observer.step(&format!("k-hat = {:.3} ({})", fit.function.k, fit.function.family));
 
     // The plan (5.3) with k-hat, then the acquisition.
@@ -459,7 +465,8 @@ fn connect(
                 Some(stored) => stored,
                 None => {
                     let calibration = if settings.ideal {
-                        exact_calibration(&simulator.config().camera, &simulator.info()?.model)
+                        let model = simulator.info()?.model;
+                        exact_calibration(&simulator.config().camera, &model)
                     } else {
                         observer.step("calibrating: white reference and ColorChecker");
                         let c = calibrate(&mut simulator, mount_in_simulator, &CalibrationOptions::default())

@@ -132,7 +132,10 @@ mod tests {
 
     /// colour-science's conversion of the same chart (tools/colorchecker_reference.py).
     fn colour_science() -> Vec<(String, DVec3)> {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/colorchecker_linear_srgb.csv");
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/data/colorchecker_linear_srgb.csv"
+        );
         let mut reader = csv::Reader::from_path(path).expect("reference file");
         reader
             .records()
@@ -152,7 +155,10 @@ mod tests {
             assert!(name.starts_with(patch.name), "{name} vs {}", patch.name);
             let got = patch.linear_srgb();
             // The 4-digit IEC matrix against colour-science's full-precision one.
-            assert!((got - *expected).abs().max_element() < 1e-3, "{name}: {got} vs {expected}");
+            assert!(
+                (got - *expected).abs().max_element() < 1e-3,
+                "{name}: {got} vs {expected}"
+            );
         }
     }
 
@@ -162,7 +168,11 @@ mod tests {
         assert!((white - DVec3::ONE).abs().max_element() < 1e-3, "{white}");
         for patch in &PATCHES[18..] {
             let v = patch.linear_srgb();
-            assert!(v.max_element() - v.min_element() < 0.06 * v.max_element(), "{}", patch.name);
+            assert!(
+                v.max_element() - v.min_element() < 0.06 * v.max_element(),
+                "{}",
+                patch.name
+            );
         }
         let cyan = PATCHES[17];
         assert!(cyan.linear_srgb().x < 0.0 && cyan.reflectance().x == 0.0);

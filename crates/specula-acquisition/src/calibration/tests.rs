@@ -8,7 +8,11 @@ fn simulator(seed: u64) -> Simulator {
     let device = Device::utia();
     let config = SimulatorConfig::new(seed, &device);
     let white = Arc::new(DiffuseTarget::white(0.99));
-    Simulator::new(device, MountedSample::new("white", white, Tilt::default()), config)
+    Simulator::new(
+        device,
+        MountedSample::new("white", white, Tilt::default()),
+        config,
+    )
 }
 
 #[test]
@@ -20,7 +24,10 @@ fn least_squares_recovers_an_exact_matrix() {
         .collect();
     let reference: Vec<DVec3> = camera.iter().map(|u| truth * *u).collect();
     let fitted = fit_colour_matrix(&camera, &reference).unwrap();
-    assert!((fitted - truth).to_cols_array().iter().all(|d| d.abs() < 1e-12));
+    assert!((fitted - truth)
+        .to_cols_array()
+        .iter()
+        .all(|d| d.abs() < 1e-12));
 
     let greys: Vec<DVec3> = (1..6).map(|k| DVec3::splat(k as f64 * 0.1)).collect();
     let err = fit_colour_matrix(&greys, &greys).unwrap_err().to_string();
@@ -37,10 +44,22 @@ fn calibration_recovers_the_simulated_camera() {
     // The noise model (EMVA 1288 from dark frames and the photon transfer curve).
     let truth = camera.noise_model();
     let noise = cal.noise;
-    assert!((noise.black_level_dn - truth.black_level_dn).abs() < 0.05, "{noise:?}");
-    assert!((noise.gain_dn_per_e / truth.gain_dn_per_e - 1.0).abs() < 0.03, "{noise:?}");
-    assert!((noise.read_noise_dn / truth.read_noise_dn - 1.0).abs() < 0.05, "{noise:?}");
-    assert!((noise.dark_current_dn_s / truth.dark_current_dn_s - 1.0).abs() < 0.15, "{noise:?}");
+    assert!(
+        (noise.black_level_dn - truth.black_level_dn).abs() < 0.05,
+        "{noise:?}"
+    );
+    assert!(
+        (noise.gain_dn_per_e / truth.gain_dn_per_e - 1.0).abs() < 0.03,
+        "{noise:?}"
+    );
+    assert!(
+        (noise.read_noise_dn / truth.read_noise_dn - 1.0).abs() < 0.05,
+        "{noise:?}"
+    );
+    assert!(
+        (noise.dark_current_dn_s / truth.dark_current_dn_s - 1.0).abs() < 0.15,
+        "{noise:?}"
+    );
 
     // The known gain: responsivity times conversion gain, per channel.
     for c in 0..3 {
@@ -56,7 +75,10 @@ fn calibration_recovers_the_simulated_camera() {
         .to_cols_array()
         .iter()
         .fold(0.0f64, |m, d| m.max(d.abs()));
-    assert!(worst < 0.01, "crosstalk off by {worst}: {recovered} vs {crosstalk}");
+    assert!(
+        worst < 0.01,
+        "crosstalk off by {worst}: {recovered} vs {crosstalk}"
+    );
     assert!(cal.colour_rms_error < 0.005, "{}", cal.colour_rms_error);
 
     // A coloured diffuse sample at another geometry comes out in 1/sr.
@@ -74,7 +96,10 @@ fn calibration_recovers_the_simulated_camera() {
     let expected = target.reflectance / PI;
     let relative = ((brdf - expected) / expected).abs().max_element();
     assert!(relative < 0.01, "{brdf} vs {expected}");
-    assert!(sigma.max_element() < 0.002 * expected.max_element(), "{sigma}");
+    assert!(
+        sigma.max_element() < 0.002 * expected.max_element(),
+        "{sigma}"
+    );
     let predicted = cal.predicted_rate_dn_s(expected, wi.z);
     assert!((predicted / value.brightest_rate_dn_s() - 1.0).abs() < 0.01);
 }
@@ -103,6 +128,11 @@ fn calibration_file_round_trip_and_errors() {
     std::fs::write(&path, "gain_dn_s_per_sr = 3\n").unwrap();
     let err = Calibration::load(&path).unwrap_err().to_string();
     assert!(err.starts_with(&path.display().to_string()), "{err}");
-    let missing = Calibration::load(&dir.path().join("none.toml")).unwrap_err().to_string();
-    assert!(missing.contains("none.toml") && missing.contains("cannot read"), "{missing}");
+    let missing = Calibration::load(&dir.path().join("none.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        missing.contains("none.toml") && missing.contains("cannot read"),
+        "{missing}"
+    );
 }

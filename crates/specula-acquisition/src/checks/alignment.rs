@@ -125,7 +125,10 @@ pub fn fit_tilt(peaks: &[(f64, f64)]) -> Option<TiltFit> {
     let rhs = rows.iter().fold(DVec3::ZERO, |s, (x, c)| s + *x * *c);
     let p = normal.inverse() * rhs;
     let (a, b) = (p.y, p.z);
-    let residual = rows.iter().map(|(x, c)| (x.dot(p) - c).powi(2)).sum::<f64>();
+    let residual = rows
+        .iter()
+        .map(|(x, c)| (x.dot(p) - c).powi(2))
+        .sum::<f64>();
     Some(TiltFit {
         tilt_deg: a.hypot(b) / 2.0,
         azimuth_deg: (-b).atan2(a).to_degrees().rem_euclid(360.0),
@@ -170,7 +173,8 @@ fn scan(
 ) -> Result<(), CheckError> {
     let mut predicted = None;
     for &camera_deg in cameras_deg {
-        let axes = AxisPositions::from_degrees(turntable_deg, camera_deg, 180.0, light_elevation_deg);
+        let axes =
+            AxisPositions::from_degrees(turntable_deg, camera_deg, 180.0, light_elevation_deg);
         let measurement = measure_at(instrument, hdr, &axes, predicted)?;
         predicted = Some(measurement.value.brightest_rate_dn_s());
         profile.push((camera_deg, intensity(&measurement)));
@@ -187,7 +191,11 @@ fn locate(
 ) -> Result<(HighlightPeak, usize), CheckError> {
     let light = settings.light_elevation_deg;
     let mut profile = Vec::new();
-    let coarse = angles(light, settings.coarse_half_width_deg, settings.coarse_step_deg);
+    let coarse = angles(
+        light,
+        settings.coarse_half_width_deg,
+        settings.coarse_step_deg,
+    );
     scan(instrument, hdr, turntable_deg, light, &coarse, &mut profile)?;
     let not_found = || {
         CheckError::NotFound(format!(
@@ -198,7 +206,11 @@ fn locate(
     };
     let (left, right) = half_maximum_crossings(&profile).ok_or_else(not_found)?;
     for crossing in [left, right] {
-        let fine = angles(crossing, settings.fine_half_width_deg, settings.fine_step_deg);
+        let fine = angles(
+            crossing,
+            settings.fine_half_width_deg,
+            settings.fine_step_deg,
+        );
         scan(instrument, hdr, turntable_deg, light, &fine, &mut profile)?;
     }
     profile.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -272,7 +284,10 @@ mod tests {
             .map(|i| (i as f64, 10.0 - (i as f64 - 12.0).abs()))
             .collect();
         let (l, r) = half_maximum_crossings(&profile).unwrap();
-        assert!((l - 7.0).abs() < 1e-12 && (r - 17.0).abs() < 1e-12, "{l} {r}");
+        assert!(
+            (l - 7.0).abs() < 1e-12 && (r - 17.0).abs() < 1e-12,
+            "{l} {r}"
+        );
         assert!(half_maximum_crossings(&profile[5..15]).is_none());
     }
 
@@ -288,15 +303,20 @@ mod tests {
 
     /// Error of the estimate as a vector (tilt towards azimuth), degrees.
     fn vector_error(fit: &TiltFit, truth: Tilt) -> f64 {
-        let v = |t: f64, a: f64| DVec3::new(t * a.to_radians().cos(), t * a.to_radians().sin(), 0.0);
+        let v =
+            |t: f64, a: f64| DVec3::new(t * a.to_radians().cos(), t * a.to_radians().sin(), 0.0);
         (v(fit.tilt_deg, fit.azimuth_deg) - v(truth.tilt_deg, truth.azimuth_deg)).length()
     }
 
     #[test]
     fn a_known_tilt_is_estimated_within_five_hundredths_of_a_degree() {
-        for (k, truth) in [Tilt::new(0.3, 40.0), Tilt::new(0.12, 250.0)].into_iter().enumerate() {
+        for (k, truth) in [Tilt::new(0.3, 40.0), Tilt::new(0.12, 250.0)]
+            .into_iter()
+            .enumerate()
+        {
             let (mut sim, mut hdr) = tilted(truth, 100 + k as u64);
-            let report = check_alignment(&mut sim, &mut hdr, &AlignmentSettings::default()).unwrap();
+            let report =
+                check_alignment(&mut sim, &mut hdr, &AlignmentSettings::default()).unwrap();
             let error = vector_error(&report.fit, truth);
             assert!(error < 0.05, "{truth:?}: {:?}, error {error}", report.fit);
             assert!(report.adjustment(0.03).contains("tilt the sample back"));
@@ -308,6 +328,9 @@ mod tests {
         let (mut sim, mut hdr) = tilted(Tilt::default(), 7);
         let report = check_alignment(&mut sim, &mut hdr, &AlignmentSettings::default()).unwrap();
         assert!(report.fit.tilt_deg < 0.05, "{:?}", report.fit);
-        assert!(report.peaks.iter().all(|p| p.width_deg > 1.0 && p.width_deg < 12.0));
+        assert!(report
+            .peaks
+            .iter()
+            .all(|p| p.width_deg > 1.0 && p.width_deg < 12.0));
     }
 }

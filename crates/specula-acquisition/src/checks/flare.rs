@@ -57,7 +57,11 @@ pub struct FlareVerdict {
 }
 
 /// Judges one capture; `None` when it has no pixels, is saturated or too dark to judge.
-pub fn detect_flare(capture: &Capture, noise: &NoiseModel, settings: &FlareSettings) -> Option<FlareVerdict> {
+pub fn detect_flare(
+    capture: &Capture,
+    noise: &NoiseModel,
+    settings: &FlareSettings,
+) -> Option<FlareVerdict> {
     let pixels = capture.pixels.as_ref()?;
     if capture.saturated_fraction.iter().any(|&f| f > 0.0) {
         return None;
@@ -124,7 +128,11 @@ pub fn detect_flare(capture: &Capture, noise: &NoiseModel, settings: &FlareSetti
 }
 
 /// Judges an HDR measurement on its best-exposed unsaturated capture.
-pub fn judge(measurement: &HdrMeasurement, noise: &NoiseModel, settings: &FlareSettings) -> Option<FlareVerdict> {
+pub fn judge(
+    measurement: &HdrMeasurement,
+    noise: &NoiseModel,
+    settings: &FlareSettings,
+) -> Option<FlareVerdict> {
     let signal = |c: &Capture| {
         c.mean_raw.iter().fold(f64::MIN, |m, v| m.max(*v)) - noise.dark_level_dn(c.exposure_s)
     };
@@ -215,7 +223,11 @@ pub fn check_flare(
         report.samples += 1;
         let outcome = measure_avoiding_flare(instrument, hdr, &positions, predicted, settings)?;
         match &outcome {
-            FlareOutcome::Clean { retakes: 0, value, axes } => {
+            FlareOutcome::Clean {
+                retakes: 0,
+                value,
+                axes,
+            } => {
                 report.clean_first += 1;
                 predicted = Some(value.brightest_rate_dn_s());
                 previous = Some(*axes);
@@ -247,8 +259,11 @@ mod tests {
         let mut config = SimulatorConfig::new(seed, &device);
         config.flare = flare.then(LensFlare::default);
         let truth = Arc::new(preset("silver-925").unwrap());
-        let mut sim =
-            Simulator::new(device, MountedSample::new("silver", truth, Tilt::default()), config);
+        let mut sim = Simulator::new(
+            device,
+            MountedSample::new("silver", truth, Tilt::default()),
+            config,
+        );
         let mut settings = HdrSettings::for_device(&sim.info().unwrap());
         settings.with_pixels = true;
         let hdr = HdrCapturer::new(settings, sim.config().camera.noise_model());
@@ -279,10 +294,7 @@ mod tests {
             .filter(|&(x, y)| ghost.covers(x, y))
             .count() as f64;
         let area = covered / (side * side) as f64;
-        let added = sim
-            .config()
-            .camera
-            .signal_rate_dn_s(ghost.radiance * area)[0];
+        let added = sim.config().camera.signal_rate_dn_s(ghost.radiance * area)[0];
         added / sim.expected_rate_dn_s(axes)[0].max(1e-300)
     }
 
@@ -307,8 +319,14 @@ mod tests {
                 }
             }
         }
-        assert!(flared >= 10 && clean >= 50, "flared {flared}, clean {clean}");
-        assert_eq!(caught, flared, "every capture biased by more than 1 % is flagged");
+        assert!(
+            flared >= 10 && clean >= 50,
+            "flared {flared}, clean {clean}"
+        );
+        assert_eq!(
+            caught, flared,
+            "every capture biased by more than 1 % is flagged"
+        );
         assert_eq!(false_alarms, 0, "of {clean} captures without a ghost");
     }
 
@@ -328,7 +346,12 @@ mod tests {
             };
             let outcome =
                 measure_avoiding_flare(&mut sim, &mut hdr, &positions, None, &settings).unwrap();
-            let FlareOutcome::Clean { value, axes, retakes } = outcome else {
+            let FlareOutcome::Clean {
+                value,
+                axes,
+                retakes,
+            } = outcome
+            else {
                 panic!("{hd:?}: excluded although a position without a ghost exists");
             };
             if ghost_share(&sim, &first) > 0.01 {
@@ -336,8 +359,8 @@ mod tests {
                 retaken += 1;
             }
             let truth = sim.expected_rate_dn_s(&axes);
-            for c in 0..3 {
-                let error = value.rate_dn_s[c] / truth[c] - 1.0;
+            for (c, (rate, expected)) in value.rate_dn_s.iter().zip(truth).enumerate() {
+                let error = rate / expected - 1.0;
                 assert!(error.abs() < 0.01, "{hd:?}: channel {c} off by {error}");
             }
         }
@@ -349,11 +372,20 @@ mod tests {
         let (mut sim, mut hdr) = simulator(true, 8);
         let device = sim.device().clone();
         let samples = grid();
-        let (report, outcomes) =
-            check_flare(&mut sim, &mut hdr, &device, &samples, &FlareSettings::default()).unwrap();
+        let (report, outcomes) = check_flare(
+            &mut sim,
+            &mut hdr,
+            &device,
+            &samples,
+            &FlareSettings::default(),
+        )
+        .unwrap();
         assert_eq!(outcomes.len(), samples.len());
         assert_eq!(report.samples + report.unreachable, samples.len());
-        assert_eq!(report.samples, report.clean_first + report.retaken + report.excluded);
+        assert_eq!(
+            report.samples,
+            report.clean_first + report.retaken + report.excluded
+        );
         assert!(report.retaken >= 1, "{report:?}");
     }
 
@@ -361,8 +393,14 @@ mod tests {
     fn without_flare_nothing_is_flagged() {
         let (mut sim, mut hdr) = simulator(false, 7);
         let device = sim.device().clone();
-        let (report, _) =
-            check_flare(&mut sim, &mut hdr, &device, &grid(), &FlareSettings::default()).unwrap();
+        let (report, _) = check_flare(
+            &mut sim,
+            &mut hdr,
+            &device,
+            &grid(),
+            &FlareSettings::default(),
+        )
+        .unwrap();
         assert_eq!(report.retaken + report.excluded, 0, "{report:?}");
     }
 }

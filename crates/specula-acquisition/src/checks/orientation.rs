@@ -96,7 +96,11 @@ fn median(values: &[f64]) -> f64 {
 }
 
 /// The analysis of measured rings: `rings[k][i]` is the value at `theta_h[k]`, `phi_h[i]`.
-pub fn analyse(phi_h_deg: &[f64], rings: &[Vec<f64>], settings: &OrientationSettings) -> OrientationReport {
+pub fn analyse(
+    phi_h_deg: &[f64],
+    rings: &[Vec<f64>],
+    settings: &OrientationSettings,
+) -> OrientationReport {
     let n = phi_h_deg.len();
     let mut excess = vec![f64::MIN; n];
     let mut threshold = settings.min_excess;
@@ -173,14 +177,17 @@ pub fn check_orientation(
     settings: &OrientationSettings,
 ) -> Result<OrientationReport, CheckError> {
     let count = (180.0 / settings.phi_h_step_deg).round() as usize;
-    let phi_h_deg: Vec<f64> = (0..count).map(|i| i as f64 * settings.phi_h_step_deg).collect();
+    let phi_h_deg: Vec<f64> = (0..count)
+        .map(|i| i as f64 * settings.phi_h_step_deg)
+        .collect();
     let mut rings = Vec::with_capacity(settings.theta_h_deg.len());
     let mut position = None;
     for &theta_h in &settings.theta_h_deg {
         let mut ring = Vec::with_capacity(count);
         let mut predicted = None;
         for &phi_h in &phi_h_deg {
-            let hd = HalfDiff::from_degrees(theta_h, phi_h, settings.theta_d_deg, settings.phi_d_deg);
+            let hd =
+                HalfDiff::from_degrees(theta_h, phi_h, settings.theta_d_deg, settings.phi_d_deg);
             let (wi, wo) = hd.to_directions();
             let axes = *free_positions(device, wi, wo, position.as_ref())
                 .first()
@@ -260,7 +267,11 @@ mod tests {
             .0];
         assert!((peak - 120.0).abs() <= 6.0, "peak at {peak}");
         let along_gap = (report.recommended_phi_h_deg - 30.0).rem_euclid(180.0);
-        assert!(along_gap.min(180.0 - along_gap) <= 15.0, "{}", report.recommended_phi_h_deg);
+        assert!(
+            along_gap.min(180.0 - along_gap) <= 15.0,
+            "{}",
+            report.recommended_phi_h_deg
+        );
         assert!(lobe_share(&truth, report.recommended_phi_h_deg) < 0.01);
         assert!(report.planned_is_clean, "45 deg is 75 deg from the lobe");
         assert!(lobe_share(&truth, 45.0) < 0.01);
@@ -270,11 +281,18 @@ mod tests {
     fn scratches_that_spoil_the_planned_phi_h_are_reported() {
         // Scratches along 135 deg: the lobe across them sits at 45 deg, the plan's phi_h.
         let truth = scratched(135.0);
-        assert!(lobe_share(&truth, 45.0) > 0.5, "the lobe really is at 45 deg");
+        assert!(
+            lobe_share(&truth, 45.0) > 0.5,
+            "the lobe really is at 45 deg"
+        );
         let report = run(truth.clone(), 2);
         assert!(!report.planned_is_clean, "{report:?}");
         assert!(lobe_share(&truth, report.recommended_phi_h_deg) < 0.01);
-        assert!(report.turn_sample_deg().abs() > 45.0, "{}", report.turn_sample_deg());
+        assert!(
+            report.turn_sample_deg().abs() > 45.0,
+            "{}",
+            report.turn_sample_deg()
+        );
     }
 
     #[test]

@@ -12,7 +12,11 @@ use std::sync::Arc;
 fn simulator(brdf: Arc<dyn Brdf>, seed: u64) -> Simulator {
     let device = Device::utia();
     let config = SimulatorConfig::new(seed, &device);
-    Simulator::new(device, MountedSample::new("sample", brdf, Tilt::default()), config)
+    Simulator::new(
+        device,
+        MountedSample::new("sample", brdf, Tilt::default()),
+        config,
+    )
 }
 
 fn capturer(sim: &mut Simulator) -> HdrCapturer {
@@ -44,7 +48,10 @@ fn merge_recovers_the_truth_within_the_noise_over_seven_orders_of_magnitude() {
             let (rate, sigma) = (measured.value.rate_dn_s[c], measured.value.sigma_dn_s[c]);
             assert!(!measured.value.saturated[c]);
             let z = (rate - truth[c]) / sigma;
-            assert!(z.abs() < 5.0, "value {value}, channel {c}: {rate} vs {truth:?}, z {z}");
+            assert!(
+                z.abs() < 5.0,
+                "value {value}, channel {c}: {rate} vs {truth:?}, z {z}"
+            );
             relative_sigmas.push(sigma / truth[c]);
         }
     }
@@ -74,7 +81,10 @@ fn reported_sigma_matches_the_scatter_of_repeated_measurements() {
             .sqrt();
         let reported = values.iter().map(|v| v.sigma_dn_s[c]).sum::<f64>() / n;
         // 60 samples: the sample SD is within about +-25 % of the truth at 3 sigma.
-        assert!((sd / reported - 1.0).abs() < 0.3, "channel {c}: sd {sd} vs {reported}");
+        assert!(
+            (sd / reported - 1.0).abs() < 0.3,
+            "channel {c}: sd {sd} vs {reported}"
+        );
     }
 }
 
@@ -118,7 +128,10 @@ fn dark_level_grows_with_exposure_and_is_subtracted() {
     let noise = crate::simulator::camera::CameraModel::default().noise_model();
     let rate = 50.0;
     let long = synthetic(8.0, 1.0, rate, &noise);
-    assert!(long.mean_raw[0] - noise.black_level_dn > rate * 8.0, "dark current adds");
+    assert!(
+        long.mean_raw[0] - noise.black_level_dn > rate * 8.0,
+        "dark current adds"
+    );
     let value = merge(&[long], &noise);
     assert!((value.rate_dn_s[0] / rate - 1.0).abs() < 1e-9);
 }
@@ -131,14 +144,26 @@ fn choice_uses_the_light_level_as_a_second_range() {
     let target = hdr.settings.target_fraction * hdr.noise.headroom_dn();
     // Dim: full light, long exposure; bright: dimmed light at the shortest exposures.
     let dim = hdr.choose(target / 2.0);
-    assert_eq!(dim, Exposure { light_level: 1.0, exposure_s: 2.0 });
+    assert_eq!(
+        dim,
+        Exposure {
+            light_level: 1.0,
+            exposure_s: 2.0
+        }
+    );
     let very_dim = hdr.choose(1e-3);
     assert_eq!(very_dim.exposure_s, longest);
     let bright = hdr.choose(target / shortest * 5.0);
     assert_eq!(bright.light_level, 0.1);
     assert!((bright.exposure_s / (2.0 * shortest) - 1.0).abs() < 1e-9);
     let blinding = hdr.choose(1e12);
-    assert_eq!(blinding, Exposure { light_level: 0.01, exposure_s: shortest });
+    assert_eq!(
+        blinding,
+        Exposure {
+            light_level: 0.01,
+            exposure_s: shortest
+        }
+    );
 }
 
 #[test]

@@ -184,14 +184,23 @@ mod tests {
         for c in 0..3 {
             let mean_e = t * (rate[c] + camera.dark_current_e_s);
             let expected = camera.black_level_dn + camera.gain_dn_per_e * mean_e;
-            let var_expected = camera.gain_dn_per_e.powi(2) * mean_e
-                + camera.read_noise_dn.powi(2)
-                + 1.0 / 12.0;
+            let var_expected =
+                camera.gain_dn_per_e.powi(2) * mean_e + camera.read_noise_dn.powi(2) + 1.0 / 12.0;
             let mean = capture.mean_raw[c];
-            let var = pixels.iter().map(|p| (p[c] as f64 - mean).powi(2)).sum::<f64>() / (n - 1.0);
+            let var = pixels
+                .iter()
+                .map(|p| (p[c] as f64 - mean).powi(2))
+                .sum::<f64>()
+                / (n - 1.0);
             // The mean within 5 standard errors, the variance within 15 % (n = 1849).
-            assert!((mean - expected).abs() < 5.0 * (var_expected / n).sqrt(), "{c}: {mean} vs {expected}");
-            assert!((var / var_expected - 1.0).abs() < 0.15, "{c}: {var} vs {var_expected}");
+            assert!(
+                (mean - expected).abs() < 5.0 * (var_expected / n).sqrt(),
+                "{c}: {mean} vs {expected}"
+            );
+            assert!(
+                (var / var_expected - 1.0).abs() < 0.15,
+                "{c}: {var} vs {var_expected}"
+            );
             assert_eq!(capture.saturated_fraction[c], 0.0);
         }
     }
@@ -203,9 +212,9 @@ mod tests {
             assert!((row.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         }
         let rate = camera.signal_rate_dn_s(DVec3::splat(1.0));
-        for c in 0..3 {
-            let expected = camera.responsivity_e_s[c] * camera.gain_dn_per_e;
-            assert!((rate[c] / expected - 1.0).abs() < 1e-12);
+        for (rate, responsivity) in rate.iter().zip(camera.responsivity_e_s) {
+            let expected = responsivity * camera.gain_dn_per_e;
+            assert!((rate / expected - 1.0).abs() < 1e-12);
         }
     }
 

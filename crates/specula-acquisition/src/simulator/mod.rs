@@ -155,7 +155,8 @@ impl Simulator {
         if blockage(&self.device, &actual).is_some() {
             return DVec3::ZERO;
         }
-        let to_turntable = |lab: DVec3| specula_core::geometry::rotate_z(lab, -actual.turntable_rad);
+        let to_turntable =
+            |lab: DVec3| specula_core::geometry::rotate_z(lab, -actual.turntable_rad);
         let wo = to_turntable(actual.camera_direction());
         self.disk.average(actual.light_direction(), |light_lab| {
             self.sample.reflected(to_turntable(light_lab), wo)
@@ -232,7 +233,10 @@ impl Simulator {
 
 /// Rounds for keys: 1 ns of exposure, 1e-9 of light level, 1e-7 rad of axis angle.
 fn capture_key(exposure_s: f64, level: f64) -> (u64, u64) {
-    (rng::quantised(exposure_s, 1e-9), rng::quantised(level, 1e-9))
+    (
+        rng::quantised(exposure_s, 1e-9),
+        rng::quantised(level, 1e-9),
+    )
 }
 
 impl Instrument for Simulator {

@@ -208,7 +208,11 @@ mod tests {
         let centre = DVec3::Z;
         let mean = disk.average(centre, |w| DVec3::splat(w.angle_between(centre).powi(2)));
         let a = disk.half_angle_rad;
-        assert!((mean.x / (a * a / 2.0) - 1.0).abs() < 0.01, "{}", mean.x / (a * a / 2.0));
+        assert!(
+            (mean.x / (a * a / 2.0) - 1.0).abs() < 0.01,
+            "{}",
+            mean.x / (a * a / 2.0)
+        );
     }
 
     #[test]

@@ -9,7 +9,11 @@ struct Constant(Rgb);
 
 impl Brdf for Constant {
     fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
-        Some(if wi.z > 0.0 && wo.z > 0.0 { self.0 } else { Rgb::ZERO })
+        Some(if wi.z > 0.0 && wo.z > 0.0 {
+            self.0
+        } else {
+            Rgb::ZERO
+        })
     }
     fn name(&self) -> String {
         "constant".into()
@@ -20,7 +24,11 @@ fn silver(seed: u64) -> Simulator {
     let device = Device::utia();
     let config = SimulatorConfig::new(seed, &device);
     let brdf = Arc::new(preset("silver-925").unwrap());
-    Simulator::new(device, MountedSample::new("silver", brdf, Tilt::default()), config)
+    Simulator::new(
+        device,
+        MountedSample::new("silver", brdf, Tilt::default()),
+        config,
+    )
 }
 
 fn positions() -> Vec<AxisPositions> {
@@ -51,7 +59,11 @@ fn same_seed_same_captures_in_any_order_and_after_a_restart() {
     let order = [7, 2, 11, 0, 5, 9, 1, 4, 10, 3, 8, 6];
     for &i in &order {
         let capture = capture_at(&mut second, &positions()[i], exposure);
-        assert!(capture == forward[i], "position {i}: {:?}", capture.mean_raw);
+        assert!(
+            capture == forward[i],
+            "position {i}: {:?}",
+            capture.mean_raw
+        );
     }
 
     // Another seed is another device and other noise.
@@ -59,7 +71,9 @@ fn same_seed_same_captures_in_any_order_and_after_a_restart() {
     let capture = capture_at(&mut other, &positions()[3], exposure);
     assert!(capture != forward[3]);
     // Not saturated, not dark: the noise is really there.
-    assert!(forward.iter().all(|c| c.saturated_fraction == [0.0; 3] && c.mean_raw[1] > 100.0));
+    assert!(forward
+        .iter()
+        .all(|c| c.saturated_fraction == [0.0; 3] && c.mean_raw[1] > 100.0));
 }
 
 #[test]
@@ -87,7 +101,10 @@ fn constant_brdf_gives_its_value_times_the_cosine() {
     // The disk average of cos(theta_i) differs from cos(45 deg) by the disk's curvature,
     // below 1e-3 relative for a 1.8 deg half-angle.
     let expected = value * 45f64.to_radians().cos();
-    assert!(((s - expected) / expected).abs().max_element() < 1e-3, "{s} vs {expected}");
+    assert!(
+        ((s - expected) / expected).abs().max_element() < 1e-3,
+        "{s} vs {expected}"
+    );
     let rate = sim.expected_rate_dn_s(&axes);
     let camera = &sim.config().camera;
     assert_eq!(rate, camera.signal_rate_dn_s(s));
@@ -120,7 +137,10 @@ fn out_of_range_requests_are_typed_errors_and_faults_can_be_scheduled() {
         other => panic!("{other:?}"),
     }
     assert!(matches!(sim.set_light(1.5), Err(InstrumentError::Limit(_))));
-    assert!(matches!(sim.capture(100.0, false), Err(InstrumentError::CameraFault(_))));
+    assert!(matches!(
+        sim.capture(100.0, false),
+        Err(InstrumentError::CameraFault(_))
+    ));
 
     sim.schedule_fault(2, InstrumentError::Disconnected("cable".into()));
     assert!(sim.info().is_ok());
@@ -140,7 +160,11 @@ fn dark_frames_with_the_light_off() {
     let dark = sim.capture(1e-3, false).unwrap();
     let black = sim.config().camera.black_level_dn;
     for c in 0..3 {
-        assert!((dark.mean_raw[c] - black).abs() < 0.2, "{:?}", dark.mean_raw);
+        assert!(
+            (dark.mean_raw[c] - black).abs() < 0.2,
+            "{:?}",
+            dark.mean_raw
+        );
     }
 }
 
@@ -158,7 +182,10 @@ fn lens_flare_adds_a_reddish_spot_that_the_other_camera_side_avoids() {
     let wo = specula_core::Spherical::from_degrees(30.0, 0.0).to_vector();
     let all = crate::kinematics::solutions(&device, wi, wo);
     let flared: Vec<bool> = all.iter().map(|a| sim.ghost(a, 1.0).is_some()).collect();
-    assert!(flared.iter().any(|&f| f) && flared.iter().any(|&f| !f), "{flared:?}");
+    assert!(
+        flared.iter().any(|&f| f) && flared.iter().any(|&f| !f),
+        "{flared:?}"
+    );
     let with = all[flared.iter().position(|&f| f).unwrap()];
     let without = all[flared.iter().position(|&f| !f).unwrap()];
     let a = capture_at(&mut sim, &with, 0.01);
@@ -167,6 +194,9 @@ fn lens_flare_adds_a_reddish_spot_that_the_other_camera_side_avoids() {
     let excess: Vec<f64> = (0..3)
         .map(|c| (a.mean_raw[c] - black) / (b.mean_raw[c] - black) - 1.0)
         .collect();
-    assert!(excess[0] > excess[1] && excess[1] > excess[2] && excess[2] >= -0.01, "{excess:?}");
+    assert!(
+        excess[0] > excess[1] && excess[1] > excess[2] && excess[2] >= -0.01,
+        "{excess:?}"
+    );
     assert!(excess[0] > 0.2, "{excess:?}");
 }

@@ -3,18 +3,16 @@
 
 use anyhow::{bail, Context, Result};
 use specula_acquisition::device::Device;
-use specula_acquisition::plan::{Plan, Status};
 use specula_core::materials::builtin_database;
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::tabulate::tabulate;
-use specula_core::{Brdf, HalfDiff};
+use specula_core::Brdf;
 use specula_formats::fits::{load_fits, FitModel};
 use specula_formats::input::measured_file;
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_formats::samples_csv::{Sample as SampleRow, SampleSet};
-use specula_reconstruct::accuracy::{evaluate, measure, Accuracy, GridPlan};
+use specula_reconstruct::accuracy::{evaluate, Accuracy, Measurement, PlanSettings, ThetaHPlacement};
 use specula_reconstruct::Method;
-use specula_sampling::{fit_k, place_theta_h, Probe, ProbeSettings};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -177,19 +175,27 @@ fn check_args(args: &Args) -> Result<()> {
     Ok(())
 }
 
+/// The plan settings the flags describe.
+fn plan_settings(args: &Args) -> Result<PlanSettings> {
+    let placement = match (args.placement, args.k) {
+        (Placement::Function, Some(k)) => ThetaHPlacement::Function(SamplingFunction::new(args.family, k)?),
+        (Placement::Function, None) => ThetaHPlacement::FittedFunction(args.family),
+        (Placement::Probe, _) => ThetaHPlacement::Probe,
+    };
+    Ok(PlanSettings {
+        placement,
+        theta_h_samples: args.theta_h_samples,
+        theta_d_step_deg: args.theta_d_step,
+        phi_d_step_deg: args.phi_d_step,
+        phi_h_deg: args.phi_h,
+    })
+}
+
 /// The plan for one material, its noise-free measurement, the reconstruction and the error.
 fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
     let name = truth.name();
-    let (theta_h, k) = theta_h_positions(truth, args).with_context(|| format!("{name}: placing theta_h"))?;
-    let grid = GridPlan::with_steps(theta_h, args.theta_d_step, args.phi_d_step, args.phi_h);
-    let plan = Plan::from_grid(&grid.theta_h_deg, &grid.theta_d_deg, &grid.phi_d_deg, grid.phi_h_deg, device);
-    let reached: Vec<HalfDiff> = plan
-        .samples
-        .iter()
-        .filter(|s| s.status == Status::Ok)
-        .map(|s| s.hd)
-        .collect();
-    let samples = measure(truth, &reached);
+    let measurement = Measurement::simulate(truth, &plan_settings(args)?, device)?;
+    let samples = measurement.samples;
     if let Some(path) = &args.samples_out {
         let rows = samples.iter().map(|s| SampleRow { angles: s.hd, value: s.value }).collect();
         SampleSet::new(name.clone(), rows).write(path)?;
@@ -199,26 +205,10 @@ fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
         .with_context(|| format!("{name}: reconstructing {} samples", samples.len()))?;
     Ok(Row {
         name,
-        k,
+        k: measurement.k,
         measured: samples.len(),
         accuracy,
     })
-}
-
-/// theta_h positions in degrees and the k they come from (None for the probe placement).
-fn theta_h_positions(truth: &dyn Brdf, args: &Args) -> Result<(Vec<f64>, Option<f64>)> {
-    let n = args.theta_h_samples;
-    if let (Placement::Function, Some(k)) = (args.placement, args.k) {
-        return Ok((SamplingFunction::new(args.family, k)?.positions_deg(n), Some(k)));
-    }
-    let probe = Probe::take(truth, &ProbeSettings::default())?;
-    match args.placement {
-        Placement::Function => {
-            let fit = fit_k(&probe.column(), args.family, n)?;
-            Ok((fit.function.positions_deg(n), Some(fit.function.k)))
-        }
-        Placement::Probe => Ok((place_theta_h(&probe, n), None)),
-    }
 }
 
 fn print_rows(args: &Args, rows: &[Row]) {

@@ -13,10 +13,11 @@ use std::path::PathBuf;
 ///
 /// Every method but the oracle sees only the probe (the column at theta_d = 40 deg, paper 5.2):
 /// square root (MERL's mapping, eq. 1), the paper's exponential with k-hat fitted to the
-/// probe (eq. 3), and ours (the optimal placement of the probe's own column by dynamic
-/// programming, used for every theta_d). The oracle places each column's samples optimally
-/// knowing the truth: the lower bound. The error is the mean absolute error over the slice
-/// (1/sr, mean of RGB).
+/// probe (eq. 3), the optimal placement of the probe's own samples by dynamic programming, and
+/// ours (the same on a dense log-domain model of the probe, which may place samples between
+/// the probe's); each is used for every theta_d. The oracle places each column's samples
+/// optimally knowing the truth: the lower bound. The error is the mean absolute error over
+/// the slice's columns theta_d = 0, 3, ..., 87 deg (1/sr, mean of RGB).
 ///
 /// The truth is the slice of each BRDF at 268 square-root-spaced theta_h nodes (the probe's
 /// 90 and two between each pair); a MERL file gives its 90 bins. Prints one table per
@@ -32,8 +33,11 @@ pub struct Args {
     /// Number of theta_h samples of the sparse measurement.
     #[arg(long, default_value_t = 30)]
     pub samples: usize,
+    /// Also print the table for interpolation in the log domain (ln f), which doubles the time.
+    #[arg(long)]
+    pub log: bool,
     /// Also write every material's errors as CSV
-    /// (material,k_hat,domain,square_root,paper,ours,oracle).
+    /// (material,k_hat,domain,square_root,paper,probe_samples,ours,oracle).
     #[arg(long)]
     pub out: Option<PathBuf>,
 }
@@ -42,14 +46,15 @@ pub fn run(args: Args) -> Result<()> {
     if args.samples < 2 {
         bail!("--samples must be at least 2, got {}", args.samples);
     }
+    let domains: &[Interpolation] = if args.log { &Interpolation::ALL } else { &[Interpolation::Linear] };
     let rows = args.database.map("placing", DENSE_NODES, |slice| {
-        Interpolation::ALL
+        domains
             .iter()
             .map(|&domain| study_slice(slice, args.samples, domain))
             .collect::<Result<Vec<_>>>()
     })?;
     let materials = rows.len();
-    for (d, domain) in Interpolation::ALL.iter().enumerate() {
+    for (d, domain) in domains.iter().enumerate() {
         let per_domain: Vec<MaterialPlacement> = rows.iter().map(|r| r[d].clone()).collect();
         println!(
             "\n{} theta_h samples, {} interpolation, {materials} materials:\n",
@@ -71,27 +76,19 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     if let Some(path) = &args.out {
-        write_csv(path, &rows)?;
+        write_csv(path, domains, &rows)?;
         println!("\nwrote {}", path.display());
     }
     Ok(())
 }
 
-fn write_csv(path: &PathBuf, rows: &[Vec<MaterialPlacement>]) -> Result<()> {
+fn write_csv(path: &PathBuf, domains: &[Interpolation], rows: &[Vec<MaterialPlacement>]) -> Result<()> {
     let name = path.display();
     let mut out = std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("{name}: cannot create"))?);
-    let methods: Vec<&str> = Method::ALL
-        .iter()
-        .map(|m| match m {
-            Method::SquareRoot => "square_root",
-            Method::PaperExponential => "paper",
-            Method::Ours => "ours",
-            Method::Oracle => "oracle",
-        })
-        .collect();
+    let methods: Vec<&str> = Method::ALL.iter().map(|m| m.key()).collect();
     writeln!(out, "material,k_hat,domain,{}", methods.join(","))?;
     for per_domain in rows {
-        for (domain, row) in Interpolation::ALL.iter().zip(per_domain) {
+        for (domain, row) in domains.iter().zip(per_domain) {
             let errors: Vec<String> = row.error.iter().map(|e| format!("{e:e}")).collect();
             writeln!(out, "{},{},{},{}", row.name, row.k_hat, domain.name(), errors.join(","))?;
         }

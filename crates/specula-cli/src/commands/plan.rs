@@ -160,7 +160,13 @@ fn steps_deg(step: f64, flag: &str, include_90: bool) -> Result<Vec<f64>> {
     }
     let count = (90.0 / step + 1e-9).floor() as usize;
     let mut values: Vec<f64> = (0..=count).map(|i| i as f64 * step).collect();
-    values.retain(|&v| if include_90 { v <= 90.0 + 1e-9 } else { v < 90.0 - 1e-9 });
+    values.retain(|&v| {
+        if include_90 {
+            v <= 90.0 + 1e-9
+        } else {
+            v < 90.0 - 1e-9
+        }
+    });
     Ok(values)
 }
 

@@ -18,10 +18,23 @@ pub fn conductor(cos_theta_i: f64, eta: f64, k: f64) -> f64 {
     let sin2_i = 1.0 - cos_i * cos_i;
     let n = Complex64::new(eta, k);
     let n2 = n * n;
-    let n_cos_t = (n2 - sin2_i).sqrt();
-    let r_s = (cos_i - n_cos_t) / (cos_i + n_cos_t);
-    let r_p = (n2 * cos_i - n_cos_t) / (n2 * cos_i + n_cos_t);
-    0.5 * (r_s.norm_sqr() + r_p.norm_sqr())
+    let n_cos_t = principal_sqrt(n2 - sin2_i);
+    // |r|^2 = |numerator|^2 / |denominator|^2, without a complex division.
+    let r_s2 = (cos_i - n_cos_t).norm_sqr() / (cos_i + n_cos_t).norm_sqr();
+    let r_p2 = (n2 * cos_i - n_cos_t).norm_sqr() / (n2 * cos_i + n_cos_t).norm_sqr();
+    0.5 * (r_s2 + r_p2)
+}
+
+/// The principal square root by the algebraic formula
+/// `sqrt(a + ib) = sqrt((|z| + a)/2) + i sign(b) sqrt((|z| - a)/2)`: three real square roots
+/// where the polar form (`Complex64::sqrt`) needs atan2, sin and cos (the dominant cost of
+/// tabulating a conductor).
+fn principal_sqrt(z: Complex64) -> Complex64 {
+    // norm_sqr().sqrt() rather than norm(): hypot's overflow care is not needed here and costs.
+    let modulus = z.norm_sqr().sqrt();
+    let re = (0.5 * (modulus + z.re)).max(0.0).sqrt();
+    let im = (0.5 * (modulus - z.re)).max(0.0).sqrt();
+    Complex64::new(re, im.copysign(z.im))
 }
 
 /// [`conductor`] per RGB channel, with `eta` and `k` given per channel.
@@ -76,6 +89,25 @@ mod tests {
             assert!((conductor(1.0, eta, k) - expected).abs() < 1e-14);
         }
         assert!((dielectric(1.0, 1.5) - 0.04).abs() < 1e-14);
+    }
+
+    #[test]
+    fn principal_sqrt_agrees_with_the_polar_form() {
+        for (re, im) in [
+            (3.0, 4.0),
+            (-2.0, 0.5),
+            (-2.0, -0.5),
+            (0.3, -7.0),
+            (-1.0, 0.0),
+            (4.0, 0.0),
+        ] {
+            let z = Complex64::new(re, im);
+            let (a, b) = (principal_sqrt(z), z.sqrt());
+            assert!(
+                (a - b).norm() < 1e-14 * b.norm().max(1.0),
+                "{z}: {a} vs {b}"
+            );
+        }
     }
 
     #[test]

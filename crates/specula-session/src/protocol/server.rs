@@ -16,8 +16,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 /// Serves one instrument.
-pub struct Server<I: Instrument> {
-    instrument: I,
+pub struct Server {
+    instrument: Box<dyn Instrument>,
     name: String,
     token: Option<String>,
     faults: FaultSchedule,
@@ -44,9 +44,9 @@ enum Next {
     Close(ConnectionEnd),
 }
 
-impl<I: Instrument> Server<I> {
+impl Server {
     /// A server named `name` (reported by `hello`).
-    pub fn new(instrument: I, name: impl Into<String>) -> Self {
+    pub fn new(instrument: Box<dyn Instrument>, name: impl Into<String>) -> Self {
         Self {
             instrument,
             name: name.into(),
@@ -68,8 +68,8 @@ impl<I: Instrument> Server<I> {
         self
     }
 
-    pub fn instrument(&self) -> &I {
-        &self.instrument
+    pub fn instrument(&self) -> &dyn Instrument {
+        self.instrument.as_ref()
     }
 
     /// Requests received so far.
@@ -284,7 +284,7 @@ mod tests {
         }
     }
 
-    fn exchange(server: &mut Server<Echo>, input: &str) -> (Vec<Value>, ConnectionEnd) {
+    fn exchange(server: &mut Server, input: &str) -> (Vec<Value>, ConnectionEnd) {
         let mut out = Vec::new();
         let end = server.serve_connection(input.as_bytes(), &mut out);
         let replies = String::from_utf8(out)
@@ -297,7 +297,7 @@ mod tests {
 
     #[test]
     fn answers_requests_and_reports_errors() {
-        let mut server = Server::new(Echo, "echo");
+        let mut server = Server::new(Box::new(Echo), "echo");
         let input = concat!(
             "{\"id\":1,\"method\":\"hello\",\"params\":{\"protocol\":1}}\n",
             "{\"id\":2,\"method\":\"move_to\",\"params\":{\"target\":{\"turntable_rad\":0.1,",
@@ -327,7 +327,7 @@ mod tests {
 
     #[test]
     fn a_token_is_required_when_set() {
-        let mut server = Server::new(Echo, "echo").with_token(Some("s3cret".into()));
+        let mut server = Server::new(Box::new(Echo), "echo").with_token(Some("s3cret".into()));
         let (replies, end) = exchange(&mut server, "{\"id\":1,\"method\":\"home\"}\n{\"id\":2,\"method\":\"home\"}\n");
         assert_eq!(replies.len(), 1);
         assert_eq!(replies[0]["error"]["kind"], "unauthorized");
@@ -348,7 +348,7 @@ mod tests {
     #[test]
     fn injected_faults_happen_at_their_request() {
         let faults: FaultSchedule = "corrupt@2,motor@3,drop@4".parse().unwrap();
-        let mut server = Server::new(Echo, "echo").with_faults(faults);
+        let mut server = Server::new(Box::new(Echo), "echo").with_faults(faults);
         let input = "{\"id\":1,\"method\":\"home\"}\n".repeat(5);
         let (replies, end) = exchange(&mut server, &input);
         assert_eq!(end, ConnectionEnd::Dropped);

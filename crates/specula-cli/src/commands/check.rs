@@ -1,0 +1,342 @@
+//! `specula check`: the paper's practical checks (4.2, 4.3) on the simulated device.
+
+use anyhow::{bail, Context, Result};
+use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
+use specula_acquisition::checks::flare::{check_flare, FlareOutcome, FlareSettings};
+use specula_acquisition::checks::free_positions;
+use specula_acquisition::checks::orientation::{check_orientation, OrientationSettings};
+use specula_acquisition::device::Device;
+use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
+use specula_acquisition::instrument::Instrument;
+use specula_acquisition::simulator::optics::LensFlare;
+use specula_acquisition::simulator::sample::{MountedSample, Tilt};
+use specula_acquisition::simulator::{Simulator, SimulatorConfig};
+use specula_core::materials::microfacet::Distribution;
+use specula_core::materials::scratch::ScratchLobe;
+use specula_core::materials::{preset, Material};
+use specula_core::{Brdf, HalfDiff};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Run a practical check of the paper (4.2, 4.3) on the simulated device.
+///
+/// alignment: the highlight's position at 8 turntable rotations gives the sample's tilt and
+/// the adjustment to make. orientation: the intensity against phi_h shows the anisotropic
+/// scratch lobe and picks a phi_h free of it. flare: captures whose colour changes locally
+/// (the lens's reddish ghost) are flagged and retaken at another arm position, or excluded.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    pub check: Check,
+}
+
+#[derive(clap::Subcommand)]
+pub enum Check {
+    /// Estimate the sample's tilt from the highlight at several turntable rotations.
+    Alignment(AlignmentArgs),
+    /// Scan phi_h for the anisotropic scratch lobe and recommend a phi_h free of it.
+    Orientation(OrientationArgs),
+    /// Flag captures with lens flare and retake them elsewhere (the simulator adds flare).
+    Flare(FlareArgs),
+}
+
+/// The simulated device and what is mounted on it.
+#[derive(clap::Args)]
+pub struct Simulated {
+    /// The ground truth on the turntable: a preset name, a material .toml, a MERL .binary or
+    /// a model:name fit.
+    #[arg(long)]
+    pub truth: String,
+    /// Tilt of the sample's normal from the turntable axis, degrees (misalignment).
+    #[arg(long, default_value_t = 0.0)]
+    pub tilt_deg: f64,
+    /// Azimuth towards which the normal leans, degrees (turntable frame).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub tilt_azimuth_deg: f64,
+    /// Add polishing scratches along this direction, degrees from the sample's x axis (the
+    /// silver-925-scratched lobe: 3 % of the surface, GGX alpha 0.005 along, 0.15 across).
+    /// Needs a preset or a material .toml as --truth; a material with a lobe keeps its own.
+    #[arg(long, allow_negative_numbers = true)]
+    pub scratch_orientation_deg: Option<f64>,
+    /// Seed of the simulated device: its positioning errors and its noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Device description TOML (default: the paper's UTIA gonioreflectometer; see
+    /// `specula plan --print-device`).
+    #[arg(long)]
+    pub device: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct AlignmentArgs {
+    #[command(flatten)]
+    pub simulated: Simulated,
+    /// Elevation of the light, degrees; the camera scans around the same angle.
+    #[arg(long, default_value_t = 30.0)]
+    pub light_elevation_deg: f64,
+    /// Turntable rotations, evenly over a turn (3 or more).
+    #[arg(long, default_value_t = 8)]
+    pub rotations: usize,
+}
+
+#[derive(clap::Args)]
+pub struct OrientationArgs {
+    #[command(flatten)]
+    pub simulated: Simulated,
+    /// The phi_h the plan uses, degrees (45 in the paper).
+    #[arg(long, default_value_t = 45.0)]
+    pub phi_h_deg: f64,
+    /// Step of the phi_h scan over [0, 180), degrees.
+    #[arg(long, default_value_t = 3.0)]
+    pub phi_h_step_deg: f64,
+}
+
+#[derive(clap::Args)]
+pub struct FlareArgs {
+    #[command(flatten)]
+    pub simulated: Simulated,
+    /// Radiance factor of the simulated ghost at full light, 1/sr (0 = no flare).
+    #[arg(long, default_value_t = 0.05)]
+    pub flare_strength_sr: f64,
+}
+
+/// The ground truth, with the scratch lobe when asked for.
+pub(crate) fn load_truth(
+    spec: &str,
+    scratch_orientation_deg: Option<f64>,
+) -> Result<Arc<dyn Brdf>> {
+    let Some(orientation) = scratch_orientation_deg else {
+        return specula_formats::load_brdf(spec);
+    };
+    if !orientation.is_finite() {
+        bail!("--scratch-orientation-deg must be a number of degrees");
+    }
+    let material = if spec.ends_with(".toml") && Path::new(spec).is_file() {
+        Material::from_toml_file(spec)
+            .with_context(|| format!("{spec}: cannot read the material"))?
+    } else if let Some(material) = preset(spec) {
+        material
+    } else {
+        bail!(
+            "{spec}: --scratch-orientation-deg needs an analytic material as --truth (a preset \
+             name or a material .toml)"
+        );
+    };
+    let lobe = match &material.scratch {
+        Some(lobe) => ScratchLobe::new(
+            lobe.distribution(),
+            lobe.weight,
+            lobe.alpha_along(),
+            lobe.alpha_across(),
+            orientation,
+        ),
+        None => ScratchLobe::new(Distribution::Ggx, 0.03, 0.005, 0.15, orientation),
+    };
+    Ok(Arc::new(material.with_scratch(lobe)))
+}
+
+/// The device file, or the paper's device.
+pub(crate) fn load_device(path: Option<&Path>) -> Result<Device> {
+    Ok(match path {
+        Some(path) => Device::load(path)?,
+        None => Device::utia(),
+    })
+}
+
+impl Simulated {
+    fn build(&self, flare: Option<LensFlare>) -> Result<(Simulator, HdrCapturer)> {
+        if !(self.tilt_deg.is_finite() && self.tilt_azimuth_deg.is_finite()) {
+            bail!("--tilt-deg and --tilt-azimuth-deg must be numbers of degrees");
+        }
+        let truth = load_truth(&self.truth, self.scratch_orientation_deg)?;
+        let device = load_device(self.device.as_deref())?;
+        let mut config = SimulatorConfig::new(self.seed, &device);
+        config.flare = flare;
+        let tilt = Tilt::new(self.tilt_deg, self.tilt_azimuth_deg);
+        let mut sim = Simulator::new(device, MountedSample::new(&self.truth, truth, tilt), config);
+        let settings = HdrSettings::for_device(&sim.info()?);
+        // The simulator's own sensor model; `specula calibrate` measures it on a device.
+        let noise = sim.config().camera.noise_model();
+        Ok((sim, HdrCapturer::new(settings, noise)))
+    }
+}
+
+pub fn run(args: Args) -> Result<()> {
+    match args.check {
+        Check::Alignment(a) => alignment(a),
+        Check::Orientation(a) => orientation(a),
+        Check::Flare(a) => flare(a),
+    }
+}
+
+fn print_effort(sim: &Simulator, hdr: &HdrCapturer) {
+    let stats = &hdr.stats;
+    println!(
+        "effort: {} HDR measurements, {} captures ({:.2} per measurement, {:.0} % in one or two), \
+         {:.1} min of simulated device time",
+        stats.samples,
+        stats.captures,
+        stats.mean_captures(),
+        100.0 * stats.share_at_most(2),
+        sim.simulated_clock_s().unwrap_or(0.0) / 60.0
+    );
+}
+
+fn alignment(args: AlignmentArgs) -> Result<()> {
+    if args.rotations < 3 {
+        bail!("--rotations must be 3 or more");
+    }
+    let (mut sim, mut hdr) = args.simulated.build(None)?;
+    let settings = AlignmentSettings {
+        light_elevation_deg: args.light_elevation_deg,
+        rotations: args.rotations,
+        ..AlignmentSettings::default()
+    };
+    let spinner = crate::progress::spinner("alignment");
+    let report = check_alignment(&mut sim, &mut hdr, &settings)?;
+    spinner.finish_and_clear();
+    println!("turntable_deg,highlight_camera_deg,fwhm_deg");
+    for peak in &report.peaks {
+        println!(
+            "{:.1},{:.4},{:.3}",
+            peak.turntable_deg, peak.camera_deg, peak.width_deg
+        );
+    }
+    let fit = &report.fit;
+    println!(
+        "tilt: {:.3} deg towards azimuth {:.1} deg (fit residual {:.3} deg RMS)",
+        fit.tilt_deg, fit.azimuth_deg, fit.residual_rms_deg
+    );
+    let truth = &args.simulated;
+    println!(
+        "simulated truth: {:.3} deg towards azimuth {:.1} deg",
+        truth.tilt_deg, truth.tilt_azimuth_deg
+    );
+    println!(
+        "adjustment: {}",
+        report.adjustment(sim.device().accuracy_deg)
+    );
+    print_effort(&sim, &hdr);
+    Ok(())
+}
+
+fn orientation(args: OrientationArgs) -> Result<()> {
+    if !(args.phi_h_step_deg > 0.0 && args.phi_h_step_deg <= 45.0) {
+        bail!("--phi-h-step-deg must be in (0, 45]");
+    }
+    let (mut sim, mut hdr) = args.simulated.build(None)?;
+    let settings = OrientationSettings {
+        phi_h_step_deg: args.phi_h_step_deg,
+        planned_phi_h_deg: args.phi_h_deg,
+        ..OrientationSettings::default()
+    };
+    let device = sim.device().clone();
+    let spinner = crate::progress::spinner("orientation");
+    let report = check_orientation(&mut sim, &mut hdr, &device, &settings)?;
+    spinner.finish_and_clear();
+    println!("phi_h_deg,excess,contaminated");
+    for ((phi, excess), bad) in report
+        .phi_h_deg
+        .iter()
+        .zip(&report.excess)
+        .zip(&report.contaminated)
+    {
+        println!("{phi:.1},{excess:.4},{bad}");
+    }
+    println!(
+        "threshold: excess above {:.3} counts as the scratch lobe",
+        report.threshold
+    );
+    if report.anisotropic {
+        println!(
+            "anisotropic: yes; recommended phi_h = {:.1} deg (the middle of the longest clean arc)",
+            report.recommended_phi_h_deg
+        );
+    } else {
+        println!(
+            "anisotropic: no lobe found; keep phi_h = {:.1} deg",
+            report.planned_phi_h_deg
+        );
+    }
+    if report.planned_is_clean {
+        println!("planned phi_h = {:.1} deg: clean", report.planned_phi_h_deg);
+    } else {
+        println!(
+            "planned phi_h = {:.1} deg: CONTAMINATED; turn the sample by {:+.1} deg on its holder \
+             (or plan at phi_h = {:.1} deg)",
+            report.planned_phi_h_deg,
+            report.turn_sample_deg(),
+            report.recommended_phi_h_deg
+        );
+    }
+    print_effort(&sim, &hdr);
+    Ok(())
+}
+
+/// A sparse grid over the paper's plan at phi_h = 45 deg: the samples the flare check visits.
+fn flare_samples() -> Vec<HalfDiff> {
+    let mut samples = Vec::new();
+    for i in 0..10 {
+        let theta_h = (i as f64 + 0.5).powi(2) * 60.0 / 100.0; // square-root spacing to 60 deg
+        for theta_d in [5.0, 20.0, 35.0, 50.0, 65.0, 80.0] {
+            for phi_d in [0.0, 45.0, 90.0] {
+                samples.push(HalfDiff::from_degrees(theta_h, 45.0, theta_d, phi_d));
+            }
+        }
+    }
+    samples
+}
+
+fn flare(args: FlareArgs) -> Result<()> {
+    if !(args.flare_strength_sr.is_finite() && args.flare_strength_sr >= 0.0) {
+        bail!("--flare-strength-sr must be zero or positive");
+    }
+    let flare = (args.flare_strength_sr > 0.0).then(|| LensFlare {
+        strength_sr: args.flare_strength_sr,
+        ..LensFlare::default()
+    });
+    let (mut sim, mut hdr) = args.simulated.build(flare)?;
+    let device = sim.device().clone();
+    let samples = flare_samples();
+    // Ground truth from the simulator: how many free positions put a ghost in the region.
+    let (mut positions, mut ghosted) = (0, 0);
+    for hd in &samples {
+        let (wi, wo) = hd.to_directions();
+        for axes in free_positions(&device, wi, wo, None) {
+            positions += 1;
+            ghosted += sim.ghost(&axes, 1.0).is_some() as usize;
+        }
+    }
+    let spinner = crate::progress::spinner("flare");
+    let (report, outcomes) = check_flare(
+        &mut sim,
+        &mut hdr,
+        &device,
+        &samples,
+        &FlareSettings::default(),
+    )?;
+    spinner.finish_and_clear();
+    println!("samples: {} reachable of {}", report.samples, samples.len());
+    println!("clean at the first position: {}", report.clean_first);
+    println!(
+        "flagged, retaken at another arm position: {}",
+        report.retaken
+    );
+    println!("flagged everywhere, excluded: {}", report.excluded);
+    let worst_retake = outcomes
+        .iter()
+        .flatten()
+        .filter_map(|o| match o {
+            FlareOutcome::Clean { retakes, .. } => Some(*retakes),
+            FlareOutcome::Excluded { .. } => None,
+        })
+        .max()
+        .unwrap_or(0);
+    println!("most retakes for one sample: {worst_retake}");
+    println!(
+        "simulated truth: a ghost in the region at {ghosted} of the {positions} free arm \
+         positions (harmless where the sample outshines it)"
+    );
+    print_effort(&sim, &hdr);
+    Ok(())
+}

@@ -1,0 +1,109 @@
+//! `specula device`: the simulated device behind the driver protocol.
+
+use anyhow::{bail, Context, Result};
+use specula_acquisition::device::Device;
+use specula_acquisition::instrument::Instrument;
+use specula_acquisition::simulator::sample::{MountedSample, Tilt};
+use specula_acquisition::simulator::{Simulator, SimulatorConfig};
+use specula_session::ideal::NoiselessSimulator;
+use specula_session::protocol::{FaultSchedule, Server};
+use std::net::{SocketAddr, TcpListener};
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+/// Work with devices through the driver protocol (docs/driver-protocol.md).
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    pub command: DeviceCommand,
+}
+
+#[derive(clap::Subcommand)]
+pub enum DeviceCommand {
+    /// Serve the simulated device over the driver protocol, so that `specula measure
+    /// --device tcp://HOST:PORT` (or a client of your own) can drive it. One client at a
+    /// time; runs until stopped with Ctrl-C.
+    Serve(ServeArgs),
+}
+
+#[derive(clap::Args)]
+pub struct ServeArgs {
+    /// The sample on the simulated turntable: a preset, a material .toml, a MERL .binary or
+    /// a model:name fit.
+    #[arg(long)]
+    pub truth: String,
+    /// Where to listen. Loopback by default; any other address needs --token.
+    #[arg(long, default_value = "127.0.0.1:7878")]
+    pub listen: SocketAddr,
+    /// A shared secret every client must send in `hello`.
+    #[arg(long)]
+    pub token: Option<String>,
+    /// Serve one client on stdin and stdout instead of TCP (for --device exec:...).
+    #[arg(long, conflicts_with = "listen")]
+    pub stdio: bool,
+    /// Seed of the simulated device: its positioning errors and its noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Noise-free camera and exact positioning.
+    #[arg(long)]
+    pub ideal: bool,
+    /// Device model (TOML); default: the paper's UTIA gonioreflectometer.
+    #[arg(long)]
+    pub device_model: Option<PathBuf>,
+    /// Misbehave on purpose, to rehearse faults: comma-separated drop@N, slow@N=SECONDS,
+    /// corrupt@N, motor@N, N counting requests from 1 over the server's life.
+    #[arg(long, default_value = "")]
+    pub inject_faults: String,
+    /// Disconnect a client silent for this many seconds.
+    #[arg(long, default_value_t = 600.0)]
+    pub idle_timeout: f64,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    match args.command {
+        DeviceCommand::Serve(serve_args) => serve(serve_args),
+    }
+}
+
+fn serve(args: ServeArgs) -> Result<()> {
+    if !args.stdio && !args.listen.ip().is_loopback() && args.token.is_none() {
+        bail!(
+            "--listen {}: serving beyond this machine needs --token (and a network you trust: the protocol is not encrypted)",
+            args.listen
+        );
+    }
+    if !(args.idle_timeout.is_finite() && args.idle_timeout > 0.0) {
+        bail!("--idle-timeout must be a positive number of seconds");
+    }
+    let faults: FaultSchedule = args.inject_faults.parse().map_err(anyhow::Error::msg)?;
+    let device = match &args.device_model {
+        Some(path) => Device::load(path)?,
+        None => Device::utia(),
+    };
+    let truth = specula_formats::source::load_brdf(&args.truth)?;
+    let mut config = SimulatorConfig::new(args.seed, &device);
+    if args.ideal {
+        config.positioning.sigma_deg = 0.0;
+    }
+    let sample = MountedSample::new(truth.name(), truth, Tilt::default());
+    let simulator = Simulator::new(device, sample, config);
+    let instrument: Box<dyn Instrument> = if args.ideal {
+        Box::new(NoiselessSimulator::new(simulator))
+    } else {
+        Box::new(simulator)
+    };
+    let name = format!("specula device serve: {}", args.truth);
+    let mut server = Server::new(instrument, name).with_token(args.token).with_faults(faults);
+    if args.stdio {
+        let end = server.serve_connection(std::io::stdin().lock(), std::io::stdout().lock());
+        eprintln!("specula device serve: {end:?}");
+        return Ok(());
+    }
+    let listener = TcpListener::bind(args.listen).with_context(|| format!("cannot listen on {}", args.listen))?;
+    eprintln!("serving {} on {} (Ctrl-C to stop)", args.truth, listener.local_addr()?);
+    let never = AtomicBool::new(false);
+    let idle = Duration::from_secs_f64(args.idle_timeout);
+    server.serve_tcp(&listener, &never, idle, &mut |line| eprintln!("{line}"))?;
+    Ok(())
+}

@@ -1,0 +1,332 @@
+//! `specula measure`: the paper's whole measurement in one command, resumable.
+
+use anyhow::{bail, Context, Result};
+use indicatif::ProgressBar;
+use specula_acquisition::calibration::Calibration;
+use specula_acquisition::device::Device;
+use specula_core::sampling::Family;
+use specula_session::engine::{stop_on_ctrl_c, Progress, StageOutcome};
+use specula_session::protocol::{ClientSettings, Endpoint};
+use specula_session::workflow::{
+    default_session_path, measure, summary_path, HdrChoice, MeasureOutcome, MeasureSettings, Observer, PlanOrder,
+    Source,
+};
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Measure a BRDF the paper's way, on the simulated device or on real hardware, and write it
+/// as a MERL table.
+///
+/// The workflow (paper 4.2 to 5.3): calibration (simulated device: white reference and
+/// ColorChecker; real device: --calibration), the alignment and orientation checks, the probe
+/// (up to 90 theta_h samples at theta_d = 40, phi_d = 90 deg), fitting k of the sampling
+/// function, the plan (theta_h from the fitted function x theta_d x phi_d, unreachable and
+/// occluded samples excluded, ordered for speed), the acquisition with predicted HDR
+/// exposures, and the reconstruction into OUT.binary. A summary (k_hat, counts, captures,
+/// simulated_hours, measured_samples, ...) goes to OUT.summary.txt and stdout.
+///
+/// Everything is journaled in the session file (default OUT.session.sqlite), one transaction
+/// per sample: after Ctrl-C (which finishes the sample in progress), a crash or a power cut,
+/// run the same command again to resume. With the same --seed the result is byte-identical
+/// whether or not the run was interrupted. `specula session status` shows the progress.
+///
+/// Example (simulated): specula measure --truth silver-925 --out silver.binary
+///
+/// Example (a device served over TCP): specula measure --device tcp://127.0.0.1:7878
+/// --calibration cam.toml --out sample.binary
+///
+/// Example (an adapter program): specula measure --device "exec:python3
+/// tools/example_adapter.py" --calibration tools/example_adapter_calibration.toml --out
+/// fake.binary
+#[derive(clap::Args)]
+#[command(group(clap::ArgGroup::new("source").required(true).args(["truth", "device"])))]
+pub struct Args {
+    /// Measure the simulated device with this ground truth: a preset (silver-925,
+    /// green-paint, ...), a material .toml, a MERL .binary or a model:name fit.
+    #[arg(long)]
+    pub truth: Option<String>,
+    /// Measure a device through the driver protocol (docs/driver-protocol.md):
+    /// tcp://HOST:PORT or exec:COMMAND.
+    #[arg(long)]
+    pub device: Option<String>,
+    /// The camera calibration of a real device (TOML from `specula calibrate`). The
+    /// simulated device is calibrated at the start of a session.
+    #[arg(long)]
+    pub calibration: Option<PathBuf>,
+    /// The session journal (SQLite); default OUT.session.sqlite. An existing session resumes.
+    #[arg(long)]
+    pub session: Option<PathBuf>,
+    /// Seed of the simulated device: its positioning errors and its noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Simulated device without noise or positioning error, exactly calibrated (for
+    /// comparing sampling and reconstruction methods).
+    #[arg(long)]
+    pub ideal: bool,
+    /// Probe samples along theta_h (square-root placement, paper 5.2).
+    #[arg(long, default_value_t = 90)]
+    pub probe_samples: usize,
+    /// Sampling function fitted to the probe: exponential (paper eq. 3), power (eq. 2) or
+    /// base (eq. 4).
+    #[arg(long, default_value = "exponential")]
+    pub family: Family,
+    /// theta_h positions of the fitted sampling function (paper: 30).
+    #[arg(long, default_value_t = 30)]
+    pub theta_h_samples: usize,
+    /// Step of theta_d, degrees (0, step, ... below 90).
+    #[arg(long, default_value_t = 3.0)]
+    pub theta_d_step: f64,
+    /// Step of phi_d, degrees (0, step, ... up to 90).
+    #[arg(long, default_value_t = 15.0)]
+    pub phi_d_step: f64,
+    /// phi_h, degrees: the sample's orientation (paper 4.3). When the orientation check
+    /// finds the scratch lobe there, the plan uses its recommendation instead.
+    #[arg(long, default_value_t = 45.0)]
+    pub phi_h: f64,
+    /// Order of the samples: optimized (a short path through axis space) or nested
+    /// (theta_h, theta_d, phi_d loops, as the paper).
+    #[arg(long, value_enum, default_value_t = OrderArg::Optimized)]
+    pub order: OrderArg,
+    /// HDR at each sample: predicted (adaptive from the probe and the previous sample, one or
+    /// two captures) or bracket (the device file's fixed bracket, the paper's way).
+    #[arg(long, value_enum, default_value_t = HdrArg::Predicted)]
+    pub hdr: HdrArg,
+    /// Reconstruction method: lobe, log or linear (see `specula reconstruct --help`).
+    #[arg(long, default_value = "lobe")]
+    pub method: String,
+    /// Skip the alignment and orientation checks.
+    #[arg(long)]
+    pub skip_checks: bool,
+    /// Tilt of the simulated sample on the turntable, degrees (a misalignment for the
+    /// alignment check to find).
+    #[arg(long, default_value_t = 0.0)]
+    pub tilt: f64,
+    /// Azimuth of that tilt, degrees.
+    #[arg(long, default_value_t = 0.0)]
+    pub tilt_azimuth: f64,
+    /// Device model (TOML); default: the paper's UTIA gonioreflectometer.
+    #[arg(long)]
+    pub device_model: Option<PathBuf>,
+    /// Shared token for `specula device serve --token`.
+    #[arg(long)]
+    pub token: Option<String>,
+    /// Seconds to wait for a reply from a device before retrying.
+    #[arg(long, default_value_t = 120.0)]
+    pub reply_timeout: f64,
+    /// Failures in a row on one request before giving up.
+    #[arg(long, default_value_t = 5)]
+    pub max_failures: u32,
+    /// Run the simulated device in real time divided by this factor (a rehearsal: 60 shows
+    /// an hour's measurement in a minute).
+    #[arg(long)]
+    pub speedup: Option<f64>,
+    /// The MERL .binary to write.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum OrderArg {
+    Optimized,
+    Nested,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum HdrArg {
+    Predicted,
+    Bracket,
+}
+
+impl Args {
+    fn settings(&self) -> MeasureSettings {
+        MeasureSettings {
+            seed: self.seed,
+            ideal: self.ideal,
+            probe_samples: self.probe_samples,
+            family: self.family,
+            theta_h_samples: self.theta_h_samples,
+            theta_d_step_deg: self.theta_d_step,
+            phi_d_step_deg: self.phi_d_step,
+            phi_h_deg: self.phi_h,
+            order: match self.order {
+                OrderArg::Optimized => PlanOrder::Optimized,
+                OrderArg::Nested => PlanOrder::Nested,
+            },
+            hdr: match self.hdr {
+                HdrArg::Predicted => HdrChoice::Predicted,
+                HdrArg::Bracket => HdrChoice::Bracket,
+            },
+            method: self.method.clone(),
+            checks: !self.skip_checks,
+            tilt_deg: self.tilt,
+            tilt_azimuth_deg: self.tilt_azimuth,
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        if self.probe_samples < 2 || self.theta_h_samples < 2 {
+            bail!("--probe-samples and --theta-h-samples must be at least 2");
+        }
+        for (name, step) in [("--theta-d-step", self.theta_d_step), ("--phi-d-step", self.phi_d_step)] {
+            if !(step.is_finite() && step > 0.0 && step <= 90.0) {
+                bail!("{name} must be in (0, 90] degrees, got {step}");
+            }
+        }
+        if !self.phi_h.is_finite() || !self.tilt.is_finite() || !self.tilt_azimuth.is_finite() {
+            bail!("--phi-h, --tilt and --tilt-azimuth must be numbers of degrees");
+        }
+        if !(self.reply_timeout.is_finite() && self.reply_timeout > 0.0) {
+            bail!("--reply-timeout must be a positive number of seconds");
+        }
+        if let Some(s) = self.speedup {
+            if !(s.is_finite() && s > 0.0) {
+                bail!("--speedup must be positive");
+            }
+        }
+        if self.method.parse::<specula_reconstruct::Method>().is_err() {
+            bail!("--method {}: expected lobe, log or linear", self.method);
+        }
+        Ok(())
+    }
+}
+
+pub fn run(args: Args) -> Result<()> {
+    args.check()?;
+    let device = match &args.device_model {
+        Some(path) => Device::load(path)?,
+        None => Device::utia(),
+    };
+    let source = source(&args)?;
+    let session = args.session.clone().unwrap_or_else(|| default_session_path(&args.out));
+    let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
+    println!("session: {}", session.display());
+    let mut observer = Bars::default();
+    let outcome = measure(source, &device, &args.settings(), &session, &args.out, stop, &mut observer)?;
+    observer.finish();
+    match outcome {
+        MeasureOutcome::Complete(summary) => {
+            for line in summary.lines() {
+                println!("{line}");
+            }
+            println!("wrote {} and {}", args.out.display(), summary_path(&args.out).display());
+        }
+        MeasureOutcome::Stopped { stage, done, planned } => {
+            println!(
+                "stopped: {stage} {done} of {planned} samples measured and journaled in {}; run the same command to resume",
+                session.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+fn source(args: &Args) -> Result<Source> {
+    if let Some(truth) = &args.truth {
+        if args.calibration.is_some() {
+            bail!("--calibration is for a real device; the simulated device is calibrated in the session");
+        }
+        let brdf = specula_formats::source::load_brdf(truth)?;
+        return Ok(Source::Simulated {
+            truth: brdf,
+            speedup: args.speedup,
+        });
+    }
+    let spec = args.device.as_deref().context("give --truth or --device")?;
+    let endpoint: Endpoint = spec.parse().map_err(anyhow::Error::msg)?;
+    let path = args.calibration.as_ref().with_context(|| {
+        format!("{endpoint}: a real device needs --calibration FILE (its camera calibration, from `specula calibrate`)")
+    })?;
+    let calibration = Calibration::load(path)?;
+    Ok(Source::Remote {
+        endpoint,
+        client: ClientSettings {
+            reply_timeout: Duration::from_secs_f64(args.reply_timeout),
+            max_failures: args.max_failures.max(1),
+            token: args.token.clone(),
+            ..ClientSettings::default()
+        },
+        calibration,
+    })
+}
+
+/// Progress bars per stage, with the device time left from the time model.
+#[derive(Default)]
+struct Bars {
+    bar: Option<ProgressBar>,
+    stage: String,
+}
+
+impl Bars {
+    fn finish(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// `1h 23m`, `4m 05s` or `12s`.
+fn duration_text(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    match (s / 3600, (s / 60) % 60, s % 60) {
+        (0, 0, s) => format!("{s}s"),
+        (0, m, s) => format!("{m}m {s:02}s"),
+        (h, m, _) => format!("{h}h {m:02}m"),
+    }
+}
+
+impl Observer for Bars {
+    fn step(&mut self, message: &str) {
+        match &self.bar {
+            Some(bar) => bar.println(message),
+            None => eprintln!("{message}"),
+        }
+    }
+
+    fn stage_started(&mut self, stage: &str, planned: usize, done: usize) {
+        self.finish();
+        let bar = crate::progress::bar(planned as u64, stage);
+        bar.set_position(done as u64);
+        if done > 0 {
+            bar.println(format!("{stage}: resuming, {done} of {planned} samples already measured"));
+        }
+        self.bar = Some(bar);
+        self.stage = stage.to_string();
+    }
+
+    fn sample(&mut self, progress: &Progress) {
+        if let Some(bar) = &self.bar {
+            bar.set_position(progress.done as u64);
+            bar.set_message(format!(
+                "{}: device time {} done, {} left",
+                self.stage,
+                duration_text(progress.device_s_done),
+                duration_text(progress.eta_device_s())
+            ));
+        }
+    }
+
+    fn stage_finished(&mut self, stage: &str, outcome: &StageOutcome) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+        eprintln!(
+            "{stage}: {} samples ({} measured now, {} from the journal){}",
+            outcome.resumed + outcome.measured,
+            outcome.measured,
+            outcome.resumed,
+            if outcome.stopped { ", stopped" } else { "" }
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations_read_well() {
+        assert_eq!(duration_text(12.4), "12s");
+        assert_eq!(duration_text(245.0), "4m 05s");
+        assert_eq!(duration_text(5.0 * 3600.0 + 23.0 * 60.0), "5h 23m");
+    }
+}

@@ -1,0 +1,166 @@
+//! Beyond the paper: the paper's pipeline (exponential theta_h with k-hat, the 30 x 30 x 7
+//! plan, linear reconstruction) against ours (the `lobe` method, and smaller plans), averaged
+//! over sets of ground-truth materials, each measured without noise on the UTIA device model.
+//!
+//!     cargo run --release -p specula-reconstruct --example accuracy_study -- \
+//!         [--set builtin] [--set sgd] [--set abc] [--set nbrdf] [--every N] [--sweep]
+//!
+//! Prints one CSV row per material and configuration, then the mean of each configuration
+//! per set and over all sets, and the ratio of each mean to the paper pipeline's.
+
+use specula_acquisition::device::Device;
+use specula_core::materials::builtin_database;
+use specula_core::tabulate::tabulate;
+use specula_core::Brdf;
+use specula_formats::fits::{load_fits, FitModel};
+use specula_formats::input::measured_file;
+use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
+use specula_reconstruct::accuracy::{evaluate, Accuracy, Measurement, PlanSettings};
+use specula_reconstruct::Method;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// A plan and a method.
+#[derive(Clone, Copy)]
+struct Config {
+    name: &'static str,
+    plan: PlanSettings,
+    method: Method,
+}
+
+fn configs(sweep: bool) -> Vec<Config> {
+    let paper = PlanSettings::paper();
+    let mut out = vec![
+        Config { name: "paper", plan: paper, method: Method::LINEAR },
+        Config { name: "paper-plan+lobe", plan: paper, method: Method::LOBE },
+    ];
+    if sweep {
+        for (name, theta_h, theta_d, phi_d) in [
+            ("lobe-26x3x15", 26, 3.0, 15.0),
+            ("lobe-24x4x22.5", 24, 4.0, 22.5),
+            ("lobe-20x5x30", 20, 5.0, 30.0),
+            ("lobe-16x6x30", 16, 6.0, 30.0),
+            ("lobe-12x8x45", 12, 8.0, 45.0),
+            ("lobe-10x10x45", 10, 10.0, 45.0),
+        ] {
+            let plan = PlanSettings {
+                theta_h_samples: theta_h,
+                theta_d_step_deg: theta_d,
+                phi_d_step_deg: phi_d,
+                ..paper
+            };
+            out.push(Config { name, plan, method: Method::LOBE });
+        }
+    }
+    out
+}
+
+fn truths(set: &str) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
+    Ok(match set {
+        "builtin" => builtin_database().into_iter().map(|m| Arc::new(m) as Arc<dyn Brdf>).collect(),
+        "sgd" => load_fits(&measured_file(FitModel::Sgd.table())?)?,
+        "abc" => load_fits(&measured_file(FitModel::Abc.table())?)?,
+        "nbrdf" => NbrdfSet::Merl100
+            .names()?
+            .iter()
+            .map(|n| Ok(Arc::new(Nbrdf::load(NbrdfSet::Merl100, n)?) as Arc<dyn Brdf>))
+            .collect::<anyhow::Result<_>>()?,
+        other => anyhow::bail!("unknown set {other} (builtin, sgd, abc, nbrdf)"),
+    })
+}
+
+#[derive(Default, Clone, Copy)]
+struct Sums {
+    n: usize,
+    measured: f64,
+    max_measured: usize,
+    figures: [f64; 6],
+}
+
+impl Sums {
+    fn add(&mut self, measured: usize, a: &Accuracy) {
+        self.n += 1;
+        self.measured += measured as f64;
+        self.max_measured = self.max_measured.max(measured);
+        let f = figures(a);
+        for i in 0..6 {
+            self.figures[i] += f[i];
+        }
+    }
+    fn mean(&self) -> (f64, [f64; 6]) {
+        let n = self.n.max(1) as f64;
+        (self.measured / n, self.figures.map(|v| v / n))
+    }
+}
+
+fn figures(a: &Accuracy) -> [f64; 6] {
+    [
+        a.within.relative_rmse,
+        a.within.log_rmse,
+        a.within.slice_mae,
+        a.all.relative_rmse,
+        a.all.log_rmse,
+        a.all.slice_mae,
+    ]
+}
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut sets = Vec::new();
+    let mut every = 1usize;
+    let mut sweep = false;
+    let mut i = 0;
+    while i < args.len() {
+        match args[i].as_str() {
+            "--set" => {
+                sets.push(args.get(i + 1).cloned().unwrap_or_default());
+                i += 1;
+            }
+            "--every" => {
+                every = args.get(i + 1).and_then(|v| v.parse().ok()).unwrap_or(1).max(1);
+                i += 1;
+            }
+            "--sweep" => sweep = true,
+            other => anyhow::bail!("unknown argument {other}"),
+        }
+        i += 1;
+    }
+    if sets.is_empty() {
+        sets = vec!["builtin".into(), "sgd".into(), "abc".into()];
+    }
+    let device = Device::utia();
+    let configs = configs(sweep);
+    let mut sums: BTreeMap<(String, &str), Sums> = BTreeMap::new();
+    println!("set,material,config,k,measured,rel_within,log_within,mae_within,rel_all,log_all,mae_all");
+    for set in &sets {
+        for truth in truths(set)?.iter().step_by(every) {
+            let table = tabulate(truth.as_ref(), PlanSettings::paper().phi_h_deg.to_radians());
+            for config in &configs {
+                let m = Measurement::simulate(truth.as_ref(), &config.plan, &device)?;
+                let (_, a) = evaluate(&m.samples, config.method, &table, 75.0)?;
+                let f = figures(&a);
+                println!(
+                    "{set},{},{},{},{},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e}",
+                    truth.name(),
+                    config.name,
+                    m.k.map_or(String::new(), |k| format!("{k:.3}")),
+                    m.samples.len(),
+                    f[0], f[1], f[2], f[3], f[4], f[5]
+                );
+                sums.entry((set.clone(), config.name)).or_default().add(m.samples.len(), &a);
+                sums.entry(("all".into(), config.name)).or_default().add(m.samples.len(), &a);
+            }
+        }
+    }
+    println!("\nset,config,materials,mean_measured,max_measured,rel_within,log_within,mae_within,rel_all,log_all,mae_all,ratio_rel_within,ratio_log_within,ratio_rel_all,ratio_log_all");
+    for ((set, config), s) in &sums {
+        let (measured, f) = s.mean();
+        let (_, paper) = sums[&(set.clone(), "paper")].mean();
+        println!(
+            "{set},{config},{},{measured:.0},{},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e},{:.3},{:.3},{:.3},{:.3}",
+            s.n, s.max_measured, f[0], f[1], f[2], f[3], f[4], f[5],
+            f[0] / paper[0], f[1] / paper[1], f[3] / paper[3], f[4] / paper[4]
+        );
+    }
+    Ok(())
+}
