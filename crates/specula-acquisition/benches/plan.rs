@@ -34,5 +34,11 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group! {
+    name = benches;
+    // Plots off: the crate's plotters (ab_glyph fonts, for the example) has no font
+    // registered for criterion's charts.
+    config = Criterion::default().without_plots();
+    targets = bench
+}
 criterion_main!(benches);

@@ -27,7 +27,14 @@ fn calibrate_stores_a_calibration_that_later_runs_read() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cal.toml");
     let assert = specula()
-        .args(["calibrate", "--truth", "green-paint", "--seed", "4", "--out"])
+        .args([
+            "calibrate",
+            "--truth",
+            "green-paint",
+            "--seed",
+            "4",
+            "--out",
+        ])
         .arg(&out)
         .assert()
         .success();
@@ -36,10 +43,16 @@ fn calibrate_stores_a_calibration_that_later_runs_read() {
     let cal = Calibration::load(&out).unwrap();
     // The default camera: responsivity (2.2e7, 2.7e7, 1.8e7) e-/s per 1/sr at 0.25 DN/e-.
     for (gain, expected) in cal.gain_dn_s_per_sr.iter().zip([5.5e6, 6.75e6, 4.5e6]) {
-        assert!((gain / expected - 1.0).abs() < 0.005, "{gain} vs {expected}");
+        assert!(
+            (gain / expected - 1.0).abs() < 0.005,
+            "{gain} vs {expected}"
+        );
     }
     // Off the highlight the calibrated green paint matches its truth to 2 %.
-    let row = stdout.lines().find(|l| l.starts_with("30,")).expect(&stdout);
+    let row = stdout
+        .lines()
+        .find(|l| l.starts_with("30,"))
+        .expect(&stdout);
     let ratio: f64 = row.rsplit(',').next().unwrap().parse().unwrap();
     assert!((ratio - 1.0).abs() < 0.02, "{row}");
 }
@@ -48,7 +61,14 @@ fn calibrate_stores_a_calibration_that_later_runs_read() {
 fn alignment_finds_the_simulated_tilt() {
     let assert = specula()
         .args(["check", "alignment", "--truth", "silver-925"])
-        .args(["--tilt-deg", "0.25", "--tilt-azimuth-deg", "-60", "--seed", "3"])
+        .args([
+            "--tilt-deg",
+            "0.25",
+            "--tilt-azimuth-deg",
+            "-60",
+            "--seed",
+            "3",
+        ])
         .assert()
         .success();
     let stdout = String::from_utf8_lossy(&assert.get_output().stdout).to_string();
@@ -62,7 +82,10 @@ fn alignment_finds_the_simulated_tilt() {
         .map(|s| s.parse::<f64>().unwrap())
         .unwrap();
     assert!((azimuth - 300.0).abs() < 10.0, "{stdout}");
-    assert!(stdout.contains("adjustment: tilt the sample back"), "{stdout}");
+    assert!(
+        stdout.contains("adjustment: tilt the sample back"),
+        "{stdout}"
+    );
 }
 
 #[test]
@@ -73,7 +96,9 @@ fn orientation_flags_scratches_on_the_planned_phi_h() {
         .assert()
         .success()
         .stdout(predicate::str::contains("anisotropic: yes"))
-        .stdout(predicate::str::contains("planned phi_h = 45.0 deg: CONTAMINATED"));
+        .stdout(predicate::str::contains(
+            "planned phi_h = 45.0 deg: CONTAMINATED",
+        ));
 }
 
 #[test]
@@ -83,7 +108,10 @@ fn flare_is_retaken() {
         .assert()
         .success();
     let stdout = String::from_utf8_lossy(&assert.get_output().stdout).to_string();
-    assert!(number_after(&stdout, "flagged, retaken at another arm position: ") >= 1.0, "{stdout}");
+    assert!(
+        number_after(&stdout, "flagged, retaken at another arm position: ") >= 1.0,
+        "{stdout}"
+    );
 }
 
 #[test]
@@ -96,12 +124,25 @@ fn bad_input_is_one_line_and_exit_1() {
         .stderr(predicate::str::contains("no-such-material"))
         .stderr(predicate::function(|s: &str| s.lines().count() == 1));
     specula()
-        .args(["check", "alignment", "--truth", "silver-925", "--rotations", "2"])
+        .args([
+            "check",
+            "alignment",
+            "--truth",
+            "silver-925",
+            "--rotations",
+            "2",
+        ])
         .assert()
         .code(1)
         .stderr(predicate::str::contains("--rotations"));
     specula()
-        .args(["calibrate", "--truth", "silver-925", "--out", "/nonexistent/dir/cal.toml"])
+        .args([
+            "calibrate",
+            "--truth",
+            "silver-925",
+            "--out",
+            "/nonexistent/dir/cal.toml",
+        ])
         .assert()
         .code(1)
         .stderr(predicate::str::contains("/nonexistent/dir/cal.toml"));

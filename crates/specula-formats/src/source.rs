@@ -46,7 +46,7 @@ pub fn load_brdf(spec: &str) -> Result<BrdfSource> {
         Some("binary") => Ok(Arc::new(MerlBrdf::read(path)?)),
         Some("toml") => Ok(Arc::new(Material::from_toml_file(path)?)),
         _ if path.exists() => {
-            bail!("{spec}: unrecognised BRDF file (expected a MERL .binary or a material .toml)")
+            bail!("{spec}: unrecognised BRDF file (expected a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)")
         }
         _ => match materials::preset(spec) {
             Some(material) => Ok(Arc::new(material)),

@@ -68,11 +68,10 @@ fn fill_line(lattice: &mut Lattice, line: &[usize], coords: &[f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::axis::{Axis, Coordinate};
+    use crate::axis::Axis;
 
     fn lattice(nh: usize, nd: usize, np: usize) -> Lattice {
         let axis = |n: usize| Axis {
-            coordinate: Coordinate::Degrees,
             nodes: (0..n).map(|i| 10.0 * i as f64).collect(),
         };
         let n = nh * nd * np;

@@ -27,8 +27,7 @@ impl Targets {
     fn of(lattice: &Lattice) -> Self {
         let theta_h = (0..THETA_H_BINS)
             .map(|i| {
-                let axis = &lattice.theta_h;
-                axis.bracket(axis.coordinate.of_rad(theta_h_centre_deg(i).to_radians()))
+                lattice.theta_h.bracket(theta_h_centre_deg(i))
             })
             .collect();
         let degrees = |axis: &Axis, n: usize| (0..n).map(|j| axis.bracket(j as f64 + 0.5)).collect();
@@ -50,6 +49,7 @@ fn even_ends(axis: &Axis, first: Option<f64>, last: Option<f64>) -> [bool; 2] {
 /// cell order. Every node must be known (measured or filled).
 pub fn interpolate_to_merl(lattice: &Lattice, kernel: Kernel) -> [Vec<f64>; 3] {
     let targets = Targets::of(lattice);
+    // theta_h = 0 is not treated as an even end: see crate::kernel.
     let lines = [
         Line { nodes: &lattice.theta_h.nodes, even_ends: even_ends(&lattice.theta_h, None, None) },
         Line { nodes: &lattice.theta_d.nodes, even_ends: even_ends(&lattice.theta_d, Some(0.0), None) },
@@ -141,12 +141,11 @@ pub fn extrapolated_cells(lattice: &Lattice) -> Vec<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::axis::Coordinate;
     use specula_core::merl::Bin;
 
     /// A lattice holding a function of the node angles (degrees), all measured.
     fn lattice_of(f: impl Fn(f64, f64, f64) -> f64, theta_h: &[f64], theta_d: &[f64], phi_d: &[f64]) -> Lattice {
-        let axis = |nodes: &[f64]| Axis { coordinate: Coordinate::Degrees, nodes: nodes.to_vec() };
+        let axis = |nodes: &[f64]| Axis { nodes: nodes.to_vec() };
         let mut values = Vec::new();
         for &h in theta_h {
             for &d in theta_d {

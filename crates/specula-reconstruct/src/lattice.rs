@@ -7,11 +7,10 @@
 //! coordinates, so that the lattice never has more than [`MAX_NODES_PER_SAMPLE`] nodes per
 //! sample.
 
-use crate::axis::{Axis, Coordinate};
+use crate::axis::Axis;
 use crate::sample::{fold_phi_d_rad, Sample};
 
-/// Coordinates closer than this (in the axis coordinate: degrees, or MERL theta_h index
-/// units) are one node.
+/// Angles closer than this (degrees) are one node.
 pub const NODE_TOLERANCE: f64 = 1e-3;
 /// The lattice has at most this many nodes per sample; sparser samples are binned.
 pub const MAX_NODES_PER_SAMPLE: usize = 16;
@@ -39,23 +38,22 @@ pub struct Lattice {
     pub status: Vec<NodeStatus>,
 }
 
-/// A sample's position in the three axis coordinates, phi_d folded.
-pub fn sample_coordinates(sample: &Sample, theta_h: Coordinate) -> [f64; 3] {
+/// A sample's theta_h, theta_d and folded phi_d in degrees.
+pub fn sample_coordinates(sample: &Sample) -> [f64; 3] {
     [
-        theta_h.of_rad(sample.hd.theta_h),
-        Coordinate::Degrees.of_rad(sample.hd.theta_d),
-        Coordinate::Degrees.of_rad(fold_phi_d_rad(sample.hd.phi_d)),
+        sample.hd.theta_h.to_degrees(),
+        sample.hd.theta_d.to_degrees(),
+        fold_phi_d_rad(sample.hd.phi_d).to_degrees(),
     ]
 }
 
 impl Lattice {
     /// The lattice spanned by the samples, every node missing.
-    pub fn spanned_by(samples: &[Sample], theta_h: Coordinate) -> Self {
-        let coords: Vec<[f64; 3]> = samples.iter().map(|s| sample_coordinates(s, theta_h)).collect();
-        let kinds = [theta_h, Coordinate::Degrees, Coordinate::Degrees];
+    pub fn spanned_by(samples: &[Sample]) -> Self {
+        let coords: Vec<[f64; 3]> = samples.iter().map(sample_coordinates).collect();
         let axis = |a: usize, max_nodes: usize| {
             let values: Vec<f64> = coords.iter().map(|c| c[a]).collect();
-            Axis::cluster(kinds[a], &values, NODE_TOLERANCE, max_nodes)
+            Axis::cluster(&values, NODE_TOLERANCE, max_nodes)
         };
         let mut axes = [0, 1, 2].map(|a| axis(a, MAX_NODES_PER_AXIS));
         let nodes: usize = axes.iter().map(Axis::len).product();
@@ -78,11 +76,11 @@ impl Lattice {
 
     /// The lattice spanned by the samples holding, at each node, the mean of the values
     /// `domain_values[i]` of the samples that fall on it.
-    pub fn of_samples(samples: &[Sample], domain_values: &[[f64; 3]], theta_h: Coordinate) -> Self {
-        let mut lattice = Self::spanned_by(samples, theta_h);
+    pub fn of_samples(samples: &[Sample], domain_values: &[[f64; 3]]) -> Self {
+        let mut lattice = Self::spanned_by(samples);
         let mut counts = vec![0usize; lattice.status.len()];
         for (sample, value) in samples.iter().zip(domain_values) {
-            let [h, d, p] = sample_coordinates(sample, theta_h);
+            let [h, d, p] = sample_coordinates(sample);
             let node = lattice.index(
                 lattice.theta_h.nearest(h),
                 lattice.theta_d.nearest(d),
@@ -143,7 +141,7 @@ mod tests {
     fn a_grid_spans_its_own_lattice_and_folds_phi_d() {
         let samples = grid_samples();
         let values: Vec<[f64; 3]> = samples.iter().map(|s| [s.value.x; 3]).collect();
-        let lattice = Lattice::of_samples(&samples, &values, Coordinate::Degrees);
+        let lattice = Lattice::of_samples(&samples, &values);
         assert_eq!(lattice.shape(), [4, 3, 3]);
         assert_eq!(lattice.status_counts(), (36, 0, 0));
         // Node (h = 0.5, d = 30, p = 45) holds the mean of the phi_d = 45 and 135 samples.
@@ -159,7 +157,7 @@ mod tests {
                 Sample::new(HalfDiff::from_degrees(x * 1.1, 0.0, x * 1.3 % 90.0, x * 7.7 % 90.0), Rgb::ONE)
             })
             .collect();
-        let lattice = Lattice::spanned_by(&samples, Coordinate::Degrees);
+        let lattice = Lattice::spanned_by(&samples);
         let nodes: usize = lattice.shape().iter().product();
         assert!(nodes <= MAX_NODES_PER_SAMPLE * 50, "{:?}", lattice.shape());
         assert!(lattice.shape().iter().all(|&n| n >= 2));

@@ -253,10 +253,11 @@ fn fit_weights(points: &[FitPoint], shape: Shape) -> (Lobe, f64) {
 }
 
 /// Minimises `x' A x - 2 b' x` over `x >= 0` for a 3 x 3 positive semi-definite `A`, by
-/// trying every set of free variables.
+/// trying every set of free variables, smaller sets first; a larger set must do better by
+/// more than rounding, so that data one term explains exactly (a constant) keep the others 0.
 fn nonnegative_least_squares(a: &[[f64; 3]; 3], b: &[f64; 3]) -> [f64; 3] {
     let mut best = ([0.0; 3], 0.0);
-    for set in 1u8..8 {
+    for set in [1u8, 2, 4, 3, 5, 6, 7] {
         let free: Vec<usize> = (0..3).filter(|i| set & (1 << i) != 0).collect();
         let Some(sol) = solve_subset(a, b, &free) else {
             continue;
@@ -270,7 +271,7 @@ fn nonnegative_least_squares(a: &[[f64; 3]; 3], b: &[f64; 3]) -> [f64; 3] {
         }
         let quad: f64 = (0..3).map(|i| (0..3).map(|j| x[i] * a[i][j] * x[j]).sum::<f64>()).sum();
         let objective = quad - 2.0 * (0..3).map(|i| b[i] * x[i]).sum::<f64>();
-        if objective < best.1 {
+        if objective < best.1 - 1e-9 * best.1.abs() {
             best = (x, objective);
         }
     }

@@ -1,7 +1,6 @@
-//! Reconstruction methods: the value domain, the theta_h coordinate and the interpolation
-//! kernel used between lattice nodes.
+//! Reconstruction methods: the value domain and the interpolation kernel used between the
+//! lattice nodes (angles in degrees on every axis).
 
-use crate::axis::Coordinate;
 use crate::domain::Domain;
 use crate::kernel::Kernel;
 
@@ -9,46 +8,39 @@ use crate::kernel::Kernel;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Method {
     pub domain: Domain,
-    /// The coordinate theta_h is interpolated in (theta_d and phi_d: degrees).
-    pub theta_h: Coordinate,
     pub kernel: Kernel,
 }
 
 impl Method {
-    /// The paper's baseline (5.3): f linear in theta_h, theta_d and phi_d (degrees), with
-    /// nearest-node extrapolation.
+    /// The paper's baseline (5.3): f linear in theta_h, theta_d and phi_d, with nearest-node
+    /// extrapolation.
     pub const LINEAR: Method = Method {
         domain: Domain::Linear,
-        theta_h: Coordinate::Degrees,
         kernel: Kernel::Linear,
     };
-    /// ln f, monotone cubic, theta_h in MERL's index coordinate.
+    /// ln f, monotone cubic.
     pub const LOG: Method = Method {
         domain: Domain::Log,
-        theta_h: Coordinate::Degrees,
         kernel: Kernel::MonotoneCubic,
     };
-    /// The log ratio to a fitted microfacet lobe, monotone cubic, theta_h in MERL's index
-    /// coordinate.
+    /// The log ratio to a fitted microfacet lobe, monotone cubic.
     pub const LOBE: Method = Method {
         domain: Domain::LobeResidual,
-        theta_h: Coordinate::Degrees,
         kernel: Kernel::MonotoneCubic,
     };
 
     /// The names accepted by [`Method::from_str`], with what each does.
     pub const NAMES: [(&'static str, &'static str); 3] = [
-        ("linear", "the paper's baseline: f linear in theta_h, theta_d, phi_d (degrees)"),
-        ("log", "ln f, monotone cubic, theta_h in MERL's index coordinate"),
-        ("lobe", "ln of f over a fitted microfacet lobe, monotone cubic, MERL theta_h coordinate"),
+        ("linear", "the paper's baseline: f linear in theta_h, theta_d, phi_d"),
+        ("log", "ln f, monotone cubic"),
+        ("lobe", "ln of f over a fitted microfacet lobe, monotone cubic"),
     ];
 
-    pub fn name(&self) -> String {
+    pub fn name(&self) -> &'static str {
         match *self {
-            Method::LINEAR => "linear".into(),
-            Method::LOG => "log".into(),
-            Method::LOBE => "lobe".into(),
-            m => format!("{m:?}"),
+            Method::LINEAR => "linear",
+            Method::LOG => "log",
+            _ => "lobe",
         }
     }
 }
@@ -70,7 +62,7 @@ impl std::str::FromStr for Method {
 
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.name())
+        f.write_str(self.name())
     }
 }
 

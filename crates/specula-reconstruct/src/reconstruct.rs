@@ -54,7 +54,7 @@ pub fn reconstruct(samples: &[Sample], method: Method, name: &str) -> Result<Rec
             std::array::from_fn(|c| method.domain.forward(s.value[c], model[c]))
         })
         .collect();
-    let mut lattice = Lattice::of_samples(samples, &domain_values, method.theta_h);
+    let mut lattice = Lattice::of_samples(samples, &domain_values);
     let (measured_nodes, _, _) = lattice.status_counts();
     fill_missing(&mut lattice);
     let planes = interpolate_to_merl(&lattice, method.kernel);

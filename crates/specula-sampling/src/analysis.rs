@@ -36,7 +36,8 @@ pub fn analyze_slice(slice: &CharacteristicSlice, n: usize) -> MaterialAnalysis 
             match fitted {
                 Some(fit) => {
                     k[f].push(fit.function.k);
-                    error[f].push(slice.error(&fit.function.positions_deg(n), Interpolation::Linear));
+                    error[f]
+                        .push(slice.error(&fit.function.positions_deg(n), Interpolation::Linear));
                 }
                 None => {
                     k[f].push(f64::NAN);
@@ -116,8 +117,15 @@ impl DatabaseSummary {
     /// Writes `family,theta_d,mean_error,median_error,materials` (errors in 1/sr).
     pub fn write_csv(&self, path: &Path) -> Result<()> {
         let name = path.display();
-        let mut w = csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
-        w.write_record(["family", "theta_d", "mean_error", "median_error", "materials"])?;
+        let mut w =
+            csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
+        w.write_record([
+            "family",
+            "theta_d",
+            "mean_error",
+            "median_error",
+            "materials",
+        ])?;
         for (f, family) in Family::ALL.into_iter().enumerate() {
             for j in 0..THETA_D_COLUMNS {
                 w.write_record([
@@ -202,7 +210,10 @@ mod tests {
         let direct = slice.error(&function.positions_deg(30), Interpolation::Linear);
         assert!((a.error[f][j] - direct).abs() < 1e-12);
         // The fitted function beats the square-root mapping on this peaked slice.
-        let sqrt = slice.error(&SamplingFunction::square_root().positions_deg(30), Interpolation::Linear);
+        let sqrt = slice.error(
+            &SamplingFunction::square_root().positions_deg(30),
+            Interpolation::Linear,
+        );
         assert!(a.error[f][j] < sqrt, "{} vs sqrt {sqrt}", a.error[f][j]);
         // Base-k is the exponential family reparameterised (see fit.rs).
         assert!((a.error[2][j] - a.error[1][j]).abs() <= 1e-9 * a.error[1][j]);
@@ -222,7 +233,12 @@ mod tests {
         assert!((summary.median[f][j] - e[1]).abs() < 1e-12);
         assert_eq!(summary.materials[f][j], 3);
         let best = summary.best().unwrap();
-        let lowest = summary.mean.iter().flatten().copied().fold(f64::INFINITY, f64::min);
+        let lowest = summary
+            .mean
+            .iter()
+            .flatten()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
         assert_eq!(best.mean, lowest);
     }
 

@@ -138,7 +138,12 @@ impl Column {
 
     /// The mean absolute difference over the column's nodes between the column and the
     /// interpolation of the given samples (positions increasing) in the given domain.
-    pub fn error_of_samples(&self, positions_deg: &[f64], samples: &[f64], domain: Interpolation) -> f64 {
+    pub fn error_of_samples(
+        &self,
+        positions_deg: &[f64],
+        samples: &[f64],
+        domain: Interpolation,
+    ) -> f64 {
         let mut total = 0.0;
         let mut node = 0;
         match domain {
@@ -202,7 +207,10 @@ mod tests {
     #[test]
     fn sample_interpolates_and_clamps() {
         let c = column(&[0.0, 10.0, 30.0], &[4.0, 2.0, 6.0]);
-        assert_eq!(c.sample(&[0.0, 5.0, 10.0, 20.0, 30.0]), vec![4.0, 3.0, 2.0, 4.0, 6.0]);
+        assert_eq!(
+            c.sample(&[0.0, 5.0, 10.0, 20.0, 30.0]),
+            vec![4.0, 3.0, 2.0, 4.0, 6.0]
+        );
         let beyond = column(&[1.0, 2.0], &[1.0, 3.0]);
         assert_eq!(beyond.sample(&[0.0, 1.5, 90.0]), vec![1.0, 2.0, 3.0]);
     }
@@ -224,7 +232,10 @@ mod tests {
         // three orders of magnitude better than the linear one.
         let log = c.reinterpolation_error(&[0.0, 90.0], Interpolation::Log);
         let linear = c.reinterpolation_error(&[0.0, 90.0], Interpolation::Linear);
-        assert!(linear > 1.0 && log < 1e-3 * linear, "log {log}, linear {linear}");
+        assert!(
+            linear > 1.0 && log < 1e-3 * linear,
+            "log {log}, linear {linear}"
+        );
     }
 
     #[test]
@@ -237,13 +248,22 @@ mod tests {
 
     #[test]
     fn bad_columns_are_refused() {
-        assert_eq!(Column::new(vec![1.0], vec![1.0]), Err(ColumnError::TooShort(1)));
+        assert_eq!(
+            Column::new(vec![1.0], vec![1.0]),
+            Err(ColumnError::TooShort(1))
+        );
         assert!(matches!(
             Column::new(vec![1.0, 1.0], vec![1.0, 2.0]),
             Err(ColumnError::NotIncreasing { .. })
         ));
-        assert!(matches!(Column::new(vec![0.0, 91.0], vec![1.0, 2.0]), Err(ColumnError::OutOfRange(_))));
-        assert!(matches!(Column::new(vec![0.0, 1.0], vec![-1.0, 2.0]), Err(ColumnError::BadValue { .. })));
+        assert!(matches!(
+            Column::new(vec![0.0, 91.0], vec![1.0, 2.0]),
+            Err(ColumnError::OutOfRange(_))
+        ));
+        assert!(matches!(
+            Column::new(vec![0.0, 1.0], vec![-1.0, 2.0]),
+            Err(ColumnError::BadValue { .. })
+        ));
         assert!(Column::from_partial(&[0.0, 1.0, 2.0], &[Some(1.0), None, None]).is_none());
         let c = Column::from_partial(&[0.0, 1.0, 2.0], &[Some(1.0), None, Some(3.0)]).unwrap();
         assert_eq!(c.theta_h_deg(), &[0.0, 2.0]);

@@ -50,8 +50,12 @@ pub fn merl_files(path: &Path) -> Result<Vec<PathBuf>> {
     }
     let name = path.display();
     let mut files = Vec::new();
-    for entry in std::fs::read_dir(path).with_context(|| format!("{name}: cannot list the folder"))? {
-        let file = entry.with_context(|| format!("{name}: cannot list the folder"))?.path();
+    for entry in
+        std::fs::read_dir(path).with_context(|| format!("{name}: cannot list the folder"))?
+    {
+        let file = entry
+            .with_context(|| format!("{name}: cannot list the folder"))?
+            .path();
         let is_merl = file
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("binary"));
@@ -69,7 +73,12 @@ pub fn merl_files(path: &Path) -> Result<Vec<PathBuf>> {
 /// Runs `work` on every source's slice (BRDFs evaluated on `nodes` theta_h nodes) in
 /// parallel, calling `done` after each, and returns the results in the sources' order. Only
 /// one slice per worker thread is alive at a time.
-pub fn map_slices<T, W, D>(sources: &[SliceSource], nodes: usize, work: W, done: D) -> Vec<Result<T>>
+pub fn map_slices<T, W, D>(
+    sources: &[SliceSource],
+    nodes: usize,
+    work: W,
+    done: D,
+) -> Vec<Result<T>>
 where
     T: Send,
     W: Fn(&CharacteristicSlice) -> Result<T> + Sync,
@@ -110,14 +119,21 @@ mod tests {
     fn folders_list_their_merl_files_and_every_source_is_mapped_in_order() {
         let dir = tempfile::tempdir().unwrap();
         let mut table = MerlBrdf::empty("x");
-        let bin = Bin { theta_h_i: 10, theta_d_i: 40, phi_d_i: SLICE_PHI_D_BIN };
+        let bin = Bin {
+            theta_h_i: 10,
+            theta_d_i: 40,
+            phi_d_i: SLICE_PHI_D_BIN,
+        };
         table.set_cell(bin.index(), Some(Rgb::splat(2.0)));
         table.write(&dir.path().join("b.binary")).unwrap();
         std::fs::write(dir.path().join("notes.txt"), "not a table").unwrap();
         std::fs::copy(dir.path().join("b.binary"), dir.path().join("a.BINARY")).unwrap();
 
         let files = merl_files(dir.path()).unwrap();
-        let names: Vec<_> = files.iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect();
+        let names: Vec<_> = files
+            .iter()
+            .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
         assert_eq!(names, ["a.BINARY", "b.binary"]);
 
         let mut sources: Vec<SliceSource> = files.into_iter().map(SliceSource::MerlFile).collect();
@@ -141,10 +157,18 @@ mod tests {
     #[test]
     fn errors_name_their_source() {
         let dir = tempfile::tempdir().unwrap();
-        assert!(merl_files(dir.path()).unwrap_err().to_string().contains("no MERL"));
+        assert!(merl_files(dir.path())
+            .unwrap_err()
+            .to_string()
+            .contains("no MERL"));
         let bad = dir.path().join("bad.binary");
         std::fs::write(&bad, b"short").unwrap();
-        let results = map_slices(&[SliceSource::MerlFile(bad)], THETA_H_NODES, |_| Ok(()), |_| {});
+        let results = map_slices(
+            &[SliceSource::MerlFile(bad)],
+            THETA_H_NODES,
+            |_| Ok(()),
+            |_| {},
+        );
         assert!(format!("{:#}", results[0].as_ref().unwrap_err()).contains("bad.binary"));
     }
 }

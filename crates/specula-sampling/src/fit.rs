@@ -130,7 +130,12 @@ pub fn fit_k(column: &Column, family: Family, n: usize) -> Result<KFit, FitError
 }
 
 /// [`fit_k`] with an explicit search.
-pub fn fit_k_with(column: &Column, family: Family, n: usize, search: &FitSearch) -> Result<KFit, FitError> {
+pub fn fit_k_with(
+    column: &Column,
+    family: Family,
+    n: usize,
+    search: &FitSearch,
+) -> Result<KFit, FitError> {
     if n < 2 {
         return Err(FitError::TooFewSamples(n));
     }
@@ -262,7 +267,10 @@ mod tests {
         ] {
             let truth = SamplingFunction::new(family, k0).unwrap();
             let fit = fit_k(&polyline_of(truth, 12), family, 12).unwrap();
-            assert!((fit.function.k - k0).abs() < 1e-4 * k0, "{family} k0 {k0}: {fit:?}");
+            assert!(
+                (fit.function.k - k0).abs() < 1e-4 * k0,
+                "{family} k0 {k0}: {fit:?}"
+            );
             assert!(fit.error < 1e-6, "{fit:?}");
             // Any other k is worse.
             let off = SamplingFunction::new(family, k0 * 1.05).unwrap();
@@ -282,7 +290,10 @@ mod tests {
             let fit = fit_k(&column, family, 30).unwrap();
             let (_, brute_error) = brute_force(&column, family, 30);
             // Never worse than the brute force by more than 1 %, and usually better.
-            assert!(fit.error <= brute_error * 1.01, "{family}: {fit:?} vs brute {brute_error}");
+            assert!(
+                fit.error <= brute_error * 1.01,
+                "{family}: {fit:?} vs brute {brute_error}"
+            );
             assert!(fit.evaluations < 400, "{fit:?}");
         }
     }
@@ -300,7 +311,10 @@ mod tests {
     #[test]
     fn too_few_samples_is_an_error() {
         let column = dense_column(|x| x);
-        assert_eq!(fit_k(&column, Family::Power, 1), Err(FitError::TooFewSamples(1)));
+        assert_eq!(
+            fit_k(&column, Family::Power, 1),
+            Err(FitError::TooFewSamples(1))
+        );
     }
 
     #[test]

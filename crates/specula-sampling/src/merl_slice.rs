@@ -9,7 +9,9 @@
 use crate::column::scalar_of;
 use crate::slice::{CharacteristicSlice, THETA_D_COLUMNS, THETA_H_NODES};
 use anyhow::{bail, Context, Result};
-use specula_core::merl::{theta_h_centre_deg, CELLS, CHANNEL_SCALE, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::merl::{
+    theta_h_centre_deg, CELLS, CHANNEL_SCALE, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS,
+};
 use specula_core::Rgb;
 use std::io::{BufReader, Read};
 use std::path::Path;
@@ -29,7 +31,10 @@ const READ_BUFFER_BYTES: usize = 1 << 20;
 pub fn read_merl_slice(path: &Path) -> Result<CharacteristicSlice> {
     let name = path.display();
     let file = std::fs::File::open(path).with_context(|| format!("{name}: cannot open"))?;
-    let length = file.metadata().with_context(|| format!("{name}: cannot read"))?.len();
+    let length = file
+        .metadata()
+        .with_context(|| format!("{name}: cannot read"))?
+        .len();
     let mut reader = BufReader::with_capacity(READ_BUFFER_BYTES, file);
 
     let mut header = [0u8; HEADER_BYTES];
@@ -89,7 +94,11 @@ pub fn read_merl_slice(path: &Path) -> Result<CharacteristicSlice> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| name.to_string());
-    Ok(CharacteristicSlice::from_grid(material, theta_h_deg, values))
+    Ok(CharacteristicSlice::from_grid(
+        material,
+        theta_h_deg,
+        values,
+    ))
 }
 
 #[cfg(test)]
@@ -104,7 +113,11 @@ mod tests {
         for theta_h_i in 0..THETA_H_BINS {
             for theta_d_i in 0..THETA_D_BINS {
                 for phi_d_i in [SLICE_PHI_D_BIN - 1, SLICE_PHI_D_BIN, SLICE_PHI_D_BIN + 1] {
-                    let bin = Bin { theta_h_i, theta_d_i, phi_d_i };
+                    let bin = Bin {
+                        theta_h_i,
+                        theta_d_i,
+                        phi_d_i,
+                    };
                     let v = if phi_d_i == SLICE_PHI_D_BIN {
                         (theta_h_i + 1000 * theta_d_i) as f64
                     } else {
@@ -115,7 +128,15 @@ mod tests {
             }
         }
         // One hole in the slice.
-        t.set_cell(Bin { theta_h_i: 3, theta_d_i: 7, phi_d_i: SLICE_PHI_D_BIN }.index(), None);
+        t.set_cell(
+            Bin {
+                theta_h_i: 3,
+                theta_d_i: 7,
+                phi_d_i: SLICE_PHI_D_BIN,
+            }
+            .index(),
+            None,
+        );
         t
     }
 
@@ -129,10 +150,20 @@ mod tests {
         assert_eq!(slice.name(), "known");
         assert!((slice.theta_h_deg()[0] - 0.25 / 90.0).abs() < 1e-15);
         for (i, j) in [(0, 0), (89, 89), (10, 40), (45, 3)] {
-            let cell = t.cell(Bin { theta_h_i: i, theta_d_i: j, phi_d_i: SLICE_PHI_D_BIN }.index());
+            let cell = t.cell(
+                Bin {
+                    theta_h_i: i,
+                    theta_d_i: j,
+                    phi_d_i: SLICE_PHI_D_BIN,
+                }
+                .index(),
+            );
             let expected = scalar_of(cell.unwrap());
             let got = slice.value(j, i).unwrap();
-            assert!((got - expected).abs() <= 1e-12 * expected.max(1.0), "({i}, {j}): {got} vs {expected}");
+            assert!(
+                (got - expected).abs() <= 1e-12 * expected.max(1.0),
+                "({i}, {j}): {got} vs {expected}"
+            );
             assert!((got - 2.0 * (i + 1000 * j) as f64).abs() < 1e-6);
         }
         assert_eq!(slice.value(7, 3), None);
@@ -147,20 +178,42 @@ mod tests {
         bytes.truncate(bytes.len() - 8);
         std::fs::write(&path, &bytes).unwrap();
         let err = format!("{:#}", read_merl_slice(&path).unwrap_err());
-        assert!(err.contains("broken.binary") && err.contains("bytes"), "{err}");
+        assert!(
+            err.contains("broken.binary") && err.contains("bytes"),
+            "{err}"
+        );
 
-        std::fs::write(&path, [90i32, 90, 90].iter().flat_map(|d| d.to_le_bytes()).collect::<Vec<_>>()).unwrap();
+        std::fs::write(
+            &path,
+            [90i32, 90, 90]
+                .iter()
+                .flat_map(|d| d.to_le_bytes())
+                .collect::<Vec<_>>(),
+        )
+        .unwrap();
         let err = format!("{:#}", read_merl_slice(&path).unwrap_err());
         assert!(err.contains("dimensions"), "{err}");
 
         let mut bytes = table().to_bytes();
-        let at = HEADER_BYTES + 8 * Bin { theta_h_i: 2, theta_d_i: 2, phi_d_i: SLICE_PHI_D_BIN }.index();
+        let at = HEADER_BYTES
+            + 8 * Bin {
+                theta_h_i: 2,
+                theta_d_i: 2,
+                phi_d_i: SLICE_PHI_D_BIN,
+            }
+            .index();
         bytes[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
         std::fs::write(&path, &bytes).unwrap();
         let err = format!("{:#}", read_merl_slice(&path).unwrap_err());
-        assert!(err.contains("non-finite") && err.contains("theta_h 2"), "{err}");
+        assert!(
+            err.contains("non-finite") && err.contains("theta_h 2"),
+            "{err}"
+        );
 
-        let err = format!("{:#}", read_merl_slice(&dir.path().join("none.binary")).unwrap_err());
+        let err = format!(
+            "{:#}",
+            read_merl_slice(&dir.path().join("none.binary")).unwrap_err()
+        );
         assert!(err.contains("none.binary"), "{err}");
     }
 }

@@ -50,8 +50,8 @@ pub fn optimal_placement(column: &Column, n: usize, domain: Interpolation) -> Pl
     for layer in parent.iter_mut().skip(1) {
         let mut next = vec![f64::INFINITY; nodes];
         for b in 1..nodes {
-            for a in 0..b {
-                let e = best[a] + at(a, b);
+            for (a, &before) in best.iter().enumerate().take(b) {
+                let e = before + at(a, b);
                 if e < next[b] {
                     next[b] = e;
                     layer[b] = a;
@@ -125,8 +125,8 @@ pub fn place_on_probe_column(probe: &Column, n: usize, domain: Interpolation) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::probe::Probe;
     use crate::column::lerp_sorted;
+    use crate::probe::Probe;
     use proptest::prelude::*;
     use specula_core::sampling::{Family, SamplingFunction};
     use specula_core::Rgb;
@@ -214,7 +214,12 @@ mod tests {
             assert!(oracle.error <= e, "{f:?}: {e} < oracle {}", oracle.error);
         }
         let again = rebuilt(&column, &oracle.theta_h_deg);
-        let mae = again.iter().zip(column.values()).map(|(a, b)| (a - b).abs()).sum::<f64>() / 90.0;
+        let mae = again
+            .iter()
+            .zip(column.values())
+            .map(|(a, b)| (a - b).abs())
+            .sum::<f64>()
+            / 90.0;
         assert!((mae - oracle.error).abs() < 1e-12);
     }
 
@@ -224,7 +229,10 @@ mod tests {
         let errors: Vec<f64> = (2..=40)
             .map(|n| optimal_placement(&column, n, Interpolation::Linear).error)
             .collect();
-        assert!(errors.windows(2).all(|w| w[1] <= w[0] + 1e-15), "{errors:?}");
+        assert!(
+            errors.windows(2).all(|w| w[1] <= w[0] + 1e-15),
+            "{errors:?}"
+        );
         assert!(errors[errors.len() - 1] < 1e-12);
     }
 
@@ -235,9 +243,15 @@ mod tests {
         let probe = Probe::new(column.theta_h_deg().to_vec(), rgb).unwrap();
         let placed = place_theta_h(&probe, 30);
         let model = dense_model(&column, MODEL_NODES);
-        assert_eq!(placed, optimal_placement(&model, 30, Interpolation::Linear).theta_h_deg);
+        assert_eq!(
+            placed,
+            optimal_placement(&model, 30, Interpolation::Linear).theta_h_deg
+        );
         // Crowded at the peak: half the samples within the lobe's first 3 widths.
-        assert!(placed.iter().filter(|&&x| x < 6.0).count() >= 15, "{placed:?}");
+        assert!(
+            placed.iter().filter(|&&x| x < 6.0).count() >= 15,
+            "{placed:?}"
+        );
         // On a dense truth it beats the best placement among the probe's own samples.
         let truth = lobe_column(MODEL_NODES, 2.0);
         let on_probe = optimal_placement(&column, 30, Interpolation::Linear).theta_h_deg;

@@ -55,7 +55,11 @@ impl Probe {
             if !(v.is_finite() && v.min_element() >= 0.0) {
                 return Err(ColumnError::BadValue {
                     theta_h_deg,
-                    value: if v.is_finite() { v.min_element() } else { f64::NAN },
+                    value: if v.is_finite() {
+                        v.min_element()
+                    } else {
+                        f64::NAN
+                    },
                 });
             }
         }
@@ -113,7 +117,10 @@ impl Probe {
     }
 
     fn try_column(&self) -> Result<Column, ColumnError> {
-        Column::new(self.theta_h_deg.clone(), self.rgb.iter().map(|v| scalar_of(*v)).collect())
+        Column::new(
+            self.theta_h_deg.clone(),
+            self.rgb.iter().map(|v| scalar_of(*v)).collect(),
+        )
     }
 
     /// The probe as a column of the mean of R, G and B.
@@ -124,7 +131,8 @@ impl Probe {
     /// Writes the CSV file (header `theta_h,r,g,b`).
     pub fn write_csv(&self, path: &Path) -> Result<()> {
         let name = path.display();
-        let mut writer = csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
+        let mut writer =
+            csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
         for (&theta_h, v) in self.theta_h_deg.iter().zip(&self.rgb) {
             writer
                 .serialize(ProbeRow {
@@ -135,22 +143,31 @@ impl Probe {
                 })
                 .with_context(|| format!("{name}: cannot write"))?;
         }
-        writer.flush().with_context(|| format!("{name}: cannot write"))?;
+        writer
+            .flush()
+            .with_context(|| format!("{name}: cannot write"))?;
         Ok(())
     }
 
     /// Reads a CSV file written by [`Probe::write_csv`] (or by hand, or by a device).
     pub fn read_csv(path: &Path) -> Result<Self> {
         let name = path.display();
-        let mut reader = csv::Reader::from_path(path).with_context(|| format!("{name}: cannot open"))?;
-        let headers = reader.headers().with_context(|| format!("{name}: cannot read the header"))?;
+        let mut reader =
+            csv::Reader::from_path(path).with_context(|| format!("{name}: cannot open"))?;
+        let headers = reader
+            .headers()
+            .with_context(|| format!("{name}: cannot read the header"))?;
         if headers.iter().map(str::trim).collect::<Vec<_>>() != ["theta_h", "r", "g", "b"] {
-            bail!("{name}: expected the header theta_h,r,g,b, found {}", headers.iter().collect::<Vec<_>>().join(","));
+            bail!(
+                "{name}: expected the header theta_h,r,g,b, found {}",
+                headers.iter().collect::<Vec<_>>().join(",")
+            );
         }
         let mut theta_h_deg = Vec::new();
         let mut rgb = Vec::new();
         for (i, record) in reader.deserialize::<ProbeRow>().enumerate() {
-            let row = record.with_context(|| format!("{name}: row {}: expected four numbers", i + 2))?;
+            let row =
+                record.with_context(|| format!("{name}: row {}: expected four numbers", i + 2))?;
             theta_h_deg.push(row.theta_h);
             rgb.push(Rgb::new(row.r, row.g, row.b));
         }
@@ -192,7 +209,14 @@ mod tests {
     fn csv_round_trips() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("probe.csv");
-        let probe = Probe::take(&Ramp, &ProbeSettings { samples: 17, ..Default::default() }).unwrap();
+        let probe = Probe::take(
+            &Ramp,
+            &ProbeSettings {
+                samples: 17,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         probe.write_csv(&path).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(text.starts_with("theta_h,r,g,b\n"), "{text}");
@@ -212,15 +236,24 @@ mod tests {
         std::fs::write(&path, "theta_h,r,g,b\n5,1,1,1\n1,1,1,1\n").unwrap();
         let err = format!("{:#}", Probe::read_csv(&path).unwrap_err());
         assert!(err.contains("increase"), "{err}");
-        let err = format!("{:#}", Probe::read_csv(&dir.path().join("missing.csv")).unwrap_err());
+        let err = format!(
+            "{:#}",
+            Probe::read_csv(&dir.path().join("missing.csv")).unwrap_err()
+        );
         assert!(err.contains("missing.csv"), "{err}");
     }
 
     #[test]
     fn settings_are_checked() {
-        let bad = ProbeSettings { theta_d_deg: 95.0, ..Default::default() };
+        let bad = ProbeSettings {
+            theta_d_deg: 95.0,
+            ..Default::default()
+        };
         assert!(Probe::take(&Ramp, &bad).is_err());
-        let few = ProbeSettings { samples: 1, ..Default::default() };
+        let few = ProbeSettings {
+            samples: 1,
+            ..Default::default()
+        };
         assert!(Probe::take(&Ramp, &few).is_err());
     }
 }

@@ -18,7 +18,11 @@ use crate::column::Column;
 /// range (see the module documentation).
 pub fn dense_model(probe: &Column, nodes: usize) -> Column {
     let floor = probe.log_floor();
-    let t: Vec<f64> = probe.theta_h_deg().iter().map(|x| (90.0 * x).sqrt()).collect();
+    let t: Vec<f64> = probe
+        .theta_h_deg()
+        .iter()
+        .map(|x| (90.0 * x).sqrt())
+        .collect();
     let z: Vec<f64> = probe.values().iter().map(|y| (y + floor).ln()).collect();
     let spline = LogSpline::new(t, z);
     let (t0, t1) = spline.range();
@@ -136,20 +140,29 @@ mod tests {
         let model = dense_model(&probe_of(lobe), 3 * 89 + 1);
         let linear = probe_of(lobe).sample(model.theta_h_deg());
         let (mut model_error, mut linear_error) = (0.0, 0.0);
-        for (x, (m, l)) in model.theta_h_deg().iter().zip(model.values().iter().zip(&linear)) {
+        for (x, (m, l)) in model
+            .theta_h_deg()
+            .iter()
+            .zip(model.values().iter().zip(&linear))
+        {
             model_error += (m - lobe(*x)).abs();
             linear_error += (l - lobe(*x)).abs();
         }
         // Far better than joining the probe's samples with straight lines.
-        assert!(model_error < 0.05 * linear_error, "model {model_error}, linear {linear_error}");
+        assert!(
+            model_error < 0.05 * linear_error,
+            "model {model_error}, linear {linear_error}"
+        );
     }
 
     /// SciPy's CubicSpline with the same end conditions, from `tools/log_spline_reference.py`.
     #[test]
     fn the_spline_matches_scipy() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/log_spline_reference.csv");
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/log_spline_reference.csv");
         let mut reader = csv::Reader::from_path(path).unwrap();
-        let rows: Vec<(usize, String, f64, f64)> = reader.deserialize().map(Result::unwrap).collect();
+        let rows: Vec<(usize, String, f64, f64)> =
+            reader.deserialize().map(Result::unwrap).collect();
         let mut checked = 0;
         for case in 0..3 {
             let knots: Vec<(f64, f64)> = rows
@@ -157,10 +170,18 @@ mod tests {
                 .filter(|r| r.0 == case && r.1 == "knot")
                 .map(|r| (r.2, r.3))
                 .collect();
-            let spline = LogSpline::new(knots.iter().map(|k| k.0).collect(), knots.iter().map(|k| k.1).collect());
+            let spline = LogSpline::new(
+                knots.iter().map(|k| k.0).collect(),
+                knots.iter().map(|k| k.1).collect(),
+            );
             for r in rows.iter().filter(|r| r.0 == case && r.1 == "query") {
                 let got = spline.at(r.2);
-                assert!((got - r.3).abs() < 1e-9 * r.3.abs().max(1.0), "case {case} t {}: {got} vs {}", r.2, r.3);
+                assert!(
+                    (got - r.3).abs() < 1e-9 * r.3.abs().max(1.0),
+                    "case {case} t {}: {got} vs {}",
+                    r.2,
+                    r.3
+                );
                 checked += 1;
             }
         }
@@ -171,6 +192,9 @@ mod tests {
     fn a_decreasing_tail_stays_decreasing() {
         let decreasing = probe_of(|x| 100.0 / (1.0 + x));
         let model = dense_model(&decreasing, 500);
-        assert!(model.values().windows(2).all(|w| w[1] <= w[0] * (1.0 + 1e-12)));
+        assert!(model
+            .values()
+            .windows(2)
+            .all(|w| w[1] <= w[0] * (1.0 + 1e-12)));
     }
 }

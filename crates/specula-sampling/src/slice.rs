@@ -41,7 +41,11 @@ pub struct CharacteristicSlice {
 impl CharacteristicSlice {
     /// A slice from its theta_h nodes (increasing degrees) and values in column-major order
     /// (`values[j * nodes + i]` for theta_d column `j`, theta_h node `i`).
-    pub fn from_grid(name: impl Into<String>, theta_h_deg: Vec<f64>, values: Vec<Option<f64>>) -> Self {
+    pub fn from_grid(
+        name: impl Into<String>,
+        theta_h_deg: Vec<f64>,
+        values: Vec<Option<f64>>,
+    ) -> Self {
         assert!(theta_h_deg.len() >= 2);
         assert_eq!(values.len(), theta_h_deg.len() * THETA_D_COLUMNS);
         Self {
@@ -100,7 +104,7 @@ impl CharacteristicSlice {
         let values = &self.values[PROBE_THETA_D_DEG * n..(PROBE_THETA_D_DEG + 1) * n];
         let probe_nodes = SamplingFunction::square_root().positions_deg(THETA_H_NODES);
         let includes_probe = stride >= 1
-            && (n - 1) % (THETA_H_NODES - 1) == 0
+            && (n - 1).is_multiple_of(THETA_H_NODES - 1)
             && probe_nodes
                 .iter()
                 .enumerate()
@@ -121,17 +125,18 @@ impl CharacteristicSlice {
     /// (increasing, degrees) and interpolating back in `domain`: the mean absolute
     /// difference over all measured cells, 1/sr (paper 5.1).
     pub fn error(&self, positions_deg: &[f64], domain: Interpolation) -> f64 {
-        mean_over_cells(&self.columns(), |c| c.reinterpolation_error(positions_deg, domain))
+        mean_over_cells(&self.columns(), |c| {
+            c.reinterpolation_error(positions_deg, domain)
+        })
     }
 }
 
 /// The mean over all cells of per-column mean errors: each column weighs by its cell count.
 /// NaN when no column exists.
 pub fn mean_over_cells(columns: &[Option<Column>], error: impl Fn(&Column) -> f64) -> f64 {
-    let (sum, cells) = columns
-        .iter()
-        .flatten()
-        .fold((0.0, 0usize), |(s, n), c| (s + error(c) * c.len() as f64, n + c.len()));
+    let (sum, cells) = columns.iter().flatten().fold((0.0, 0usize), |(s, n), c| {
+        (s + error(c) * c.len() as f64, n + c.len())
+    });
     sum / cells as f64
 }
 
@@ -146,7 +151,9 @@ mod tests {
     impl Brdf for Plane {
         fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
             let hd = HalfDiff::from_directions(wi, wo);
-            Some(Rgb::splat(hd.theta_h.to_degrees() + 100.0 * hd.theta_d.to_degrees()))
+            Some(Rgb::splat(
+                hd.theta_h.to_degrees() + 100.0 * hd.theta_d.to_degrees(),
+            ))
         }
         fn name(&self) -> String {
             "plane".into()
@@ -161,7 +168,10 @@ mod tests {
         assert_eq!((xs[0], xs[89]), (0.0, 90.0));
         for (j, i) in [(0, 0), (40, 13), (89, 88), (15, 60)] {
             let v = s.value(j, i).unwrap();
-            assert!((v - (xs[i] + 100.0 * j as f64)).abs() < 1e-6, "({j}, {i}): {v}");
+            assert!(
+                (v - (xs[i] + 100.0 * j as f64)).abs() < 1e-6,
+                "({j}, {i}): {v}"
+            );
         }
     }
 
@@ -181,14 +191,18 @@ mod tests {
         let dense = CharacteristicSlice::of(&Plane, DENSE_NODES);
         assert_eq!(dense.nodes(), 268);
         let probe = dense.probe().unwrap();
-        let taken = crate::probe::Probe::take(&Plane, &crate::probe::ProbeSettings::default()).unwrap();
+        let taken =
+            crate::probe::Probe::take(&Plane, &crate::probe::ProbeSettings::default()).unwrap();
         assert_eq!(probe.theta_h_deg(), taken.theta_h_deg());
         for (a, b) in probe.values().iter().zip(taken.column().values()) {
             assert!((a - b).abs() < 1e-9, "{a} vs {b}");
         }
         // A slice without the probe's nodes gives its whole column.
         let coarse = CharacteristicSlice::of(&Plane, 50);
-        assert_eq!(coarse.probe().unwrap(), coarse.column(PROBE_THETA_D_DEG).unwrap());
+        assert_eq!(
+            coarse.probe().unwrap(),
+            coarse.column(PROBE_THETA_D_DEG).unwrap()
+        );
     }
 
     #[test]

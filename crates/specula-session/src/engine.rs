@@ -3,7 +3,8 @@
 //! sample with its captures in one transaction.
 //!
 //! Faults: a motor fault re-homes the axes and retries the sample; a timeout or a camera
-//! fault retries it; after [`EngineSettings::max_attempts`] tries, or on an error no retry
+//! fault retries it; a sample during which the link to a remote device was reopened is
+//! measured again from the move (a restarted adapter may have lost its state); after [`EngineSettings::max_attempts`] tries, or on an error no retry
 //! can fix (an axis limit, a link the client has given up on), the loop stops with an error
 //! that names the sample. Nothing half-done reaches the journal, so the same command resumes.
 //!
@@ -199,10 +200,28 @@ impl Engine<'_> {
         let mut attempts = 0;
         let (readback, measurement) = loop {
             attempts += 1;
-            match self.try_sample(&row.axes, prediction) {
-                Ok(done) => break done,
+            let result = self.try_sample(&row.axes, prediction);
+            let reconnected = self.copy_link_notes()?;
+            match result {
+                Ok(done) if !reconnected => break done,
+                Ok(_) => {
+                    // A new link may lead to a restarted adapter that lost the position and
+                    // the light level: measure the sample again from the move.
+                    self.journal.log_event(
+                        "redo",
+                        &format!("{stage} sample {}: the link was reopened during the sample", row.seq),
+                    )?;
+                    self.hdr.forget_light_level();
+                    if attempts >= self.settings.max_attempts {
+                        return Err(EngineError::Device {
+                            stage: stage.to_string(),
+                            seq: row.seq,
+                            attempts,
+                            error: InstrumentError::Disconnected("the link was reopened during every try".into()),
+                        });
+                    }
+                }
                 Err(error) => {
-                    self.copy_link_notes()?;
                     self.journal.log_event(
                         "fault",
                         &format!("{stage} sample {} try {attempts}: {error}", row.seq),
@@ -229,7 +248,6 @@ impl Engine<'_> {
                 }
             }
         };
-        self.copy_link_notes()?;
         let wall_s = started.elapsed().as_secs_f64();
         let device_s = match (clock_start, self.instrument.simulated_clock_s()) {
             (Some(a), Some(b)) => b - a,
@@ -285,15 +303,18 @@ impl Engine<'_> {
         Ok(())
     }
 
-    fn copy_link_notes(&mut self) -> Result<(), JournalError> {
+    /// Copies the link's notes into the journal; true when the link was reopened.
+    fn copy_link_notes(&mut self) -> Result<bool, JournalError> {
         let Some(notes) = &self.link_notes else {
-            return Ok(());
+            return Ok(false);
         };
         let drained: Vec<(String, String)> = notes.lock().map(|mut n| n.drain(..).collect()).unwrap_or_default();
+        let mut reconnected = false;
         for (kind, message) in drained {
+            reconnected |= kind == "reconnect";
             self.journal.log_event(&kind, &message)?;
         }
-        Ok(())
+        Ok(reconnected)
     }
 }
 

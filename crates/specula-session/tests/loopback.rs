@@ -150,7 +150,7 @@ fn an_acquisition_survives_drops_slow_replies_corrupt_lines_and_motor_faults() {
     let (_, expected) = reference(dir.path());
     assert_eq!(expected.len(), rows().len());
 
-    let faults: FaultSchedule = "drop@6,slow@15=1.0,corrupt@24,motor@33".parse().unwrap();
+    let faults: FaultSchedule = "drop@6,slow@20=1.0,corrupt@34,motor@48".parse().unwrap();
     let server = Served::start(faults);
     let mut remote = RemoteInstrument::new(server.endpoint(), client_settings(5));
     let notes = remote.notes();
@@ -169,14 +169,14 @@ fn an_acquisition_survives_drops_slow_replies_corrupt_lines_and_motor_faults() {
     assert_eq!(events.get("fault"), Some(&1), "the motor fault: {events:?}");
     assert_eq!(events.get("recovered"), Some(&1), "homed after it: {events:?}");
 
-    // The simulator's noise is keyed by the capture, so a sample whose capture was not
-    // repeated is bit for bit the reference; a repeated capture is another noisy frame.
-    let identical = got.iter().filter(|(k, v)| expected[k] == **v).count();
-    assert!(identical + 3 >= got.len(), "{identical} of {} identical", got.len());
+    // A repeated capture is another noisy frame (the simulator keys its noise by the
+    // capture), and the next samples' predicted exposures follow it, so the values agree
+    // with the fault-free run within the noise: about 0.1 % at 40 % of full scale over 1849
+    // pixels. (The session test below checks bit-for-bit equality where nothing repeats.)
     for (k, v) in &got {
         let e = expected[k];
-        let relative = ((*v - e).length() / e.length().max(1e-12)).abs();
-        assert!(relative < 0.05, "sample {k}: {v} vs {e}");
+        let relative = (*v - e).abs() / e;
+        assert!(relative.max_element() < 0.01, "sample {k}: {v} vs {e}");
     }
 }
 
@@ -293,4 +293,5 @@ fn the_example_adapter_is_measured_through_exec_even_when_it_crashes() {
     }
     let events = events(&path);
     assert!(events.get("reconnect").copied().unwrap_or(0) >= 2, "{events:?}");
+    assert!(events.get("redo").copied().unwrap_or(0) >= 1, "{events:?}");
 }

@@ -23,8 +23,9 @@ pub struct Environment {
     name: String,
     width: usize,
     height: usize,
-    /// Linear RGB radiance, row-major from the top (y = +1).
-    texels: Vec<DVec3>,
+    /// Linear RGB radiance, row-major from the top (y = +1); single precision halves the
+    /// memory traffic of the renderer's lookups.
+    texels: Vec<[f32; 3]>,
     distribution: Distribution2D,
 }
 
@@ -56,7 +57,11 @@ impl Environment {
             name: name.into(),
             width,
             height,
-            texels: image.pixels,
+            texels: image
+                .pixels
+                .iter()
+                .map(|p| [p.x as f32, p.y as f32, p.z as f32])
+                .collect(),
             distribution: Distribution2D::new(&weights, width),
         })
     }
@@ -130,38 +135,71 @@ impl Environment {
     /// The radiance arriving from direction `dir` (bilinear between texel centres).
     pub fn radiance(&self, dir: DVec3) -> DVec3 {
         let (u, v) = uv_of(dir);
-        let x = u * self.width as f64 - 0.5;
-        let y = (v * self.height as f64 - 0.5).clamp(0.0, (self.height - 1) as f64);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let column = |c: f64| (c as i64).rem_euclid(self.width as i64) as usize;
-        let row = |r: f64| (r as usize).min(self.height - 1);
-        let texel = |c: f64, r: f64| self.texels[row(r) * self.width + column(c)];
-        let top = texel(x0, y0) * (1.0 - fx) + texel(x0 + 1.0, y0) * fx;
-        let bottom = texel(x0, y0 + 1.0) * (1.0 - fx) + texel(x0 + 1.0, y0 + 1.0) * fx;
-        top * (1.0 - fy) + bottom * fy
+        self.radiance_at(u, v)
     }
 
-    /// A direction drawn in proportion to the luminance, with its density per steradian.
+    /// The radiance from `dir` and the density per steradian with which
+    /// [`Environment::sample`] draws it, sharing one conversion to image coordinates.
+    pub fn eval(&self, dir: DVec3) -> (DVec3, f64) {
+        let (u, v) = uv_of(dir);
+        (self.radiance_at(u, v), self.pdf_at(u, v))
+    }
+
+    /// A direction drawn in proportion to the luminance, with its density and radiance.
     /// `None` for the (measure-zero) poles.
-    pub fn sample(&self, u0: f64, u1: f64) -> Option<(DVec3, f64)> {
+    pub fn sample(&self, u0: f64, u1: f64) -> Option<EnvironmentSample> {
         let ((u, v), pdf_uv) = self.distribution.sample(u0, u1);
         let sin_theta = (PI * v).sin();
         if sin_theta <= 0.0 || pdf_uv <= 0.0 {
             return None;
         }
-        Some((direction_of(u, v), pdf_uv / (2.0 * PI * PI * sin_theta)))
+        Some(EnvironmentSample {
+            dir: direction_of(u, v),
+            pdf: pdf_uv / (2.0 * PI * PI * sin_theta),
+            radiance: self.radiance_at(u, v),
+        })
     }
 
     /// The density per steradian with which [`Environment::sample`] draws `dir`.
     pub fn pdf(&self, dir: DVec3) -> f64 {
         let (u, v) = uv_of(dir);
+        self.pdf_at(u, v)
+    }
+
+    fn pdf_at(&self, u: f64, v: f64) -> f64 {
         let sin_theta = (PI * v).sin();
         if sin_theta <= 0.0 {
             return 0.0;
         }
         self.distribution.pdf(u, v) / (2.0 * PI * PI * sin_theta)
     }
+
+    /// Bilinear interpolation between texel centres at image coordinates `(u, v)`.
+    fn radiance_at(&self, u: f64, v: f64) -> DVec3 {
+        let x = u * self.width as f64 - 0.5;
+        let y = (v * self.height as f64 - 0.5).clamp(0.0, (self.height - 1) as f64);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let column = |c: f64| (c as i64).rem_euclid(self.width as i64) as usize;
+        let row = |r: f64| (r as usize).min(self.height - 1);
+        let texel = |c: f64, r: f64| {
+            let [red, green, blue] = self.texels[row(r) * self.width + column(c)];
+            DVec3::new(red as f64, green as f64, blue as f64)
+        };
+        let top = texel(x0, y0) * (1.0 - fx) + texel(x0 + 1.0, y0) * fx;
+        let bottom = texel(x0, y0 + 1.0) * (1.0 - fx) + texel(x0 + 1.0, y0 + 1.0) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+}
+
+/// A direction drawn from an environment.
+#[derive(Debug, Clone, Copy)]
+pub struct EnvironmentSample {
+    pub dir: DVec3,
+    /// Density per steradian.
+    pub pdf: f64,
+    /// Radiance arriving from `dir`.
+    pub radiance: DVec3,
 }
 
 /// The image coordinates `(u, v)` in `[0, 1)` of a unit direction.
@@ -281,18 +319,21 @@ mod tests {
         }
         assert!((total - 1.0).abs() < 1e-3, "{total}");
         for k in 0..100 {
-            let (dir, pdf) = env
-                .sample(
-                    ((k as f64 + 0.5) * 0.618) % 1.0,
-                    ((k as f64 + 0.5) * 0.377) % 1.0,
-                )
-                .unwrap();
+            let u = (
+                ((k as f64 + 0.5) * 0.618) % 1.0,
+                ((k as f64 + 0.5) * 0.377) % 1.0,
+            );
+            let sample = env.sample(u.0, u.1).unwrap();
+            let (dir, pdf) = (sample.dir, sample.pdf);
             assert!((dir.length() - 1.0).abs() < 1e-12);
             assert!(
                 (pdf - env.pdf(dir)).abs() < 1e-6 * pdf,
                 "{pdf} vs {}",
                 env.pdf(dir)
             );
+            let (radiance, pdf_eval) = env.eval(dir);
+            assert!((radiance - sample.radiance).length() < 1e-6 * radiance.length().max(1.0));
+            assert!((pdf_eval - pdf).abs() < 1e-6 * pdf);
         }
     }
 
@@ -318,9 +359,9 @@ mod tests {
                 ((k as f64 + 0.5) * 0.618_033_988_75) % 1.0,
                 (k as f64 + 0.5) / n as f64,
             );
-            if let Some((dir, pdf)) = env.sample(u0, u1) {
-                if dir.y > 0.0 {
-                    estimate += env.radiance(dir) * dir.y / pdf;
+            if let Some(s) = env.sample(u0, u1) {
+                if s.dir.y > 0.0 {
+                    estimate += s.radiance * s.dir.y / s.pdf;
                 }
             }
         }

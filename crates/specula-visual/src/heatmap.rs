@@ -49,11 +49,17 @@ impl Heatmap {
     /// The range of the scaled values, widened when flat.
     fn range(&self) -> Option<(f64, f64)> {
         let scaled = self.values.iter().flatten().filter_map(|&v| self.scaled(v));
-        let (lo, hi) = scaled.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        let (lo, hi) = scaled.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
         if lo > hi {
             return None;
         }
-        Some(if hi > lo { (lo, hi) } else { (lo - 0.5, hi + 0.5) })
+        Some(if hi > lo {
+            (lo, hi)
+        } else {
+            (lo - 0.5, hi + 0.5)
+        })
     }
 
     fn check(&self) -> Result<()> {
@@ -61,7 +67,9 @@ impl Heatmap {
         if columns == 0 || self.row_labels.is_empty() {
             bail!("a heatmap needs at least one row and one column");
         }
-        if self.values.len() != self.row_labels.len() || self.values.iter().any(|r| r.len() != columns) {
+        if self.values.len() != self.row_labels.len()
+            || self.values.iter().any(|r| r.len() != columns)
+        {
             bail!("a heatmap needs one value per row label and x value");
         }
         Ok(())
@@ -74,9 +82,12 @@ impl Heatmap {
         let mut out = RgbImage::from_pixel(WIDTH, height, image::Rgb([255, 255, 255]));
         font::ensure_registered();
         {
-            let root = BitMapBackend::with_buffer(out.as_mut(), (WIDTH, height)).into_drawing_area();
-            self.draw_on(&root).map_err(|e| anyhow!("cannot draw the heatmap: {e}"))?;
-            root.present().map_err(|e| anyhow!("cannot draw the heatmap: {e}"))?;
+            let root =
+                BitMapBackend::with_buffer(out.as_mut(), (WIDTH, height)).into_drawing_area();
+            self.draw_on(&root)
+                .map_err(|e| anyhow!("cannot draw the heatmap: {e}"))?;
+            root.present()
+                .map_err(|e| anyhow!("cannot draw the heatmap: {e}"))?;
         }
         Ok(out)
     }
@@ -89,7 +100,11 @@ impl Heatmap {
         let t_of = |v: f64| self.scaled(v).map(|s| (s - lo) / (hi - lo));
         let rows = self.row_labels.len();
         let xs = &self.x_values;
-        let dx = if xs.len() > 1 { (xs[xs.len() - 1] - xs[0]) / (xs.len() - 1) as f64 } else { 1.0 };
+        let dx = if xs.len() > 1 {
+            (xs[xs.len() - 1] - xs[0]) / (xs.len() - 1) as f64
+        } else {
+            1.0
+        };
         let (x0, x1) = (xs[0] - dx / 2.0, xs[xs.len() - 1] + dx / 2.0);
 
         let (main, bar) = root.split_horizontally(WIDTH - 170);
@@ -111,7 +126,8 @@ impl Heatmap {
                 // Label the centre of each row (row 0 at the top).
                 let shifted = y - 0.5;
                 let index = shifted.round();
-                if (shifted - index).abs() < 1e-6 && index >= 0.0 && (index as usize) < labels.len() {
+                if (shifted - index).abs() < 1e-6 && index >= 0.0 && (index as usize) < labels.len()
+                {
                     labels[rows - 1 - index as usize].clone()
                 } else {
                     String::new()
@@ -149,7 +165,13 @@ impl Heatmap {
             .y_desc(&self.value_label)
             .label_style((font::FAMILY, 13))
             .axis_desc_style((font::FAMILY, 14))
-            .y_label_formatter(&|v: &f64| if log { format!("{:.2e}", 10f64.powf(*v)) } else { format!("{v:.3e}") })
+            .y_label_formatter(&|v: &f64| {
+                if log {
+                    format!("{:.2e}", 10f64.powf(*v))
+                } else {
+                    format!("{v:.3e}")
+                }
+            })
             .draw()?;
         let steps = 200;
         bar_chart.draw_series((0..steps).map(|i| {
@@ -182,7 +204,9 @@ mod tests {
             row_labels: vec!["a".into(), "b".into()],
             values: vec![
                 (0..10).map(|i| 10f64.powi(i - 5)).collect(),
-                (0..10).map(|i| if i == 3 { f64::NAN } else { 1.0 }).collect(),
+                (0..10)
+                    .map(|i| if i == 3 { f64::NAN } else { 1.0 })
+                    .collect(),
             ],
             log_scale: true,
             value_label: "error".into(),
@@ -216,7 +240,9 @@ mod tests {
         let mut ragged = sample();
         ragged.values[1].pop();
         assert!(ragged.draw().is_err());
-        let err = sample().write_png(&dir.path().join("no/such/dir.png")).unwrap_err();
+        let err = sample()
+            .write_png(&dir.path().join("no/such/dir.png"))
+            .unwrap_err();
         assert!(format!("{err:#}").contains("dir.png"));
     }
 }

@@ -240,26 +240,23 @@ impl Renderer<'_> {
         let [u0, u1, u2, _] = numbers(Dimensions::Lobe);
         if let Some(wi) = self.lobe.sample(wo, [u2, u0, u1]) {
             let f = self.reflectance(wi, wo);
-            if f != DVec3::ZERO {
-                let dir = hit.frame.to_world(wi);
-                if !self.scene.shape.occludes(hit, dir) {
-                    let pdf_lobe = self.lobe.pdf(wo, wi);
-                    if pdf_lobe > 0.0 {
-                        let weight = power_heuristic(pdf_lobe, env.pdf(dir));
-                        sum += f * wi.z * env.radiance(dir) * (weight / pdf_lobe);
-                    }
-                }
+            let pdf_lobe = self.lobe.pdf(wo, wi);
+            let dir = hit.frame.to_world(wi);
+            if f != DVec3::ZERO && pdf_lobe > 0.0 && !self.scene.shape.occludes(hit, dir) {
+                let (radiance, pdf_env) = env.eval(dir);
+                let weight = power_heuristic(pdf_lobe, pdf_env);
+                sum += f * wi.z * radiance * (weight / pdf_lobe);
             }
         }
         // Strategy 2: the environment's luminance.
         let [e0, e1, _, _] = numbers(Dimensions::Environment);
-        if let Some((dir, pdf_env)) = env.sample(e0, e1) {
-            let wi = hit.frame.to_local(dir);
+        if let Some(light) = env.sample(e0, e1) {
+            let wi = hit.frame.to_local(light.dir);
             if wi.z > 0.0 {
                 let f = self.reflectance(wi, wo);
-                if f != DVec3::ZERO && !self.scene.shape.occludes(hit, dir) {
-                    let weight = power_heuristic(pdf_env, self.lobe.pdf(wo, wi));
-                    sum += f * wi.z * env.radiance(dir) * (weight / pdf_env);
+                if f != DVec3::ZERO && !self.scene.shape.occludes(hit, light.dir) {
+                    let weight = power_heuristic(light.pdf, self.lobe.pdf(wo, wi));
+                    sum += f * wi.z * light.radiance * (weight / light.pdf);
                 }
             }
         }

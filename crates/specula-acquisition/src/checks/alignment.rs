@@ -97,10 +97,11 @@ impl AlignmentReport {
                  no adjustment needed"
             );
         }
+        // A normal leaning towards azimuth a: the surface dips on the side at a.
         let high_side = (fit.azimuth_deg + 180.0).rem_euclid(360.0);
         format!(
-            "tilt the sample back by {:.3} deg: lower its side at azimuth {:.1} deg (turntable \
-             frame) or raise the side at {:.1} deg, then run the check again",
+            "tilt the sample back by {:.3} deg: raise its side at azimuth {:.1} deg (turntable \
+             frame) or lower the side at {:.1} deg, then run the check again",
             fit.tilt_deg, fit.azimuth_deg, high_side
         )
     }

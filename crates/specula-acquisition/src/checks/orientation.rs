@@ -71,10 +71,11 @@ pub struct OrientationReport {
 }
 
 impl OrientationReport {
-    /// The turn of the sample on its holder (about its normal, degrees) that brings the
-    /// recommended phi_h to the plan's phi_h.
+    /// The turn of the sample on its holder about its normal (degrees, counter-clockwise seen
+    /// from above) that brings what is now at the recommended phi_h to the plan's phi_h; in
+    /// (-90, 90], since the lobe repeats every 180 deg.
     pub fn turn_sample_deg(&self) -> f64 {
-        let turn = (self.recommended_phi_h_deg - self.planned_phi_h_deg).rem_euclid(180.0);
+        let turn = (self.planned_phi_h_deg - self.recommended_phi_h_deg).rem_euclid(180.0);
         if turn > 90.0 {
             turn - 180.0
         } else {

@@ -32,7 +32,9 @@ impl DatabaseArgs {
         let mut sources = Vec::new();
         for spec in &self.sources {
             let path = Path::new(spec);
-            let is_merl = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("binary"));
+            let is_merl = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("binary"));
             if path.is_dir() || is_merl {
                 sources.extend(merl_files(path)?.into_iter().map(SliceSource::MerlFile));
             } else {
@@ -109,15 +111,19 @@ pub fn run(args: Args) -> Result<()> {
     if args.samples < 2 {
         bail!("--samples must be at least 2, got {}", args.samples);
     }
-    std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create the folder", args.out.display()))?;
-    let analyses = args.database.map("analysing", THETA_H_NODES, |slice| Ok(analyze_slice(slice, args.samples)))?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("{}: cannot create the folder", args.out.display()))?;
+    let analyses = args.database.map("analysing", THETA_H_NODES, |slice| {
+        Ok(analyze_slice(slice, args.samples))
+    })?;
     let summary = DatabaseSummary::of(&analyses);
     summary.write_csv(&args.out.join("analysis.csv"))?;
     write_materials_csv(&analyses, &args.out.join("materials.csv"))?;
     let Some(best) = summary.best() else {
         bail!("no material had a measured column");
     };
-    heatmap(&summary, analyses.len(), args.samples, best_cell(&best)).write_png(&args.out.join("analysis.png"))?;
+    heatmap(&summary, analyses.len(), args.samples, best_cell(&best))
+        .write_png(&args.out.join("analysis.png"))?;
 
     println!(
         "best: {} at theta_d = {} deg: mean error {:.4e} 1/sr, median {:.4e} 1/sr over {} materials",
@@ -127,7 +133,10 @@ pub fn run(args: Args) -> Result<()> {
         best.median,
         analyses.len()
     );
-    let f = Family::ALL.iter().position(|f| *f == Family::Exponential).expect("listed");
+    let f = Family::ALL
+        .iter()
+        .position(|f| *f == Family::Exponential)
+        .expect("listed");
     println!(
         "paper's pair: exponential at theta_d = {PROBE_THETA_D_DEG} deg: mean error {:.4e} 1/sr, median {:.4e} 1/sr",
         summary.mean[f][PROBE_THETA_D_DEG], summary.median[f][PROBE_THETA_D_DEG]
@@ -138,19 +147,34 @@ pub fn run(args: Args) -> Result<()> {
             .copied()
             .enumerate()
             .filter(|(_, m)| m.is_finite())
-            .fold((0, f64::INFINITY), |b, (j, m)| if m < b.1 { (j, m) } else { b });
+            .fold(
+                (0, f64::INFINITY),
+                |b, (j, m)| if m < b.1 { (j, m) } else { b },
+            );
         println!("  {family:<12} best column theta_d = {j:>2} deg: mean error {mean:.4e} 1/sr");
     }
-    println!("wrote analysis.csv, materials.csv and analysis.png to {}", args.out.display());
+    println!("  (base-k is the exponential family with k_base = e^k_exp: their errors agree to rounding)");
+    println!(
+        "wrote analysis.csv, materials.csv and analysis.png to {}",
+        args.out.display()
+    );
     Ok(())
 }
 
 fn best_cell(best: &BestPair) -> (usize, usize) {
-    let row = Family::ALL.iter().position(|f| *f == best.family).expect("listed");
+    let row = Family::ALL
+        .iter()
+        .position(|f| *f == best.family)
+        .expect("listed");
     (row, best.theta_d_deg)
 }
 
-fn heatmap(summary: &DatabaseSummary, materials: usize, samples: usize, best: (usize, usize)) -> Heatmap {
+fn heatmap(
+    summary: &DatabaseSummary,
+    materials: usize,
+    samples: usize,
+    best: (usize, usize),
+) -> Heatmap {
     Heatmap {
         title: format!("Mean slice error over {materials} materials: k fitted on column theta_d, {samples} samples"),
         x_label: "theta_d of the column k is fitted on (deg)".into(),

@@ -48,11 +48,10 @@ pub fn run(args: Args) -> Result<()> {
     let probe = Probe::take(brdf.as_ref(), &settings)?;
     probe.write_csv(&args.out)?;
     let column = probe.column();
-    let (peak_at, peak) = column
-        .theta_h_deg()
-        .iter()
-        .zip(column.values())
-        .fold((0.0, f64::NEG_INFINITY), |best, (&x, &v)| if v > best.1 { (x, v) } else { best });
+    let (peak_at, peak) = column.theta_h_deg().iter().zip(column.values()).fold(
+        (0.0, f64::NEG_INFINITY),
+        |best, (&x, &v)| if v > best.1 { (x, v) } else { best },
+    );
     println!(
         "wrote {} samples of {} to {} (theta_d {} deg, phi_d {} deg, phi_h {} deg); peak {:.4e} 1/sr (mean of RGB) at theta_h {:.4} deg",
         probe.len(),

@@ -29,10 +29,12 @@ use std::path::{Path, PathBuf};
 /// What is wrong with a material file; shown after the file's path, on one line.
 #[derive(Debug, thiserror::Error)]
 pub enum MaterialError {
-    #[error("{path}: cannot read: {source}")]
+    /// The I/O error is part of the message, not a `source`, so that error chains printed
+    /// with `{:#}` show it once.
+    #[error("{path}: cannot read: {error}")]
     Io {
         path: PathBuf,
-        source: std::io::Error,
+        error: std::io::Error,
     },
     #[error("{origin}: {problem}")]
     Invalid { origin: String, problem: String },
@@ -89,9 +91,9 @@ impl Material {
     /// Reads a material file; errors name the file and the problem on one line.
     pub fn from_toml_file(path: impl AsRef<Path>) -> Result<Material, MaterialError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| MaterialError::Io {
+        let text = std::fs::read_to_string(path).map_err(|error| MaterialError::Io {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         parse(&text, &path.display().to_string())
     }

@@ -93,7 +93,8 @@ mod tests {
         let brewster = n.atan();
         let cos_b = brewster.cos();
         let sin_t = brewster.sin() / n;
-        let r_s = (cos_b - n * (1.0 - sin_t * sin_t).sqrt()) / (cos_b + n * (1.0 - sin_t * sin_t).sqrt());
+        let r_s =
+            (cos_b - n * (1.0 - sin_t * sin_t).sqrt()) / (cos_b + n * (1.0 - sin_t * sin_t).sqrt());
         assert!((fresnel_dielectric(cos_b, n) - 0.5 * r_s * r_s).abs() < 1e-12);
     }
 }

@@ -70,7 +70,10 @@ pub fn load_fits(path: &Path) -> Result<Vec<BrdfSource>> {
         .map_err(|e| file_error(path, format!("cannot read the header: {e}")))?
         .clone();
     let model = FitModel::of_headers(&headers).ok_or_else(|| {
-        file_error(path, "not an SGD or ABC fits table (expected the columns of merl_fits_djbrdf)")
+        file_error(
+            path,
+            "not an SGD or ABC fits table (expected the columns of merl_fits_djbrdf)",
+        )
     })?;
     let mut fits: Vec<BrdfSource> = Vec::new();
     for (i, record) in reader.records().enumerate() {
@@ -99,7 +102,10 @@ pub fn load_fit(model: FitModel, material: &str) -> Result<BrdfSource> {
     let count = all.len();
     let wanted = format!("{}:{material}", model.prefix());
     all.into_iter().find(|f| f.name() == wanted).ok_or_else(|| {
-        anyhow!("{wanted}: no such material among the {count} of {}", path.display())
+        anyhow!(
+            "{wanted}: no such material among the {count} of {}",
+            path.display()
+        )
     })
 }
 
@@ -179,7 +185,10 @@ mod tests {
         ];
         for (spec, (theta_h, theta_d), expected, unit) in cases {
             let got = green_at(spec, theta_h, theta_d);
-            assert!((got - expected).abs() <= unit, "{spec}: {got} vs {expected}");
+            assert!(
+                (got - expected).abs() <= unit,
+                "{spec}: {got} vs {expected}"
+            );
         }
     }
 
@@ -200,7 +209,8 @@ mod tests {
     /// the PROVENANCE.md formulas, for every material of both tables.
     #[test]
     fn matches_the_python_reference() {
-        let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/merl_fits_reference.csv");
+        let reference =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/merl_fits_reference.csv");
         let mut tables = std::collections::HashMap::new();
         for model in [FitModel::Sgd, FitModel::Abc] {
             let fits = load_fits(&measured_file(model.table()).unwrap()).unwrap();
@@ -214,7 +224,12 @@ mod tests {
         for row in reader.deserialize::<Reference>() {
             let row = row.unwrap();
             let brdf = &tables[&format!("{}:{}", row.model, row.material)];
-            let hd = HalfDiff::from_degrees(row.theta_h_deg, row.phi_h_deg, row.theta_d_deg, row.phi_d_deg);
+            let hd = HalfDiff::from_degrees(
+                row.theta_h_deg,
+                row.phi_h_deg,
+                row.theta_d_deg,
+                row.phi_d_deg,
+            );
             let got = brdf.eval_half_diff(hd).unwrap();
             let want = Rgb::new(row.r, row.g, row.b);
             for c in 0..3 {
@@ -241,13 +256,26 @@ mod tests {
     fn bad_tables_name_the_file_and_row() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("fits.csv");
-        std::fs::write(&path, "material,kD_r,kD_g,kD_b,A_r,A_g,A_b,B,C,ior\nx,0.1,0.1,0.1,1,1,1,10,nan,1.5\n").unwrap();
+        std::fs::write(
+            &path,
+            "material,kD_r,kD_g,kD_b,A_r,A_g,A_b,B,C,ior\nx,0.1,0.1,0.1,1,1,1,10,nan,1.5\n",
+        )
+        .unwrap();
         let err = load_fits(&path).err().unwrap().to_string();
-        assert!(err.contains("fits.csv") && err.contains("row 2") && err.contains('C'), "{err}");
+        assert!(
+            err.contains("fits.csv") && err.contains("row 2") && err.contains('C'),
+            "{err}"
+        );
         std::fs::write(&path, "a,b\n1,2\n").unwrap();
         let err = load_fits(&path).err().unwrap().to_string();
         assert!(err.contains("not an SGD or ABC"), "{err}");
-        let err = load_fit(FitModel::Sgd, "unobtainium").err().unwrap().to_string();
-        assert!(err.contains("sgd:unobtainium") && err.contains("100"), "{err}");
+        let err = load_fit(FitModel::Sgd, "unobtainium")
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            err.contains("sgd:unobtainium") && err.contains("100"),
+            "{err}"
+        );
     }
 }

@@ -1,0 +1,93 @@
+//! Identities every reconstruction must keep, on random grids with random holes.
+
+use proptest::prelude::*;
+use specula_core::merl::{Bin, CELLS};
+use specula_core::{HalfDiff, Rgb};
+use specula_reconstruct::provenance::CellOrigin;
+use specula_reconstruct::{reconstruct, Method, Sample};
+
+/// A random grid (sorted distinct theta_h, theta_d, phi_d in degrees) with some nodes left out.
+fn grid() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {
+    (
+        prop::collection::btree_set(0u32..9000, 3..7),
+        prop::collection::btree_set(0u32..89, 2..6),
+        prop::collection::btree_set(0u32..=90, 2..5),
+        prop::collection::vec(any::<bool>(), 256),
+    )
+        .prop_map(|(h, d, p, keep)| {
+            let mut out = Vec::new();
+            for &th in &h {
+                for &td in &d {
+                    for &pd in &p {
+                        out.push((th as f64 / 100.0, td as f64, pd as f64));
+                    }
+                }
+            }
+            let n = out.len();
+            let kept: Vec<_> = out.iter().enumerate().filter(|(i, _)| keep[i % 256] || *i == 0).map(|(_, v)| *v).collect();
+            if kept.len() < 2 { out.truncate(n) }
+            kept
+        })
+}
+
+fn samples(grid: &[(f64, f64, f64)], f: impl Fn(f64, f64, f64) -> Rgb) -> Vec<Sample> {
+    grid.iter()
+        .map(|&(h, d, p)| Sample::new(HalfDiff::from_degrees(h, 45.0, d, p), f(h, d, p)))
+        .collect()
+}
+
+const METHODS: [Method; 3] = [Method::LINEAR, Method::LOG, Method::LOBE];
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(6))]
+
+    #[test]
+    fn a_constant_brdf_is_reconstructed_exactly(grid in grid(), c in 0.001..50.0f64) {
+        let value = Rgb::new(c, 0.5 * c, 2.0 * c);
+        for method in METHODS {
+            let r = reconstruct(&samples(&grid, |_, _, _| value), method, "c").unwrap();
+            for index in (0..CELLS).step_by(331) {
+                let v = r.brdf.cell(index).unwrap();
+                prop_assert!((v - value).abs().max_element() <= 1e-6 * c, "{method}: cell {index}: {v} vs {value}");
+            }
+        }
+    }
+
+    #[test]
+    fn phi_d_mirror_and_reciprocity_hold(grid in grid()) {
+        let f = |h: f64, d: f64, p: f64| Rgb::new(1.0 + h, 2.0 + d / 10.0, 3.0 + (2.0 * p.to_radians()).cos());
+        let direct = samples(&grid, f);
+        // The same samples given at phi_d + 180 (light and camera swapped).
+        let swapped: Vec<Sample> = direct.iter().map(|s| Sample::new(s.hd.swapped(), s.value)).collect();
+        for method in METHODS {
+            let a = reconstruct(&direct, method, "a").unwrap();
+            let b = reconstruct(&swapped, method, "b").unwrap();
+            for index in (0..CELLS).step_by(499) {
+                let bin = Bin::from_index(index);
+                let mirror = Bin { phi_d_i: 179 - bin.phi_d_i, ..bin };
+                let (va, vb) = (a.brdf.cell(index).unwrap(), b.brdf.cell(index).unwrap());
+                let vm = a.brdf.cell(mirror.index()).unwrap();
+                prop_assert!((va - vm).abs().max_element() <= 1e-12 * va.max_element(), "{method}: {va} vs mirror {vm}");
+                prop_assert!((va - vb).abs().max_element() <= 1e-9 * va.max_element(), "{method}: {va} vs {vb}");
+            }
+            prop_assert_eq!(&a.provenance, &b.provenance);
+        }
+    }
+}
+
+#[test]
+fn every_sample_marks_its_cell_measured() {
+    let grid: Vec<(f64, f64, f64)> = [0.0, 0.5, 4.0, 20.0]
+        .iter()
+        .flat_map(|&h| [0.0, 30.5, 60.2].iter().flat_map(move |&d| [10.3, 47.0].iter().map(move |&p| (h, d, p))))
+        .collect();
+    let r = reconstruct(&samples(&grid, |_, _, _| Rgb::ONE), Method::LINEAR, "m").unwrap();
+    for &(h, d, p) in &grid {
+        let bin = Bin::of(HalfDiff::from_degrees(h, 45.0, d, p));
+        assert_eq!(r.provenance.cells[bin.index()], CellOrigin::Measured, "{h} {d} {p}");
+    }
+    // theta_d beyond the last node (60.2) is extrapolated; the lattice is complete, so cells
+    // inside it are interpolated.
+    assert_eq!(r.provenance.cells[Bin { theta_h_i: 20, theta_d_i: 75, phi_d_i: 30 }.index()], CellOrigin::Extrapolated);
+    assert_eq!(r.provenance.cells[Bin { theta_h_i: 20, theta_d_i: 45, phi_d_i: 30 }.index()], CellOrigin::Interpolated);
+}
