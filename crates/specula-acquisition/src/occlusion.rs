@@ -252,19 +252,15 @@ mod tests {
         }
     }
 
-    fn light_camera_device() -> Device {
-        Device::utia()
-    }
-
     fn position(theta_h: f64, theta_d: f64, phi_d: f64) -> Vec<AxisPositions> {
-        let device = light_camera_device();
+        let device = Device::utia();
         let (wi, wo) = HalfDiff::from_degrees(theta_h, 45.0, theta_d, phi_d).to_directions();
         solutions(&device, wi, wo)
     }
 
     #[test]
     fn retro_reflection_is_always_blocked_by_the_light_head() {
-        let device = light_camera_device();
+        let device = Device::utia();
         for theta in [0.0, 20.0, 60.0] {
             let all = position(theta, 0.0, 0.0);
             assert!(!all.is_empty());
@@ -283,7 +279,7 @@ mod tests {
     /// angle between light and camera against the closed form.
     #[test]
     fn head_blocking_threshold_matches_closed_form() {
-        let device = light_camera_device();
+        let device = Device::utia();
         let head = &device.light.parts[0];
         let view = device.camera.view;
         let front = head.from_m[0];
@@ -308,7 +304,7 @@ mod tests {
 
     #[test]
     fn far_apart_is_free() {
-        let device = light_camera_device();
+        let device = Device::utia();
         // Specular pair at theta_d = 40: light and camera 80 deg apart in the camera's plane,
         // the light arm's pivot sideways.
         let axes = AxisPositions::from_degrees(0.0, 40.0, 180.0, 40.0);
@@ -317,11 +313,11 @@ mod tests {
 
     #[test]
     fn light_arm_blocks_the_view_from_its_pivot_side() {
-        let device = light_camera_device();
+        let device = Device::utia();
         // Light at 20 deg towards +x with its elevation axis along +y (azimuth 0): its arm
-        // runs from the head towards +y. A camera looking from the +y side through the arm's
-        // plane, i.e. in the plane spanned by L and +y, is blocked; the mirror pose of the
-        // light arm (azimuth 180, elevation -20) moves the arm to -y and frees the view.
+        // runs from the head towards +y. A camera in the plane of L and +y, between the two,
+        // looks through the arm; the mirror pose of the light arm (azimuth 180, elevation
+        // -20) puts the arm on the -y side and frees the view.
         let light = AxisPositions::from_degrees(0.0, 0.0, 0.0, 20.0);
         let l = light.light_direction();
         let arm_axis = light.light_axis();
@@ -351,7 +347,7 @@ mod tests {
     fn camera_closer_than_light_blocks_the_beam() {
         // A device whose camera sits inside the light's distance: near retro-reflection the
         // lens and body stand in the beam, and the light head no longer blocks the view.
-        let mut device = light_camera_device();
+        let mut device = Device::utia();
         device.camera.distance_m = 0.5;
         device.camera.view.end_distance_m = 0.4;
         for part in &mut device.camera.parts[..2] {

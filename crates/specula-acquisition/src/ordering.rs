@@ -49,7 +49,7 @@ pub fn order_with(plan: &Plan, options: &OrderingOptions) -> Plan {
     let mut path = Path::new(&plan.time_model, &measured);
     let mut tour = path.nearest_neighbour_tour();
     for _ in 0..options.rounds.max(1) {
-        let neighbours = path.candidate_lists(options.neighbours);
+        let neighbours = path.candidate_lists(options.neighbours.max(1));
         path.improve(&mut tour, &neighbours);
         if !path.repick_alternatives(&tour, &measured) {
             break;
@@ -606,6 +606,29 @@ mod tests {
             permute(v, k + 1, visit);
             v.swap(k, i);
         }
+    }
+
+    #[test]
+    fn plans_with_nothing_to_order() {
+        let device = Device::utia();
+        // Only an unreachable and an occluded sample.
+        let hds = [
+            specula_core::HalfDiff::from_degrees(60.0, 45.0, 60.0, 0.0),
+            specula_core::HalfDiff::from_degrees(0.0, 45.0, 0.0, 0.0),
+        ];
+        let plan = Plan::from_half_diffs(&hds, &device);
+        let ordered = order(&plan);
+        assert_eq!(ordered.samples.len(), 2);
+        assert_eq!(transition_time_s(&ordered), 0.0);
+        let one = Plan::from_half_diffs(&hds[..0], &device);
+        assert!(order(&one).samples.is_empty());
+        let options = OrderingOptions {
+            neighbours: 0,
+            rounds: 0,
+        };
+        let (_, small) = small_plan();
+        let ordered = order_with(&small, &options);
+        assert_eq!(ordered.measured().count(), small.measured().count());
     }
 
     #[test]

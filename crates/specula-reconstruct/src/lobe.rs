@@ -256,7 +256,7 @@ fn fit_weights(points: &[FitPoint], shape: Shape) -> (Lobe, f64) {
 /// trying every set of free variables, smaller sets first; a larger set must do better by
 /// more than rounding, so that data one term explains exactly (a constant) keep the others 0.
 fn nonnegative_least_squares(a: &[[f64; 3]; 3], b: &[f64; 3]) -> [f64; 3] {
-    let mut best = ([0.0; 3], 0.0);
+    let mut best: ([f64; 3], f64) = ([0.0; 3], 0.0);
     for set in [1u8, 2, 4, 3, 5, 6, 7] {
         let free: Vec<usize> = (0..3).filter(|i| set & (1 << i) != 0).collect();
         let Some(sol) = solve_subset(a, b, &free) else {

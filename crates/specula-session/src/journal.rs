@@ -15,8 +15,12 @@
 //!   written in the sample's transaction;
 //! - `events`: faults, retries, reconnections, interruptions and resumptions.
 //!
-//! Durability: WAL mode with `synchronous = FULL`, so a committed sample survives a power
-//! cut, and one transaction per sample, so a sample is either wholly there or not at all.
+//! Durability: WAL mode and one transaction per sample, so a sample is either wholly there or
+//! not at all. With [`Durability::PowerCut`] (the default, `synchronous = FULL`) a committed
+//! sample also survives a power cut; [`Durability::Crash`] (`synchronous = NORMAL`, for
+//! simulated devices, whose samples cost nothing to redo) survives a crash or a `kill -9`
+//! of the process but may lose the last samples to a power cut, and saves a disk flush per
+//! sample.
 //! Only one process may write a session at a time (an advisory lock on `S.sqlite.lock`);
 //! `specula session status` reads it while a measurement runs.
 
@@ -139,6 +143,15 @@ pub enum JournalError {
     },
     #[error("{path}: sample {seq} of stage {stage} is already measured")]
     Duplicate { path: String, stage: String, seq: u32 },
+}
+
+/// What a committed sample survives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Durability {
+    /// A crash or kill of the process, and a power cut (a disk flush per sample).
+    PowerCut,
+    /// A crash or kill of the process; a power cut may lose the last samples.
+    Crash,
 }
 
 /// One planned sample of a stage, in execution order.
@@ -278,6 +291,17 @@ impl Journal {
 
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Sets what a committed sample survives (default [`Durability::PowerCut`]).
+    pub fn set_durability(&self, durability: Durability) -> Result<(), JournalError> {
+        let mode = match durability {
+            Durability::PowerCut => "FULL",
+            Durability::Crash => "NORMAL",
+        };
+        self.conn
+            .pragma_update(None, "synchronous", mode)
+            .map_err(|e| self.err(e))
     }
 
     fn name(&self) -> String {
@@ -665,18 +689,28 @@ fn take_lock(path: &Path) -> Result<File, JournalError> {
             path: path.display().to_string(),
             source,
         })?;
-    match file.try_lock() {
-        Ok(()) => Ok(file),
-        Err(std::fs::TryLockError::WouldBlock) => Err(JournalError::Locked {
-            path: path.display().to_string(),
-            lock: lock_path.display().to_string(),
-        }),
-        Err(std::fs::TryLockError::Error(source)) => Err(JournalError::Lock {
-            path: path.display().to_string(),
-            source,
-        }),
+    // A few tries: a child process forked by another thread of this process holds a copy
+    // of a just-closed lock until it execs (the descriptor is close-on-exec).
+    for _ in 0..LOCK_TRIES {
+        match file.try_lock() {
+            Ok(()) => return Ok(file),
+            Err(std::fs::TryLockError::WouldBlock) => std::thread::sleep(LOCK_PAUSE),
+            Err(std::fs::TryLockError::Error(source)) => {
+                return Err(JournalError::Lock {
+                    path: path.display().to_string(),
+                    source,
+                })
+            }
+        }
     }
+    Err(JournalError::Locked {
+        path: path.display().to_string(),
+        lock: lock_path.display().to_string(),
+    })
 }
+
+const LOCK_TRIES: usize = 10;
+const LOCK_PAUSE: std::time::Duration = std::time::Duration::from_millis(25);
 
 fn insert_plan(tx: &Transaction, stage: &str, rows: &[PlannedRow]) -> rusqlite::Result<()> {
     let mut statement = tx.prepare(

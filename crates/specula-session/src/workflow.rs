@@ -18,7 +18,7 @@
 
 use crate::engine::{Engine, EngineSettings, HdrMode, Progress, StageOutcome};
 use crate::ideal::{exact_calibration, NoiselessSimulator};
-use crate::journal::{Journal, PlannedRow, SampleRecord};
+use crate::journal::{Durability, Journal, PlannedRow, SampleRecord};
 use crate::pace::Paced;
 use crate::predict::{Predictor, ProbeModel};
 use crate::protocol::{ClientSettings, Endpoint, RemoteInstrument};
@@ -74,6 +74,9 @@ pub struct MeasureSettings {
     pub seed: u64,
     /// Noise-free camera, exact positioning, exact calibration (simulated devices only).
     pub ideal: bool,
+    /// The simulated light as a point instead of its disk (which blurs sharp highlights as
+    /// the real device's does).
+    pub point_light: bool,
     /// Probe samples along theta_h (square-root placement, paper 5.2).
     pub probe_samples: usize,
     pub family: Family,
@@ -98,6 +101,7 @@ impl Default for MeasureSettings {
         Self {
             seed: 1,
             ideal: false,
+            point_light: false,
             probe_samples: 90,
             family: Family::Exponential,
             theta_h_samples: 30,
@@ -314,6 +318,9 @@ pub fn measure(
 ) -> Result<MeasureOutcome> {
     let method: Method = settings.method.parse().map_err(anyhow::Error::msg)?;
     let mut journal = Journal::open(session)?;
+    if let Source::Simulated { .. } = source {
+        journal.set_durability(Durability::Crash)?;
+    }
     let description = source.describe();
     start_session(&journal, settings, &description, device)?;
     let mut connected = connect(source, device, settings, &journal, observer)?;
@@ -453,6 +460,9 @@ fn connect(
     match source {
         Source::Simulated { truth, speedup } => {
             let mut config = SimulatorConfig::new(settings.seed, device);
+            if settings.point_light {
+                config.disk_points = 1;
+            }
             let tilt = if settings.ideal {
                 config.positioning.sigma_deg = 0.0;
                 Tilt::default()

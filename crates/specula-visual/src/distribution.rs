@@ -1,6 +1,9 @@
 //! Piecewise-constant distributions for importance sampling (Pharr, Jakob, Humphreys,
 //! *Physically Based Rendering*, 13.6): a 1-D one over `[0, 1)` and a 2-D one over the unit
-//! square, sampled by inverting their cumulative sums.
+//! square, sampled by inverting their cumulative sums. A guide table (Chen and Asau's
+//! cut-point method) finds the cell of a number in about one step instead of a binary search
+//! through memory, and keeps the inversion monotone so that stratified numbers stay
+//! stratified.
 
 /// A piecewise-constant density over `[0, 1)` with `n` equal cells.
 #[derive(Debug, Clone)]
@@ -10,6 +13,8 @@ pub struct Distribution1D {
     cdf: Vec<f64>,
     /// Integral of `func` over `[0, 1)`.
     integral: f64,
+    /// `guide[k]`: the cell holding `u = k / n` (the first cell whose cdf end exceeds it).
+    guide: Vec<u32>,
 }
 
 impl Distribution1D {
@@ -19,7 +24,9 @@ impl Distribution1D {
         let func: Vec<f64> = if func.is_empty() {
             vec![1.0]
         } else {
-            func.iter().map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 }).collect()
+            func.iter()
+                .map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 })
+                .collect()
         };
         let mut cdf = Vec::with_capacity(n + 1);
         cdf.push(0.0);
@@ -38,7 +45,13 @@ impl Distribution1D {
             }
             (vec![1.0; n], 1.0)
         };
-        Self { func, cdf, integral }
+        let guide = guide_table(&cdf);
+        Self {
+            func,
+            cdf,
+            integral,
+            guide,
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -56,10 +69,18 @@ impl Distribution1D {
     /// Maps `u` in `[0, 1)` to `(x, cell, density at x)`, `x` in `[0, 1)`.
     pub fn sample(&self, u: f64) -> (f64, usize, f64) {
         let n = self.func.len();
-        // The last cell whose cdf is <= u.
-        let cell = (self.cdf.partition_point(|c| *c <= u).saturating_sub(1)).min(n - 1);
+        let u = u.clamp(0.0, 1.0);
+        let mut cell = self.guide[((u * n as f64) as usize).min(n - 1)] as usize;
+        // The last cell whose cdf start is <= u: a few steps from the guide at most.
+        while cell + 1 < n && self.cdf[cell + 1] <= u {
+            cell += 1;
+        }
         let width = self.cdf[cell + 1] - self.cdf[cell];
-        let offset = if width > 0.0 { (u - self.cdf[cell]) / width } else { 0.5 };
+        let offset = if width > 0.0 {
+            (u - self.cdf[cell]) / width
+        } else {
+            0.5
+        };
         let x = ((cell as f64 + offset.clamp(0.0, 1.0)) / n as f64).min(1.0 - f64::EPSILON);
         (x, cell, self.func[cell] / self.integral)
     }
@@ -70,6 +91,21 @@ impl Distribution1D {
         let cell = ((x * n as f64) as usize).min(n - 1);
         self.func[cell] / self.integral
     }
+}
+
+/// For each of `n` equal steps `k / n` of `[0, 1)`, the cell in which it falls.
+fn guide_table(cdf: &[f64]) -> Vec<u32> {
+    let n = cdf.len() - 1;
+    let mut guide = Vec::with_capacity(n);
+    let mut cell = 0usize;
+    for k in 0..n {
+        let u = k as f64 / n as f64;
+        while cell + 1 < n && cdf[cell + 1] <= u {
+            cell += 1;
+        }
+        guide.push(cell as u32);
+    }
+    guide
 }
 
 /// A piecewise-constant density over the unit square: `rows` conditional distributions
@@ -84,8 +120,12 @@ impl Distribution2D {
     /// The distribution proportional to `func` given row by row (`width` values per row).
     pub fn new(func: &[f64], width: usize) -> Self {
         let conditionals: Vec<_> = func.chunks(width.max(1)).map(Distribution1D::new).collect();
-        let marginal =
-            Distribution1D::new(&conditionals.iter().map(|c| c.integral()).collect::<Vec<_>>());
+        let marginal = Distribution1D::new(
+            &conditionals
+                .iter()
+                .map(|c| c.integral())
+                .collect::<Vec<_>>(),
+        );
         Self {
             conditionals,
             marginal,
@@ -124,8 +164,17 @@ mod tests {
             counts[cell] += 1;
         }
         assert_eq!(counts, [1000, 0, 3000, 4000]);
+        // The guided search lands where a binary search of the cdf does.
+        for i in 0..1000 {
+            let u = i as f64 / 1000.0;
+            let (_, cell, _) = d.sample(u);
+            let reference = d.cdf.partition_point(|c| *c <= u).saturating_sub(1).min(3);
+            assert_eq!(cell, reference, "u {u}");
+        }
         // Density integrates to 1.
-        let total: f64 = (0..400).map(|i| d.pdf((i as f64 + 0.5) / 400.0) / 400.0).sum();
+        let total: f64 = (0..400)
+            .map(|i| d.pdf((i as f64 + 0.5) / 400.0) / 400.0)
+            .sum();
         assert!((total - 1.0).abs() < 1e-12);
     }
 

@@ -16,6 +16,10 @@ use std::path::Path;
 
 /// Width of the built-in studio environment's image; its height is half.
 const STUDIO_WIDTH: usize = 1024;
+/// Widest grid of the sampling distribution (its height is half): each of its cells holds the
+/// summed luminance of the texels it covers. Coarser than the image, it stays in the
+/// processor's cache, which makes sampling several times faster; the density is still exact.
+const SAMPLING_WIDTH: usize = 256;
 
 /// Radiance from all directions, with its luminance-proportional sampling distribution.
 #[derive(Debug, Clone)]
@@ -43,16 +47,18 @@ impl Environment {
             bail!("an environment image must hold finite, non-negative radiance");
         }
         let (width, height) = (image.width, image.height);
-        let weights: Vec<f64> = image
-            .pixels
-            .iter()
-            .enumerate()
-            .map(|(i, p)| {
-                let row = i / width;
-                let sin_theta = (PI * (row as f64 + 0.5) / height as f64).sin();
-                luminance(*p).max(0.0) * sin_theta
-            })
-            .collect();
+        let (sampling_width, sampling_height) =
+            (width.min(SAMPLING_WIDTH), height.min(SAMPLING_WIDTH / 2));
+        let mut weights = vec![0.0; sampling_width * sampling_height];
+        for (i, p) in image.pixels.iter().enumerate() {
+            let (x, y) = (i % width, i / width);
+            let cell = (y * sampling_height / height) * sampling_width + x * sampling_width / width;
+            weights[cell] += luminance(*p).max(0.0);
+        }
+        for (i, w) in weights.iter_mut().enumerate() {
+            let row = i / sampling_width;
+            *w *= (PI * (row as f64 + 0.5) / sampling_height as f64).sin();
+        }
         Ok(Self {
             name: name.into(),
             width,
@@ -62,7 +68,7 @@ impl Environment {
                 .iter()
                 .map(|p| [p.x as f32, p.y as f32, p.z as f32])
                 .collect(),
-            distribution: Distribution2D::new(&weights, width),
+            distribution: Distribution2D::new(&weights, sampling_width),
         })
     }
 
@@ -156,8 +162,13 @@ impl Environment {
         Some(EnvironmentSample {
             dir: direction_of(u, v),
             pdf: pdf_uv / (2.0 * PI * PI * sin_theta),
-            radiance: self.radiance_at(u, v),
+            uv: (u, v),
         })
+    }
+
+    /// The radiance arriving along a sampled direction (computed only when needed).
+    pub fn sample_radiance(&self, sample: &EnvironmentSample) -> DVec3 {
+        self.radiance_at(sample.uv.0, sample.uv.1)
     }
 
     /// The density per steradian with which [`Environment::sample`] draws `dir`.
@@ -198,8 +209,8 @@ pub struct EnvironmentSample {
     pub dir: DVec3,
     /// Density per steradian.
     pub pdf: f64,
-    /// Radiance arriving from `dir`.
-    pub radiance: DVec3,
+    /// Image coordinates of `dir`.
+    uv: (f64, f64),
 }
 
 /// The image coordinates `(u, v)` in `[0, 1)` of a unit direction.
@@ -332,7 +343,8 @@ mod tests {
                 env.pdf(dir)
             );
             let (radiance, pdf_eval) = env.eval(dir);
-            assert!((radiance - sample.radiance).length() < 1e-6 * radiance.length().max(1.0));
+            let sampled = env.sample_radiance(&sample);
+            assert!((radiance - sampled).length() < 1e-6 * radiance.length().max(1.0));
             assert!((pdf_eval - pdf).abs() < 1e-6 * pdf);
         }
     }
@@ -361,7 +373,7 @@ mod tests {
             );
             if let Some(s) = env.sample(u0, u1) {
                 if s.dir.y > 0.0 {
-                    estimate += s.radiance * s.dir.y / s.pdf;
+                    estimate += env.sample_radiance(&s) * s.dir.y / s.pdf;
                 }
             }
         }

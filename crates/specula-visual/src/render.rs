@@ -256,7 +256,7 @@ impl Renderer<'_> {
                 let f = self.reflectance(wi, wo);
                 if f != DVec3::ZERO && !self.scene.shape.occludes(hit, light.dir) {
                     let weight = power_heuristic(light.pdf, self.lobe.pdf(wo, wi));
-                    sum += f * wi.z * light.radiance * (weight / light.pdf);
+                    sum += f * wi.z * env.sample_radiance(&light) * (weight / light.pdf);
                 }
             }
         }

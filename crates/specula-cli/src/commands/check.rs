@@ -55,7 +55,8 @@ pub struct Simulated {
     pub tilt_azimuth_deg: f64,
     /// Add polishing scratches along this direction, degrees from the sample's x axis (the
     /// silver-925-scratched lobe: 3 % of the surface, GGX alpha 0.005 along, 0.15 across).
-    /// Needs a preset or a material .toml as --truth; a material with a lobe keeps its own.
+    /// Needs a preset or a material .toml as --truth; a material that has a lobe keeps its
+    /// weight and roughness and takes this orientation.
     #[arg(long, allow_negative_numbers = true)]
     pub scratch_orientation_deg: Option<f64>,
     /// Seed of the simulated device: its positioning errors and its noise.

@@ -4,7 +4,9 @@ use anyhow::{bail, Context, Result};
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::{reconstruct, Method, Sample};
-use std::path::PathBuf;
+use specula_session::journal::Journal;
+use specula_session::workflow::{measured_samples, STAGE_MAIN};
+use std::path::{Path, PathBuf};
 
 /// Reconstruct a full BRDF in the MERL format (90 x 90 x 180 cells) from sparse samples
 /// (paper 5.3's last step).
@@ -29,7 +31,8 @@ pub struct Args {
     /// row per measured sample.
     #[arg(long, required_unless_present = "session", conflicts_with = "session")]
     pub samples: Option<PathBuf>,
-    /// A measurement session journal (.sqlite) to reconstruct from.
+    /// A measurement session journal (.sqlite, from `specula measure`) to reconstruct from:
+    /// the measured samples of its main stage.
     #[arg(long)]
     pub session: Option<PathBuf>,
     /// Reconstruction method: lobe, log or linear (the paper's baseline).
@@ -41,15 +44,19 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let (samples, name) = match (&args.samples, &args.session) {
-        (Some(path), _) => (read_samples(path)?, path.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned())),
-        (None, Some(path)) => bail!("{}: session journals are not supported yet; export the samples to CSV and use --samples", path.display()),
+    let (input, samples) = match (&args.samples, &args.session) {
+        (Some(path), _) => (path, read_samples(path)?),
+        (None, Some(path)) => (path, session_samples(path)?),
         (None, None) => bail!("give --samples or --session"),
     };
+    let name = args
+        .out
+        .file_stem()
+        .map_or_else(|| "reconstruction".into(), |s| s.to_string_lossy().into_owned());
     let spinner = crate::progress::spinner("reconstructing");
     let result = reconstruct(&samples, args.method, &name);
     spinner.finish_and_clear();
-    let r = result.with_context(|| format!("{}", args.samples.as_ref().map_or(String::new(), |p| p.display().to_string())))?;
+    let r = result.with_context(|| input.display().to_string())?;
     r.brdf.write(&args.out)?;
     let sidecar = sidecar_path(&args.out);
     r.provenance.write(&sidecar)?;
@@ -67,8 +74,19 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// The measured samples of a session's main stage, in plan order.
+fn session_samples(path: &Path) -> Result<Vec<Sample>> {
+    let journal = Journal::open_read_only(path)?;
+    let plan = journal.plan(STAGE_MAIN)?;
+    let samples = measured_samples(&plan, &journal.samples(STAGE_MAIN)?);
+    if samples.is_empty() {
+        bail!("{}: the session has no measured sample in its {STAGE_MAIN} stage", path.display());
+    }
+    Ok(samples)
+}
+
 /// The samples of a CSV file.
-fn read_samples(path: &std::path::Path) -> Result<Vec<Sample>> {
+fn read_samples(path: &Path) -> Result<Vec<Sample>> {
     let set = SampleSet::read(path)?;
     Ok(set.samples().iter().map(|s| Sample::new(s.angles, s.value)).collect())
 }
