@@ -35,10 +35,11 @@ const FILE_BYTES: usize = HEADER_BYTES + 3 * CELLS * 8;
 /// What is wrong with a MERL file; shown after the file's path.
 #[derive(Debug, thiserror::Error)]
 pub enum MerlError {
-    #[error("{path}: cannot read: {source}")]
+    #[error("{path}: cannot read or write: {cause}")]
     Io {
         path: PathBuf,
-        source: std::io::Error,
+        /// Not `source`: the message already holds it, and error chains would print it twice.
+        cause: std::io::Error,
     },
     #[error("{path}: {problem}")]
     Invalid { path: PathBuf, problem: String },
@@ -134,6 +135,36 @@ impl MerlBrdf {
         }
     }
 
+    /// A table whose cell `i` holds `value(i)` (f_r in 1/sr, or `None` for not measured),
+    /// evaluated in parallel over theta_h slabs straight into the stored planes.
+    pub fn from_fn(name: impl Into<String>, value: impl Fn(usize) -> Option<Rgb> + Sync) -> Self {
+        let mut table = Self::empty(name);
+        let slab = PHI_D_BINS * THETA_D_BINS;
+        let (red, rest) = table.stored.split_at_mut(CELLS);
+        let (green, blue) = rest.split_at_mut(CELLS);
+        red.par_chunks_mut(slab)
+            .zip(green.par_chunks_mut(slab))
+            .zip(blue.par_chunks_mut(slab))
+            .zip(table.measured.par_chunks_mut(slab))
+            .enumerate()
+            .for_each(|(slab_index, (((r, g), b), measured))| {
+                for offset in 0..slab {
+                    let v = value(slab_index * slab + offset)
+                        .filter(|v| v.is_finite() && v.min_element() >= 0.0);
+                    measured[offset] = v.is_some();
+                    let v = v.unwrap_or(Rgb::splat(f64::NAN));
+                    for (plane, c) in [(&mut *r, 0), (&mut *g, 1), (&mut *b, 2)] {
+                        plane[offset] = if v[c].is_nan() {
+                            NOT_MEASURED
+                        } else {
+                            v[c] / CHANNEL_SCALE[c]
+                        };
+                    }
+                }
+            });
+        table
+    }
+
     /// Reads a `.binary` file, checking its header, its length and every value.
     ///
     /// The payload is read straight into the `f64` planes (no intermediate byte buffer), so
@@ -146,9 +177,9 @@ impl MerlBrdf {
                 "is a directory, not a MERL .binary file",
             ));
         }
-        let io_error = |source| MerlError::Io {
+        let io_error = |cause| MerlError::Io {
             path: path.to_path_buf(),
-            source,
+            cause,
         };
         let mut file = std::fs::File::open(path).map_err(io_error)?;
         let length = file.metadata().map_err(io_error)?.len();
@@ -181,7 +212,10 @@ impl MerlBrdf {
     /// Builds a table from the three stored planes, rejecting non-finite values.
     fn from_planes(name: String, stored: Vec<f64>) -> Result<Self, String> {
         if stored.par_iter().any(|v| !v.is_finite()) {
-            let pos = stored.iter().position(|v| !v.is_finite()).unwrap_or_default();
+            let pos = stored
+                .iter()
+                .position(|v| !v.is_finite())
+                .unwrap_or_default();
             let channel = ["red", "green", "blue"][pos / CELLS];
             let bin = Bin::from_index(pos % CELLS);
             return Err(format!(
@@ -221,9 +255,9 @@ impl MerlBrdf {
 
     /// Writes the `.binary` file.
     pub fn write(&self, path: &Path) -> Result<(), MerlError> {
-        std::fs::write(path, self.to_bytes()).map_err(|source| MerlError::Io {
+        std::fs::write(path, self.to_bytes()).map_err(|cause| MerlError::Io {
             path: path.to_path_buf(),
-            source,
+            cause,
         })
     }
 

@@ -1,24 +1,15 @@
 //! Tabulation of any BRDF into the MERL grid at its bin centres (DESIGN.md), in parallel.
 
 use crate::brdf::Brdf;
-use crate::merl::{Bin, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS};
-use rayon::prelude::*;
+use crate::merl::{Bin, MerlBrdf};
 
 /// Evaluates `brdf` at the centre of every MERL cell, with the half vector at azimuth
 /// `phi_h_rad` (irrelevant for isotropic materials; it selects the slice of an anisotropic one).
 /// Cells the BRDF reports as not measured stay not measured.
 pub fn tabulate(brdf: &dyn Brdf, phi_h_rad: f64) -> MerlBrdf {
-    let slab = PHI_D_BINS * THETA_D_BINS;
-    let values: Vec<_> = (0..CELLS)
-        .into_par_iter()
-        .with_min_len(slab)
-        .map(|index| brdf.eval_half_diff(Bin::from_index(index).centre(phi_h_rad)))
-        .collect();
-    let mut table = MerlBrdf::empty(brdf.name());
-    for (index, value) in values.into_iter().enumerate() {
-        table.set_cell(index, value);
-    }
-    table
+    MerlBrdf::from_fn(brdf.name(), |index| {
+        brdf.eval_half_diff(Bin::from_index(index).centre(phi_h_rad))
+    })
 }
 
 #[cfg(test)]
@@ -26,6 +17,7 @@ mod tests {
     use super::*;
     use crate::brdf::Rgb;
     use crate::geometry::HalfDiff;
+    use crate::merl::CELLS;
     use glam::DVec3;
 
     /// A BRDF that is a known function of the half-difference angles.

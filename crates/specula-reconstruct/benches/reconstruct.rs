@@ -14,7 +14,9 @@ use specula_reconstruct::{reconstruct, Method};
 use std::hint::black_box;
 
 fn paper_task() -> Vec<specula_reconstruct::Sample> {
-    let theta_h = SamplingFunction::new(Family::Exponential, 4.78).unwrap().positions_deg(30);
+    let theta_h = SamplingFunction::new(Family::Exponential, 4.78)
+        .unwrap()
+        .positions_deg(30);
     let reached: Vec<HalfDiff> = GridPlan::paper(theta_h)
         .configurations()
         .into_iter()

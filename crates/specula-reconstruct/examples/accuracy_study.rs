@@ -3,7 +3,12 @@
 //! over sets of ground-truth materials, each measured without noise on the UTIA device model.
 //!
 //!     cargo run --release -p specula-reconstruct --example accuracy_study -- \
-//!         [--set builtin] [--set sgd] [--set abc] [--set nbrdf] [--every N] [--sweep]
+//!         [--set builtin] [--set sgd] [--set abc] [--set nbrdf] [--every N] [--plan HxDxP]...
+//!
+//! Configurations: `paper` (the paper's pipeline), `paper-plan+lobe` (the same samples,
+//! reconstructed by the `lobe` method) and, for each `--plan HxDxP`, `lobe-HxDxP`: H theta_h
+//! positions (exponential function, k-hat), theta_d step D and phi_d step P degrees, `lobe`.
+//! Sets default to builtin, sgd and abc.
 //!
 //! Prints one CSV row per material and configuration, then the mean of each configuration
 //! per set and over all sets, and the ratio of each mean to the paper pipeline's.
@@ -21,43 +26,54 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// A plan and a method.
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 struct Config {
-    name: &'static str,
+    name: String,
     plan: PlanSettings,
     method: Method,
 }
 
-fn configs(sweep: bool) -> Vec<Config> {
+/// The paper's pipeline, our method on its samples, and our method on each smaller plan.
+fn configs(plans: &[String]) -> anyhow::Result<Vec<Config>> {
     let paper = PlanSettings::paper();
     let mut out = vec![
-        Config { name: "paper", plan: paper, method: Method::LINEAR },
-        Config { name: "paper-plan+lobe", plan: paper, method: Method::LOBE },
+        Config {
+            name: "paper".into(),
+            plan: paper,
+            method: Method::LINEAR,
+        },
+        Config {
+            name: "paper-plan+lobe".into(),
+            plan: paper,
+            method: Method::LOBE,
+        },
     ];
-    if sweep {
-        for (name, theta_h, theta_d, phi_d) in [
-            ("lobe-26x3x15", 26, 3.0, 15.0),
-            ("lobe-24x4x22.5", 24, 4.0, 22.5),
-            ("lobe-20x5x30", 20, 5.0, 30.0),
-            ("lobe-16x6x30", 16, 6.0, 30.0),
-            ("lobe-12x8x45", 12, 8.0, 45.0),
-            ("lobe-10x10x45", 10, 10.0, 45.0),
-        ] {
-            let plan = PlanSettings {
-                theta_h_samples: theta_h,
-                theta_d_step_deg: theta_d,
-                phi_d_step_deg: phi_d,
-                ..paper
-            };
-            out.push(Config { name, plan, method: Method::LOBE });
-        }
+    for spec in plans {
+        let parts: Vec<f64> = spec.split('x').filter_map(|v| v.parse().ok()).collect();
+        let [theta_h, theta_d, phi_d] = parts[..] else {
+            anyhow::bail!("--plan {spec}: expected HxDxP, e.g. 24x4x22.5");
+        };
+        let plan = PlanSettings {
+            theta_h_samples: theta_h as usize,
+            theta_d_step_deg: theta_d,
+            phi_d_step_deg: phi_d,
+            ..paper
+        };
+        out.push(Config {
+            name: format!("lobe-{spec}"),
+            plan,
+            method: Method::LOBE,
+        });
     }
-    out
+    Ok(out)
 }
 
 fn truths(set: &str) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
     Ok(match set {
-        "builtin" => builtin_database().into_iter().map(|m| Arc::new(m) as Arc<dyn Brdf>).collect(),
+        "builtin" => builtin_database()
+            .into_iter()
+            .map(|m| Arc::new(m) as Arc<dyn Brdf>)
+            .collect(),
         "sgd" => load_fits(&measured_file(FitModel::Sgd.table())?)?,
         "abc" => load_fits(&measured_file(FitModel::Abc.table())?)?,
         "nbrdf" => NbrdfSet::Merl100
@@ -82,9 +98,8 @@ impl Sums {
         self.n += 1;
         self.measured += measured as f64;
         self.max_measured = self.max_measured.max(measured);
-        let f = figures(a);
-        for i in 0..6 {
-            self.figures[i] += f[i];
+        for (sum, f) in self.figures.iter_mut().zip(figures(a)) {
+            *sum += f;
         }
     }
     fn mean(&self) -> (f64, [f64; 6]) {
@@ -108,7 +123,7 @@ fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut sets = Vec::new();
     let mut every = 1usize;
-    let mut sweep = false;
+    let mut plans = Vec::new();
     let mut i = 0;
     while i < args.len() {
         match args[i].as_str() {
@@ -117,10 +132,17 @@ fn main() -> anyhow::Result<()> {
                 i += 1;
             }
             "--every" => {
-                every = args.get(i + 1).and_then(|v| v.parse().ok()).unwrap_or(1).max(1);
+                every = args
+                    .get(i + 1)
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or(1)
+                    .max(1);
                 i += 1;
             }
-            "--sweep" => sweep = true,
+            "--plan" => {
+                plans.push(args.get(i + 1).cloned().unwrap_or_default());
+                i += 1;
+            }
             other => anyhow::bail!("unknown argument {other}"),
         }
         i += 1;
@@ -129,9 +151,11 @@ fn main() -> anyhow::Result<()> {
         sets = vec!["builtin".into(), "sgd".into(), "abc".into()];
     }
     let device = Device::utia();
-    let configs = configs(sweep);
-    let mut sums: BTreeMap<(String, &str), Sums> = BTreeMap::new();
-    println!("set,material,config,k,measured,rel_within,log_within,mae_within,rel_all,log_all,mae_all");
+    let configs = configs(&plans)?;
+    let mut sums: BTreeMap<(String, String), Sums> = BTreeMap::new();
+    println!(
+        "set,material,config,k,measured,rel_within,log_within,mae_within,rel_all,log_all,mae_all"
+    );
     for set in &sets {
         for truth in truths(set)?.iter().step_by(every) {
             let table = tabulate(truth.as_ref(), PlanSettings::paper().phi_h_deg.to_radians());
@@ -145,17 +169,25 @@ fn main() -> anyhow::Result<()> {
                     config.name,
                     m.k.map_or(String::new(), |k| format!("{k:.3}")),
                     m.samples.len(),
-                    f[0], f[1], f[2], f[3], f[4], f[5]
+                    f[0],
+                    f[1],
+                    f[2],
+                    f[3],
+                    f[4],
+                    f[5]
                 );
-                sums.entry((set.clone(), config.name)).or_default().add(m.samples.len(), &a);
-                sums.entry(("all".into(), config.name)).or_default().add(m.samples.len(), &a);
+                for key in [set.clone(), "all".into()] {
+                    sums.entry((key, config.name.clone()))
+                        .or_default()
+                        .add(m.samples.len(), &a);
+                }
             }
         }
     }
     println!("\nset,config,materials,mean_measured,max_measured,rel_within,log_within,mae_within,rel_all,log_all,mae_all,ratio_rel_within,ratio_log_within,ratio_rel_all,ratio_log_all");
     for ((set, config), s) in &sums {
         let (measured, f) = s.mean();
-        let (_, paper) = sums[&(set.clone(), "paper")].mean();
+        let (_, paper) = sums[&(set.clone(), "paper".to_string())].mean();
         println!(
             "{set},{config},{},{measured:.0},{},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e},{:.3},{:.3},{:.3},{:.3}",
             s.n, s.max_measured, f[0], f[1], f[2], f[3], f[4], f[5],

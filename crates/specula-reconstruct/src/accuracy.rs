@@ -38,7 +38,12 @@ pub const PAPER_PHI_H_DEG: f64 = 45.0;
 
 impl GridPlan {
     /// theta_d from 0 in steps below 90 degrees, phi_d from 0 to 90 inclusive in steps.
-    pub fn with_steps(theta_h_deg: Vec<f64>, theta_d_step_deg: f64, phi_d_step_deg: f64, phi_h_deg: f64) -> Self {
+    pub fn with_steps(
+        theta_h_deg: Vec<f64>,
+        theta_d_step_deg: f64,
+        phi_d_step_deg: f64,
+        phi_h_deg: f64,
+    ) -> Self {
         Self {
             theta_h_deg,
             theta_d_deg: steps_below(theta_d_step_deg, 90.0, false),
@@ -50,7 +55,12 @@ impl GridPlan {
     /// The paper's plan (5.3) around the given theta_h positions: theta_d 0, 3, ..., 87,
     /// phi_d 0, 15, ..., 90, phi_h 45 degrees.
     pub fn paper(theta_h_deg: Vec<f64>) -> Self {
-        Self::with_steps(theta_h_deg, PAPER_THETA_D_STEP_DEG, PAPER_PHI_D_STEP_DEG, PAPER_PHI_H_DEG)
+        Self::with_steps(
+            theta_h_deg,
+            PAPER_THETA_D_STEP_DEG,
+            PAPER_PHI_D_STEP_DEG,
+            PAPER_PHI_H_DEG,
+        )
     }
 
     /// Every planned configuration, in the plan's order.
@@ -146,7 +156,12 @@ impl PlanSettings {
     pub fn grid(&self, truth: &dyn Brdf) -> Result<(GridPlan, Option<f64>)> {
         let (theta_h, k) = self.theta_h_deg(truth)?;
         Ok((
-            GridPlan::with_steps(theta_h, self.theta_d_step_deg, self.phi_d_step_deg, self.phi_h_deg),
+            GridPlan::with_steps(
+                theta_h,
+                self.theta_d_step_deg,
+                self.phi_d_step_deg,
+                self.phi_h_deg,
+            ),
             k,
         ))
     }
@@ -154,12 +169,18 @@ impl PlanSettings {
 
 /// The configurations of a grid that the device takes (status ok), in plan order.
 pub fn reached_by(grid: &GridPlan, device: &Device) -> Vec<HalfDiff> {
-    Plan::from_grid(&grid.theta_h_deg, &grid.theta_d_deg, &grid.phi_d_deg, grid.phi_h_deg, device)
-        .samples
-        .iter()
-        .filter(|s| s.status == Status::Ok)
-        .map(|s| s.hd)
-        .collect()
+    Plan::from_grid(
+        &grid.theta_h_deg,
+        &grid.theta_d_deg,
+        &grid.phi_d_deg,
+        grid.phi_h_deg,
+        device,
+    )
+    .samples
+    .iter()
+    .filter(|s| s.status == Status::Ok)
+    .map(|s| s.hd)
+    .collect()
 }
 
 /// A material measured on its plan, without noise.
@@ -231,12 +252,21 @@ mod tests {
 
     #[test]
     fn the_paper_plan_has_6300_configurations() {
-        let theta_h = SamplingFunction::new(Family::Exponential, 4.78).unwrap().positions_deg(30);
+        let theta_h = SamplingFunction::new(Family::Exponential, 4.78)
+            .unwrap()
+            .positions_deg(30);
         let plan = GridPlan::paper(theta_h);
-        assert_eq!((plan.theta_d_deg.len(), plan.phi_d_deg.len(), plan.len()), (30, 7, 6300));
+        assert_eq!(
+            (plan.theta_d_deg.len(), plan.phi_d_deg.len(), plan.len()),
+            (30, 7, 6300)
+        );
         assert_eq!(plan.theta_d_deg[29], 87.0);
         assert_eq!(plan.phi_d_deg[6], 90.0);
-        let reached = plan.configurations().into_iter().filter(|&hd| within_elevation(hd, 75.0)).count();
+        let reached = plan
+            .configurations()
+            .into_iter()
+            .filter(|&hd| within_elevation(hd, 75.0))
+            .count();
         // The 75 degree limit alone; the UTIA arms' occlusion takes the paper's count to 4073.
         assert_eq!(reached, 4316);
     }
@@ -244,9 +274,15 @@ mod tests {
     #[test]
     fn a_dense_plan_reconstructs_a_smooth_material_closely() {
         let truth = preset("silver-925").unwrap();
-        let theta_h = SamplingFunction::new(Family::Exponential, 5.0).unwrap().positions_deg(30);
+        let theta_h = SamplingFunction::new(Family::Exponential, 5.0)
+            .unwrap()
+            .positions_deg(30);
         let plan = GridPlan::paper(theta_h);
-        let reached: Vec<HalfDiff> = plan.configurations().into_iter().filter(|&hd| within_elevation(hd, 75.0)).collect();
+        let reached: Vec<HalfDiff> = plan
+            .configurations()
+            .into_iter()
+            .filter(|&hd| within_elevation(hd, 75.0))
+            .collect();
         let samples = measure(&truth, &reached);
         assert_eq!(samples.len(), reached.len());
         let table = tabulate(&truth, 0.0);
@@ -254,7 +290,10 @@ mod tests {
         let (_, lobe) = evaluate(&samples, Method::LOBE, &table, 75.0).unwrap();
         assert!(linear.within.relative_rmse < 0.5, "{linear:?}");
         // The lobe method is the better one on a microfacet material.
-        assert!(lobe.within.relative_rmse < linear.within.relative_rmse, "{lobe:?} vs {linear:?}");
+        assert!(
+            lobe.within.relative_rmse < linear.within.relative_rmse,
+            "{lobe:?} vs {linear:?}"
+        );
         assert!(lobe.within.log_rmse < linear.within.log_rmse);
     }
 }

@@ -36,10 +36,15 @@ impl Axis {
                 _ => clusters.push((v, 1, v)),
             }
         }
-        let mut nodes: Vec<(f64, usize)> = clusters.iter().map(|(s, n, _)| (s / *n as f64, *n)).collect();
+        let mut nodes: Vec<(f64, usize)> = clusters
+            .iter()
+            .map(|(s, n, _)| (s / *n as f64, *n))
+            .collect();
         while nodes.len() > max_nodes.max(1) {
             let i = (0..nodes.len() - 1)
-                .min_by(|&a, &b| (nodes[a + 1].0 - nodes[a].0).total_cmp(&(nodes[b + 1].0 - nodes[b].0)))
+                .min_by(|&a, &b| {
+                    (nodes[a + 1].0 - nodes[a].0).total_cmp(&(nodes[b + 1].0 - nodes[b].0))
+                })
                 .expect("at least two nodes");
             let (a, b) = (nodes[i], nodes[i + 1]);
             let n = a.1 + b.1;
@@ -105,19 +110,58 @@ mod tests {
     fn clustering_merges_near_values_then_closest_pairs() {
         let axis = Axis::cluster(&[3.0, 0.0, 3.0001, 6.0, 0.00005, 10.0], 1e-3, 10);
         assert_eq!(axis.len(), 4);
-        assert!((axis.nodes[0] - 0.000025).abs() < 1e-12 && (axis.nodes[1] - 3.00005).abs() < 1e-12);
+        assert!(
+            (axis.nodes[0] - 0.000025).abs() < 1e-12 && (axis.nodes[1] - 3.00005).abs() < 1e-12
+        );
         let merged = Axis::cluster(&[0.0, 1.0, 1.5, 5.0], 1e-3, 3);
         assert_eq!(merged.nodes, vec![0.0, 1.25, 5.0]);
     }
 
     #[test]
     fn brackets_interpolate_and_clamp() {
-        let axis = Axis { nodes: vec![0.0, 3.0, 9.0] };
-        assert_eq!(axis.bracket(1.5), Bracket { lower: 0, t: 0.5, outside: false });
-        assert_eq!(axis.bracket(3.0), Bracket { lower: 1, t: 0.0, outside: false });
-        assert_eq!(axis.bracket(7.5), Bracket { lower: 1, t: 0.75, outside: false });
-        assert_eq!(axis.bracket(9.5), Bracket { lower: 1, t: 1.0, outside: true });
-        assert_eq!(axis.bracket(-1.0), Bracket { lower: 0, t: 0.0, outside: true });
+        let axis = Axis {
+            nodes: vec![0.0, 3.0, 9.0],
+        };
+        assert_eq!(
+            axis.bracket(1.5),
+            Bracket {
+                lower: 0,
+                t: 0.5,
+                outside: false
+            }
+        );
+        assert_eq!(
+            axis.bracket(3.0),
+            Bracket {
+                lower: 1,
+                t: 0.0,
+                outside: false
+            }
+        );
+        assert_eq!(
+            axis.bracket(7.5),
+            Bracket {
+                lower: 1,
+                t: 0.75,
+                outside: false
+            }
+        );
+        assert_eq!(
+            axis.bracket(9.5),
+            Bracket {
+                lower: 1,
+                t: 1.0,
+                outside: true
+            }
+        );
+        assert_eq!(
+            axis.bracket(-1.0),
+            Bracket {
+                lower: 0,
+                t: 0.0,
+                outside: true
+            }
+        );
         assert_eq!(axis.nearest(7.0), 2);
         assert_eq!(axis.nearest(5.0), 1);
     }

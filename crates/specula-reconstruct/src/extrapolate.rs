@@ -22,7 +22,9 @@ pub fn fill_missing(lattice: &mut Lattice) {
     // Axis order: theta_d (1), theta_h (0), phi_d (2).
     for axis in [1usize, 0, 2] {
         let len = [nh, nd, np][axis];
-        let coords = [&lattice.theta_h, &lattice.theta_d, &lattice.phi_d][axis].nodes.clone();
+        let coords = [&lattice.theta_h, &lattice.theta_d, &lattice.phi_d][axis]
+            .nodes
+            .clone();
         let (outer_a, outer_b) = match axis {
             0 => (nd, np),
             1 => (nh, np),
@@ -56,7 +58,11 @@ fn fill_line(lattice: &mut Lattice, line: &[usize], coords: &[f64]) {
         }
         let source = *known
             .iter()
-            .min_by(|&&a, &&b| (coords[a] - coords[i]).abs().total_cmp(&(coords[b] - coords[i]).abs()))
+            .min_by(|&&a, &&b| {
+                (coords[a] - coords[i])
+                    .abs()
+                    .total_cmp(&(coords[b] - coords[i]).abs())
+            })
             .expect("known is not empty");
         for c in 0..3 {
             lattice.values[c][line[i]] = lattice.values[c][line[source]];

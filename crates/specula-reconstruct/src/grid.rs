@@ -26,11 +26,10 @@ struct Targets {
 impl Targets {
     fn of(lattice: &Lattice) -> Self {
         let theta_h = (0..THETA_H_BINS)
-            .map(|i| {
-                lattice.theta_h.bracket(theta_h_centre_deg(i))
-            })
+            .map(|i| lattice.theta_h.bracket(theta_h_centre_deg(i)))
             .collect();
-        let degrees = |axis: &Axis, n: usize| (0..n).map(|j| axis.bracket(j as f64 + 0.5)).collect();
+        let degrees =
+            |axis: &Axis, n: usize| (0..n).map(|j| axis.bracket(j as f64 + 0.5)).collect();
         Self {
             theta_h,
             theta_d: degrees(&lattice.theta_d, THETA_D_BINS),
@@ -41,8 +40,12 @@ impl Targets {
 
 /// Whether the first and last node of an axis lie on the given symmetry points.
 fn even_ends(axis: &Axis, first: Option<f64>, last: Option<f64>) -> [bool; 2] {
-    let on = |node: f64, point: Option<f64>| point.is_some_and(|p| (node - p).abs() <= NODE_TOLERANCE);
-    [on(axis.nodes[0], first), on(axis.nodes[axis.len() - 1], last)]
+    let on =
+        |node: f64, point: Option<f64>| point.is_some_and(|p| (node - p).abs() <= NODE_TOLERANCE);
+    [
+        on(axis.nodes[0], first),
+        on(axis.nodes[axis.len() - 1], last),
+    ]
 }
 
 /// The lattice's values interpolated at every MERL bin centre, one plane per channel in MERL
@@ -51,9 +54,18 @@ pub fn interpolate_to_merl(lattice: &Lattice, kernel: Kernel) -> [Vec<f64>; 3] {
     let targets = Targets::of(lattice);
     // theta_h = 0 is not treated as an even end: see crate::kernel.
     let lines = [
-        Line { nodes: &lattice.theta_h.nodes, even_ends: even_ends(&lattice.theta_h, None, None) },
-        Line { nodes: &lattice.theta_d.nodes, even_ends: even_ends(&lattice.theta_d, Some(0.0), None) },
-        Line { nodes: &lattice.phi_d.nodes, even_ends: even_ends(&lattice.phi_d, Some(0.0), Some(90.0)) },
+        Line {
+            nodes: &lattice.theta_h.nodes,
+            even_ends: even_ends(&lattice.theta_h, None, None),
+        },
+        Line {
+            nodes: &lattice.theta_d.nodes,
+            even_ends: even_ends(&lattice.theta_d, Some(0.0), None),
+        },
+        Line {
+            nodes: &lattice.phi_d.nodes,
+            even_ends: even_ends(&lattice.phi_d, Some(0.0), Some(90.0)),
+        },
     ];
     lattice
         .values
@@ -62,7 +74,13 @@ pub fn interpolate_to_merl(lattice: &Lattice, kernel: Kernel) -> [Vec<f64>; 3] {
 }
 
 /// The three passes for one channel.
-fn interpolate_plane(shape: [usize; 3], plane: &[f64], targets: &Targets, lines: &[Line; 3], kernel: Kernel) -> Vec<f64> {
+fn interpolate_plane(
+    shape: [usize; 3],
+    plane: &[f64],
+    targets: &Targets,
+    lines: &[Line; 3],
+    kernel: Kernel,
+) -> Vec<f64> {
     let [nh, nd, np] = shape;
     let mut slopes = vec![0.0; nh.max(nd).max(np)];
     // Pass 1, theta_h: [nh][nd][np] -> [90][nd][np].
@@ -98,17 +116,26 @@ fn interpolate_plane(shape: [usize; 3], plane: &[f64], targets: &Targets, lines:
     // Pass 3, phi_d: [90][90][np] -> [90][90][180], one theta_h bin per task.
     let mut cells = vec![0.0; CELLS];
     let slab = THETA_D_BINS * PHI_D_BINS;
-    cells.par_chunks_mut(slab).enumerate().for_each(|(i, slab_out)| {
-        let mut slopes = vec![0.0; np];
-        for (j, row) in slab_out.chunks_exact_mut(PHI_D_BINS).enumerate() {
-            let start = (i * THETA_D_BINS + j) * np;
-            let (first, second) = row.split_at_mut(PHI_D_HALF);
-            lines[2].interpolate(kernel, &by_d[start..start + np], &mut slopes, &targets.phi_d, first);
-            for (m, v) in second.iter_mut().zip(first.iter().rev()) {
-                *m = *v;
+    cells
+        .par_chunks_mut(slab)
+        .enumerate()
+        .for_each(|(i, slab_out)| {
+            let mut slopes = vec![0.0; np];
+            for (j, row) in slab_out.chunks_exact_mut(PHI_D_BINS).enumerate() {
+                let start = (i * THETA_D_BINS + j) * np;
+                let (first, second) = row.split_at_mut(PHI_D_HALF);
+                lines[2].interpolate(
+                    kernel,
+                    &by_d[start..start + np],
+                    &mut slopes,
+                    &targets.phi_d,
+                    first,
+                );
+                for (m, v) in second.iter_mut().zip(first.iter().rev()) {
+                    *m = *v;
+                }
             }
-        }
-    });
+        });
     cells
 }
 
@@ -133,7 +160,10 @@ pub fn extrapolated_cells(lattice: &Lattice) -> Vec<bool> {
         .map(|index| {
             let i = index / (THETA_D_BINS * PHI_D_BINS);
             let j = (index / PHI_D_BINS) % THETA_D_BINS;
-            filled[index] > 0.0 || targets.theta_h[i].outside || targets.theta_d[j].outside || phi_outside[index % PHI_D_BINS]
+            filled[index] > 0.0
+                || targets.theta_h[i].outside
+                || targets.theta_d[j].outside
+                || phi_outside[index % PHI_D_BINS]
         })
         .collect()
 }
@@ -144,8 +174,15 @@ mod tests {
     use specula_core::merl::Bin;
 
     /// A lattice holding a function of the node angles (degrees), all measured.
-    fn lattice_of(f: impl Fn(f64, f64, f64) -> f64, theta_h: &[f64], theta_d: &[f64], phi_d: &[f64]) -> Lattice {
-        let axis = |nodes: &[f64]| Axis { nodes: nodes.to_vec() };
+    fn lattice_of(
+        f: impl Fn(f64, f64, f64) -> f64,
+        theta_h: &[f64],
+        theta_d: &[f64],
+        phi_d: &[f64],
+    ) -> Lattice {
+        let axis = |nodes: &[f64]| Axis {
+            nodes: nodes.to_vec(),
+        };
         let mut values = Vec::new();
         for &h in theta_h {
             for &d in theta_d {
@@ -159,7 +196,11 @@ mod tests {
             theta_h: axis(theta_h),
             theta_d: axis(theta_d),
             phi_d: axis(phi_d),
-            values: [values.clone(), values.iter().map(|v| 2.0 * v).collect(), values],
+            values: [
+                values.clone(),
+                values.iter().map(|v| 2.0 * v).collect(),
+                values,
+            ],
             status: vec![NodeStatus::Measured; n],
         }
     }
@@ -167,15 +208,26 @@ mod tests {
     #[test]
     fn trilinear_functions_are_reproduced_at_every_centre() {
         // Linear in each angle separately, so trilinear interpolation is exact inside the lattice.
-        let f = |h: f64, d: f64, p: f64| 1.0 + 0.5 * h + 0.25 * d * (1.0 + 0.01 * p) + 0.001 * h * d * p;
-        let l = lattice_of(f, &[0.0, 0.3, 2.0, 20.0, 90.0], &[0.0, 3.0, 50.0, 90.0], &[0.0, 15.0, 60.0, 90.0]);
+        let f = |h: f64, d: f64, p: f64| {
+            1.0 + 0.5 * h + 0.25 * d * (1.0 + 0.01 * p) + 0.001 * h * d * p
+        };
+        let l = lattice_of(
+            f,
+            &[0.0, 0.3, 2.0, 20.0, 90.0],
+            &[0.0, 3.0, 50.0, 90.0],
+            &[0.0, 15.0, 60.0, 90.0],
+        );
         let [r, g, _] = interpolate_to_merl(&l, Kernel::Linear);
         for index in (0..CELLS).step_by(997) {
             let b = Bin::from_index(index);
             let h = theta_h_centre_deg(b.theta_h_i);
             let p = b.phi_d_i as f64 + 0.5;
             let expected = f(h, b.theta_d_i as f64 + 0.5, p.min(180.0 - p));
-            assert!((r[index] - expected).abs() < 1e-9 * expected, "{b:?}: {} vs {expected}", r[index]);
+            assert!(
+                (r[index] - expected).abs() < 1e-9 * expected,
+                "{b:?}: {} vs {expected}",
+                r[index]
+            );
             assert!((g[index] - 2.0 * expected).abs() < 1e-9 * expected);
         }
         assert!(extrapolated_cells(&l).iter().all(|e| !e));
@@ -186,7 +238,14 @@ mod tests {
         let f = |_h: f64, d: f64, p: f64| d + p;
         let l = lattice_of(f, &[0.0, 90.0], &[0.0, 30.0, 60.0], &[0.0, 90.0]);
         let [r, _, _] = interpolate_to_merl(&l, Kernel::MonotoneCubic);
-        let at = |i, j, k| r[Bin { theta_h_i: i, theta_d_i: j, phi_d_i: k }.index()];
+        let at = |i, j, k| {
+            r[Bin {
+                theta_h_i: i,
+                theta_d_i: j,
+                phi_d_i: k,
+            }
+            .index()]
+        };
         for k in 0..90 {
             assert_eq!(at(5, 20, k), at(5, 20, 179 - k));
         }
@@ -194,22 +253,69 @@ mod tests {
         assert_eq!(at(3, 80, 0), at(3, 60, 0));
         assert!(at(3, 59, 0) < at(3, 60, 0));
         let flags = extrapolated_cells(&l);
-        assert!(flags[Bin { theta_h_i: 3, theta_d_i: 80, phi_d_i: 7 }.index()]);
-        assert!(!flags[Bin { theta_h_i: 3, theta_d_i: 59, phi_d_i: 7 }.index()]);
+        assert!(
+            flags[Bin {
+                theta_h_i: 3,
+                theta_d_i: 80,
+                phi_d_i: 7
+            }
+            .index()]
+        );
+        assert!(
+            !flags[Bin {
+                theta_h_i: 3,
+                theta_d_i: 59,
+                phi_d_i: 7
+            }
+            .index()]
+        );
     }
 
     #[test]
     fn cells_next_to_a_filled_node_are_flagged() {
-        let mut l = lattice_of(|_, _, _| 1.0, &[0.0, 10.0, 90.0], &[0.0, 45.0, 90.0], &[0.0, 90.0]);
+        let mut l = lattice_of(
+            |_, _, _| 1.0,
+            &[0.0, 10.0, 90.0],
+            &[0.0, 45.0, 90.0],
+            &[0.0, 90.0],
+        );
         let filled = l.index(0, 2, 0);
         l.status[filled] = NodeStatus::Filled;
         let flags = extrapolated_cells(&l);
         // theta_h bin 0 (0.003 deg) with theta_d bin 60 brackets node (0, 2, *).
-        assert!(flags[Bin { theta_h_i: 0, theta_d_i: 60, phi_d_i: 10 }.index()]);
-        assert!(!flags[Bin { theta_h_i: 0, theta_d_i: 30, phi_d_i: 10 }.index()]);
+        assert!(
+            flags[Bin {
+                theta_h_i: 0,
+                theta_d_i: 60,
+                phi_d_i: 10
+            }
+            .index()]
+        );
+        assert!(
+            !flags[Bin {
+                theta_h_i: 0,
+                theta_d_i: 30,
+                phi_d_i: 10
+            }
+            .index()]
+        );
         // phi_d bin 179 (89.5 ... mirrored 0.5) is bracketed mostly by phi_d node 0.
-        assert!(flags[Bin { theta_h_i: 0, theta_d_i: 60, phi_d_i: 179 }.index()]);
+        assert!(
+            flags[Bin {
+                theta_h_i: 0,
+                theta_d_i: 60,
+                phi_d_i: 179
+            }
+            .index()]
+        );
         // theta_h bin 40 (18 deg) does not touch theta_h node 0.
-        assert!(!flags[Bin { theta_h_i: 40, theta_d_i: 60, phi_d_i: 10 }.index()]);
+        assert!(
+            !flags[Bin {
+                theta_h_i: 40,
+                theta_d_i: 60,
+                phi_d_i: 10
+            }
+            .index()]
+        );
     }
 }

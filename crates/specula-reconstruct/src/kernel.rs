@@ -46,9 +46,9 @@ impl Line<'_> {
             slopes[1] = if self.even_ends[1] { 0.0 } else { d };
             return;
         }
-        for k in 1..n - 1 {
+        for (k, slope) in slopes.iter_mut().enumerate().take(n - 1).skip(1) {
             let (d0, d1) = (delta(k - 1), delta(k));
-            slopes[k] = if d0 * d1 <= 0.0 {
+            *slope = if d0 * d1 <= 0.0 {
                 0.0
             } else {
                 let w1 = 2.0 * h(k) + h(k - 1);
@@ -69,7 +69,14 @@ impl Line<'_> {
     }
 
     /// Interpolates `values` (one per node) at each bracket, into `out`.
-    pub fn interpolate(&self, kernel: Kernel, values: &[f64], slopes: &mut [f64], brackets: &[Bracket], out: &mut [f64]) {
+    pub fn interpolate(
+        &self,
+        kernel: Kernel,
+        values: &[f64],
+        slopes: &mut [f64],
+        brackets: &[Bracket],
+        out: &mut [f64],
+    ) {
         if self.nodes.len() == 1 {
             out.fill(values[0]);
             return;
@@ -116,12 +123,24 @@ mod tests {
     use super::*;
     use crate::axis::Axis;
 
-    fn run(kernel: Kernel, nodes: &[f64], even: [bool; 2], values: &[f64], targets: &[f64]) -> Vec<f64> {
-        let axis = Axis { nodes: nodes.to_vec() };
+    fn run(
+        kernel: Kernel,
+        nodes: &[f64],
+        even: [bool; 2],
+        values: &[f64],
+        targets: &[f64],
+    ) -> Vec<f64> {
+        let axis = Axis {
+            nodes: nodes.to_vec(),
+        };
         let brackets: Vec<_> = targets.iter().map(|&u| axis.bracket(u)).collect();
         let mut out = vec![0.0; targets.len()];
         let mut slopes = vec![0.0; nodes.len()];
-        Line { nodes, even_ends: even }.interpolate(kernel, values, &mut slopes, &brackets, &mut out);
+        Line {
+            nodes,
+            even_ends: even,
+        }
+        .interpolate(kernel, values, &mut slopes, &brackets, &mut out);
         out
     }
 
@@ -131,13 +150,22 @@ mod tests {
     fn monotone_cubic_matches_scipy_pchip() {
         let text = include_str!("../tests/data/pchip_scipy.csv");
         let mut lines = text.lines().filter(|l| !l.starts_with('#'));
-        let parse = |l: &str| l.split(',').map(|v| v.trim().parse::<f64>().unwrap()).collect::<Vec<_>>();
+        let parse = |l: &str| {
+            l.split(',')
+                .map(|v| v.trim().parse::<f64>().unwrap())
+                .collect::<Vec<_>>()
+        };
         let mut cases = 0;
-        while let (Some(x), Some(y), Some(t), Some(r)) = (lines.next(), lines.next(), lines.next(), lines.next()) {
+        while let (Some(x), Some(y), Some(t), Some(r)) =
+            (lines.next(), lines.next(), lines.next(), lines.next())
+        {
             let (x, y, t, r) = (parse(x), parse(y), parse(t), parse(r));
             let got = run(Kernel::MonotoneCubic, &x, [false, false], &y, &t);
             for (g, e) in got.iter().zip(&r) {
-                assert!((g - e).abs() <= 1e-9 * (1.0 + e.abs()), "x {x:?} y {y:?}: {g} vs {e}");
+                assert!(
+                    (g - e).abs() <= 1e-9 * (1.0 + e.abs()),
+                    "x {x:?} y {y:?}: {g} vs {e}"
+                );
             }
             cases += 1;
         }
@@ -148,9 +176,21 @@ mod tests {
     fn linear_is_exact_on_lines_and_both_kernels_hit_nodes() {
         let nodes = [0.0, 1.0, 4.0, 9.0];
         let values = [1.0, 3.0, 9.0, 19.0];
-        let got = run(Kernel::Linear, &nodes, [false, false], &values, &[0.5, 2.5, 8.0, 12.0]);
+        let got = run(
+            Kernel::Linear,
+            &nodes,
+            [false, false],
+            &values,
+            &[0.5, 2.5, 8.0, 12.0],
+        );
         assert_eq!(got, vec![2.0, 6.0, 17.0, 19.0]);
-        let cubic = run(Kernel::MonotoneCubic, &nodes, [true, false], &values, &nodes);
+        let cubic = run(
+            Kernel::MonotoneCubic,
+            &nodes,
+            [true, false],
+            &values,
+            &nodes,
+        );
         for (c, v) in cubic.iter().zip(values) {
             assert!((c - v).abs() < 1e-12);
         }
@@ -161,7 +201,13 @@ mod tests {
         let nodes = [0.0, 0.2, 0.5, 1.0, 3.0, 10.0];
         let values = [1000.0, 800.0, 100.0, 5.0, 1.0, 0.9];
         let targets: Vec<f64> = (0..=100).map(|i| i as f64 * 0.1).collect();
-        let got = run(Kernel::MonotoneCubic, &nodes, [true, false], &values, &targets);
+        let got = run(
+            Kernel::MonotoneCubic,
+            &nodes,
+            [true, false],
+            &values,
+            &targets,
+        );
         assert!(got.windows(2).all(|w| w[1] <= w[0] + 1e-12), "{got:?}");
         assert!(got.iter().all(|&v| (0.9..=1000.0).contains(&v)));
         // Even at theta_h = 0: the flat start stays above the chord (900 at 0.1).

@@ -87,8 +87,8 @@ impl Lattice {
                 lattice.phi_d.nearest(p),
             );
             counts[node] += 1;
-            for c in 0..3 {
-                lattice.values[c][node] += value[c];
+            for (plane, v) in lattice.values.iter_mut().zip(value) {
+                plane[node] += v;
             }
         }
         for (node, &count) in counts.iter().enumerate() {
@@ -115,7 +115,11 @@ impl Lattice {
     /// How many nodes have each status: (measured, filled, missing).
     pub fn status_counts(&self) -> (usize, usize, usize) {
         let count = |s| self.status.iter().filter(|x| **x == s).count();
-        (count(NodeStatus::Measured), count(NodeStatus::Filled), count(NodeStatus::Missing))
+        (
+            count(NodeStatus::Measured),
+            count(NodeStatus::Filled),
+            count(NodeStatus::Missing),
+        )
     }
 }
 
@@ -130,7 +134,10 @@ mod tests {
             for d in [0.0, 30.0, 60.0] {
                 for p in [0.0, 45.0, 90.0, 135.0] {
                     // 135 folds onto 45: two samples on one node.
-                    out.push(Sample::new(HalfDiff::from_degrees(h, 45.0, d, p), Rgb::splat(h + d + p)));
+                    out.push(Sample::new(
+                        HalfDiff::from_degrees(h, 45.0, d, p),
+                        Rgb::splat(h + d + p),
+                    ));
                 }
             }
         }
@@ -154,7 +161,10 @@ mod tests {
         let samples: Vec<Sample> = (0..50)
             .map(|i| {
                 let x = i as f64;
-                Sample::new(HalfDiff::from_degrees(x * 1.1, 0.0, x * 1.3 % 90.0, x * 7.7 % 90.0), Rgb::ONE)
+                Sample::new(
+                    HalfDiff::from_degrees(x * 1.1, 0.0, x * 1.3 % 90.0, x * 7.7 % 90.0),
+                    Rgb::ONE,
+                )
             })
             .collect();
         let lattice = Lattice::spanned_by(&samples);

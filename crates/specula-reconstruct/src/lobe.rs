@@ -138,7 +138,11 @@ impl Lobe {
         }
         let grid: Vec<(f64, f64)> = ALPHA_GRID
             .iter()
-            .flat_map(|&a| GAMMA_MINUS_ONE_GRID.iter().map(move |&g| (f64::ln(a), f64::ln(g))))
+            .flat_map(|&a| {
+                GAMMA_MINUS_ONE_GRID
+                    .iter()
+                    .map(move |&g| (f64::ln(a), f64::ln(g)))
+            })
             .collect();
         let (mut best, mut best_cost) = grid
             .par_iter()
@@ -208,7 +212,9 @@ impl FitPoint {
 
     /// The three basis functions of the linear weights (kd, s, g).
     fn basis(&self, shape: Shape) -> [f64; 3] {
-        let geometric = smith_g1_over_cos(self.cos_i, shape.alpha) * smith_g1_over_cos(self.cos_o, shape.alpha) / 4.0;
+        let geometric = smith_g1_over_cos(self.cos_i, shape.alpha)
+            * smith_g1_over_cos(self.cos_o, shape.alpha)
+            / 4.0;
         let s = shape.distribution(self.tan2_h, self.cos_h) * geometric;
         [1.0 / PI, s, s * self.schlick]
     }
@@ -230,7 +236,8 @@ fn fit_weights(points: &[FitPoint], shape: Shape) -> (Lobe, f64) {
             }
         }
     }
-    let weights: [[f64; 3]; 3] = std::array::from_fn(|c| nonnegative_least_squares(&normal[c], &rhs[c]));
+    let weights: [[f64; 3]; 3] =
+        std::array::from_fn(|c| nonnegative_least_squares(&normal[c], &rhs[c]));
     let lobe = Lobe {
         shape,
         diffuse: Rgb::new(weights[0][0], weights[1][0], weights[2][0]),
@@ -269,7 +276,9 @@ fn nonnegative_least_squares(a: &[[f64; 3]; 3], b: &[f64; 3]) -> [f64; 3] {
         for (k, &i) in free.iter().enumerate() {
             x[i] = sol[k];
         }
-        let quad: f64 = (0..3).map(|i| (0..3).map(|j| x[i] * a[i][j] * x[j]).sum::<f64>()).sum();
+        let quad: f64 = (0..3)
+            .map(|i| (0..3).map(|j| x[i] * a[i][j] * x[j]).sum::<f64>())
+            .sum();
         let objective = quad - 2.0 * (0..3).map(|i| b[i] * x[i]).sum::<f64>();
         if objective < best.1 - 1e-9 * best.1.abs() {
             best = (x, objective);
@@ -278,26 +287,27 @@ fn nonnegative_least_squares(a: &[[f64; 3]; 3], b: &[f64; 3]) -> [f64; 3] {
     best.0
 }
 
-/// Solves the normal equations restricted to the `free` variables by Gaussian elimination
-/// with partial pivoting; `None` when singular.
+/// Solves the normal equations restricted to the `free` variables by Gauss-Jordan
+/// elimination with partial pivoting; `None` when (numerically) singular.
 fn solve_subset(a: &[[f64; 3]; 3], b: &[f64; 3], free: &[usize]) -> Option<Vec<f64>> {
     let n = free.len();
     let mut m: Vec<Vec<f64>> = free
         .iter()
         .map(|&i| free.iter().map(|&j| a[i][j]).chain([b[i]]).collect())
         .collect();
+    let size = free.iter().map(|&i| a[i][i]).fold(0.0, f64::max);
     for col in 0..n {
         let pivot = (col..n).max_by(|&x, &y| m[x][col].abs().total_cmp(&m[y][col].abs()))?;
-        let scale = m[col][col].abs().max(m[pivot][col].abs());
-        if scale <= 1e-300 || m[pivot][col].abs() <= 1e-12 * (0..n).map(|k| a[free[k]][free[k]]).fold(0.0, f64::max) {
+        if m[pivot][col].abs() <= 1e-12 * size {
             return None;
         }
         m.swap(col, pivot);
-        for row in 0..n {
-            if row != col {
-                let f = m[row][col] / m[col][col];
-                for k in col..=n {
-                    m[row][k] -= f * m[col][k];
+        let pivot_row = m[col].clone();
+        for (r, row) in m.iter_mut().enumerate() {
+            if r != col {
+                let f = row[col] / pivot_row[col];
+                for (x, p) in row.iter_mut().zip(&pivot_row).skip(col) {
+                    *x -= f * p;
                 }
             }
         }
@@ -311,24 +321,50 @@ mod tests {
 
     #[test]
     fn geometry_matches_the_directions() {
-        for (h, d, p) in [(0.0, 40.0, 90.0), (10.0, 30.0, 0.0), (25.0, 50.0, 130.0), (3.0, 80.0, 200.0)] {
+        for (h, d, p) in [
+            (0.0, 40.0, 90.0),
+            (10.0, 30.0, 0.0),
+            (25.0, 50.0, 130.0),
+            (3.0, 80.0, 200.0),
+        ] {
             let hd = HalfDiff::from_degrees(h, 45.0, d, p);
             let (wi, wo) = hd.to_directions();
             let g = Geometry::of(hd);
-            assert!((g.cos_i - wi.z).abs() < 1e-12 && (g.cos_o - wo.z).abs() < 1e-12, "{h} {d} {p}");
+            assert!(
+                (g.cos_i - wi.z).abs() < 1e-12 && (g.cos_o - wo.z).abs() < 1e-12,
+                "{h} {d} {p}"
+            );
         }
     }
 
     #[test]
     fn the_distribution_is_normalised_for_every_tail() {
-        for shape in [Shape { alpha: 0.05, gamma: 1.5 }, Shape { alpha: 0.2, gamma: 2.0 }, Shape { alpha: 0.3, gamma: 60.0 }] {
+        for shape in [
+            Shape {
+                alpha: 0.05,
+                gamma: 1.5,
+            },
+            Shape {
+                alpha: 0.2,
+                gamma: 2.0,
+            },
+            Shape {
+                alpha: 0.3,
+                gamma: 60.0,
+            },
+        ] {
             // Projected area: integral of D cos theta_h over the hemisphere is 1.
             let n = 200_000;
             let integral: f64 = (0..n)
                 .map(|i| {
                     let t = (i as f64 + 0.5) / n as f64 * PI / 2.0;
                     let (s, c) = t.sin_cos();
-                    shape.distribution(s * s / (c * c), c) * c * s * 2.0 * PI * (PI / 2.0 / n as f64)
+                    shape.distribution(s * s / (c * c), c)
+                        * c
+                        * s
+                        * 2.0
+                        * PI
+                        * (PI / 2.0 / n as f64)
                 })
                 .sum();
             // The heavy tail (gamma 1.5, alpha 0.05) loses a little past 90 degrees of tan.
@@ -337,13 +373,25 @@ mod tests {
         // gamma = 2 is GGX.
         let (a, t2, c): (f64, f64, f64) = (0.1, 0.04, 1.0 / 1.04f64.sqrt());
         let ggx = a * a / (PI * c.powi(4) * (a * a + t2).powi(2));
-        assert!((Shape { alpha: a, gamma: 2.0 }.distribution(t2, c) - ggx).abs() < 1e-9 * ggx);
+        assert!(
+            (Shape {
+                alpha: a,
+                gamma: 2.0
+            }
+            .distribution(t2, c)
+                - ggx)
+                .abs()
+                < 1e-9 * ggx
+        );
     }
 
     #[test]
     fn a_lobe_is_recovered_from_its_own_samples() {
         let truth = Lobe {
-            shape: Shape { alpha: 0.03, gamma: 3.0 },
+            shape: Shape {
+                alpha: 0.03,
+                gamma: 3.0,
+            },
             diffuse: Rgb::new(0.05, 0.1, 0.02),
             specular: Rgb::new(0.9, 0.8, 0.5),
             grazing: Rgb::new(0.1, 0.2, 0.5),
@@ -361,10 +409,15 @@ mod tests {
             }
         }
         let fit = Lobe::fit(&samples).unwrap();
-        assert!((fit.shape.alpha / truth.shape.alpha - 1.0).abs() < 0.03, "{fit:?}");
+        assert!(
+            (fit.shape.alpha / truth.shape.alpha - 1.0).abs() < 0.03,
+            "{fit:?}"
+        );
         for s in &samples {
             let m = fit.eval(&Geometry::of(s.hd));
-            let rel = ((m - s.value) / (s.value + Rgb::splat(LOG_OFFSET))).abs().max_element();
+            let rel = ((m - s.value) / (s.value + Rgb::splat(LOG_OFFSET)))
+                .abs()
+                .max_element();
             assert!(rel < 0.05, "{:?}: {m} vs {}", s.hd, s.value);
         }
     }
@@ -373,6 +426,9 @@ mod tests {
     fn nnls_clamps_negative_weights() {
         // Unconstrained solution of diag(1,1,1) x = (1, -2, 3) is (1, -2, 3).
         let a = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        assert_eq!(nonnegative_least_squares(&a, &[1.0, -2.0, 3.0]), [1.0, 0.0, 3.0]);
+        assert_eq!(
+            nonnegative_least_squares(&a, &[1.0, -2.0, 3.0]),
+            [1.0, 0.0, 3.0]
+        );
     }
 }

@@ -31,9 +31,15 @@ impl Method {
 
     /// The names accepted by [`Method::from_str`], with what each does.
     pub const NAMES: [(&'static str, &'static str); 3] = [
-        ("linear", "the paper's baseline: f linear in theta_h, theta_d, phi_d"),
+        (
+            "linear",
+            "the paper's baseline: f linear in theta_h, theta_d, phi_d",
+        ),
         ("log", "ln f, monotone cubic"),
-        ("lobe", "ln of f over a fitted microfacet lobe, monotone cubic"),
+        (
+            "lobe",
+            "ln of f over a fitted microfacet lobe, monotone cubic",
+        ),
     ];
 
     pub fn name(&self) -> &'static str {
@@ -76,6 +82,9 @@ mod tests {
             let m: Method = name.parse().unwrap();
             assert_eq!(m.to_string(), name);
         }
-        assert!("cubic".parse::<Method>().unwrap_err().contains("expected linear, log, lobe"));
+        assert!("cubic"
+            .parse::<Method>()
+            .unwrap_err()
+            .contains("expected linear, log, lobe"));
     }
 }

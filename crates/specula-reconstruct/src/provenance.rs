@@ -45,7 +45,10 @@ pub struct Provenance {
 #[derive(Debug, thiserror::Error)]
 pub enum ProvenanceError {
     #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     #[error("{path}: {problem}")]
     Invalid { path: PathBuf, problem: String },
 }
@@ -59,7 +62,13 @@ impl Provenance {
     pub fn new(samples: &[Sample], extrapolated: &[bool]) -> Self {
         let mut cells: Vec<CellOrigin> = extrapolated
             .iter()
-            .map(|&e| if e { CellOrigin::Extrapolated } else { CellOrigin::Interpolated })
+            .map(|&e| {
+                if e {
+                    CellOrigin::Extrapolated
+                } else {
+                    CellOrigin::Interpolated
+                }
+            })
             .collect();
         for s in samples {
             let phi_d_deg = s.hd.phi_d.to_degrees().rem_euclid(180.0);
@@ -107,7 +116,10 @@ impl Provenance {
             .and_then(|h| std::str::from_utf8(h).ok())
             .ok_or("truncated or non-text .npy header")?;
         if header.trim_end() != HEADER {
-            return Err(format!("header '{}', expected '{HEADER}'", header.trim_end()));
+            return Err(format!(
+                "header '{}', expected '{HEADER}'",
+                header.trim_end()
+            ));
         }
         let data = &bytes[start + len..];
         if data.len() != THETA_H_BINS * THETA_D_BINS * PHI_D_BINS {
@@ -116,7 +128,9 @@ impl Provenance {
         let cells = data
             .iter()
             .enumerate()
-            .map(|(i, &code)| CellOrigin::from_code(code).ok_or(format!("unknown code {code} at cell {i}")))
+            .map(|(i, &code)| {
+                CellOrigin::from_code(code).ok_or(format!("unknown code {code} at cell {i}"))
+            })
             .collect::<Result<_, _>>()?;
         Ok(Self { cells })
     }
@@ -167,20 +181,46 @@ mod tests {
     fn npy_round_trips_and_aligns_the_data() {
         let mut extrapolated = vec![false; CELLS];
         extrapolated[CELLS - 1] = true;
-        let samples = [Sample::new(HalfDiff::from_degrees(1.0, 45.0, 40.0, 15.0), Rgb::ONE)];
+        let samples = [Sample::new(
+            HalfDiff::from_degrees(1.0, 45.0, 40.0, 15.0),
+            Rgb::ONE,
+        )];
         let p = Provenance::new(&samples, &extrapolated);
         assert_eq!(p.counts(), (2, CELLS - 3, 1));
         let bytes = p.to_npy();
         assert_eq!((bytes.len() - CELLS) % 64, 0);
         assert_eq!(Provenance::from_npy(&bytes).unwrap(), p);
         // The sample (theta_h 1 deg -> bin 9, theta_d 40, phi_d 15) and its mirror 165.
-        let at = |k| p.cells[Bin { theta_h_i: 9, theta_d_i: 40, phi_d_i: k }.index()];
-        assert_eq!((at(15), at(165), at(16)), (CellOrigin::Measured, CellOrigin::Measured, CellOrigin::Interpolated));
+        let at = |k| {
+            p.cells[Bin {
+                theta_h_i: 9,
+                theta_d_i: 40,
+                phi_d_i: k,
+            }
+            .index()]
+        };
+        assert_eq!(
+            (at(15), at(165), at(16)),
+            (
+                CellOrigin::Measured,
+                CellOrigin::Measured,
+                CellOrigin::Interpolated
+            )
+        );
         let mut bad = bytes.clone();
         *bad.last_mut().unwrap() = 7;
-        assert!(Provenance::from_npy(&bad).unwrap_err().contains("unknown code 7"));
-        assert!(Provenance::from_npy(&bytes[..1000]).unwrap_err().contains("cells"));
-        assert!(Provenance::from_npy(&bytes[..100]).unwrap_err().contains("truncated"));
-        assert_eq!(sidecar_path(Path::new("out/silver.binary")), Path::new("out/silver.provenance.npy"));
+        assert!(Provenance::from_npy(&bad)
+            .unwrap_err()
+            .contains("unknown code 7"));
+        assert!(Provenance::from_npy(&bytes[..1000])
+            .unwrap_err()
+            .contains("cells"));
+        assert!(Provenance::from_npy(&bytes[..100])
+            .unwrap_err()
+            .contains("truncated"));
+        assert_eq!(
+            sidecar_path(Path::new("out/silver.binary")),
+            Path::new("out/silver.provenance.npy")
+        );
     }
 }

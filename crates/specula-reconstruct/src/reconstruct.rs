@@ -11,7 +11,9 @@ use crate::method::Method;
 use crate::provenance::Provenance;
 use crate::sample::Sample;
 use rayon::prelude::*;
-use specula_core::merl::{theta_h_centre_deg, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::merl::{
+    theta_h_centre_deg, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS,
+};
 use specula_core::Rgb;
 
 /// Why samples cannot be reconstructed.
@@ -38,7 +40,11 @@ pub struct Reconstruction {
 }
 
 /// Reconstructs the full MERL table named `name` from the samples with a method.
-pub fn reconstruct(samples: &[Sample], method: Method, name: &str) -> Result<Reconstruction, ReconstructError> {
+pub fn reconstruct(
+    samples: &[Sample],
+    method: Method,
+    name: &str,
+) -> Result<Reconstruction, ReconstructError> {
     if samples.is_empty() {
         return Err(ReconstructError::NoSamples);
     }
@@ -76,9 +82,13 @@ pub fn reconstruct(samples: &[Sample], method: Method, name: &str) -> Result<Rec
 /// f at every cell from the interpolated domain values (and the lobe at the bin centres).
 fn back_transform(planes: &[Vec<f64>; 3], domain: Domain, lobe: Option<&Lobe>) -> Vec<Rgb> {
     let trig = |deg: f64| deg.to_radians().sin_cos();
-    let theta_h: Vec<(f64, f64)> = (0..THETA_H_BINS).map(|i| trig(theta_h_centre_deg(i))).collect();
+    let theta_h: Vec<(f64, f64)> = (0..THETA_H_BINS)
+        .map(|i| trig(theta_h_centre_deg(i)))
+        .collect();
     let theta_d: Vec<(f64, f64)> = (0..THETA_D_BINS).map(|j| trig(j as f64 + 0.5)).collect();
-    let cos_phi_d: Vec<f64> = (0..PHI_D_BINS).map(|k| (k as f64 + 0.5).to_radians().cos()).collect();
+    let cos_phi_d: Vec<f64> = (0..PHI_D_BINS)
+        .map(|k| (k as f64 + 0.5).to_radians().cos())
+        .collect();
     let mut out = vec![Rgb::ZERO; CELLS];
     out.par_chunks_mut(THETA_D_BINS * PHI_D_BINS)
         .enumerate()
@@ -88,7 +98,13 @@ fn back_transform(planes: &[Vec<f64>; 3], domain: Domain, lobe: Option<&Lobe>) -
                 let index = i * THETA_D_BINS * PHI_D_BINS + offset;
                 let model = lobe.map_or(Rgb::ZERO, |l| {
                     let (sin_d, cos_d) = theta_d[offset / PHI_D_BINS];
-                    l.eval(&Geometry::from_trig(sin_h, cos_h, sin_d, cos_d, cos_phi_d[offset % PHI_D_BINS]))
+                    l.eval(&Geometry::from_trig(
+                        sin_h,
+                        cos_h,
+                        sin_d,
+                        cos_d,
+                        cos_phi_d[offset % PHI_D_BINS],
+                    ))
                 });
                 *cell = Rgb::new(
                     domain.inverse(planes[0][index], model.x),

@@ -39,8 +39,21 @@ mod tests {
     #[test]
     fn folding_applies_reciprocity_and_the_mirror() {
         let deg = |d: f64| fold_phi_d_rad(d.to_radians()).to_degrees();
-        for (input, folded) in [(0.0, 0.0), (15.0, 15.0), (90.0, 90.0), (165.0, 15.0), (195.0, 15.0), (345.0, 15.0), (-15.0, 15.0), (270.0, 90.0)] {
-            assert!((deg(input) - folded).abs() < 1e-9, "{input} -> {}", deg(input));
+        for (input, folded) in [
+            (0.0, 0.0),
+            (15.0, 15.0),
+            (90.0, 90.0),
+            (165.0, 15.0),
+            (195.0, 15.0),
+            (345.0, 15.0),
+            (-15.0, 15.0),
+            (270.0, 90.0),
+        ] {
+            assert!(
+                (deg(input) - folded).abs() < 1e-9,
+                "{input} -> {}",
+                deg(input)
+            );
         }
     }
 }

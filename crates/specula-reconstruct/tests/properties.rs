@@ -24,7 +24,11 @@ fn grid() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {
                 }
             }
             // Node 0 always stays, so that some sample remains.
-            out.iter().enumerate().filter(|(i, _)| keep[i % 256] || *i == 0).map(|(_, v)| *v).collect()
+            out.iter()
+                .enumerate()
+                .filter(|(i, _)| keep[i % 256] || *i == 0)
+                .map(|(_, v)| *v)
+                .collect()
         })
 }
 
@@ -88,15 +92,39 @@ proptest! {
 fn every_sample_marks_its_cell_measured() {
     let grid: Vec<(f64, f64, f64)> = [0.0, 0.5, 4.0, 20.0]
         .iter()
-        .flat_map(|&h| [0.0, 30.5, 60.2].iter().flat_map(move |&d| [10.3, 47.0].iter().map(move |&p| (h, d, p))))
+        .flat_map(|&h| {
+            [0.0, 30.5, 60.2]
+                .iter()
+                .flat_map(move |&d| [10.3, 47.0].iter().map(move |&p| (h, d, p)))
+        })
         .collect();
     let r = reconstruct(&samples(&grid, |_, _, _| Rgb::ONE), Method::LINEAR, "m").unwrap();
     for &(h, d, p) in &grid {
         let bin = Bin::of(HalfDiff::from_degrees(h, 45.0, d, p));
-        assert_eq!(r.provenance.cells[bin.index()], CellOrigin::Measured, "{h} {d} {p}");
+        assert_eq!(
+            r.provenance.cells[bin.index()],
+            CellOrigin::Measured,
+            "{h} {d} {p}"
+        );
     }
     // theta_d beyond the last node (60.2) is extrapolated; the lattice is complete, so cells
     // inside it are interpolated.
-    assert_eq!(r.provenance.cells[Bin { theta_h_i: 20, theta_d_i: 75, phi_d_i: 30 }.index()], CellOrigin::Extrapolated);
-    assert_eq!(r.provenance.cells[Bin { theta_h_i: 20, theta_d_i: 45, phi_d_i: 30 }.index()], CellOrigin::Interpolated);
+    assert_eq!(
+        r.provenance.cells[Bin {
+            theta_h_i: 20,
+            theta_d_i: 75,
+            phi_d_i: 30
+        }
+        .index()],
+        CellOrigin::Extrapolated
+    );
+    assert_eq!(
+        r.provenance.cells[Bin {
+            theta_h_i: 20,
+            theta_d_i: 45,
+            phi_d_i: 30
+        }
+        .index()],
+        CellOrigin::Interpolated
+    );
 }

@@ -7,7 +7,9 @@ use specula_reconstruct::{reconstruct, Method, Sample};
 use std::path::PathBuf;
 
 fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
 }
 
 /// The samples file `theta_h,phi_h,theta_d,phi_d,r,g,b` (degrees, 1/sr).
@@ -18,7 +20,10 @@ fn read_samples(name: &str) -> Vec<Sample> {
     lines
         .map(|line| {
             let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
-            Sample::new(HalfDiff::from_degrees(v[0], v[1], v[2], v[3]), Rgb::new(v[4], v[5], v[6]))
+            Sample::new(
+                HalfDiff::from_degrees(v[0], v[1], v[2], v[3]),
+                Rgb::new(v[4], v[5], v[6]),
+            )
         })
         .collect()
 }
@@ -29,7 +34,10 @@ fn linear_reconstruction_matches_scipy() {
     assert_eq!(samples.len(), 4316);
     let r = reconstruct(&samples, Method::LINEAR, "paper-task").unwrap();
     assert_eq!(r.lattice_shape, [28, 26, 7]);
-    assert_eq!((r.measured_nodes, r.filled_nodes), (4316, 28 * 26 * 7 - 4316));
+    assert_eq!(
+        (r.measured_nodes, r.filled_nodes),
+        (4316, 28 * 26 * 7 - 4316)
+    );
     let text = std::fs::read_to_string(data("paper_task_linear_scipy.csv")).unwrap();
     let mut checked = 0;
     for line in text.lines().skip(1) {

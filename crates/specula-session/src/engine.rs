@@ -146,11 +146,16 @@ impl Engine<'_> {
             .filter(|r| done.contains_key(&r.seq))
             .map(|r| r.predicted_s)
             .sum();
-        let mut predicted_s_left: f64 = plan.iter().map(|r| r.predicted_s).sum::<f64>() - predicted_s_done;
+        let mut predicted_s_left: f64 =
+            plan.iter().map(|r| r.predicted_s).sum::<f64>() - predicted_s_done;
         if outcome.resumed > 0 && outcome.resumed < plan.len() {
             self.journal.log_event(
                 "resumed",
-                &format!("{stage}: {} of {} samples already measured", outcome.resumed, plan.len()),
+                &format!(
+                    "{stage}: {} of {} samples already measured",
+                    outcome.resumed,
+                    plan.len()
+                ),
             )?;
         }
         for row in &plan {
@@ -206,20 +211,30 @@ impl Engine<'_> {
                 Ok(done) if !reconnected => break done,
                 Ok(_) => {
                     // A new link may lead to a restarted adapter that lost the position and
-                    // the light level: measure the sample again from the move.
+                    // the light level: home, and measure the sample again from the move.
                     self.journal.log_event(
                         "redo",
-                        &format!("{stage} sample {}: the link was reopened during the sample", row.seq),
+                        &format!(
+                            "{stage} sample {}: the link was reopened during the sample",
+                            row.seq
+                        ),
                     )?;
-                    self.hdr.forget_light_level();
-                    if attempts >= self.settings.max_attempts {
-                        return Err(EngineError::Device {
-                            stage: stage.to_string(),
-                            seq: row.seq,
-                            attempts,
-                            error: InstrumentError::Disconnected("the link was reopened during every try".into()),
-                        });
-                    }
+                    let error = if attempts >= self.settings.max_attempts {
+                        InstrumentError::Disconnected(
+                            "the link was reopened during every try".into(),
+                        )
+                    } else {
+                        match self.recover(true) {
+                            Ok(()) => continue,
+                            Err(e) => e,
+                        }
+                    };
+                    return Err(EngineError::Device {
+                        stage: stage.to_string(),
+                        seq: row.seq,
+                        attempts,
+                        error,
+                    });
                 }
                 Err(error) => {
                     self.journal.log_event(
@@ -234,7 +249,7 @@ impl Engine<'_> {
                     );
                     let mut error = error;
                     if retryable && attempts < self.settings.max_attempts {
-                        match self.recover(&error) {
+                        match self.recover(matches!(error, InstrumentError::MotorFault(_))) {
                             Ok(()) => continue,
                             Err(recovery) => error = recovery,
                         }
@@ -269,7 +284,11 @@ impl Engine<'_> {
             wall_s,
             finished_unix_s: now,
             attempts,
-            captures: measurement.captures.iter().map(|c| capture_record(c, now)).collect(),
+            captures: measurement
+                .captures
+                .iter()
+                .map(|c| capture_record(c, now))
+                .collect(),
         })
     }
 
@@ -285,19 +304,21 @@ impl Engine<'_> {
             HdrMode::Bracket {
                 exposures_s,
                 light_levels,
-            } => self.hdr.bracket(&mut *self.instrument, exposures_s, light_levels)?,
+            } => self
+                .hdr
+                .bracket(&mut *self.instrument, exposures_s, light_levels)?,
         };
         Ok((readback, measurement))
     }
 
-    /// Gets the device ready for another try: re-home after a motor fault; in any case the
-    /// light level is no longer known.
-    fn recover(&mut self, error: &InstrumentError) -> Result<(), InstrumentError> {
+    /// Gets the device ready for another try: the light level is no longer known, and with
+    /// `home` (after a motor fault or a new link) the axes go to their reference first.
+    fn recover(&mut self, home: bool) -> Result<(), InstrumentError> {
         self.hdr.forget_light_level();
-        if matches!(error, InstrumentError::MotorFault(_)) {
+        if home {
             self.instrument.home()?;
             self.journal
-                .log_event("recovered", "homed the axes after a motor fault")
+                .log_event("recovered", "homed the axes")
                 .map_err(|e| InstrumentError::Disconnected(e.to_string()))?;
         }
         Ok(())
@@ -308,7 +329,10 @@ impl Engine<'_> {
         let Some(notes) = &self.link_notes else {
             return Ok(false);
         };
-        let drained: Vec<(String, String)> = notes.lock().map(|mut n| n.drain(..).collect()).unwrap_or_default();
+        let drained: Vec<(String, String)> = notes
+            .lock()
+            .map(|mut n| n.drain(..).collect())
+            .unwrap_or_default();
         let mut reconnected = false;
         for (kind, message) in drained {
             reconnected |= kind == "reconnect";
@@ -326,7 +350,7 @@ fn capture_record(capture: &Capture, unix_s: f64) -> CaptureRecord {
         mean_raw: capture.mean_raw,
         saturated_fraction: capture.saturated_fraction,
         pixel_count: capture.pixel_count,
-        used: capture.light_level > 0.0 && capture.saturated_fraction.iter().any(|&f| f == 0.0),
+        used: capture.light_level > 0.0 && capture.saturated_fraction.contains(&0.0),
         unix_s,
     }
 }

@@ -58,8 +58,9 @@ impl Instrument for NoiselessSimulator {
         let radiance = self.inner.scene_radiance(&self.commanded) * self.light_level;
         let rate = camera.photo_rate_e_s(radiance);
         let white = camera.white_level_dn();
-        for c in 0..3 {
-            let electrons = (exposure_s * (rate[c] + camera.dark_current_e_s)).min(camera.full_well_e);
+        for (c, rate_e_s) in rate.iter().enumerate() {
+            let electrons =
+                (exposure_s * (rate_e_s + camera.dark_current_e_s)).min(camera.full_well_e);
             let raw = (camera.black_level_dn + camera.gain_dn_per_e * electrons).min(white);
             capture.mean_raw[c] = raw;
             capture.saturated_fraction[c] = if raw >= white { 1.0 } else { 0.0 };

@@ -142,7 +142,11 @@ pub enum JournalError {
         problem: String,
     },
     #[error("{path}: sample {seq} of stage {stage} is already measured")]
-    Duplicate { path: String, stage: String, seq: u32 },
+    Duplicate {
+        path: String,
+        stage: String,
+        seq: u32,
+    },
 }
 
 /// What a committed sample survives.
@@ -340,8 +344,12 @@ impl Journal {
                 None => return Err(JournalError::NotAJournal { path: self.name() }),
             }
         }
-        let tx = self.conn.transaction().map_err(|e| sql_error(&self.path, e))?;
-        tx.execute_batch(SCHEMA).map_err(|e| sql_error(&self.path, e))?;
+        let tx = self
+            .conn
+            .transaction()
+            .map_err(|e| sql_error(&self.path, e))?;
+        tx.execute_batch(SCHEMA)
+            .map_err(|e| sql_error(&self.path, e))?;
         tx.execute(
             "INSERT INTO meta (key, value) VALUES ('schema_version', ?1)",
             params![SCHEMA_VERSION.to_string()],
@@ -369,16 +377,22 @@ impl Journal {
         }
         let text: Option<String> = self
             .conn
-            .query_row("SELECT value FROM meta WHERE key = 'schema_version'", [], |r| {
-                r.get(0)
-            })
+            .query_row(
+                "SELECT value FROM meta WHERE key = 'schema_version'",
+                [],
+                |r| r.get(0),
+            )
             .optional()
             .map_err(|e| self.err(e))?;
         Ok(text.and_then(|t| t.parse().ok()))
     }
 
     /// Stores a metadata value as JSON (replacing an earlier one).
-    pub fn put_meta<T: Serialize + ?Sized>(&self, key: &str, value: &T) -> Result<(), JournalError> {
+    pub fn put_meta<T: Serialize + ?Sized>(
+        &self,
+        key: &str,
+        value: &T,
+    ) -> Result<(), JournalError> {
         let text = serde_json::to_string(value).map_err(|source| JournalError::Json {
             path: self.name(),
             key: key.to_string(),
@@ -398,7 +412,9 @@ impl Journal {
     pub fn meta<T: DeserializeOwned>(&self, key: &str) -> Result<Option<T>, JournalError> {
         let text: Option<String> = self
             .conn
-            .query_row("SELECT value FROM meta WHERE key = ?1", params![key], |r| r.get(0))
+            .query_row("SELECT value FROM meta WHERE key = ?1", params![key], |r| {
+                r.get(0)
+            })
             .optional()
             .map_err(|e| self.err(e))?;
         text.map(|t| {
@@ -598,7 +614,9 @@ impl Journal {
             .prepare("SELECT kind, count(*) FROM events GROUP BY kind")
             .map_err(|e| self.err(e))?;
         let counts = statement
-            .query_map([], |r| Ok((r.get::<_, String>(0)?, r.get::<_, i64>(1)? as usize)))
+            .query_map([], |r| {
+                Ok((r.get::<_, String>(0)?, r.get::<_, i64>(1)? as usize))
+            })
             .map_err(|e| self.err(e))?;
         for count in counts {
             let (kind, n) = count.map_err(|e| self.err(e))?;
@@ -645,9 +663,11 @@ impl Journal {
             .map_err(|e| self.err(e))?;
         let captures: i64 = self
             .conn
-            .query_row("SELECT count(*) FROM captures WHERE stage = ?1", params![stage], |r| {
-                r.get(0)
-            })
+            .query_row(
+                "SELECT count(*) FROM captures WHERE stage = ?1",
+                params![stage],
+                |r| r.get(0),
+            )
             .map_err(|e| self.err(e))?;
         Ok(StageStatus {
             stage: stage.to_string(),
@@ -662,7 +682,9 @@ impl Journal {
 
     fn column(&self, sql: &str) -> Result<Vec<String>, JournalError> {
         let mut statement = self.conn.prepare(sql).map_err(|e| self.err(e))?;
-        let rows = statement.query_map([], |r| r.get(0)).map_err(|e| self.err(e))?;
+        let rows = statement
+            .query_map([], |r| r.get(0))
+            .map_err(|e| self.err(e))?;
         rows.collect::<Result<_, _>>().map_err(|e| self.err(e))
     }
 }
@@ -861,7 +883,10 @@ mod tests {
         let back = &stored[&3];
         assert_eq!(back.value, s.value, "f64 values are stored bit for bit");
         assert_eq!(back.readback, s.readback);
-        assert_eq!((back.rate_dn_s, back.sigma_dn_s, back.lower_bound), (s.rate_dn_s, s.sigma_dn_s, true));
+        assert_eq!(
+            (back.rate_dn_s, back.sigma_dn_s, back.lower_bound),
+            (s.rate_dn_s, s.sigma_dn_s, true)
+        );
         assert_eq!(journal.captures("main", 3).unwrap(), s.captures);
         let status = journal.status().unwrap();
         assert_eq!(status.stages.len(), 1);
@@ -878,7 +903,10 @@ mod tests {
         journal.set_plan("main", &[row(0)]).unwrap();
         journal.record_sample(&sample("main", 0)).unwrap();
         let err = journal.record_sample(&sample("main", 0)).unwrap_err();
-        assert!(matches!(err, JournalError::Duplicate { seq: 0, .. }), "{err}");
+        assert!(
+            matches!(err, JournalError::Duplicate { seq: 0, .. }),
+            "{err}"
+        );
         // The failed transaction left nothing behind: still two captures.
         assert_eq!(journal.captures("main", 0).unwrap().len(), 2);
         // A sample outside the plan is refused by the foreign key.
@@ -897,8 +925,14 @@ mod tests {
         let mut other = plan.clone();
         other[1].axes.camera_rad += 1e-6;
         let err = journal.set_plan("probe", &other).unwrap_err().to_string();
-        assert!(err.contains("sample 1 differs") && err.contains("probe"), "{err}");
-        let err = journal.set_plan("probe", &plan[..2]).unwrap_err().to_string();
+        assert!(
+            err.contains("sample 1 differs") && err.contains("probe"),
+            "{err}"
+        );
+        let err = journal
+            .set_plan("probe", &plan[..2])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("3 samples stored, 2 asked for"), "{err}");
     }
 
@@ -910,7 +944,10 @@ mod tests {
         assert_eq!(journal.meta_or_insert("k_hat", || 4.78).unwrap(), 4.78);
         assert_eq!(journal.meta_or_insert("k_hat", || 9.0).unwrap(), 4.78);
         journal.put_meta("device", "name = \"x\"").unwrap();
-        assert_eq!(journal.meta::<String>("device").unwrap().unwrap(), "name = \"x\"");
+        assert_eq!(
+            journal.meta::<String>("device").unwrap().unwrap(),
+            "name = \"x\""
+        );
         let wrong: Result<Option<Vec<u8>>, _> = journal.meta("device");
         assert!(wrong.unwrap_err().to_string().contains("device"));
     }
@@ -939,16 +976,26 @@ mod tests {
             conn.execute_batch("CREATE TABLE t (x INTEGER);").unwrap();
         }
         let err = Journal::open(&path).err().unwrap().to_string();
-        assert!(err.contains("other.sqlite") && err.contains("not a specula"), "{err}");
+        assert!(
+            err.contains("other.sqlite") && err.contains("not a specula"),
+            "{err}"
+        );
         let text = dir.path().join("text.sqlite");
-        std::fs::write(&text, "hello, this is not a database at all, not even close....").unwrap();
+        std::fs::write(
+            &text,
+            "hello, this is not a database at all, not even close....",
+        )
+        .unwrap();
         let err = Journal::open_read_only(&text).err().unwrap().to_string();
         assert!(err.contains("text.sqlite"), "{err}");
         {
             let journal = Journal::open(&dir.path().join("v.sqlite")).unwrap();
             journal.put_meta("schema_version", &99).unwrap();
         }
-        let err = Journal::open(&dir.path().join("v.sqlite")).err().unwrap().to_string();
+        let err = Journal::open(&dir.path().join("v.sqlite"))
+            .err()
+            .unwrap()
+            .to_string();
         assert!(err.contains("version 99"), "{err}");
     }
 }

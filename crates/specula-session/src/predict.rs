@@ -85,12 +85,18 @@ impl Predictor {
     fn model_rate(&self, row: &PlannedRow) -> Option<f64> {
         let model = self.model.as_ref()?;
         let f = model.brdf(row.hd.theta_h.to_degrees());
-        let rate = self.calibration.predicted_rate_dn_s(f, cos_theta_i(row).max(1e-3));
+        let rate = self
+            .calibration
+            .predicted_rate_dn_s(f, cos_theta_i(row).max(1e-3));
         (rate.is_finite() && rate > 0.0).then_some(rate)
     }
 
     /// The predicted rate of `row`, given the sample measured just before it (if any).
-    pub fn predict(&self, row: &PlannedRow, previous: Option<(&PlannedRow, &SampleRecord)>) -> Option<f64> {
+    pub fn predict(
+        &self,
+        row: &PlannedRow,
+        previous: Option<(&PlannedRow, &SampleRecord)>,
+    ) -> Option<f64> {
         let measured = previous.and_then(|(prev_row, record)| {
             let rate = record.rate_dn_s.into_iter().fold(0.0, f64::max);
             (rate.is_finite() && rate > 0.0 && !record.lower_bound).then_some((prev_row, rate))
@@ -99,7 +105,9 @@ impl Predictor {
             (Some(model), Some((prev_row, rate))) => {
                 let correction = self.model_rate(prev_row).map(|expected| rate / expected);
                 match correction {
-                    Some(c) if (1.0 / MAX_CORRECTION..=MAX_CORRECTION).contains(&c) => Some(model * c),
+                    Some(c) if (1.0 / MAX_CORRECTION..=MAX_CORRECTION).contains(&c) => {
+                        Some(model * c)
+                    }
                     _ => Some(model),
                 }
             }
@@ -187,24 +195,37 @@ mod tests {
 
     #[test]
     fn predictions_follow_the_model_and_the_previous_sample() {
-        let samples = [(0.0, Rgb::splat(100.0)), (10.0, Rgb::splat(1.0)), (90.0, Rgb::splat(0.1))];
+        let samples = [
+            (0.0, Rgb::splat(100.0)),
+            (10.0, Rgb::splat(1.0)),
+            (90.0, Rgb::splat(0.1)),
+        ];
         let with_model = Predictor::new(calibration(), ProbeModel::new(&samples));
         let here = row(1, 10.0, 40.0);
         let base = with_model.predict(&here, None).unwrap();
         // The brightest channel: G's gain, f = 1, cos theta_i of the sample.
-        assert!((base / (2000.0 * cos_theta_i(&here)) - 1.0).abs() < 1e-9, "{base}");
+        assert!(
+            (base / (2000.0 * cos_theta_i(&here)) - 1.0).abs() < 1e-9,
+            "{base}"
+        );
         // The previous sample gave 3x its model: the prediction follows.
         let before = row(0, 10.0, 20.0);
         let expected_before = 2000.0 * cos_theta_i(&before);
-        let got = with_model.predict(&here, Some((&before, &record(3.0 * expected_before)))).unwrap();
+        let got = with_model
+            .predict(&here, Some((&before, &record(3.0 * expected_before))))
+            .unwrap();
         assert!((got / (3.0 * base) - 1.0).abs() < 1e-9);
         // A wildly different previous sample (an occlusion) is ignored.
-        let got = with_model.predict(&here, Some((&before, &record(1e-6)))).unwrap();
+        let got = with_model
+            .predict(&here, Some((&before, &record(1e-6))))
+            .unwrap();
         assert_eq!(got, base);
 
         let without = Predictor::new(calibration(), None);
         assert_eq!(without.predict(&here, None), None);
-        let got = without.predict(&here, Some((&before, &record(500.0)))).unwrap();
+        let got = without
+            .predict(&here, Some((&before, &record(500.0))))
+            .unwrap();
         assert!((got - 500.0 * cos_theta_i(&here) / cos_theta_i(&before)).abs() < 1e-9);
     }
 }

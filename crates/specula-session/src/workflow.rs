@@ -24,7 +24,9 @@ use crate::predict::{Predictor, ProbeModel};
 use crate::protocol::{ClientSettings, Endpoint, RemoteInstrument};
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
-use specula_acquisition::calibration::{calibrate, mount_in_simulator, Calibration, CalibrationOptions};
+use specula_acquisition::calibration::{
+    calibrate, mount_in_simulator, Calibration, CalibrationOptions,
+};
 use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
 use specula_acquisition::checks::orientation::{check_orientation, OrientationSettings};
 use specula_acquisition::device::Device;
@@ -130,7 +132,7 @@ pub enum Source {
     Remote {
         endpoint: Endpoint,
         client: ClientSettings,
-        calibration: Calibration,
+        calibration: Box<Calibration>,
     },
 }
 
@@ -260,9 +262,16 @@ impl Summary {
             ),
             format!("lower_bound_samples={}", self.lower_bounds),
         ]);
-        let clock = if self.simulated { "simulated" } else { "device" };
+        let clock = if self.simulated {
+            "simulated"
+        } else {
+            "device"
+        };
         lines.push(format!("{clock}_hours={:.3}", hours(self.device_s)));
-        lines.push(format!("{clock}_main_hours={:.3}", hours(self.main_device_s)));
+        lines.push(format!(
+            "{clock}_main_hours={:.3}",
+            hours(self.main_device_s)
+        ));
         lines.push(format!(
             "model_nested_bracket_hours={:.3}",
             hours(self.plan.nested_bracket_s)
@@ -333,11 +342,20 @@ pub fn measure(
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
 
     let checks = if settings.checks {
-        Some(run_checks(&mut journal, connected.instrument.as_mut(), &mut hdr, device, settings, observer)?)
+        Some(run_checks(
+            &mut journal,
+            connected.instrument.as_mut(),
+            &mut hdr,
+            device,
+            settings,
+            observer,
+        )?)
     } else {
         None
     };
-    let phi_h_deg = checks.as_ref().map_or(settings.phi_h_deg, |c| c.plan_phi_h_deg);
+    let phi_h_deg = checks
+        .as_ref()
+        .map_or(settings.phi_h_deg, |c| c.plan_phi_h_deg);
     let mut engine = Engine {
         instrument: connected.instrument.as_mut(),
         journal: &mut journal,
@@ -354,7 +372,12 @@ pub fn measure(
     // The probe (5.2), then k-hat.
     let probe_rows = probe_plan(device, settings, phi_h_deg);
     engine.journal.set_plan(STAGE_PROBE, &probe_rows)?;
-    let outcome = run_stage(&mut engine, STAGE_PROBE, &Predictor::new(calibration.clone(), None), observer)?;
+    let outcome = run_stage(
+        &mut engine,
+        STAGE_PROBE,
+        &Predictor::new(calibration.clone(), None),
+        observer,
+    )?;
     if !outcome.complete() {
         return Ok(stopped(STAGE_PROBE, &outcome));
     }
@@ -369,12 +392,27 @@ pub fn measure(
             fit
         }
     };
-    observer.step(&format!("k-hat = {:.3} ({})", fit.function.k, fit.function.family));
+    observer.step(&format!(
+        "k-hat = {:.3} ({})",
+        fit.function.k, fit.function.family
+    ));
 
     // The plan (5.3) with k-hat, then the acquisition.
-    let plan = main_plan(engine.journal, device, settings, &fit.function, phi_h_deg, observer)?;
+    let plan = main_plan(
+        engine.journal,
+        device,
+        settings,
+        &fit.function,
+        phi_h_deg,
+        observer,
+    )?;
     let model = ProbeModel::new(&probe);
-    let outcome = run_stage(&mut engine, STAGE_MAIN, &Predictor::new(calibration.clone(), model), observer)?;
+    let outcome = run_stage(
+        &mut engine,
+        STAGE_MAIN,
+        &Predictor::new(calibration.clone(), model),
+        observer,
+    )?;
     if !outcome.complete() {
         return Ok(stopped(STAGE_MAIN, &outcome));
     }
@@ -414,7 +452,12 @@ pub fn measure(
 }
 
 /// Records the settings of a new session, or checks that a resumed one asks the same.
-fn start_session(journal: &Journal, settings: &MeasureSettings, source: &str, device: &Device) -> Result<()> {
+fn start_session(
+    journal: &Journal,
+    settings: &MeasureSettings,
+    source: &str,
+    device: &Device,
+) -> Result<()> {
     let name = journal.path().display().to_string();
     let stored: MeasureSettings = journal.meta_or_insert("settings", || settings.clone())?;
     if stored != *settings {
@@ -479,8 +522,12 @@ fn connect(
                         exact_calibration(&simulator.config().camera, &model)
                     } else {
                         observer.step("calibrating: white reference and ColorChecker");
-                        let c = calibrate(&mut simulator, mount_in_simulator, &CalibrationOptions::default())
-                            .context("calibrating the simulated device")?;
+                        let c = calibrate(
+                            &mut simulator,
+                            mount_in_simulator,
+                            &CalibrationOptions::default(),
+                        )
+                        .context("calibrating the simulated device")?;
                         simulator.mount(sample);
                         c
                     };
@@ -509,7 +556,9 @@ fn connect(
             if settings.ideal {
                 bail!("--ideal is for the simulated device (--truth), not {endpoint}");
             }
-            let stored: Calibration = journal.meta_or_insert("calibration", || calibration.clone())?;
+            let calibration = *calibration;
+            let stored: Calibration =
+                journal.meta_or_insert("calibration", || calibration.clone())?;
             if stored != calibration {
                 bail!(
                     "{}: this session was measured with another calibration; give the same --calibration or use another --session",
@@ -556,26 +605,44 @@ fn run_checks(
     let started = (clock(instrument), std::time::Instant::now());
     observer.step("alignment check: the highlight at 8 turntable rotations");
     instrument.home().context("homing the device")?;
-    let (tilt_deg, tilt_azimuth_deg, alignment) = match check_alignment(instrument, hdr, &AlignmentSettings::default()) {
-        Ok(report) => {
-            journal.put_meta("alignment_report", &report)?;
-            let advice = report.adjustment(device.accuracy_deg);
-            (Some(report.fit.tilt_deg), Some(report.fit.azimuth_deg), advice)
-        }
-        Err(e) => (None, None, format!("not done: {e}")),
-    };
+    let (tilt_deg, tilt_azimuth_deg, alignment) =
+        match check_alignment(instrument, hdr, &AlignmentSettings::default()) {
+            Ok(report) => {
+                journal.put_meta("alignment_report", &report)?;
+                let advice = report.adjustment(device.accuracy_deg);
+                (
+                    Some(report.fit.tilt_deg),
+                    Some(report.fit.azimuth_deg),
+                    advice,
+                )
+            }
+            Err(e) => (None, None, format!("not done: {e}")),
+        };
     observer.step(&format!("alignment: {alignment}"));
     observer.step("orientation check: rings of phi_h for the scratch lobe");
     let orientation_settings = OrientationSettings {
         planned_phi_h_deg: settings.phi_h_deg,
         ..OrientationSettings::default()
     };
-    let (anisotropic, plan_phi_h_deg, orientation) = match check_orientation(instrument, hdr, device, &orientation_settings) {
+    let (anisotropic, plan_phi_h_deg, orientation) = match check_orientation(
+        instrument,
+        hdr,
+        device,
+        &orientation_settings,
+    ) {
         Ok(report) => {
             journal.put_meta("orientation_report", &report)?;
             if report.planned_is_clean {
-                let what = if report.anisotropic { "anisotropic, but" } else { "isotropic:" };
-                (Some(report.anisotropic), settings.phi_h_deg, format!("{what} phi_h {} deg is clean", settings.phi_h_deg))
+                let what = if report.anisotropic {
+                    "anisotropic, but"
+                } else {
+                    "isotropic:"
+                };
+                (
+                    Some(report.anisotropic),
+                    settings.phi_h_deg,
+                    format!("{what} phi_h {} deg is clean", settings.phi_h_deg),
+                )
             } else {
                 let chosen = report.recommended_phi_h_deg;
                 let message = format!(
@@ -637,7 +704,11 @@ fn probe_samples(journal: &Journal) -> Result<Vec<(f64, Rgb)>> {
     let samples = journal.samples(STAGE_PROBE)?;
     let mut probe: Vec<(f64, Rgb)> = rows
         .iter()
-        .filter_map(|r| samples.get(&r.seq).map(|s| (r.hd.theta_h.to_degrees(), s.value.max(Rgb::ZERO))))
+        .filter_map(|r| {
+            samples
+                .get(&r.seq)
+                .map(|s| (r.hd.theta_h.to_degrees(), s.value.max(Rgb::ZERO)))
+        })
         .collect();
     probe.sort_by(|a, b| a.0.total_cmp(&b.0));
     Ok(probe)
@@ -647,7 +718,8 @@ fn probe_samples(journal: &Journal) -> Result<Vec<(f64, Rgb)>> {
 fn fit_probe(probe: &[(f64, Rgb)], settings: &MeasureSettings) -> Result<FitRecord, String> {
     let (theta_h, values): (Vec<f64>, Vec<Rgb>) = probe.iter().copied().unzip();
     let probe = Probe::new(theta_h, values).map_err(|e| e.to_string())?;
-    let fit = fit_k(&probe.column(), settings.family, settings.theta_h_samples).map_err(|e| e.to_string())?;
+    let fit = fit_k(&probe.column(), settings.family, settings.theta_h_samples)
+        .map_err(|e| e.to_string())?;
     Ok(FitRecord {
         function: fit.function,
         error: fit.error,
@@ -659,7 +731,13 @@ fn steps_deg(step: f64, end: f64, inclusive: bool) -> Vec<f64> {
     let count = (end / step + 1e-9).floor() as usize;
     (0..=count)
         .map(|i| i as f64 * step)
-        .filter(|v| if inclusive { *v <= end + 1e-9 } else { *v < end - 1e-9 })
+        .filter(|v| {
+            if inclusive {
+                *v <= end + 1e-9
+            } else {
+                *v < end - 1e-9
+            }
+        })
         .collect()
 }
 
@@ -672,7 +750,10 @@ fn main_plan(
     phi_h_deg: f64,
     observer: &mut dyn Observer,
 ) -> Result<PlanRecord> {
-    if let (Some(record), false) = (journal.meta::<PlanRecord>("plan")?, journal.plan(STAGE_MAIN)?.is_empty()) {
+    if let (Some(record), false) = (
+        journal.meta::<PlanRecord>("plan")?,
+        journal.plan(STAGE_MAIN)?.is_empty(),
+    ) {
         return Ok(record);
     }
     if !(settings.theta_d_step_deg > 0.0 && settings.phi_d_step_deg > 0.0) {
@@ -749,7 +830,11 @@ fn summarise(
     let stage = |name: &str| status.stages.iter().find(|s| s.stage == name).cloned();
     let probe = stage(STAGE_PROBE).context("the journal has no probe")?;
     let main = stage(STAGE_MAIN).context("the journal has no main stage")?;
-    let lower_bounds = journal.samples(STAGE_MAIN)?.values().filter(|s| s.lower_bound).count();
+    let lower_bounds = journal
+        .samples(STAGE_MAIN)?
+        .values()
+        .filter(|s| s.lower_bound)
+        .count();
     let checks_s = checks.as_ref().map_or(0.0, |c| c.device_s);
     Ok(Summary {
         source,

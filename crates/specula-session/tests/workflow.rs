@@ -3,7 +3,9 @@
 use specula_acquisition::device::Device;
 use specula_core::materials::preset;
 use specula_session::journal::Journal;
-use specula_session::workflow::{measure, MeasureOutcome, MeasureSettings, Quiet, Source, STAGE_MAIN, STAGE_PROBE};
+use specula_session::workflow::{
+    measure, MeasureOutcome, MeasureSettings, Quiet, Source, STAGE_MAIN, STAGE_PROBE,
+};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
@@ -26,7 +28,10 @@ fn a_small_measurement_completes_and_summarises() {
     let truth = Arc::new(preset("silver-925").unwrap());
     let started = std::time::Instant::now();
     let outcome = measure(
-        Source::Simulated { truth, speedup: None },
+        Source::Simulated {
+            truth,
+            speedup: None,
+        },
         &Device::utia(),
         &small(),
         &session,
@@ -36,12 +41,20 @@ fn a_small_measurement_completes_and_summarises() {
     )
     .unwrap();
     eprintln!("took {:?}", started.elapsed());
-    let MeasureOutcome::Complete(summary) = outcome else { panic!("stopped") };
+    let MeasureOutcome::Complete(summary) = outcome else {
+        panic!("stopped")
+    };
     for line in summary.lines() {
         eprintln!("{line}");
     }
     let journal = Journal::open_read_only(&session).unwrap();
-    assert_eq!(journal.samples(STAGE_MAIN).unwrap().len(), summary.measured_samples);
-    assert_eq!(journal.samples(STAGE_PROBE).unwrap().len(), summary.probe_samples);
+    assert_eq!(
+        journal.samples(STAGE_MAIN).unwrap().len(),
+        summary.measured_samples
+    );
+    assert_eq!(
+        journal.samples(STAGE_PROBE).unwrap().len(),
+        summary.probe_samples
+    );
     assert!(out.exists());
 }

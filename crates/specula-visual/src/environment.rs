@@ -15,7 +15,7 @@ use std::f64::consts::{PI, TAU};
 use std::path::Path;
 
 /// Width of the built-in studio environment's image; its height is half.
-const STUDIO_WIDTH: usize = 1024;
+const STUDIO_WIDTH: usize = 512;
 /// Widest grid of the sampling distribution (its height is half): each of its cells holds the
 /// summed luminance of the texels it covers. Coarser than the image, it stays in the
 /// processor's cache, which makes sampling several times faster; the density is still exact.
@@ -148,7 +148,8 @@ impl Environment {
     /// [`Environment::sample`] draws it, sharing one conversion to image coordinates.
     pub fn eval(&self, dir: DVec3) -> (DVec3, f64) {
         let (u, v) = uv_of(dir);
-        (self.radiance_at(u, v), self.pdf_at(u, v))
+        let sin_theta = (dir.x * dir.x + dir.z * dir.z).sqrt();
+        (self.radiance_at(u, v), self.pdf_at(u, v, sin_theta))
     }
 
     /// A direction drawn in proportion to the luminance, with its density and radiance.
@@ -174,11 +175,12 @@ impl Environment {
     /// The density per steradian with which [`Environment::sample`] draws `dir`.
     pub fn pdf(&self, dir: DVec3) -> f64 {
         let (u, v) = uv_of(dir);
-        self.pdf_at(u, v)
+        self.pdf_at(u, v, (dir.x * dir.x + dir.z * dir.z).sqrt())
     }
 
-    fn pdf_at(&self, u: f64, v: f64) -> f64 {
-        let sin_theta = (PI * v).sin();
+    /// The density per steradian at image coordinates `(u, v)`, `sin_theta` being the sine of
+    /// the direction's angle from the y axis.
+    fn pdf_at(&self, u: f64, v: f64, sin_theta: f64) -> f64 {
         if sin_theta <= 0.0 {
             return 0.0;
         }
@@ -187,18 +189,20 @@ impl Environment {
 
     /// Bilinear interpolation between texel centres at image coordinates `(u, v)`.
     fn radiance_at(&self, u: f64, v: f64) -> DVec3 {
-        let x = u * self.width as f64 - 0.5;
-        let y = (v * self.height as f64 - 0.5).clamp(0.0, (self.height - 1) as f64);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let column = |c: f64| (c as i64).rem_euclid(self.width as i64) as usize;
-        let row = |r: f64| (r as usize).min(self.height - 1);
-        let texel = |c: f64, r: f64| {
-            let [red, green, blue] = self.texels[row(r) * self.width + column(c)];
+        let (w, h) = (self.width, self.height);
+        // Columns wrap around; rows stop at the poles.
+        let x = (u * w as f64 - 0.5).rem_euclid(w as f64);
+        let y = (v * h as f64 - 0.5).clamp(0.0, (h - 1) as f64);
+        let (x0, y0) = ((x as usize).min(w - 1), (y as usize).min(h - 1));
+        let (fx, fy) = (x - x0 as f64, y - y0 as f64);
+        let x1 = if x0 + 1 == w { 0 } else { x0 + 1 };
+        let y1 = (y0 + 1).min(h - 1);
+        let texel = |c: usize, r: usize| {
+            let [red, green, blue] = self.texels[r * w + c];
             DVec3::new(red as f64, green as f64, blue as f64)
         };
-        let top = texel(x0, y0) * (1.0 - fx) + texel(x0 + 1.0, y0) * fx;
-        let bottom = texel(x0, y0 + 1.0) * (1.0 - fx) + texel(x0 + 1.0, y0 + 1.0) * fx;
+        let top = texel(x0, y0) * (1.0 - fx) + texel(x1, y0) * fx;
+        let bottom = texel(x0, y1) * (1.0 - fx) + texel(x1, y1) * fx;
         top * (1.0 - fy) + bottom * fy
     }
 }

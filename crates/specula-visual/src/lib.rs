@@ -12,6 +12,7 @@ pub mod grid;
 pub mod heatmap;
 pub mod linear_image;
 pub mod lobe;
+pub mod nearest_bin_table;
 pub mod plot;
 pub mod render;
 pub mod shape;

@@ -18,12 +18,14 @@
 //! position, lobe sample, environment sample), which lowers the noise far below independent
 //! random numbers at equal cost.
 //!
-//! A BRDF cell that was not measured (`None`) reflects nothing.
+//! A measured table is first copied into a faster layout ([`crate::nearest_bin_table`]). A
+//! BRDF cell that was not measured (`None`) reflects nothing.
 
 use crate::camera::{Camera, Ray};
 use crate::environment::Environment;
 use crate::linear_image::LinearImage;
 use crate::lobe::ProxyLobe;
+use crate::nearest_bin_table::NearestBinTable;
 use crate::shape::{Hit, Shape, ShapeKind};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -89,44 +91,84 @@ impl RenderSettings {
     }
 }
 
-/// Renders `brdf` on the scene's object with the standard camera. `rows_done` is called with
-/// the number of image rows finished so far (from worker threads), for a progress bar.
+/// Renders `brdf` on the scene's object with the standard camera. `pixels_done` is called
+/// with the number of pixels finished so far (from worker threads), for a progress bar.
 pub fn render(
     brdf: &dyn Brdf,
     scene: &Scene,
     settings: &RenderSettings,
-    rows_done: &(dyn Fn(u64) + Sync),
+    pixels_done: &(dyn Fn(u64) + Sync),
 ) -> LinearImage {
-    render_with_lobe(brdf, ProxyLobe::fit(brdf), scene, settings, rows_done)
+    let table = NearestBinTable::detect(brdf);
+    let material = match &table {
+        Some(table) => Material::Table(table),
+        None => Material::Any(brdf),
+    };
+    let lobe = ProxyLobe::fit(material.brdf());
+    render_material(material, lobe, scene, settings, pixels_done)
 }
 
 /// [`render`] with a given proxy lobe.
+#[cfg(test)]
 fn render_with_lobe(
     brdf: &dyn Brdf,
     lobe: ProxyLobe,
     scene: &Scene,
     settings: &RenderSettings,
-    rows_done: &(dyn Fn(u64) + Sync),
+    pixels_done: &(dyn Fn(u64) + Sync),
+) -> LinearImage {
+    render_material(Material::Any(brdf), lobe, scene, settings, pixels_done)
+}
+
+fn render_material(
+    material: Material<'_>,
+    lobe: ProxyLobe,
+    scene: &Scene,
+    settings: &RenderSettings,
+    pixels_done: &(dyn Fn(u64) + Sync),
 ) -> LinearImage {
     let camera = Camera::standard(settings.width, settings.height);
-    let renderer = Renderer { brdf, scene, lobe };
-    let mut image = LinearImage::new(settings.width, settings.height);
+    let renderer = Renderer {
+        material,
+        scene,
+        lobe,
+    };
+    let (width, height) = (settings.width, settings.height);
+    let tiles: Vec<(usize, usize)> = (0..height.div_ceil(TILE))
+        .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
+        .collect();
     let finished = std::sync::atomic::AtomicU64::new(0);
-    image
-        .pixels
-        .par_chunks_mut(settings.width.max(1))
-        .enumerate()
-        .for_each(|(y, row)| {
-            for (x, pixel) in row.iter_mut().enumerate() {
-                let index = (y * settings.width + x) as u64;
-                let sampler = PixelSampler {
-                    seed: mix_seed(settings.seed, index) as u32,
-                };
-                *pixel = renderer.pixel(&camera, x, y, settings.samples_per_pixel, sampler);
+    let rendered: Vec<Vec<(usize, DVec3)>> = tiles
+        .par_iter()
+        .map_init(Scratch::default, |scratch, &(x0, y0)| {
+            let mut out = Vec::with_capacity(TILE * TILE);
+            for y in y0..(y0 + TILE).min(height) {
+                for x in x0..(x0 + TILE).min(width) {
+                    let index = y * width + x;
+                    let sampler = PixelSampler {
+                        seed: mix_seed(settings.seed, index as u64) as u32,
+                    };
+                    out.push((
+                        index,
+                        renderer.pixel(
+                            &camera,
+                            (x, y),
+                            settings.samples_per_pixel,
+                            sampler,
+                            scratch,
+                        ),
+                    ));
+                }
             }
-            let n = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            rows_done(n);
-        });
+            let n = out.len() as u64;
+            pixels_done(finished.fetch_add(n, std::sync::atomic::Ordering::Relaxed) + n);
+            out
+        })
+        .collect();
+    let mut image = LinearImage::new(width, height);
+    for (index, value) in rendered.into_iter().flatten() {
+        image.pixels[index] = value;
+    }
     image
 }
 
@@ -138,6 +180,10 @@ fn mix_seed(seed: u64, index: u64) -> u64 {
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
 }
+
+/// Side of the square tiles the image is rendered in: neighbouring pixels see neighbouring
+/// directions, so a tile's lookups into the material and the environment share the cache.
+const TILE: usize = 16;
 
 /// Most samples per pixel: the length of the Sobol sequence.
 pub const MAX_SAMPLES_PER_PIXEL: usize = 1 << 16;
@@ -165,32 +211,96 @@ impl PixelSampler {
     }
 }
 
+/// The material as the renderer evaluates it: in batches, so that the memory reads of a
+/// measured table overlap instead of waiting for each other.
+enum Material<'a> {
+    Table(&'a NearestBinTable),
+    Any(&'a dyn Brdf),
+}
+
+impl Material<'_> {
+    fn brdf(&self) -> &dyn Brdf {
+        match self {
+            Material::Table(table) => *table,
+            Material::Any(brdf) => *brdf,
+        }
+    }
+
+    /// `sum of f(wi, wo) * factor` over the pending reflections (`None` or non-finite f: 0).
+    fn reflect(&self, pending: &[Reflection], scratch: &mut Vec<usize>) -> DVec3 {
+        match self {
+            Material::Table(table) => {
+                scratch.clear();
+                scratch.extend(pending.iter().map(|p| table.cell_index(p.wi, p.wo)));
+                scratch
+                    .iter()
+                    .zip(pending)
+                    .map(|(index, p)| table.cell_value(*index) * p.factor)
+                    .sum()
+            }
+            Material::Any(brdf) => pending
+                .iter()
+                .map(|p| {
+                    let f = brdf.eval(p.wi, p.wo).filter(|f| f.is_finite());
+                    f.unwrap_or(DVec3::ZERO) * p.factor
+                })
+                .sum(),
+        }
+    }
+}
+
+/// A reflection whose light is `f(wi, wo) * factor`, waiting for the material.
+#[derive(Clone, Copy)]
+struct Reflection {
+    wi: DVec3,
+    wo: DVec3,
+    factor: DVec3,
+}
+
 struct Renderer<'a> {
-    brdf: &'a dyn Brdf,
+    material: Material<'a>,
     scene: &'a Scene,
     lobe: ProxyLobe,
+}
+
+/// Per-thread buffers of a pixel's pending reflections.
+#[derive(Default)]
+struct Scratch {
+    pending: Vec<Reflection>,
+    indices: Vec<usize>,
 }
 
 impl Renderer<'_> {
     fn pixel(
         &self,
         camera: &Camera,
-        x: usize,
-        y: usize,
+        (x, y): (usize, usize),
         spp: usize,
         sampler: PixelSampler,
+        scratch: &mut Scratch,
     ) -> DVec3 {
         let spp = spp.clamp(1, MAX_SAMPLES_PER_PIXEL);
-        let mut sum = DVec3::ZERO;
+        scratch.pending.clear();
+        let mut direct = DVec3::ZERO;
         for i in 0..spp {
             let [jx, jy, _, _] = sampler.get(i, Dimensions::Pixel);
             let ray = camera.ray(x as f64 + jx, y as f64 + jy);
-            sum += self.radiance(&ray, |dims| sampler.get(i, dims));
+            direct += self.trace(&ray, |dims| sampler.get(i, dims), &mut scratch.pending);
         }
-        sum / spp as f64
+        let reflected = self
+            .material
+            .reflect(&scratch.pending, &mut scratch.indices);
+        (direct + reflected) / spp as f64
     }
 
-    fn radiance(&self, ray: &Ray, numbers: impl Fn(Dimensions) -> [f64; 4]) -> DVec3 {
+    /// Follows a camera ray: returns the light seen directly (the backdrop) and queues the
+    /// reflections at the surface it hits.
+    fn trace(
+        &self,
+        ray: &Ray,
+        numbers: impl Fn(Dimensions) -> [f64; 4],
+        pending: &mut Vec<Reflection>,
+    ) -> DVec3 {
         let Some(hit) = self.scene.shape.intersect(ray) else {
             return match &self.scene.lighting {
                 Lighting::Point { .. } => DVec3::ZERO,
@@ -198,34 +308,37 @@ impl Renderer<'_> {
             };
         };
         let wo = hit.frame.to_local(-ray.dir);
-        if wo.z <= 0.0 {
-            return DVec3::ZERO;
+        if wo.z > 0.0 {
+            match &self.scene.lighting {
+                Lighting::Point {
+                    position,
+                    intensity,
+                } => self.point_light(&hit, wo, *position, *intensity, pending),
+                Lighting::Environment(env) => self.environment(&hit, wo, env, numbers, pending),
+            }
         }
-        match &self.scene.lighting {
-            Lighting::Point {
-                position,
-                intensity,
-            } => self.point_light(&hit, wo, *position, *intensity),
-            Lighting::Environment(env) => self.environment(&hit, wo, env, numbers),
-        }
+        DVec3::ZERO
     }
 
-    fn reflectance(&self, wi: DVec3, wo: DVec3) -> DVec3 {
-        self.brdf
-            .eval(wi, wo)
-            .filter(|f| f.is_finite())
-            .unwrap_or(DVec3::ZERO)
-    }
-
-    fn point_light(&self, hit: &Hit, wo: DVec3, position: DVec3, intensity: DVec3) -> DVec3 {
+    fn point_light(
+        &self,
+        hit: &Hit,
+        wo: DVec3,
+        position: DVec3,
+        intensity: DVec3,
+        pending: &mut Vec<Reflection>,
+    ) {
         let to_light = position - hit.position;
         let distance2 = to_light.length_squared();
         let dir = to_light / distance2.sqrt();
         let wi = hit.frame.to_local(dir);
-        if wi.z <= 0.0 || self.scene.shape.occludes(hit, dir) {
-            return DVec3::ZERO;
+        if wi.z > 0.0 && !self.scene.shape.occludes(hit, dir) {
+            pending.push(Reflection {
+                wi,
+                wo,
+                factor: wi.z * intensity / distance2,
+            });
         }
-        self.reflectance(wi, wo) * wi.z * intensity / distance2
     }
 
     fn environment(
@@ -234,33 +347,36 @@ impl Renderer<'_> {
         wo: DVec3,
         env: &Environment,
         numbers: impl Fn(Dimensions) -> [f64; 4],
-    ) -> DVec3 {
-        let mut sum = DVec3::ZERO;
+        pending: &mut Vec<Reflection>,
+    ) {
         // Strategy 1: the material's proxy lobe.
         let [u0, u1, u2, _] = numbers(Dimensions::Lobe);
         if let Some(wi) = self.lobe.sample(wo, [u2, u0, u1]) {
-            let f = self.reflectance(wi, wo);
             let pdf_lobe = self.lobe.pdf(wo, wi);
             let dir = hit.frame.to_world(wi);
-            if f != DVec3::ZERO && pdf_lobe > 0.0 && !self.scene.shape.occludes(hit, dir) {
+            if pdf_lobe > 0.0 && !self.scene.shape.occludes(hit, dir) {
                 let (radiance, pdf_env) = env.eval(dir);
                 let weight = power_heuristic(pdf_lobe, pdf_env);
-                sum += f * wi.z * radiance * (weight / pdf_lobe);
+                pending.push(Reflection {
+                    wi,
+                    wo,
+                    factor: wi.z * radiance * (weight / pdf_lobe),
+                });
             }
         }
         // Strategy 2: the environment's luminance.
         let [e0, e1, _, _] = numbers(Dimensions::Environment);
         if let Some(light) = env.sample(e0, e1) {
             let wi = hit.frame.to_local(light.dir);
-            if wi.z > 0.0 {
-                let f = self.reflectance(wi, wo);
-                if f != DVec3::ZERO && !self.scene.shape.occludes(hit, light.dir) {
-                    let weight = power_heuristic(light.pdf, self.lobe.pdf(wo, wi));
-                    sum += f * wi.z * env.sample_radiance(&light) * (weight / light.pdf);
-                }
+            if wi.z > 0.0 && !self.scene.shape.occludes(hit, light.dir) {
+                let weight = power_heuristic(light.pdf, self.lobe.pdf(wo, wi));
+                pending.push(Reflection {
+                    wi,
+                    wo,
+                    factor: wi.z * env.sample_radiance(&light) * (weight / light.pdf),
+                });
             }
         }
-        sum
     }
 }
 

@@ -94,14 +94,21 @@ fn serve(args: ServeArgs) -> Result<()> {
         Box::new(simulator)
     };
     let name = format!("specula device serve: {}", args.truth);
-    let mut server = Server::new(instrument, name).with_token(args.token).with_faults(faults);
+    let mut server = Server::new(instrument, name)
+        .with_token(args.token)
+        .with_faults(faults);
     if args.stdio {
         let end = server.serve_connection(std::io::stdin().lock(), std::io::stdout().lock());
         eprintln!("specula device serve: {end:?}");
         return Ok(());
     }
-    let listener = TcpListener::bind(args.listen).with_context(|| format!("cannot listen on {}", args.listen))?;
-    eprintln!("serving {} on {} (Ctrl-C to stop)", args.truth, listener.local_addr()?);
+    let listener = TcpListener::bind(args.listen)
+        .with_context(|| format!("cannot listen on {}", args.listen))?;
+    eprintln!(
+        "serving {} on {} (Ctrl-C to stop)",
+        args.truth,
+        listener.local_addr()?
+    );
     let never = AtomicBool::new(false);
     let idle = Duration::from_secs_f64(args.idle_timeout);
     server.serve_tcp(&listener, &never, idle, &mut |line| eprintln!("{line}"))?;

@@ -11,7 +11,9 @@ use specula_formats::fits::{load_fits, FitModel};
 use specula_formats::input::measured_file;
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_formats::samples_csv::{Sample as SampleRow, SampleSet};
-use specula_reconstruct::accuracy::{evaluate, Accuracy, Measurement, PlanSettings, ThetaHPlacement};
+use specula_reconstruct::accuracy::{
+    evaluate, Accuracy, Measurement, PlanSettings, ThetaHPlacement,
+};
 use specula_reconstruct::Method;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -101,7 +103,11 @@ impl MerlFits {
     fn load(self) -> Result<Vec<Arc<dyn Brdf>>> {
         match self {
             MerlFits::Sgd | MerlFits::Abc => {
-                let model = if self == MerlFits::Sgd { FitModel::Sgd } else { FitModel::Abc };
+                let model = if self == MerlFits::Sgd {
+                    FitModel::Sgd
+                } else {
+                    FitModel::Abc
+                };
                 load_fits(&measured_file(model.table())?)
             }
             MerlFits::Nbrdf => NbrdfSet::Merl100
@@ -138,7 +144,11 @@ pub fn run(args: Args) -> Result<()> {
         truths.push(specula_formats::load_brdf(spec)?);
     }
     if args.builtin {
-        truths.extend(builtin_database().into_iter().map(|m| Arc::new(m) as Arc<dyn Brdf>));
+        truths.extend(
+            builtin_database()
+                .into_iter()
+                .map(|m| Arc::new(m) as Arc<dyn Brdf>),
+        );
     }
     for fits in &args.merl_fits {
         truths.extend(fits.load()?);
@@ -158,7 +168,10 @@ fn check_args(args: &Args) -> Result<()> {
     if args.theta_h_samples < 2 {
         bail!("--theta-h-samples must be at least 2");
     }
-    for (flag, step) in [("--theta-d-step", args.theta_d_step), ("--phi-d-step", args.phi_d_step)] {
+    for (flag, step) in [
+        ("--theta-d-step", args.theta_d_step),
+        ("--phi-d-step", args.phi_d_step),
+    ] {
         if !(step.is_finite() && step > 0.0 && step <= 90.0) {
             bail!("{flag} must be a number of degrees in (0, 90], got {step}");
         }
@@ -178,7 +191,9 @@ fn check_args(args: &Args) -> Result<()> {
 /// The plan settings the flags describe.
 fn plan_settings(args: &Args) -> Result<PlanSettings> {
     let placement = match (args.placement, args.k) {
-        (Placement::Function, Some(k)) => ThetaHPlacement::Function(SamplingFunction::new(args.family, k)?),
+        (Placement::Function, Some(k)) => {
+            ThetaHPlacement::Function(SamplingFunction::new(args.family, k)?)
+        }
         (Placement::Function, None) => ThetaHPlacement::FittedFunction(args.family),
         (Placement::Probe, _) => ThetaHPlacement::Probe,
     };
@@ -197,7 +212,13 @@ fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
     let measurement = Measurement::simulate(truth, &plan_settings(args)?, device)?;
     let samples = measurement.samples;
     if let Some(path) = &args.samples_out {
-        let rows = samples.iter().map(|s| SampleRow { angles: s.hd, value: s.value }).collect();
+        let rows = samples
+            .iter()
+            .map(|s| SampleRow {
+                angles: s.hd,
+                value: s.value,
+            })
+            .collect();
         SampleSet::new(name.clone(), rows).write(path)?;
     }
     let table = tabulate(truth, args.phi_h.to_radians());
@@ -232,7 +253,8 @@ fn print_rows(args: &Args, rows: &[Row]) {
     }
     if rows.len() > 1 {
         let n = rows.len() as f64;
-        let mean = |f: &dyn Fn(&Accuracy) -> f64| rows.iter().map(|r| f(&r.accuracy)).sum::<f64>() / n;
+        let mean =
+            |f: &dyn Fn(&Accuracy) -> f64| rows.iter().map(|r| f(&r.accuracy)).sum::<f64>() / n;
         let measured = rows.iter().map(|r| r.measured as f64).sum::<f64>() / n;
         let mut accuracy = rows[0].accuracy;
         accuracy.within.relative_rmse = mean(&|a| a.within.relative_rmse);

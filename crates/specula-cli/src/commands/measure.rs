@@ -8,8 +8,8 @@ use specula_core::sampling::Family;
 use specula_session::engine::{stop_on_ctrl_c, Progress, StageOutcome};
 use specula_session::protocol::{ClientSettings, Endpoint};
 use specula_session::workflow::{
-    default_session_path, measure, summary_path, HdrChoice, MeasureOutcome, MeasureSettings, Observer, PlanOrder,
-    Source,
+    default_session_path, measure, summary_path, HdrChoice, MeasureOutcome, MeasureSettings,
+    Observer, PlanOrder, Source,
 };
 use std::path::PathBuf;
 use std::time::Duration;
@@ -173,7 +173,10 @@ impl Args {
         if self.probe_samples < 2 || self.theta_h_samples < 2 {
             bail!("--probe-samples and --theta-h-samples must be at least 2");
         }
-        for (name, step) in [("--theta-d-step", self.theta_d_step), ("--phi-d-step", self.phi_d_step)] {
+        for (name, step) in [
+            ("--theta-d-step", self.theta_d_step),
+            ("--phi-d-step", self.phi_d_step),
+        ] {
             if !(step.is_finite() && step > 0.0 && step <= 90.0) {
                 bail!("{name} must be in (0, 90] degrees, got {step}");
             }
@@ -203,20 +206,39 @@ pub fn run(args: Args) -> Result<()> {
         None => Device::utia(),
     };
     let source = source(&args)?;
-    let session = args.session.clone().unwrap_or_else(|| default_session_path(&args.out));
+    let session = args
+        .session
+        .clone()
+        .unwrap_or_else(|| default_session_path(&args.out));
     let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
     println!("session: {}", session.display());
     let mut observer = Bars::default();
-    let outcome = measure(source, &device, &args.settings(), &session, &args.out, stop, &mut observer)?;
+    let outcome = measure(
+        source,
+        &device,
+        &args.settings(),
+        &session,
+        &args.out,
+        stop,
+        &mut observer,
+    )?;
     observer.finish();
     match outcome {
         MeasureOutcome::Complete(summary) => {
             for line in summary.lines() {
                 println!("{line}");
             }
-            println!("wrote {} and {}", args.out.display(), summary_path(&args.out).display());
+            println!(
+                "wrote {} and {}",
+                args.out.display(),
+                summary_path(&args.out).display()
+            );
         }
-        MeasureOutcome::Stopped { stage, done, planned } => {
+        MeasureOutcome::Stopped {
+            stage,
+            done,
+            planned,
+        } => {
             println!(
                 "stopped: {stage} {done} of {planned} samples measured and journaled in {}; run the same command to resume",
                 session.display()
@@ -251,7 +273,7 @@ fn source(args: &Args) -> Result<Source> {
             token: args.token.clone(),
             ..ClientSettings::default()
         },
-        calibration,
+        calibration: Box::new(calibration),
     })
 }
 
@@ -293,7 +315,9 @@ impl Observer for Bars {
         let bar = crate::progress::bar(planned as u64, stage);
         bar.set_position(done as u64);
         if done > 0 {
-            bar.println(format!("{stage}: resuming, {done} of {planned} samples already measured"));
+            bar.println(format!(
+                "{stage}: resuming, {done} of {planned} samples already measured"
+            ));
         }
         self.bar = Some(bar);
         self.stage = stage.to_string();

@@ -49,10 +49,10 @@ pub fn run(args: Args) -> Result<()> {
         (None, Some(path)) => (path, session_samples(path)?),
         (None, None) => bail!("give --samples or --session"),
     };
-    let name = args
-        .out
-        .file_stem()
-        .map_or_else(|| "reconstruction".into(), |s| s.to_string_lossy().into_owned());
+    let name = args.out.file_stem().map_or_else(
+        || "reconstruction".into(),
+        |s| s.to_string_lossy().into_owned(),
+    );
     let spinner = crate::progress::spinner("reconstructing");
     let result = reconstruct(&samples, args.method, &name);
     spinner.finish_and_clear();
@@ -69,8 +69,15 @@ pub fn run(args: Args) -> Result<()> {
             lobe.shape.alpha, lobe.shape.gamma, lobe.diffuse.x, lobe.diffuse.y, lobe.diffuse.z
         );
     }
-    println!("cells: {measured} measured, {interpolated} interpolated, {extrapolated} extrapolated");
-    println!("wrote {} and {} (method {})", args.out.display(), sidecar.display(), args.method);
+    println!(
+        "cells: {measured} measured, {interpolated} interpolated, {extrapolated} extrapolated"
+    );
+    println!(
+        "wrote {} and {} (method {})",
+        args.out.display(),
+        sidecar.display(),
+        args.method
+    );
     Ok(())
 }
 
@@ -80,7 +87,10 @@ fn session_samples(path: &Path) -> Result<Vec<Sample>> {
     let plan = journal.plan(STAGE_MAIN)?;
     let samples = measured_samples(&plan, &journal.samples(STAGE_MAIN)?);
     if samples.is_empty() {
-        bail!("{}: the session has no measured sample in its {STAGE_MAIN} stage", path.display());
+        bail!(
+            "{}: the session has no measured sample in its {STAGE_MAIN} stage",
+            path.display()
+        );
     }
     Ok(samples)
 }
@@ -88,5 +98,9 @@ fn session_samples(path: &Path) -> Result<Vec<Sample>> {
 /// The samples of a CSV file.
 fn read_samples(path: &Path) -> Result<Vec<Sample>> {
     let set = SampleSet::read(path)?;
-    Ok(set.samples().iter().map(|s| Sample::new(s.angles, s.value)).collect())
+    Ok(set
+        .samples()
+        .iter()
+        .map(|s| Sample::new(s.angles, s.value))
+        .collect())
 }

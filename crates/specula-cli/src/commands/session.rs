@@ -36,7 +36,11 @@ fn hours(seconds: f64) -> String {
 fn status(path: &std::path::Path) -> Result<()> {
     let journal = Journal::open_read_only(path)?;
     let status: SessionStatus = journal.status()?;
-    println!("session: {} (schema {})", path.display(), status.schema_version);
+    println!(
+        "session: {} (schema {})",
+        path.display(),
+        status.schema_version
+    );
     if let Some(source) = journal.meta::<String>("source")? {
         println!("measures: {source}");
     }
@@ -59,7 +63,10 @@ fn status(path: &std::path::Path) -> Result<()> {
         println!("orientation: {}", checks.orientation);
     }
     if let Some(fit) = journal.meta::<FitRecord>("fit")? {
-        println!("k-hat: {:.4} ({}), fit error {:.4e}", fit.function.k, fit.function.family, fit.error);
+        println!(
+            "k-hat: {:.4} ({}), fit error {:.4e}",
+            fit.function.k, fit.function.family, fit.error
+        );
     }
     if let Some(plan) = journal.meta::<PlanRecord>("plan")? {
         println!(
@@ -83,7 +90,11 @@ fn status(path: &std::path::Path) -> Result<()> {
         complete &= stage.done == stage.planned;
     }
     if !status.events.is_empty() {
-        let counts: Vec<String> = status.events.iter().map(|(k, n)| format!("{k} {n}")).collect();
+        let counts: Vec<String> = status
+            .events
+            .iter()
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
         println!("events: {}", counts.join(", "));
         for (_, kind, message) in &status.recent_events {
             println!("  {kind}: {message}");

@@ -56,7 +56,9 @@ impl ClientSettings {
     /// The pause after the `failures`-th failure in a row.
     pub fn backoff(&self, failures: u32) -> Duration {
         let factor = 2u32.saturating_pow(failures.saturating_sub(1).min(30));
-        self.backoff_initial.saturating_mul(factor).min(self.backoff_max)
+        self.backoff_initial
+            .saturating_mul(factor)
+            .min(self.backoff_max)
     }
 }
 
@@ -103,7 +105,9 @@ impl RemoteInstrument {
     /// Opens the link now and checks the server (protocol version, token).
     pub fn connect(endpoint: Endpoint, settings: ClientSettings) -> Result<Self, InstrumentError> {
         let mut client = Self::new(endpoint, settings);
-        client.call("info", Value::Null).map(|_: InstrumentInfo| ())?;
+        client
+            .call("info", Value::Null)
+            .map(|_: InstrumentInfo| ())?;
         Ok(client)
     }
 
@@ -128,7 +132,11 @@ impl RemoteInstrument {
     }
 
     /// Calls a method, retrying on a fresh link as the settings say.
-    fn call<T: DeserializeOwned>(&mut self, method: &str, params: Value) -> Result<T, InstrumentError> {
+    fn call<T: DeserializeOwned>(
+        &mut self,
+        method: &str,
+        params: Value,
+    ) -> Result<T, InstrumentError> {
         let mut failures = 0u32;
         loop {
             let why = match self.attempt(method, &params) {
@@ -143,7 +151,10 @@ impl RemoteInstrument {
                 Err(AttemptError::Device(error)) => return Err(error),
                 Err(AttemptError::Refused(why)) => {
                     self.link = None;
-                    return Err(InstrumentError::Disconnected(format!("{}: {why}", self.endpoint)));
+                    return Err(InstrumentError::Disconnected(format!(
+                        "{}: {why}",
+                        self.endpoint
+                    )));
                 }
                 Err(AttemptError::Transport { timeout, why }) => (timeout, why),
             };
@@ -163,7 +174,11 @@ impl RemoteInstrument {
             let pause = self.settings.backoff(failures);
             self.note(
                 "retry",
-                format!("{method}: {} (failure {failures}); reconnecting in {:.2} s", why.1, pause.as_secs_f64()),
+                format!(
+                    "{method}: {} (failure {failures}); reconnecting in {:.2} s",
+                    why.1,
+                    pause.as_secs_f64()
+                ),
             );
             std::thread::sleep(pause);
         }
@@ -186,7 +201,9 @@ impl RemoteInstrument {
             None => Ok(reply.result.unwrap_or(Value::Null)),
             Some(error) => Err(match error.to_instrument() {
                 Some(device) => AttemptError::Device(device),
-                None => AttemptError::Refused(format!("{method}: {}: {}", error.kind, error.message)),
+                None => {
+                    AttemptError::Refused(format!("{method}: {}: {}", error.kind, error.message))
+                }
             }),
         }
     }
@@ -212,12 +229,18 @@ impl RemoteInstrument {
         self.next_id += 1;
         let reply = self.exchange(&request)?;
         if let Some(error) = reply.error {
-            return Err(AttemptError::Refused(format!("refused: {}: {}", error.kind, error.message)));
+            return Err(AttemptError::Refused(format!(
+                "refused: {}: {}",
+                error.kind, error.message
+            )));
         }
         let hello: HelloResult = serde_json::from_value(reply.result.unwrap_or(Value::Null))
             .map_err(|e| AttemptError::Refused(format!("hello: unexpected reply: {e}")))?;
         if self.server.is_some() {
-            self.note("reconnect", format!("reconnected to {} ({})", self.endpoint, hello.server));
+            self.note(
+                "reconnect",
+                format!("reconnected to {} ({})", self.endpoint, hello.server),
+            );
         }
         self.server = Some(hello.server);
         Ok(())
@@ -238,7 +261,10 @@ impl RemoteInstrument {
             let line = link.receive(left).map_err(|e| match e {
                 LinkError::Timeout => transport(
                     true,
-                    format!("no reply within {:.1} s", self.settings.reply_timeout.as_secs_f64()),
+                    format!(
+                        "no reply within {:.1} s",
+                        self.settings.reply_timeout.as_secs_f64()
+                    ),
                 ),
                 LinkError::Closed(why) => transport(false, why),
             })?;
@@ -253,8 +279,15 @@ impl RemoteInstrument {
                 }
                 Some(id) if id < request.id => continue,
                 _ => {
-                    let why = reply.error.map_or("reply to an unknown request".into(), |e: WireError| e.message);
-                    return Err(transport(false, format!("the device could not read our request: {why}")));
+                    let why = reply
+                        .error
+                        .map_or("reply to an unknown request".into(), |e: WireError| {
+                            e.message
+                        });
+                    return Err(transport(
+                        false,
+                        format!("the device could not read our request: {why}"),
+                    ));
                 }
             }
         }
@@ -273,8 +306,11 @@ impl Instrument for RemoteInstrument {
 
     fn set_light(&mut self, level: f64) -> Result<(), InstrumentError> {
         let params = LightParams { level };
-        self.call::<Value>("set_light", serde_json::to_value(params).expect("serialises"))
-            .map(|_| ())
+        self.call::<Value>(
+            "set_light",
+            serde_json::to_value(params).expect("serialises"),
+        )
+        .map(|_| ())
     }
 
     fn capture(&mut self, exposure_s: f64, with_pixels: bool) -> Result<Capture, InstrumentError> {
@@ -313,18 +349,30 @@ mod tests {
     #[test]
     fn an_unreachable_device_fails_after_the_configured_tries() {
         // A port nothing listens on: bind one, then close it.
-        let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
         let settings = ClientSettings {
             max_failures: 3,
             backoff_initial: Duration::from_millis(1),
             connect_timeout: Duration::from_millis(200),
             ..ClientSettings::default()
         };
-        let mut client = RemoteInstrument::new(Endpoint::Tcp(format!("127.0.0.1:{port}")), settings);
+        let mut client =
+            RemoteInstrument::new(Endpoint::Tcp(format!("127.0.0.1:{port}")), settings);
         let err = client.home().unwrap_err();
         let text = err.to_string();
         assert!(matches!(err, InstrumentError::Disconnected(_)), "{text}");
-        assert!(text.contains("home failed 3 times in a row") && text.contains("cannot connect"), "{text}");
-        assert_eq!(client.notes().lock().unwrap().len(), 2, "two retries before giving up");
+        assert!(
+            text.contains("home failed 3 times in a row") && text.contains("cannot connect"),
+            "{text}"
+        );
+        assert_eq!(
+            client.notes().lock().unwrap().len(),
+            2,
+            "two retries before giving up"
+        );
     }
 }

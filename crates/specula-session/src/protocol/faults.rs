@@ -55,7 +55,8 @@ impl FromStr for FaultSchedule {
     fn from_str(s: &str) -> Result<Self, String> {
         let mut schedule = FaultSchedule::new();
         for item in s.split(',').map(str::trim).filter(|i| !i.is_empty()) {
-            let bad = || format!("fault '{item}': expected drop@N, slow@N=SECONDS, corrupt@N or motor@N");
+            let bad =
+                || format!("fault '{item}': expected drop@N, slow@N=SECONDS, corrupt@N or motor@N");
             let (kind, rest) = item.split_once('@').ok_or_else(bad)?;
             let (n, seconds) = match rest.split_once('=') {
                 Some((n, s)) => (n, Some(s)),
@@ -96,7 +97,15 @@ mod tests {
         assert_eq!(s.fault_at(12), Some(Fault::Corrupt));
         assert_eq!(s.fault_at(20), Some(Fault::MotorFault));
         assert_eq!(s.fault_at(5), None);
-        for bad in ["drop", "drop@x", "slow@3", "slow@3=-1", "melt@3", "drop@0", "drop@3=1"] {
+        for bad in [
+            "drop",
+            "drop@x",
+            "slow@3",
+            "slow@3=-1",
+            "melt@3",
+            "drop@0",
+            "drop@3=1",
+        ] {
             assert!(bad.parse::<FaultSchedule>().is_err(), "{bad}");
         }
         assert!("".parse::<FaultSchedule>().unwrap().is_empty());

@@ -27,9 +27,10 @@ impl FromStr for Endpoint {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
         if let Some(address) = s.strip_prefix("tcp://") {
-            if address.rsplit_once(':').is_none_or(|(host, port)| {
-                host.is_empty() || port.parse::<u16>().is_err()
-            }) {
+            if address
+                .rsplit_once(':')
+                .is_none_or(|(host, port)| host.is_empty() || port.parse::<u16>().is_err())
+            {
                 return Err(format!("'{s}': expected tcp://HOST:PORT"));
             }
             Ok(Endpoint::Tcp(address.to_string()))
@@ -39,7 +40,9 @@ impl FromStr for Endpoint {
             }
             Ok(Endpoint::Exec(command.to_string()))
         } else {
-            Err(format!("'{s}': a device is tcp://HOST:PORT or exec:COMMAND"))
+            Err(format!(
+                "'{s}': a device is tcp://HOST:PORT or exec:COMMAND"
+            ))
         }
     }
 }
@@ -165,7 +168,9 @@ fn spawn_reader<R: Read + Send + 'static>(source: R) -> Receiver<Result<String, 
         let mut reader = BufReader::new(source);
         loop {
             let mut line = Vec::new();
-            let read = (&mut reader).take(MAX_LINE_BYTES + 1).read_until(b'\n', &mut line);
+            let read = (&mut reader)
+                .take(MAX_LINE_BYTES + 1)
+                .read_until(b'\n', &mut line);
             let message = match read {
                 Ok(0) => Err("the device closed the link".to_string()),
                 Ok(_) if line.last() != Some(&b'\n') && line.len() as u64 > MAX_LINE_BYTES => {
@@ -197,9 +202,20 @@ mod tests {
         let tcp: Endpoint = "tcp://127.0.0.1:7878".parse().unwrap();
         assert_eq!(tcp, Endpoint::Tcp("127.0.0.1:7878".into()));
         assert_eq!(tcp.to_string(), "tcp://127.0.0.1:7878");
-        let exec: Endpoint = "exec:python3 adapter.py --port /dev/ttyUSB0".parse().unwrap();
-        assert_eq!(exec, Endpoint::Exec("python3 adapter.py --port /dev/ttyUSB0".into()));
-        for bad in ["127.0.0.1:7878", "tcp://host", "tcp://:80", "tcp://h:99999", "exec:  "] {
+        let exec: Endpoint = "exec:python3 adapter.py --port /dev/ttyUSB0"
+            .parse()
+            .unwrap();
+        assert_eq!(
+            exec,
+            Endpoint::Exec("python3 adapter.py --port /dev/ttyUSB0".into())
+        );
+        for bad in [
+            "127.0.0.1:7878",
+            "tcp://host",
+            "tcp://:80",
+            "tcp://h:99999",
+            "exec:  ",
+        ] {
             assert!(bad.parse::<Endpoint>().is_err(), "{bad}");
         }
     }
@@ -210,8 +226,14 @@ mod tests {
         let mut link = Link::open(&Endpoint::Exec("cat".into()), Duration::from_secs(1)).unwrap();
         link.send("{\"id\":1}").unwrap();
         assert_eq!(link.receive(Duration::from_secs(5)).unwrap(), "{\"id\":1}");
-        assert_eq!(link.receive(Duration::from_millis(50)), Err(LinkError::Timeout));
+        assert_eq!(
+            link.receive(Duration::from_millis(50)),
+            Err(LinkError::Timeout)
+        );
         let mut gone = Link::open(&Endpoint::Exec("true".into()), Duration::from_secs(1)).unwrap();
-        assert!(matches!(gone.receive(Duration::from_secs(5)), Err(LinkError::Closed(_))));
+        assert!(matches!(
+            gone.receive(Duration::from_secs(5)),
+            Err(LinkError::Closed(_))
+        ));
     }
 }

@@ -164,7 +164,10 @@ mod tests {
         );
         let home: Request = serde_json::from_str(r#"{"id":1,"method":"home"}"#).unwrap();
         assert_eq!(home.params, Value::Null);
-        let error = Reply::failed(Some(3), WireError::from_instrument(&InstrumentError::MotorFault("x".into())));
+        let error = Reply::failed(
+            Some(3),
+            WireError::from_instrument(&InstrumentError::MotorFault("x".into())),
+        );
         assert_eq!(
             serde_json::to_string(&error).unwrap(),
             r#"{"id":3,"error":{"kind":"motor_fault","message":"x"}}"#

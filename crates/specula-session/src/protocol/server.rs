@@ -78,12 +78,19 @@ impl Server {
     }
 
     /// Serves one connection until the client closes it, a fault drops it or it breaks.
-    pub fn serve_connection<R: Read, W: Write>(&mut self, reader: R, mut writer: W) -> ConnectionEnd {
+    pub fn serve_connection<R: Read, W: Write>(
+        &mut self,
+        reader: R,
+        mut writer: W,
+    ) -> ConnectionEnd {
         let mut reader = BufReader::new(reader);
         let mut authorised = self.token.is_none();
         loop {
             let mut line = Vec::new();
-            match (&mut reader).take(MAX_LINE_BYTES + 1).read_until(b'\n', &mut line) {
+            match (&mut reader)
+                .take(MAX_LINE_BYTES + 1)
+                .read_until(b'\n', &mut line)
+            {
                 Ok(0) => return ConnectionEnd::ClientClosed,
                 Ok(_) if line.len() as u64 > MAX_LINE_BYTES => {
                     return ConnectionEnd::Broken("request line too long".into())
@@ -169,7 +176,8 @@ impl Server {
             );
         }
         let mut reply = if fault == Some(Fault::MotorFault) {
-            let error = InstrumentError::MotorFault(format!("injected fault on request {}", self.requests));
+            let error =
+                InstrumentError::MotorFault(format!("injected fault on request {}", self.requests));
             Reply::failed(Some(id), WireError::from_instrument(&error))
         } else {
             match self.call(&request.method, request.params) {
@@ -187,7 +195,10 @@ impl Server {
             Err(e) => return (Reply::failed(Some(id), e), Next::Continue),
         };
         if hello.protocol != PROTOCOL_VERSION {
-            let message = format!("protocol {} asked, this server speaks {PROTOCOL_VERSION}", hello.protocol);
+            let message = format!(
+                "protocol {} asked, this server speaks {PROTOCOL_VERSION}",
+                hello.protocol
+            );
             return (
                 Reply::failed(Some(id), WireError::new("version", message.clone())),
                 Next::Close(ConnectionEnd::Refused(message)),
@@ -197,7 +208,10 @@ impl Server {
             let given = hello.token.as_deref().unwrap_or("");
             if !same_secret(given.as_bytes(), expected.as_bytes()) {
                 return (
-                    Reply::failed(Some(id), WireError::new("unauthorized", "wrong or missing token")),
+                    Reply::failed(
+                        Some(id),
+                        WireError::new("unauthorized", "wrong or missing token"),
+                    ),
                     Next::Close(ConnectionEnd::Refused("wrong token".into())),
                 );
             }
@@ -217,8 +231,12 @@ impl Server {
         let device = |e: InstrumentError| WireError::from_instrument(&e);
         let to_value = |v: Result<Value, serde_json::Error>| v.expect("results serialise");
         match method {
-            "info" => Ok(to_value(serde_json::to_value(self.instrument.info().map_err(device)?))),
-            "home" => Ok(to_value(serde_json::to_value(self.instrument.home().map_err(device)?))),
+            "info" => Ok(to_value(serde_json::to_value(
+                self.instrument.info().map_err(device)?,
+            ))),
+            "home" => Ok(to_value(serde_json::to_value(
+                self.instrument.home().map_err(device)?,
+            ))),
             "move_to" => {
                 let p: MoveParams = parse(params)?;
                 let read_back = self.instrument.move_to(&p.target).map_err(device)?;
@@ -231,16 +249,23 @@ impl Server {
             }
             "capture" => {
                 let p: CaptureParams = parse(params)?;
-                let capture = self.instrument.capture(p.exposure_s, p.with_pixels).map_err(device)?;
+                let capture = self
+                    .instrument
+                    .capture(p.exposure_s, p.with_pixels)
+                    .map_err(device)?;
                 Ok(to_value(serde_json::to_value(capture)))
             }
-            other => Err(WireError::new("unknown_method", format!("no method '{other}'"))),
+            other => Err(WireError::new(
+                "unknown_method",
+                format!("no method '{other}'"),
+            )),
         }
     }
 }
 
 fn parse<T: DeserializeOwned>(params: Value) -> Result<T, WireError> {
-    serde_json::from_value(params).map_err(|e| WireError::new("bad_request", format!("bad params: {e}")))
+    serde_json::from_value(params)
+        .map_err(|e| WireError::new("bad_request", format!("bad params: {e}")))
 }
 
 /// Compares secrets in time independent of where they differ.
@@ -269,7 +294,11 @@ mod tests {
         fn set_light(&mut self, _level: f64) -> Result<(), InstrumentError> {
             Ok(())
         }
-        fn capture(&mut self, exposure_s: f64, _with_pixels: bool) -> Result<Capture, InstrumentError> {
+        fn capture(
+            &mut self,
+            exposure_s: f64,
+            _with_pixels: bool,
+        ) -> Result<Capture, InstrumentError> {
             Ok(Capture {
                 exposure_s,
                 light_level: 1.0,
@@ -328,19 +357,25 @@ mod tests {
     #[test]
     fn a_token_is_required_when_set() {
         let mut server = Server::new(Box::new(Echo), "echo").with_token(Some("s3cret".into()));
-        let (replies, end) = exchange(&mut server, "{\"id\":1,\"method\":\"home\"}\n{\"id\":2,\"method\":\"home\"}\n");
+        let (replies, end) = exchange(
+            &mut server,
+            "{\"id\":1,\"method\":\"home\"}\n{\"id\":2,\"method\":\"home\"}\n",
+        );
         assert_eq!(replies.len(), 1);
         assert_eq!(replies[0]["error"]["kind"], "unauthorized");
         assert!(matches!(end, ConnectionEnd::Refused(_)));
-        let wrong = "{\"id\":1,\"method\":\"hello\",\"params\":{\"protocol\":1,\"token\":\"guess\"}}\n";
+        let wrong =
+            "{\"id\":1,\"method\":\"hello\",\"params\":{\"protocol\":1,\"token\":\"guess\"}}\n";
         let (replies, _) = exchange(&mut server, wrong);
         assert_eq!(replies[0]["error"]["kind"], "unauthorized");
-        let right = "{\"id\":1,\"method\":\"hello\",\"params\":{\"protocol\":1,\"token\":\"s3cret\"}}\n\
+        let right =
+            "{\"id\":1,\"method\":\"hello\",\"params\":{\"protocol\":1,\"token\":\"s3cret\"}}\n\
                      {\"id\":2,\"method\":\"home\"}\n";
         let (replies, end) = exchange(&mut server, right);
         assert_eq!(replies[1]["result"]["camera_rad"], 0.0);
         assert_eq!(end, ConnectionEnd::ClientClosed);
-        let old = "{\"id\":1,\"method\":\"hello\",\"params\":{\"protocol\":0,\"token\":\"s3cret\"}}\n";
+        let old =
+            "{\"id\":1,\"method\":\"hello\",\"params\":{\"protocol\":0,\"token\":\"s3cret\"}}\n";
         let (replies, _) = exchange(&mut server, old);
         assert_eq!(replies[0]["error"]["kind"], "version");
     }
