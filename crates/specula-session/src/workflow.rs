@@ -699,7 +699,7 @@ fn rows_of(plan: &Plan) -> Vec<PlannedRow> {
 }
 
 /// `(theta_h_deg, f)` of the probe's samples, in increasing theta_h.
-fn probe_samples(journal: &Journal) -> Result<Vec<(f64, Rgb)>> {
+pub fn probe_samples(journal: &Journal) -> Result<Vec<(f64, Rgb)>> {
     let rows = journal.plan(STAGE_PROBE)?;
     let samples = journal.samples(STAGE_PROBE)?;
     let mut probe: Vec<(f64, Rgb)> = rows

@@ -15,10 +15,12 @@ pub mod lobe;
 pub mod nearest_bin_table;
 pub mod plot;
 pub mod render;
+pub mod report;
 pub mod shape;
 pub mod speedshape;
 
 pub use environment::Environment;
+pub use image::RgbImage;
 pub use linear_image::LinearImage;
 pub use render::{render, Lighting, RenderSettings, Scene};
 pub use shape::ShapeKind;

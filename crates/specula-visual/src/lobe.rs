@@ -73,7 +73,7 @@ impl ProxyLobe {
         let peak = column[peak_at];
         let far = &column[column.len() / 2..];
         let far_level = median(far.iter().map(|c| c.value));
-        if !(peak.value > 0.0) || peak.value < 2.0 * far_level {
+        if peak.value.is_nan() || peak.value <= 0.0 || peak.value < 2.0 * far_level {
             return Self {
                 alpha: 0.5,
                 specular_probability: SPECULAR_PROBABILITY_RANGE.0,

@@ -279,13 +279,13 @@ fn source(args: &Args) -> Result<Source> {
 
 /// Progress bars per stage, with the device time left from the time model.
 #[derive(Default)]
-struct Bars {
+pub(crate) struct Bars {
     bar: Option<ProgressBar>,
     stage: String,
 }
 
 impl Bars {
-    fn finish(&mut self) {
+    pub(crate) fn finish(&mut self) {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
         }

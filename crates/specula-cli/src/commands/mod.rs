@@ -14,6 +14,7 @@ pub mod info;
 pub mod measure;
 pub mod placement;
 pub mod plan;
+pub mod plot;
 pub mod probe;
 pub mod reconstruct;
 pub mod render;

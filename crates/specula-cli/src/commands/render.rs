@@ -3,6 +3,7 @@
 use anyhow::{bail, Context, Result};
 use specula_visual::grid::{self, Tile};
 use specula_visual::linear_image::ImageFormat;
+use specula_visual::render::MAX_SAMPLES_PER_PIXEL;
 use specula_visual::{Environment, Lighting, RenderSettings, Scene, ShapeKind};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -75,15 +76,24 @@ pub fn run(args: Args) -> Result<()> {
     if !(8..=8192).contains(&args.size) {
         bail!("--size {}: give between 8 and 8192 pixels", args.size);
     }
-    if args.spp == 0 {
-        bail!("--spp must be at least 1");
+    if !(1..=MAX_SAMPLES_PER_PIXEL).contains(&args.spp) {
+        bail!(
+            "--spp {}: give between 1 and {MAX_SAMPLES_PER_PIXEL}",
+            args.spp
+        );
     }
     let format = ImageFormat::of_path(&args.out)?;
     if args.brdfs.len() > 1 && !args.grid {
-        bail!("{} BRDFs given: add --grid to show them side by side", args.brdfs.len());
+        bail!(
+            "{} BRDFs given: add --grid to show them side by side",
+            args.brdfs.len()
+        );
     }
     if args.grid && format != ImageFormat::Png {
-        bail!("{}: a --grid picture is written as .png", args.out.display());
+        bail!(
+            "{}: a --grid picture is written as .png",
+            args.out.display()
+        );
     }
     let lighting = match (args.light, &args.env) {
         (Some(LightKind::Point), Some(env)) => {
@@ -104,13 +114,14 @@ pub fn run(args: Args) -> Result<()> {
         seed: args.seed,
         ..RenderSettings::square(args.size, args.spp)
     };
-    let bar = crate::progress::bar((args.size * brdfs.len()) as u64, "rendering");
+    let pixels = (args.size * args.size) as u64;
+    let bar = crate::progress::bar(pixels * brdfs.len() as u64, "rendering");
     let mut renders = Vec::with_capacity(brdfs.len());
     for (i, brdf) in brdfs.iter().enumerate() {
         let start = Instant::now();
-        let offset = (i * args.size) as u64;
-        let image = specula_visual::render(brdf.as_ref(), &scene, &settings, &|rows| {
-            bar.set_position(offset + rows)
+        let offset = i as u64 * pixels;
+        let image = specula_visual::render(brdf.as_ref(), &scene, &settings, &|done| {
+            bar.set_position(offset + done)
         });
         eprintln!(
             "rendered {} ({} x {}, {} spp) in {:.2} s",

@@ -90,22 +90,30 @@ fn panel(
     adaptive: &[(f64, Rgb)],
     max_deg: f64,
 ) -> Result<()> {
+    // The points up to the panel's edge, the lines ending there at the interpolated value.
     let within = |points: &[(f64, Rgb)]| -> Vec<(f64, Rgb)> {
-        // Keep one point beyond the range so that lines reach the edge.
         let end = points.partition_point(|(t, _)| *t <= max_deg);
-        points[..(end + 1).min(points.len())].to_vec()
+        let mut kept = points[..end].to_vec();
+        if end > 0 && end < points.len() {
+            kept.extend(interpolate(points, &[max_deg]));
+        }
+        kept
     };
+    let markers: Vec<(f64, Rgb)> = adaptive
+        .iter()
+        .copied()
+        .filter(|(t, _)| *t <= max_deg)
+        .collect();
     let (probe, adaptive) = (within(probe), within(adaptive));
     let positive = probe
         .iter()
         .chain(&adaptive)
-        .filter(|(t, _)| *t <= max_deg)
         .flat_map(|(_, v)| v.to_array())
         .filter(|v| *v > 0.0);
     let (lo, hi) = positive.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
         (lo.min(v), hi.max(v))
     });
-    if !(hi > 0.0) {
+    if hi <= 0.0 {
         bail!("no positive f_r to plot below theta_h = {max_deg} deg");
     }
     let (lo, hi) = (lo * 0.5, hi * 2.0);
@@ -162,10 +170,9 @@ fn panel(
             });
         chart
             .draw_series(
-                points
+                markers
                     .iter()
-                    .filter(|(t, _)| *t <= max_deg)
-                    .map(|p| Circle::new(*p, 3, colour.filled())),
+                    .map(|(t, v)| Circle::new((*t, clamp(v[c])), 3, colour.filled())),
             )
             .map_err(plot_error)?;
     }

@@ -24,6 +24,9 @@ pub struct RawSample {
     pub value: Rgb,
 }
 
+/// Per cell `(theta_h index, theta_d index)` of one panel: the sum of values and their count.
+type CellSums = BTreeMap<(usize, usize), (f64, usize)>;
+
 /// Most panels (distinct phi_d) one picture shows.
 pub const MAX_PANELS: usize = 24;
 /// Panels in a row.
@@ -76,7 +79,7 @@ impl SampleGrid {
             v.sort_unstable();
             v.dedup();
         }
-        let mut sums: BTreeMap<i64, BTreeMap<(usize, usize), (f64, usize)>> = BTreeMap::new();
+        let mut sums: BTreeMap<i64, CellSums> = BTreeMap::new();
         for s in samples {
             let phi_d = key(s.phi_d_deg.rem_euclid(180.0)) % key(180.0);
             let i = theta_h
@@ -194,6 +197,7 @@ pub fn plot_raw_samples(samples: &[RawSample], title: &str, axis: ThetaHAxis) ->
                 .configure_mesh()
                 .disable_mesh()
                 .x_desc("theta_d [deg]")
+            .x_label_formatter(&|d| angle_label(*d))
                 .y_desc("theta_h [deg]")
                 .x_labels(4)
                 .y_label_formatter(&|c| angle_label(axis.theta_h_deg(*c)))

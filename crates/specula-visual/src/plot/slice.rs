@@ -85,6 +85,7 @@ pub fn plot_slice(brdf: &dyn Brdf, title: &str, options: &SliceOptions) -> Resul
             .configure_mesh()
             .disable_mesh()
             .x_desc("theta_d [deg]")
+            .x_label_formatter(&|d| angle_label(*d))
             .y_desc(options.axis.description())
             .y_label_formatter(&|c| angle_label(options.axis.theta_h_deg(*c)))
             .label_style((font::FAMILY, LABEL_PX))
