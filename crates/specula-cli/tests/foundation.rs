@@ -88,7 +88,7 @@ fn info_and_eval_on_a_table_with_holes() {
         .arg(&path)
         .assert()
         .success()
-        .stdout(predicate::str::contains(format!("missing: 1\n")))
+        .stdout(predicate::str::contains("missing: 1\n"))
         .stdout(predicate::str::contains("theta_d=40.5 phi_d=90.5"));
 
     let dirs = dir.path().join("dirs.csv");

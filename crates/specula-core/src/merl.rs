@@ -78,14 +78,19 @@ impl Bin {
     }
 
     /// The nearest bin of half-difference angles, exactly as MERL's reference reader.
+    ///
+    /// The arithmetic is the reference reader's own (`angle / (pi/2) * 90`, not a conversion
+    /// to degrees), so that angles of whole degrees such as 15 land in bin 15 and not 14.
     pub fn of(hd: HalfDiff) -> Self {
-        let theta_h_deg = hd.theta_h.to_degrees().max(0.0);
-        let theta_d_deg = hd.theta_d.to_degrees();
-        let phi_d_deg = hd.phi_d.to_degrees().rem_euclid(180.0);
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let theta_h_scaled = (hd.theta_h / FRAC_PI_2 * THETA_H_BINS as f64).max(0.0);
+        let theta_d_scaled = hd.theta_d / FRAC_PI_2 * THETA_D_BINS as f64;
+        let phi_d_scaled =
+            (hd.phi_d.rem_euclid(PI) / PI * PHI_D_BINS as f64).rem_euclid(PHI_D_BINS as f64);
         Self {
-            theta_h_i: clamp_bin((theta_h_deg * 90.0).sqrt(), THETA_H_BINS),
-            theta_d_i: clamp_bin(theta_d_deg, THETA_D_BINS),
-            phi_d_i: clamp_bin(phi_d_deg, PHI_D_BINS),
+            theta_h_i: clamp_bin((theta_h_scaled * THETA_H_BINS as f64).sqrt(), THETA_H_BINS),
+            theta_d_i: clamp_bin(theta_d_scaled, THETA_D_BINS),
+            phi_d_i: clamp_bin(phi_d_scaled, PHI_D_BINS),
         }
     }
 
@@ -486,6 +491,13 @@ mod tests {
                 phi_d_i: 170,
             };
             assert_eq!(Bin::of(c.centre(0.3)), c);
+        }
+        for whole_deg in [3.0, 15.0, 30.0, 60.0, 87.0] {
+            let b = Bin::of(HalfDiff::from_degrees(10.0, 0.0, whole_deg, whole_deg));
+            assert_eq!(
+                (b.theta_d_i, b.phi_d_i),
+                (whole_deg as usize, whole_deg as usize)
+            );
         }
         for index in [0, 1, 180, CELLS - 1, 123_456] {
             assert_eq!(Bin::from_index(index).index(), index);

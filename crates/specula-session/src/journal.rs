@@ -230,7 +230,6 @@ pub struct StageStatus {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SessionStatus {
     pub schema_version: i64,
-    pub meta_keys: Vec<String>,
     pub stages: Vec<StageStatus>,
     /// Events by kind (fault, retry, reconnect, interrupted, resumed, ...).
     pub events: BTreeMap<String, usize>,
@@ -634,7 +633,6 @@ impl Journal {
         recent_events.reverse();
         Ok(SessionStatus {
             schema_version: self.schema_version()?.unwrap_or(0),
-            meta_keys: self.column("SELECT key FROM meta ORDER BY key")?,
             stages,
             events,
             recent_events,

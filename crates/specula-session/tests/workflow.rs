@@ -26,7 +26,6 @@ fn a_small_measurement_completes_and_summarises() {
     let out = dir.path().join("silver.binary");
     let session = dir.path().join("silver.sqlite");
     let truth = Arc::new(preset("silver-925").unwrap());
-    let started = std::time::Instant::now();
     let outcome = measure(
         Source::Simulated {
             truth,
@@ -40,13 +39,27 @@ fn a_small_measurement_completes_and_summarises() {
         &mut Quiet,
     )
     .unwrap();
-    eprintln!("took {:?}", started.elapsed());
     let MeasureOutcome::Complete(summary) = outcome else {
         panic!("stopped")
     };
-    for line in summary.lines() {
-        eprintln!("{line}");
-    }
+    let lines = summary.lines();
+    let line = |key: &str| lines.iter().find(|l| l.starts_with(key)).cloned();
+    assert_eq!(
+        line("measured_samples="),
+        Some(format!("measured_samples={}", summary.measured_samples))
+    );
+    assert!(line("simulated_hours=").is_some(), "{lines:?}");
+    assert!((2.0..10.0).contains(&summary.k_hat), "{}", summary.k_hat);
+    // The plan's counts add up, and every measurable sample was measured.
+    let plan = summary.plan;
+    assert_eq!(plan.total, 8 * 6 * 3);
+    assert_eq!(plan.measurable + plan.limit + plan.occluded, plan.total);
+    assert_eq!(summary.measured_samples, plan.measurable);
+    assert!(summary.captures >= summary.measured_samples);
+    assert_eq!(
+        std::fs::read_to_string(specula_session::workflow::summary_path(&out)).unwrap(),
+        lines.join("\n") + "\n"
+    );
     let journal = Journal::open_read_only(&session).unwrap();
     assert_eq!(
         journal.samples(STAGE_MAIN).unwrap().len(),

@@ -199,10 +199,15 @@ impl RemoteInstrument {
         let reply = self.exchange(&request)?;
         match reply.error {
             None => Ok(reply.result.unwrap_or(Value::Null)),
-            Some(error) => Err(match error.to_instrument() {
-                Some(device) => AttemptError::Device(device),
-                None => {
-                    AttemptError::Refused(format!("{method}: {}: {}", error.kind, error.message))
+            Some(error) => Err(match (error.to_instrument(), error.kind.as_str()) {
+                (Some(device), _) => AttemptError::Device(device),
+                // The device could not read what we sent: the line was damaged on the way.
+                (None, "bad_request") => AttemptError::Transport {
+                    timeout: false,
+                    why: format!("the device could not read our request: {}", error.message),
+                },
+                (None, kind) => {
+                    AttemptError::Refused(format!("{method}: {kind}: {}", error.message))
                 }
             }),
         }
@@ -344,6 +349,70 @@ mod tests {
         let pauses: Vec<u128> = (1..=6).map(|n| settings.backoff(n).as_millis()).collect();
         assert_eq!(pauses, vec![100, 200, 400, 700, 700, 700]);
         assert_eq!(settings.backoff(u32::MAX), Duration::from_millis(700));
+    }
+
+    /// A scripted server on 127.0.0.1 for `kinds.len()` connections, and one more when
+    /// `then_ok`: each answers `hello`, then its next request with the given error kind (the
+    /// last one, with a home position).
+    fn scripted(kinds: Vec<&'static str>, then_ok: bool) -> (String, std::thread::JoinHandle<()>) {
+        use std::io::{BufRead, BufReader, Write};
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let address = listener.local_addr().unwrap().to_string();
+        let thread = std::thread::spawn(move || {
+            let last = then_ok.then_some(None);
+            for kind in kinds.into_iter().map(Some).chain(last) {
+                let (stream, _) = listener.accept().unwrap();
+                let mut reader = BufReader::new(stream.try_clone().unwrap());
+                let mut writer = stream;
+                for n in 0..2 {
+                    let mut line = String::new();
+                    if reader.read_line(&mut line).unwrap() == 0 {
+                        break;
+                    }
+                    let id = serde_json::from_str::<Request>(&line).unwrap().id;
+                    let reply = match (n, kind) {
+                        (0, _) => json!({"id": id, "result": {"protocol": 1, "server": "script"}}),
+                        (_, Some(kind)) => {
+                            json!({"id": id, "error": {"kind": kind, "message": "scripted"}})
+                        }
+                        (_, None) => {
+                            json!({"id": id, "result": AxisPositions::new(0.0, 0.0, 0.0, 0.0)})
+                        }
+                    };
+                    writeln!(writer, "{reply}").unwrap();
+                }
+            }
+        });
+        (address, thread)
+    }
+
+    fn quick() -> ClientSettings {
+        ClientSettings {
+            max_failures: 3,
+            backoff_initial: Duration::from_millis(1),
+            reply_timeout: Duration::from_secs(5),
+            ..ClientSettings::default()
+        }
+    }
+
+    #[test]
+    fn a_damaged_request_is_sent_again_and_a_refusal_is_final() {
+        let (address, server) = scripted(vec!["bad_request"], true);
+        let mut client = RemoteInstrument::new(Endpoint::Tcp(address), quick());
+        assert_eq!(
+            client.home().unwrap(),
+            AxisPositions::new(0.0, 0.0, 0.0, 0.0)
+        );
+        server.join().unwrap();
+        let notes = client.notes().lock().unwrap().clone();
+        assert_eq!(notes.len(), 2, "a retry, then a reconnection: {notes:?}");
+
+        let (address, server) = scripted(vec!["unknown_method"], false);
+        let mut client = RemoteInstrument::new(Endpoint::Tcp(address), quick());
+        let err = client.home().unwrap_err().to_string();
+        server.join().unwrap();
+        assert!(err.contains("home: unknown_method: scripted"), "{err}");
+        assert!(client.notes().lock().unwrap().is_empty(), "no retry");
     }
 
     #[test]

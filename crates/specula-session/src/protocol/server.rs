@@ -68,10 +68,6 @@ impl Server {
         self
     }
 
-    pub fn instrument(&self) -> &dyn Instrument {
-        self.instrument.as_ref()
-    }
-
     /// Requests received so far.
     pub fn requests(&self) -> u64 {
         self.requests

@@ -1,0 +1,359 @@
+//! `specula report`: one self-contained HTML page about a measured BRDF.
+
+use anyhow::{bail, Context, Result};
+use specula_core::compare::compare;
+use specula_core::merl::{Bin, MerlBrdf, CELLS};
+use specula_core::sampling::Family;
+use specula_core::tabulate::tabulate;
+use specula_core::{Brdf, Rgb};
+use specula_reconstruct::provenance::{sidecar_path, Provenance};
+use specula_sampling::{Probe, ProbeSettings};
+use specula_visual::grid::{self, Tile};
+use specula_visual::plot::probe::{interpolate, plot_probe};
+use specula_visual::plot::raw_samples::{plot_raw_samples, RawSample, SampleGrid};
+use specula_visual::plot::slice::{plot_slice, SliceOptions};
+use specula_visual::plot::ThetaHAxis;
+use specula_visual::report::{
+    CoverageSection, ErrorRow, ErrorSection, Figure, KHatSection, MaterialSection, Report,
+};
+use specula_visual::{Environment, Lighting, LinearImage, RenderSettings, Scene, ShapeKind};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Adaptive samples the paper places along theta_h with the fitted k (section 5.3).
+const PLACED_SAMPLES: usize = 30;
+
+/// Write one self-contained HTML report (pictures embedded, no other file needed) about a
+/// measured BRDF: the material, its coverage of the MERL grid, k-hat of its probe (paper 5.2),
+/// renders of it on a sphere and a speedshape in the studio, its characteristic slice and its
+/// probe against the adaptive samples; with --truth, the error figures against the truth and
+/// the renders side by side with their difference; with --samples, the raw samples (Fig. 15)
+/// and how many planned cells were measured.
+///
+/// INPUT is a MERL .binary (for instance from `specula reconstruct`; its provenance sidecar
+/// OUT.provenance.npy is used when present). Session journals (.sqlite) are not read yet: the
+/// report's measurement duration and plan coverage come from the journal.
+///
+/// Example: specula report silver.binary --truth silver-925 --out silver.html
+#[derive(clap::Args)]
+pub struct Args {
+    /// The measured BRDF: a MERL .binary file.
+    pub input: PathBuf,
+    /// The HTML file to write.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The true BRDF, when known (a simulation): a preset, .toml, .binary or model:name.
+    #[arg(long)]
+    pub truth: Option<String>,
+    /// The raw samples of the measurement (CSV theta_h,phi_h,theta_d,phi_d,r,g,b).
+    #[arg(long)]
+    pub samples: Option<PathBuf>,
+    /// Width and height of each render, pixels.
+    #[arg(long, default_value_t = 320)]
+    pub size: usize,
+    /// Camera rays per pixel of the renders.
+    #[arg(long, default_value_t = 32)]
+    pub spp: usize,
+    /// The report's title (default: the input's file name).
+    #[arg(long)]
+    pub title: Option<String>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let start = Instant::now();
+    let extension = args
+        .input
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match extension.as_deref() {
+        Some("binary") => {}
+        Some("sqlite") => bail!(
+            "{}: reports of session journals are not supported yet; report the reconstructed .binary",
+            args.input.display()
+        ),
+        _ => bail!("{}: expected a MERL .binary file", args.input.display()),
+    }
+    if !(8..=4096).contains(&args.size) || !(1..=4096).contains(&args.spp) {
+        bail!("--size must lie in 8..=4096 and --spp in 1..=4096");
+    }
+    let table = MerlBrdf::read(&args.input)?;
+    let truth = args
+        .truth
+        .as_deref()
+        .map(specula_formats::load_brdf)
+        .transpose()?;
+    let name = table.name();
+    let mut report = Report {
+        title: args
+            .title
+            .clone()
+            .unwrap_or_else(|| format!("BRDF report: {name}")),
+        generator: format!("specula {}", env!("CARGO_PKG_VERSION")),
+        material: Some(material(&table, &args.input)),
+        ..Report::default()
+    };
+    let mut coverage = coverage_rows(&table, &args.input)?;
+    let spinner = crate::progress::spinner("probe and k-hat");
+    let probe = Probe::take(&table, &ProbeSettings::default());
+    let fit = probe
+        .as_ref()
+        .ok()
+        .map(|p| specula_sampling::fit_k(&p.column(), Family::Exponential, PLACED_SAMPLES))
+        .transpose()?;
+    spinner.finish_and_clear();
+    match (&probe, &fit) {
+        (Ok(probe), Some(fit)) => {
+            report.k_hat = Some(KHatSection {
+                family: fit.function.family.to_string(),
+                k: fit.function.k,
+                fit_error: fit.error,
+                probe_samples: probe.len(),
+                placed_samples: PLACED_SAMPLES,
+            });
+        }
+        (Err(e), _) => report.notes.push(format!("No probe could be taken: {e:#}")),
+        _ => {}
+    }
+    if let Some(truth) = &truth {
+        let spinner = crate::progress::spinner("error figures");
+        report.errors = Some(errors(
+            &table,
+            truth.as_ref(),
+            args.truth.as_deref().unwrap_or(""),
+        ));
+        spinner.finish_and_clear();
+    }
+    report
+        .figures
+        .extend(renders(&table, truth.as_deref(), &args)?);
+    report.figures.push(Figure::new(
+        "Characteristic slice",
+        "f_r (mean of R, G, B) at phi_d = 90 deg over theta_d and theta_h, theta_h on MERL's \
+         square-root axis, log false colour (paper Fig. 11); blue: not measured.",
+        &plot_slice(&table, &name, &SliceOptions::default())?,
+    )?);
+    if let Some(truth) = &truth {
+        report.figures.push(Figure::new(
+            "Characteristic slice of the truth",
+            format!("The same slice of {}.", truth.name()),
+            &plot_slice(truth.as_ref(), &truth.name(), &SliceOptions::default())?,
+        )?);
+    }
+    if let (Ok(probe), Some(fit)) = (&probe, &fit) {
+        let points: Vec<(f64, Rgb)> = probe
+            .theta_h_deg()
+            .iter()
+            .copied()
+            .zip(probe.rgb().iter().copied())
+            .collect();
+        let adaptive = interpolate(&points, &fit.function.positions_deg(PLACED_SAMPLES));
+        report.figures.push(Figure::new(
+            "Probe against the adaptive samples",
+            format!(
+                "f_r at theta_d = 40, phi_d = 90, phi_h = 45 deg: the square-root probe of {} \
+                 samples (solid) and the {PLACED_SAMPLES} positions of the exponential sampling \
+                 function with k-hat = {:.3} (dashed, values interpolated from the probe); \
+                 below, theta_h 0 to 2 deg (paper Fig. 13).",
+                probe.len(),
+                fit.function.k
+            ),
+            &plot_probe(&points, &adaptive, &name)?,
+        )?);
+    }
+    if let Some(path) = &args.samples {
+        let (figure, row) = raw_samples(path)?;
+        report.figures.push(figure);
+        coverage.push(row);
+    }
+    report.coverage = Some(CoverageSection { rows: coverage });
+    report.notes.push(format!(
+        "Report made in {:.1} s from {}.",
+        start.elapsed().as_secs_f64(),
+        args.input.display()
+    ));
+    report.write(&args.out)?;
+    println!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// Name, source, peak and per-channel maxima of the table.
+fn material(table: &MerlBrdf, path: &Path) -> MaterialSection {
+    let mut peak: Option<(usize, Rgb)> = None;
+    for index in 0..CELLS {
+        if let Some(v) = table.cell(index) {
+            if peak.is_none_or(|(_, p)| v.element_sum() > p.element_sum()) {
+                peak = Some((index, v));
+            }
+        }
+    }
+    let mut facts = vec![(
+        "format".to_string(),
+        "MERL .binary (90 x 90 x 180 cells)".to_string(),
+    )];
+    if let Some((index, v)) = peak {
+        let bin = Bin::from_index(index).centre(0.0);
+        facts.push((
+            "peak f_r".into(),
+            format!(
+                "R {:.4e}, G {:.4e}, B {:.4e} 1/sr at theta_h {:.3}, theta_d {:.1}, phi_d {:.1} deg",
+                v.x,
+                v.y,
+                v.z,
+                bin.theta_h.to_degrees(),
+                bin.theta_d.to_degrees(),
+                bin.phi_d.to_degrees()
+            ),
+        ));
+    }
+    MaterialSection {
+        name: table.name(),
+        source: path.display().to_string(),
+        facts,
+    }
+}
+
+/// Cells holding a value, and where they come from when the provenance sidecar is there.
+fn coverage_rows(table: &MerlBrdf, path: &Path) -> Result<Vec<(String, usize, usize)>> {
+    let mut rows = vec![(
+        "MERL cells holding a value".to_string(),
+        table.measured_count(),
+        CELLS,
+    )];
+    let sidecar = sidecar_path(path);
+    if sidecar.exists() {
+        let provenance = Provenance::read(&sidecar)?;
+        let (measured, interpolated, extrapolated) = provenance.counts();
+        rows.push(("cells measured directly".into(), measured, CELLS));
+        rows.push(("cells interpolated".into(), interpolated, CELLS));
+        rows.push(("cells extrapolated".into(), extrapolated, CELLS));
+    }
+    Ok(rows)
+}
+
+fn errors(table: &MerlBrdf, truth: &dyn Brdf, truth_name: &str) -> ErrorSection {
+    let reference = tabulate(truth, 0.0);
+    let rows = [
+        ("all cells above the surface", 90.0),
+        ("light and camera within 75 deg", 75.0),
+    ]
+    .into_iter()
+    .map(|(set, limit)| {
+        let e = compare(table, &reference, limit);
+        ErrorRow {
+            set: set.to_string(),
+            cells: e.cells,
+            relative_rmse: e.relative_rmse,
+            log_rmse: e.log_rmse,
+            slice_mae: e.slice_mae,
+        }
+    })
+    .collect();
+    ErrorSection {
+        truth: truth_name.to_string(),
+        rows,
+    }
+}
+
+/// Renders on a sphere and on a speedshape in the studio; beside the truth when known.
+fn renders(table: &MerlBrdf, truth: Option<&dyn Brdf>, args: &Args) -> Result<Vec<Figure>> {
+    let studio = Lighting::Environment(Arc::new(Environment::studio()));
+    let settings = RenderSettings::square(args.size, args.spp);
+    let materials: Vec<&dyn Brdf> = std::iter::once(table as &dyn Brdf).chain(truth).collect();
+    let shapes = [ShapeKind::Sphere, ShapeKind::Speedshape];
+    let pixels = (args.size * args.size) as u64;
+    let bar = crate::progress::bar(
+        pixels * (materials.len() * shapes.len()) as u64,
+        "rendering",
+    );
+    let mut figures = Vec::new();
+    for (s, shape) in shapes.into_iter().enumerate() {
+        let scene = Scene::new(shape, studio.clone());
+        let images: Vec<LinearImage> = materials
+            .iter()
+            .enumerate()
+            .map(|(m, brdf)| {
+                let offset = (s * materials.len() + m) as u64 * pixels;
+                specula_visual::render(*brdf, &scene, &settings, &|done| {
+                    bar.set_position(offset + done)
+                })
+            })
+            .collect();
+        let shape_name = match shape {
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Speedshape => "speedshape",
+        };
+        let mut tiles: Vec<Tile> = materials
+            .iter()
+            .zip(&images)
+            .map(|(brdf, image)| Tile {
+                label: brdf.name(),
+                image: image.to_display(0.0),
+            })
+            .collect();
+        let mut caption = format!(
+            "{} on a {shape_name} in the built-in studio environment, {} x {} pixels, {} samples per pixel.",
+            materials.iter().map(|m| m.name()).collect::<Vec<_>>().join(" and "),
+            args.size,
+            args.size,
+            args.spp
+        );
+        if images.len() == 2 {
+            let difference = grid::difference(&images[0], &images[1])?;
+            caption.push_str(&format!(
+                " Right: the relative difference |A-B|/max(A,B) in false colour (black 0, yellow 100 %), mean {:.1} %.",
+                100.0 * difference.mean_relative
+            ));
+            tiles.push(Tile {
+                label: "difference".into(),
+                image: difference.image,
+            });
+        }
+        figures.push(Figure::new(
+            format!("Render, {shape_name}"),
+            caption,
+            &grid::compose(&tiles)?,
+        )?);
+    }
+    bar.finish_and_clear();
+    Ok(figures)
+}
+
+/// The raw-samples figure and the planned cells it shows measured.
+fn raw_samples(path: &Path) -> Result<(Figure, (String, usize, usize))> {
+    let set = specula_formats::samples_csv::SampleSet::read(path)?;
+    let raw: Vec<RawSample> = set
+        .samples()
+        .iter()
+        .map(|s| RawSample {
+            theta_h_deg: s.angles.theta_h.to_degrees(),
+            theta_d_deg: s.angles.theta_d.to_degrees(),
+            phi_d_deg: s.angles.phi_d.to_degrees(),
+            value: s.value,
+        })
+        .collect();
+    let grid = SampleGrid::new(&raw).with_context(|| path.display().to_string())?;
+    let (measured, planned) = grid.coverage();
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "samples".into(), |s| s.to_string_lossy());
+    let image = plot_raw_samples(&raw, &stem, ThetaHAxis::Merl)?;
+    let figure = Figure::new(
+        "Raw samples",
+        format!(
+            "The {} samples of {} as characteristic slices, one per phi_d (paper Fig. 15); blue \
+             cells of the plan's grid were not measured.",
+            raw.len(),
+            path.display()
+        ),
+        &image,
+    )?;
+    Ok((
+        figure,
+        (
+            "planned cells measured (raw samples)".into(),
+            measured,
+            planned,
+        ),
+    ))
+}
