@@ -52,8 +52,17 @@ fn even_ends(axis: &Axis, first: Option<f64>, last: Option<f64>) -> [bool; 2] {
 /// cell order. Every node must be known (measured or filled).
 pub fn interpolate_to_merl(lattice: &Lattice, kernel: Kernel) -> [Vec<f64>; 3] {
     let targets = Targets::of(lattice);
+    let lines = lines(lattice);
+    lattice
+        .values
+        .each_ref()
+        .map(|plane| interpolate_plane(lattice.shape(), plane, &targets, &lines, kernel))
+}
+
+/// The three axes as interpolation lines with their even ends.
+fn lines(lattice: &Lattice) -> [Line<'_>; 3] {
     // theta_h = 0 is not treated as an even end: see crate::kernel.
-    let lines = [
+    [
         Line {
             nodes: &lattice.theta_h.nodes,
             even_ends: even_ends(&lattice.theta_h, None, None),
@@ -66,11 +75,7 @@ pub fn interpolate_to_merl(lattice: &Lattice, kernel: Kernel) -> [Vec<f64>; 3] {
             nodes: &lattice.phi_d.nodes,
             even_ends: even_ends(&lattice.phi_d, Some(0.0), Some(90.0)),
         },
-    ];
-    lattice
-        .values
-        .each_ref()
-        .map(|plane| interpolate_plane(lattice.shape(), plane, &targets, &lines, kernel))
+    ]
 }
 
 /// The three passes for one channel.
@@ -142,16 +147,19 @@ fn interpolate_plane(
 /// For every MERL cell, whether its value depends on extrapolation: a bin centre beyond the
 /// lattice's end on some axis, or a filled node among the nodes that bracket it.
 pub fn extrapolated_cells(lattice: &Lattice) -> Vec<bool> {
-    let mut indicator = lattice.clone();
-    indicator.values[0] = lattice
+    let indicator: Vec<f64> = lattice
         .status
         .iter()
         .map(|s| if *s == NodeStatus::Filled { 1.0 } else { 0.0 })
         .collect();
-    indicator.values[1] = vec![0.0; lattice.status.len()];
-    indicator.values[2] = vec![0.0; lattice.status.len()];
-    let [filled, _, _] = interpolate_to_merl(&indicator, Kernel::Linear);
     let targets = Targets::of(lattice);
+    let filled = interpolate_plane(
+        lattice.shape(),
+        &indicator,
+        &targets,
+        &lines(lattice),
+        Kernel::Linear,
+    );
     let phi_outside: Vec<bool> = (0..PHI_D_BINS)
         .map(|k| targets.phi_d[k.min(PHI_D_BINS - 1 - k)].outside)
         .collect();

@@ -19,11 +19,13 @@
 //! Fit: for each (alpha, gamma) the six weights (kd, s, g per channel) come from a
 //! non-negative least-squares fit with relative weights `1 / (f + eps)^2`; (alpha, gamma)
 //! minimise the squared log error `sum (ln(model + eps) - ln(f + eps))^2`, found by a coarse
-//! grid and then a compass search in (ln alpha, ln(gamma - 1)).
+//! grid (scored on every fourth sample) and then a compass search in (ln alpha,
+//! ln(gamma - 1)) on all samples.
 
 use crate::domain::LOG_OFFSET;
 use crate::sample::Sample;
 use rayon::prelude::*;
+use specula_core::merl::{theta_h_centre_deg, Bin, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::{HalfDiff, Rgb};
 use std::f64::consts::PI;
 
@@ -144,11 +146,14 @@ impl Lobe {
                     .map(move |&g| (f64::ln(a), f64::ln(g)))
             })
             .collect();
-        let (mut best, mut best_cost) = grid
+        // The coarse grid only picks the basin: every GRID_STRIDE-th sample is enough for it.
+        let coarse: Vec<FitPoint> = points.iter().step_by(GRID_STRIDE).cloned().collect();
+        let (mut best, _) = grid
             .par_iter()
-            .map(|&p| (p, fit_weights(&points, shape_of(p)).1))
+            .map(|&p| (p, fit_weights(&coarse, shape_of(p)).1))
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .expect("grid is not empty");
+        let mut best_cost = fit_weights(&points, shape_of(best)).1;
         let mut step = 0.5 * GRID_LOG_STEP;
         while step > MIN_LOG_STEP {
             let moves = [(step, 0.0), (-step, 0.0), (0.0, step), (0.0, -step)];
@@ -170,12 +175,65 @@ impl Lobe {
     }
 }
 
+/// A lobe evaluated at the MERL bin centres, with the factors that depend on one angle only
+/// (the distribution on theta_h, Schlick's weight on theta_d) computed once per bin.
+pub struct LobeOnGrid {
+    lobe: Lobe,
+    /// `(sin, cos, D)` per theta_h bin.
+    theta_h: Vec<(f64, f64, f64)>,
+    /// `(sin, cos, Schlick weight)` per theta_d bin.
+    theta_d: Vec<(f64, f64, f64)>,
+    cos_phi_d: Vec<f64>,
+}
+
+impl LobeOnGrid {
+    pub fn new(lobe: Lobe) -> Self {
+        let trig = |deg: f64| deg.to_radians().sin_cos();
+        let theta_h = (0..THETA_H_BINS)
+            .map(|i| {
+                let (s, c) = trig(theta_h_centre_deg(i));
+                let tan2 = (s / c) * (s / c);
+                (s, c, lobe.shape.distribution(tan2, c))
+            })
+            .collect();
+        let theta_d = (0..THETA_D_BINS)
+            .map(|j| {
+                let (s, c) = trig(j as f64 + 0.5);
+                (s, c, (1.0 - c).powi(5))
+            })
+            .collect();
+        let cos_phi_d = (0..PHI_D_BINS).map(|k| trig(k as f64 + 0.5).1).collect();
+        Self {
+            lobe,
+            theta_h,
+            theta_d,
+            cos_phi_d,
+        }
+    }
+
+    /// The lobe at the centre of MERL cell `index`, as [`Lobe::eval`] gives it.
+    pub fn at(&self, index: usize) -> Rgb {
+        let bin = Bin::from_index(index);
+        let (sin_h, cos_h, d) = self.theta_h[bin.theta_h_i];
+        let (sin_d, cos_d, schlick) = self.theta_d[bin.theta_d_i];
+        let g = Geometry::from_trig(sin_h, cos_h, sin_d, cos_d, self.cos_phi_d[bin.phi_d_i]);
+        if !g.above_surface() {
+            return Rgb::ZERO;
+        }
+        let l = &self.lobe;
+        let s = d * g.shadowing_over_foreshortening(l.shape.alpha);
+        l.diffuse / PI + s * (l.specular + schlick * l.grazing)
+    }
+}
+
 /// Coarse grid of alpha for the fit.
 const ALPHA_GRID: [f64; 14] = [
     0.0005, 0.001, 0.002, 0.004, 0.008, 0.016, 0.03, 0.06, 0.12, 0.2, 0.3, 0.45, 0.65, 0.9,
 ];
 /// Coarse grid of gamma - 1 for the fit.
 const GAMMA_MINUS_ONE_GRID: [f64; 5] = [0.3, 1.0, 3.0, 10.0, 50.0];
+/// The coarse grid is scored on every this-many-th sample.
+const GRID_STRIDE: usize = 4;
 /// The first compass step in ln units (about the grid's spacing).
 const GRID_LOG_STEP: f64 = 0.7;
 const MIN_LOG_STEP: f64 = 0.02;
@@ -188,6 +246,7 @@ fn shape_of((ln_alpha, ln_gamma_minus_one): (f64, f64)) -> Shape {
 }
 
 /// A sample prepared for the fit: the shape-independent parts of the model.
+#[derive(Clone)]
 struct FitPoint {
     tan2_h: f64,
     cos_h: f64,
@@ -195,6 +254,10 @@ struct FitPoint {
     cos_o: f64,
     schlick: f64,
     value: [f64; 3],
+    /// The relative weight `1 / (f + eps)^2` per channel.
+    weight: [f64; 3],
+    /// `ln(f + eps)` per channel.
+    log_value: [f64; 3],
 }
 
 impl FitPoint {
@@ -207,6 +270,8 @@ impl FitPoint {
             cos_o: g.cos_o,
             schlick: g.schlick_weight(),
             value: sample.value.to_array(),
+            weight: sample.value.to_array().map(|f| (f + LOG_OFFSET).powi(-2)),
+            log_value: sample.value.to_array().map(|f| (f + LOG_OFFSET).ln()),
         })
     }
 
@@ -222,18 +287,23 @@ impl FitPoint {
 
 /// The best non-negative weights for a shape, and the squared log error they leave.
 fn fit_weights(points: &[FitPoint], shape: Shape) -> (Lobe, f64) {
+    let bases: Vec<[f64; 3]> = points.iter().map(|p| p.basis(shape)).collect();
     let mut normal = [[[0.0; 3]; 3]; 3];
     let mut rhs = [[0.0; 3]; 3];
-    for p in points {
-        let phi = p.basis(shape);
+    for (p, phi) in points.iter().zip(&bases) {
         for c in 0..3 {
-            let w = 1.0 / (p.value[c] + LOG_OFFSET).powi(2);
+            let w = p.weight[c];
             for a in 0..3 {
                 rhs[c][a] += w * phi[a] * p.value[c];
-                for b in 0..3 {
+                for b in a..3 {
                     normal[c][a][b] += w * phi[a] * phi[b];
                 }
             }
+        }
+    }
+    for matrix in &mut normal {
+        for (a, b) in [(1, 0), (2, 0), (2, 1)] {
+            matrix[a][b] = matrix[b][a];
         }
     }
     let weights: [[f64; 3]; 3] =
@@ -246,12 +316,13 @@ fn fit_weights(points: &[FitPoint], shape: Shape) -> (Lobe, f64) {
     };
     let cost = points
         .iter()
-        .map(|p| {
-            let phi = p.basis(shape);
+        .zip(&bases)
+        .map(|(p, phi)| {
             (0..3)
                 .map(|c| {
-                    let m: f64 = (0..3).map(|a| weights[c][a] * phi[a]).sum();
-                    ((m + LOG_OFFSET) / (p.value[c] + LOG_OFFSET)).ln().powi(2)
+                    let m =
+                        weights[c][0] * phi[0] + weights[c][1] * phi[1] + weights[c][2] * phi[2];
+                    ((m + LOG_OFFSET).ln() - p.log_value[c]).powi(2)
                 })
                 .sum::<f64>()
         })
@@ -419,6 +490,28 @@ mod tests {
                 .abs()
                 .max_element();
             assert!(rel < 0.05, "{:?}: {m} vs {}", s.hd, s.value);
+        }
+    }
+
+    #[test]
+    fn the_grid_evaluation_matches_the_direct_one() {
+        let lobe = Lobe {
+            shape: Shape {
+                alpha: 0.02,
+                gamma: 2.5,
+            },
+            diffuse: Rgb::new(0.05, 0.1, 0.02),
+            specular: Rgb::new(0.9, 0.8, 0.5),
+            grazing: Rgb::new(0.1, 0.2, 0.5),
+        };
+        let grid = LobeOnGrid::new(lobe);
+        for index in (0..specula_core::merl::CELLS).step_by(1013) {
+            let direct = lobe.eval(&Geometry::of(Bin::from_index(index).centre(0.0)));
+            let fast = grid.at(index);
+            assert!(
+                (direct - fast).abs().max_element() <= 1e-9 * (1.0 + direct.max_element()),
+                "{index}"
+            );
         }
     }
 

@@ -2,18 +2,15 @@
 //! samples on their lattice in the method's value domain, extrapolate the nodes the device
 //! could not reach, interpolate at every MERL bin centre, and record each cell's provenance.
 
-use crate::domain::Domain;
 use crate::extrapolate::fill_missing;
 use crate::grid::{extrapolated_cells, interpolate_to_merl};
 use crate::lattice::Lattice;
-use crate::lobe::{Geometry, Lobe};
+use crate::lobe::{Geometry, Lobe, LobeOnGrid};
 use crate::method::Method;
 use crate::provenance::Provenance;
 use crate::sample::Sample;
 use rayon::prelude::*;
-use specula_core::merl::{
-    theta_h_centre_deg, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS,
-};
+use specula_core::merl::MerlBrdf;
 use specula_core::Rgb;
 
 /// Why samples cannot be reconstructed.
@@ -64,11 +61,16 @@ pub fn reconstruct(
     let (measured_nodes, _, _) = lattice.status_counts();
     fill_missing(&mut lattice);
     let planes = interpolate_to_merl(&lattice, method.kernel);
-    let values = back_transform(&planes, method.domain, lobe.as_ref());
-    let mut brdf = MerlBrdf::empty(name);
-    for (index, value) in values.into_iter().enumerate() {
-        brdf.set_cell(index, Some(value));
-    }
+    let lobe_on_grid = lobe.map(LobeOnGrid::new);
+    let domain = method.domain;
+    let brdf = MerlBrdf::from_fn(name, |index| {
+        let model = lobe_on_grid.as_ref().map_or(Rgb::ZERO, |l| l.at(index));
+        Some(Rgb::new(
+            domain.inverse(planes[0][index], model.x),
+            domain.inverse(planes[1][index], model.y),
+            domain.inverse(planes[2][index], model.z),
+        ))
+    });
     Ok(Reconstruction {
         brdf,
         provenance: Provenance::new(samples, &extrapolated_cells(&lattice)),
@@ -77,41 +79,4 @@ pub fn reconstruct(
         measured_nodes,
         filled_nodes: lattice.status.len() - measured_nodes,
     })
-}
-
-/// f at every cell from the interpolated domain values (and the lobe at the bin centres).
-fn back_transform(planes: &[Vec<f64>; 3], domain: Domain, lobe: Option<&Lobe>) -> Vec<Rgb> {
-    let trig = |deg: f64| deg.to_radians().sin_cos();
-    let theta_h: Vec<(f64, f64)> = (0..THETA_H_BINS)
-        .map(|i| trig(theta_h_centre_deg(i)))
-        .collect();
-    let theta_d: Vec<(f64, f64)> = (0..THETA_D_BINS).map(|j| trig(j as f64 + 0.5)).collect();
-    let cos_phi_d: Vec<f64> = (0..PHI_D_BINS)
-        .map(|k| (k as f64 + 0.5).to_radians().cos())
-        .collect();
-    let mut out = vec![Rgb::ZERO; CELLS];
-    out.par_chunks_mut(THETA_D_BINS * PHI_D_BINS)
-        .enumerate()
-        .for_each(|(i, slab)| {
-            let (sin_h, cos_h) = theta_h[i];
-            for (offset, cell) in slab.iter_mut().enumerate() {
-                let index = i * THETA_D_BINS * PHI_D_BINS + offset;
-                let model = lobe.map_or(Rgb::ZERO, |l| {
-                    let (sin_d, cos_d) = theta_d[offset / PHI_D_BINS];
-                    l.eval(&Geometry::from_trig(
-                        sin_h,
-                        cos_h,
-                        sin_d,
-                        cos_d,
-                        cos_phi_d[offset % PHI_D_BINS],
-                    ))
-                });
-                *cell = Rgb::new(
-                    domain.inverse(planes[0][index], model.x),
-                    domain.inverse(planes[1][index], model.y),
-                    domain.inverse(planes[2][index], model.z),
-                );
-            }
-        });
-    out
 }

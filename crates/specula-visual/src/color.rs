@@ -44,7 +44,11 @@ pub fn display_rgb8(linear: DVec3, exposure_ev: f64) -> [u8; 3] {
 /// The false colour (inferno: black, purple, orange, pale yellow; no blue, so that
 /// [`UNMEASURED_BLUE`] stands out) of a value `t` in `[0, 1]`.
 pub fn false_colour(t: f64) -> [u8; 3] {
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let c = colorous::INFERNO.eval_continuous(t);
     [c.r, c.g, c.b]
 }

@@ -2,9 +2,11 @@
 //! image and sampled in proportion to its luminance (for multiple importance sampling with the
 //! material's lobe, see [`crate::render`]).
 //!
-//! Mapping (the same as Mitsuba 3's `envmap` with an identity transform): y is up; the image
-//! column `u = 0.5 + atan2(x, -z) / 2 pi`, the row `v = acos(y) / pi`. The centre of the image
-//! is the direction -z, which the standard camera looks along, so it is the backdrop.
+//! Mapping (Mitsuba 3's `envmap` with an identity transform, checked against it): y is up;
+//! the image column `u = atan2(x, -z) / 2 pi` (wrapped into `[0, 1)`), the row
+//! `v = acos(y) / pi`. The image's left and right edges (u = 0) are the direction -z, which
+//! the standard camera looks along (the backdrop); a quarter across is +x; the centre is +z,
+//! behind the camera (what a mirror sphere shows in its middle).
 
 use crate::color::luminance;
 use crate::distribution::Distribution2D;
@@ -219,14 +221,14 @@ pub struct EnvironmentSample {
 
 /// The image coordinates `(u, v)` in `[0, 1)` of a unit direction.
 pub fn uv_of(dir: DVec3) -> (f64, f64) {
-    let u = (0.5 + dir.x.atan2(-dir.z) / TAU).rem_euclid(1.0);
+    let u = (dir.x.atan2(-dir.z) / TAU).rem_euclid(1.0);
     let v = dir.y.clamp(-1.0, 1.0).acos() / PI;
     (u, v.min(1.0 - f64::EPSILON))
 }
 
 /// The unit direction of image coordinates `(u, v)`.
 pub fn direction_of(u: f64, v: f64) -> DVec3 {
-    let phi = TAU * (u - 0.5);
+    let phi = TAU * u;
     let (sin_t, cos_t) = (PI * v).sin_cos();
     let (sin_p, cos_p) = phi.sin_cos();
     DVec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p)
@@ -310,13 +312,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn mapping_round_trips_and_centres_minus_z() {
+    fn mapping_round_trips_and_follows_mitsuba() {
         for &(u, v) in &[(0.1, 0.2), (0.5, 0.5), (0.93, 0.77), (0.0, 0.01)] {
             let (u2, v2) = uv_of(direction_of(u, v));
             assert!((u - u2).abs() < 1e-12 && (v - v2).abs() < 1e-12, "{u} {v}");
         }
-        assert!((direction_of(0.5, 0.5) - DVec3::NEG_Z).length() < 1e-12);
-        assert!((direction_of(0.25, 0.5) - DVec3::NEG_X).length() < 1e-12);
+        // Mitsuba 3.9.1's envmap (scalar_rgb) lights +x from a texel a quarter across the
+        // middle row, and -x, -z, +z from other columns (checked with emitter.eval).
+        assert!((direction_of(0.0, 0.5) - DVec3::NEG_Z).length() < 1e-12);
+        assert!((direction_of(0.25, 0.5) - DVec3::X).length() < 1e-12);
+        assert!((direction_of(0.5, 0.5) - DVec3::Z).length() < 1e-12);
+        assert!((direction_of(0.3, 0.0) - DVec3::Y).length() < 1e-12);
     }
 
     #[test]

@@ -30,7 +30,11 @@ impl Frame {
 
     /// A world direction in frame coordinates.
     pub fn to_local(&self, v: DVec3) -> DVec3 {
-        DVec3::new(v.dot(self.tangent), v.dot(self.bitangent), v.dot(self.normal))
+        DVec3::new(
+            v.dot(self.tangent),
+            v.dot(self.bitangent),
+            v.dot(self.normal),
+        )
     }
 
     /// A frame direction in world coordinates.

@@ -69,7 +69,11 @@ pub fn difference(a: &LinearImage, b: &LinearImage) -> Result<Difference> {
     });
     Ok(Difference {
         image,
-        mean_relative: if counted > 0 { total / counted as f64 } else { 0.0 },
+        mean_relative: if counted > 0 {
+            total / counted as f64
+        } else {
+            0.0
+        },
     })
 }
 
@@ -155,7 +159,11 @@ mod tests {
             label: label.into(),
             image: RgbImage::from_pixel(64, 48, image::Rgb([v, v, v])),
         };
-        let tiles = [tile(200, "chrome"), tile(100, "silver-925"), tile(50, "difference")];
+        let tiles = [
+            tile(200, "chrome"),
+            tile(100, "silver-925"),
+            tile(50, "difference"),
+        ];
         let grid = compose(&tiles).unwrap();
         // Three tiles of 64 with four gaps of 6; one row of 48 plus a 21-pixel label (12 px font).
         assert_eq!(grid.dimensions(), (216, 81));

@@ -22,7 +22,9 @@ impl std::str::FromStr for ShapeKind {
         match s.to_ascii_lowercase().as_str() {
             "sphere" => Ok(ShapeKind::Sphere),
             "speedshape" => Ok(ShapeKind::Speedshape),
-            other => Err(format!("unknown shape '{other}' (expected sphere or speedshape)")),
+            other => Err(format!(
+                "unknown shape '{other}' (expected sphere or speedshape)"
+            )),
         }
     }
 }
@@ -65,7 +67,9 @@ impl Shape {
     pub fn occludes(&self, hit: &Hit, dir: DVec3) -> bool {
         match self {
             Shape::Sphere => false,
-            Shape::Speedshape(s) => s.blocks(hit.position + SHADOW_BIAS * 20.0 * hit.frame.normal, dir),
+            Shape::Speedshape(s) => {
+                s.blocks(hit.position + SHADOW_BIAS * 20.0 * hit.frame.normal, dir)
+            }
         }
     }
 }
@@ -79,7 +83,11 @@ fn intersect_unit_sphere(ray: &Ray) -> Option<Hit> {
         return None;
     }
     let root = discriminant.sqrt();
-    let t = if -b - root > SHADOW_BIAS { -b - root } else { -b + root };
+    let t = if -b - root > SHADOW_BIAS {
+        -b - root
+    } else {
+        -b + root
+    };
     if t <= SHADOW_BIAS {
         return None;
     }

@@ -175,7 +175,9 @@ mod tests {
         let shape = Speedshape::standard();
         let mut state = 12345u64;
         let mut next = || {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
         };
         for _ in 0..300 {
@@ -184,7 +186,10 @@ mod tests {
             for _ in 0..20 {
                 let dir = DVec3::new(next(), next(), next()).normalize_or_zero();
                 let inside = shape.distance(p + dir * d.abs() * 0.999);
-                assert!(inside.signum() == d.signum() || inside.abs() < 1e-9, "{p} {d} {inside}");
+                assert!(
+                    inside.signum() == d.signum() || inside.abs() < 1e-9,
+                    "{p} {d} {inside}"
+                );
             }
         }
     }
@@ -196,9 +201,15 @@ mod tests {
             origin: DVec3::new(0.0, 0.0, 4.0),
             dir: DVec3::NEG_Z,
         };
-        let hit = shape.intersect(&ray).expect("the centre ray meets the object");
+        let hit = shape
+            .intersect(&ray)
+            .expect("the centre ray meets the object");
         assert!(shape.distance(hit.position).abs() < 1e-4);
-        assert!(hit.frame.normal.z > 0.0, "faces the camera: {}", hit.frame.normal);
+        assert!(
+            hit.frame.normal.z > 0.0,
+            "faces the camera: {}",
+            hit.frame.normal
+        );
         let away = Ray {
             origin: DVec3::new(0.0, 0.0, 4.0),
             dir: DVec3::Z,

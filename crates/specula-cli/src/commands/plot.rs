@@ -13,12 +13,11 @@ use specula_visual::plot::ThetaHAxis;
 use specula_visual::RgbImage;
 use std::path::{Path, PathBuf};
 
-/// Draw BRDF data as PNG pictures with labelled axes (degrees, 1/sr).
+/// Draw BRDF data as PNG pictures with labelled axes (degrees, 1/sr): the paper's Fig. 11
+/// (slice), Fig. 15 (samples), Fig. 13 (probe) and the analysis of section 5.1 (heatmap).
+/// Fonts are embedded; no system font is needed.
 ///
-///   slice     the characteristic slice theta_h x theta_d at phi_d = 90 deg (Fig. 11)
-///   samples   the raw samples of a measurement, one slice per phi_d (Fig. 15)
-///   probe     the dense probe against the adaptive samples (Fig. 13)
-///   heatmap   the database analysis: fit error by family and theta_d column (section 5.1)
+/// Example: specula plot slice chrome --out chrome-slice.png
 #[derive(clap::Args)]
 pub struct Args {
     #[command(subcommand)]
@@ -326,4 +325,142 @@ fn stem(path: &Path) -> String {
     path.file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| path.display().to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(path: &Path, text: &str) {
+        std::fs::write(path, text).unwrap();
+    }
+
+    fn probe_csv(dir: &Path) -> PathBuf {
+        let path = dir.join("probe.csv");
+        let mut text = String::from("theta_h,r,g,b\n");
+        for i in 0..90 {
+            let t = (i * i) as f64 / 90.0;
+            let v = 500.0 * (-2.0 * t).exp() + 0.01;
+            text.push_str(&format!("{t},{v},{},{}\n", 0.9 * v, 0.8 * v));
+        }
+        write(&path, &text);
+        path
+    }
+
+    fn run_to(plot: Plot) -> Result<(u32, u32)> {
+        let out = match &plot {
+            Plot::Slice(a) => a.out.clone(),
+            Plot::Samples(a) => a.out.clone(),
+            Plot::Probe(a) => a.out.clone(),
+            Plot::Heatmap(a) => a.out.clone(),
+        };
+        run(Args { plot })?;
+        Ok(image::image_dimensions(&out)?)
+    }
+
+    fn probe_args(probe: PathBuf, out: PathBuf) -> ProbeArgs {
+        ProbeArgs {
+            probe,
+            out,
+            adaptive: None,
+            positions: None,
+            k: None,
+            family: Family::Exponential,
+            samples: 30,
+        }
+    }
+
+    #[test]
+    fn every_plot_is_drawn() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let slice = SliceArgs {
+            brdf: "chrome".into(),
+            out: d.join("slice.png"),
+            axis: ThetaHAxis::Linear,
+            phi_d: 90.0,
+            phi_h: 0.0,
+        };
+        assert!(run_to(Plot::Slice(slice)).unwrap().0 > 500);
+
+        let samples = d.join("samples.csv");
+        let mut text = String::from("theta_h,phi_h,theta_d,phi_d,r,g,b\n");
+        for phi_d in [0, 45, 90] {
+            for i in 0..10 {
+                for j in 0..10 {
+                    if phi_d == 90 && j > 7 {
+                        continue;
+                    }
+                    text.push_str(&format!("{},45,{},{phi_d},1,2,3\n", (i * i) as f64, 9 * j));
+                }
+            }
+        }
+        write(&samples, &text);
+        let args = SamplesArgs {
+            samples,
+            out: d.join("samples.png"),
+            axis: ThetaHAxis::Merl,
+        };
+        assert!(run_to(Plot::Samples(args)).unwrap().0 > 800);
+
+        let probe = probe_csv(d);
+        assert!(run_to(Plot::Probe(probe_args(probe.clone(), d.join("p1.png")))).is_ok());
+        let with_k = ProbeArgs {
+            k: Some(4.78),
+            ..probe_args(probe.clone(), d.join("p2.png"))
+        };
+        assert!(run_to(Plot::Probe(with_k)).is_ok());
+        let adaptive = d.join("adaptive.csv");
+        write(&adaptive, "theta_h\n0\n0.5\n3\n20\n90\n");
+        let measured = ProbeArgs {
+            adaptive: Some(adaptive),
+            ..probe_args(probe, d.join("p3.png"))
+        };
+        assert_eq!(run_to(Plot::Probe(measured)).unwrap(), (900, 860));
+
+        let analysis = d.join("analysis.csv");
+        let mut text = String::from("family,theta_d,mean_error,median_error,materials\n");
+        for family in ["power", "exponential", "base"] {
+            for j in 0..90 {
+                text.push_str(&format!("{family},{j},{},{},5\n", 1.0 + j as f64, 2.0));
+            }
+        }
+        write(&analysis, &text);
+        let heatmap = HeatmapArgs {
+            analysis,
+            out: d.join("heatmap.png"),
+            median: false,
+        };
+        assert!(run_to(Plot::Heatmap(heatmap)).is_ok());
+    }
+
+    #[test]
+    fn bad_inputs_name_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let missing = d.join("missing.csv");
+        let err = run_to(Plot::Probe(probe_args(missing, d.join("x.png")))).unwrap_err();
+        assert!(format!("{err:#}").contains("missing.csv"), "{err:#}");
+        let adaptive = d.join("adaptive.csv");
+        write(&adaptive, "position\n1\n");
+        let args = ProbeArgs {
+            adaptive: Some(adaptive),
+            ..probe_args(probe_csv(d), d.join("x.png"))
+        };
+        let err = run_to(Plot::Probe(args)).unwrap_err();
+        assert!(format!("{err:#}").contains("no theta_h column"), "{err:#}");
+        let args = ProbeArgs {
+            positions: Some(vec![1.0, 95.0]),
+            ..probe_args(probe_csv(d), d.join("x.png"))
+        };
+        assert!(format!("{:#}", run_to(Plot::Probe(args)).unwrap_err()).contains("[0, 90]"));
+        let slice = SliceArgs {
+            brdf: "chrome".into(),
+            out: d.join("slice.jpg"),
+            axis: ThetaHAxis::Merl,
+            phi_d: 90.0,
+            phi_h: 0.0,
+        };
+        assert!(format!("{:#}", run_to(Plot::Slice(slice)).unwrap_err()).contains(".png"));
+    }
 }

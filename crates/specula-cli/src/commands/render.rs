@@ -26,8 +26,11 @@ use std::time::Instant;
 /// colour (black 0, yellow 100 percent) and its mean is printed.
 ///
 /// Examples:
+///
 ///   specula render chrome --out chrome.png
+///
 ///   specula render silver-925 --shape speedshape --light point --out s.png
+///
 ///   specula render silver-925 chrome --grid --out compare.png
 #[derive(clap::Args)]
 pub struct Args {
@@ -41,7 +44,8 @@ pub struct Args {
     #[arg(long, default_value = "sphere")]
     pub shape: ShapeKind,
     /// The environment: studio, constant, constant:RADIANCE, or a latitude-longitude .exr or
-    /// .hdr file (y up; the image centre is behind the object). Default: studio.
+    /// .hdr file (y up, Mitsuba's envmap layout: the image's left and right edges are behind
+    /// the object, its centre behind the camera). Default: studio.
     #[arg(long, value_name = "ENV")]
     pub env: Option<String>,
     /// Light the object with a point light (intensity 60 W/sr, upper left, in front) on black
@@ -156,7 +160,7 @@ pub fn run(args: Args) -> Result<()> {
             brdfs[1].name()
         );
         tiles.push(Tile {
-            label: "relative difference (0 to 100 %)".into(),
+            label: "rel. difference 0-100 %".into(),
             image: diff.image,
         });
     }
@@ -165,4 +169,80 @@ pub fn run(args: Args) -> Result<()> {
         .with_context(|| format!("{}: cannot write the image", args.out.display()))?;
     println!("wrote {}", args.out.display());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(brdfs: &[&str], out: PathBuf) -> Args {
+        Args {
+            brdfs: brdfs.iter().map(|s| s.to_string()).collect(),
+            out,
+            shape: ShapeKind::Sphere,
+            env: None,
+            light: None,
+            spp: 2,
+            size: 16,
+            exposure: 0.0,
+            grid: false,
+            seed: 1,
+        }
+    }
+
+    #[test]
+    fn renders_png_exr_and_grids() {
+        let dir = tempfile::tempdir().unwrap();
+        let png = dir.path().join("a.png");
+        run(args(&["chrome"], png.clone())).unwrap();
+        assert_eq!(image::image_dimensions(&png).unwrap(), (16, 16));
+        let exr = dir.path().join("a.exr");
+        run(Args {
+            light: Some(LightKind::Point),
+            shape: ShapeKind::Speedshape,
+            ..args(&["silver-925"], exr.clone())
+        })
+        .unwrap();
+        assert_eq!(specula_visual::LinearImage::load(&exr).unwrap().width, 16);
+        let grid = dir.path().join("g.png");
+        run(Args {
+            grid: true,
+            env: Some("constant:0.5".into()),
+            ..args(&["chrome", "green-paint"], grid.clone())
+        })
+        .unwrap();
+        let (w, _) = image::image_dimensions(&grid).unwrap();
+        assert!(w > 3 * 16, "three tiles: {w}");
+    }
+
+    #[test]
+    fn bad_requests_are_refused_with_a_reason() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("a.png");
+        let message = |a: Args| format!("{:#}", run(a).unwrap_err());
+        assert!(message(args(&["chrome", "steel"], out.clone())).contains("--grid"));
+        assert!(message(Args {
+            grid: true,
+            ..args(&["chrome"], dir.path().join("a.exr"))
+        })
+        .contains(".png"));
+        assert!(message(args(&["chrome"], dir.path().join("a.jpg"))).contains("a.jpg"));
+        assert!(message(Args {
+            light: Some(LightKind::Point),
+            env: Some("studio".into()),
+            ..args(&["chrome"], out.clone())
+        })
+        .contains("choose one"));
+        assert!(message(Args {
+            spp: 0,
+            ..args(&["chrome"], out.clone())
+        })
+        .contains("--spp"));
+        assert!(message(Args {
+            env: Some("/no/such.exr".into()),
+            ..args(&["chrome"], out.clone())
+        })
+        .contains("/no/such.exr"));
+        assert!(message(args(&["no-such-material"], out)).contains("no-such-material"));
+    }
 }

@@ -357,3 +357,70 @@ fn raw_samples(path: &Path) -> Result<(Figure, (String, usize, usize))> {
         ),
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_report_of_a_binary_has_every_section() {
+        let dir = tempfile::tempdir().unwrap();
+        let binary = dir.path().join("steel.binary");
+        let truth = specula_formats::load_brdf("steel").unwrap();
+        tabulate(truth.as_ref(), 0.0).write(&binary).unwrap();
+        let samples = dir.path().join("raw.csv");
+        std::fs::write(
+            &samples,
+            "theta_h,phi_h,theta_d,phi_d,r,g,b\n0.1,45,10,0,5,5,5\n2,45,10,0,1,1,1\n0.1,45,40,0,4,4,4\n",
+        )
+        .unwrap();
+        let out = dir.path().join("report.html");
+        run(Args {
+            input: binary,
+            out: out.clone(),
+            truth: Some("steel".into()),
+            samples: Some(samples),
+            size: 16,
+            spp: 1,
+            title: None,
+        })
+        .unwrap();
+        let html = std::fs::read_to_string(&out).unwrap();
+        for text in [
+            "BRDF report: steel",
+            "k-hat</th><td>",
+            "1458000 of 1458000 (100.0 %)",
+            "planned cells measured (raw samples)</th><td>3 of 4",
+            "Against <b>steel</b>",
+            "Render, sphere",
+            "Render, speedshape",
+            "Characteristic slice of the truth",
+            "Probe against the adaptive samples",
+            "Raw samples",
+        ] {
+            assert!(html.contains(text), "missing: {text}");
+        }
+        // A table against itself: no error.
+        assert!(html.contains("<td class=\"num\">0.0000</td>"));
+        assert_eq!(html.matches("data:image/png;base64,").count(), 6);
+    }
+
+    #[test]
+    fn other_inputs_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let args = |input: &str| Args {
+            input: dir.path().join(input),
+            out: dir.path().join("r.html"),
+            truth: None,
+            samples: None,
+            size: 16,
+            spp: 1,
+            title: None,
+        };
+        assert!(format!("{:#}", run(args("s.sqlite")).unwrap_err()).contains("not supported yet"));
+        assert!(format!("{:#}", run(args("x.csv")).unwrap_err()).contains("MERL .binary"));
+        assert!(
+            format!("{:#}", run(args("missing.binary")).unwrap_err()).contains("missing.binary")
+        );
+    }
+}

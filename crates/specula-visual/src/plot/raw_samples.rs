@@ -197,7 +197,7 @@ pub fn plot_raw_samples(samples: &[RawSample], title: &str, axis: ThetaHAxis) ->
                 .configure_mesh()
                 .disable_mesh()
                 .x_desc("theta_d [deg]")
-            .x_label_formatter(&|d| angle_label(*d))
+                .x_label_formatter(&|d| angle_label(*d))
                 .y_desc("theta_h [deg]")
                 .x_labels(4)
                 .y_label_formatter(&|c| angle_label(axis.theta_h_deg(*c)))

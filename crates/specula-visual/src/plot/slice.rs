@@ -76,10 +76,7 @@ pub fn plot_slice(brdf: &dyn Brdf, title: &str, options: &SliceOptions) -> Resul
             .margin(12)
             .x_label_area_size(44)
             .y_label_area_size(56)
-            .build_cartesian_2d(
-                0.0..THETA_D_BINS as f64,
-                0.0..THETA_H_BINS as f64,
-            )
+            .build_cartesian_2d(0.0..THETA_D_BINS as f64, 0.0..THETA_H_BINS as f64)
             .map_err(plot_error)?;
         chart
             .configure_mesh()
