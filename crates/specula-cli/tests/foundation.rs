@@ -41,12 +41,24 @@ fn usage_errors_exit_2_and_help_teaches() {
 fn info_rejects_bad_files_with_one_line() {
     let dir = tempfile::tempdir().unwrap();
     let missing = dir.path().join("missing.binary");
-    fails_naming(specula().arg("info").arg(&missing), "missing.binary", "cannot read");
-    fails_naming(specula().arg("info").arg(dir.path()), &dir.path().display().to_string(), "directory");
+    fails_naming(
+        specula().arg("info").arg(&missing),
+        "missing.binary",
+        "cannot read",
+    );
+    fails_naming(
+        specula().arg("info").arg(dir.path()),
+        &dir.path().display().to_string(),
+        "directory",
+    );
 
     let short = dir.path().join("short.binary");
     write_file(&short, &[1, 2, 3]);
-    fails_naming(specula().arg("info").arg(&short), "short.binary", "too short");
+    fails_naming(
+        specula().arg("info").arg(&short),
+        "short.binary",
+        "too short",
+    );
 
     let mut header = Vec::new();
     for d in [90i32, 90, 1_000_000] {
@@ -54,7 +66,11 @@ fn info_rejects_bad_files_with_one_line() {
     }
     let absurd = dir.path().join("absurd.binary");
     write_file(&absurd, &header);
-    fails_naming(specula().arg("info").arg(&absurd), "absurd.binary", "dimensions");
+    fails_naming(
+        specula().arg("info").arg(&absurd),
+        "absurd.binary",
+        "dimensions",
+    );
 
     let mut truncated = Vec::new();
     for d in [90i32, 90, 180] {
@@ -63,7 +79,11 @@ fn info_rejects_bad_files_with_one_line() {
     truncated.extend_from_slice(&[0u8; 800]);
     let path = dir.path().join("truncated.binary");
     write_file(&path, &truncated);
-    fails_naming(specula().arg("info").arg(&path), "truncated.binary", "truncated");
+    fails_naming(
+        specula().arg("info").arg(&path),
+        "truncated.binary",
+        "truncated",
+    );
 }
 
 #[test]
@@ -77,7 +97,11 @@ fn info_and_eval_on_a_table_with_holes() {
         table.set_cell(i, Some(Rgb::new(0.1, 0.2, 0.3)));
     }
     // A peak at a known cell and a hole at the retro-reflection of the normal.
-    let peak = Bin { theta_h_i: 0, theta_d_i: 40, phi_d_i: 90 };
+    let peak = Bin {
+        theta_h_i: 0,
+        theta_d_i: 40,
+        phi_d_i: 90,
+    };
     table.set_cell(peak.index(), Some(Rgb::new(50.0, 60.0, 70.0)));
     let hole = Bin::of(HalfDiff::from_degrees(0.0, 0.0, 0.0, 0.0));
     table.set_cell(hole.index(), None);
@@ -92,19 +116,36 @@ fn info_and_eval_on_a_table_with_holes() {
         .stdout(predicate::str::contains("theta_d=40.5 phi_d=90.5"));
 
     let dirs = dir.path().join("dirs.csv");
-    std::fs::write(&dirs, "theta_i,phi_i,theta_o,phi_o\n0,0,0,0\n30,0,30,180\n95,0,30,180\n").unwrap();
-    let out = specula().arg("eval").arg(&path).arg("--dirs").arg(&dirs).output().unwrap();
+    std::fs::write(
+        &dirs,
+        "theta_i,phi_i,theta_o,phi_o\n0,0,0,0\n30,0,30,180\n95,0,30,180\n",
+    )
+    .unwrap();
+    let out = specula()
+        .arg("eval")
+        .arg(&path)
+        .arg("--dirs")
+        .arg(&dirs)
+        .output()
+        .unwrap();
     assert!(out.status.success(), "{out:?}");
     let text = String::from_utf8(out.stdout).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines[0], "r,g,b");
-    assert_eq!(lines[1], "nan,nan,nan", "the normal's retro-reflection was not measured");
+    assert_eq!(
+        lines[1], "nan,nan,nan",
+        "the normal's retro-reflection was not measured"
+    );
     let mirror: Vec<f64> = lines[2].split(',').map(|v| v.parse().unwrap()).collect();
     assert!((mirror[0] - 0.1).abs() < 1e-12 && (mirror[2] - 0.3).abs() < 1e-12);
     assert_eq!(lines[3], "0e0,0e0,0e0", "below the horizon");
 
     std::fs::write(&dirs, "theta_i,phi_i,theta_o,phi_o\n1,2,x,4\n").unwrap();
-    fails_naming(specula().arg("eval").arg(&path).arg("--dirs").arg(&dirs), "dirs.csv", "row 2");
+    fails_naming(
+        specula().arg("eval").arg(&path).arg("--dirs").arg(&dirs),
+        "dirs.csv",
+        "row 2",
+    );
 }
 
 #[test]
@@ -125,5 +166,9 @@ fn compare_a_table_with_itself_gives_zero() {
         .success()
         .stdout(predicate::str::contains("all,"))
         .stdout(predicate::str::contains(",0.000000,0.000000,0.000000e0"));
-    fails_naming(specula().args(["compare", p, "no-such-material"]), "no-such-material", "no such");
+    fails_naming(
+        specula().args(["compare", p, "no-such-material"]),
+        "no-such-material",
+        "no such",
+    );
 }

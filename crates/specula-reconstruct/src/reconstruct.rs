@@ -11,7 +11,7 @@ use crate::provenance::Provenance;
 use crate::sample::Sample;
 use rayon::prelude::*;
 use specula_core::merl::MerlBrdf;
-use specula_core::Rgb;
+use specula_core::{HalfDiff, Rgb};
 
 /// Why samples cannot be reconstructed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -36,6 +36,19 @@ pub struct Reconstruction {
     pub filled_nodes: usize,
 }
 
+/// The sample with phi_d folded into `[0, pi)` by reciprocity (paper 3: phi_d and
+/// phi_d + pi are the same configuration) and rounded to 1e-9 rad, far below the device's
+/// 0.03 deg accuracy. The rounding makes a sample and its light/camera swap bit-identical, so
+/// the lobe fit, which can be ill-conditioned on data far from a lobe, cannot amplify the
+/// last-bit difference between the two into different lobes. Only the lobe (its fit and the
+/// samples' ratios to it) sees it: bins and provenance keep the samples' own angles.
+fn reciprocal_canonical(sample: &Sample) -> Sample {
+    const QUANTUM_RAD: f64 = 1e-9;
+    let folded = sample.hd.phi_d.rem_euclid(std::f64::consts::PI);
+    let phi_d = ((folded / QUANTUM_RAD).round() * QUANTUM_RAD).rem_euclid(std::f64::consts::PI);
+    Sample::new(HalfDiff { phi_d, ..sample.hd }, sample.value)
+}
+
 /// Reconstructs the full MERL table named `name` from the samples with a method.
 pub fn reconstruct(
     samples: &[Sample],
@@ -45,12 +58,13 @@ pub fn reconstruct(
     if samples.is_empty() {
         return Err(ReconstructError::NoSamples);
     }
+    let canonical: Vec<Sample> = samples.iter().map(reciprocal_canonical).collect();
     let lobe = if method.domain.uses_lobe() {
-        Some(Lobe::fit(samples).ok_or(ReconstructError::NoLobe)?)
+        Some(Lobe::fit(&canonical).ok_or(ReconstructError::NoLobe)?)
     } else {
         None
     };
-    let domain_values: Vec<[f64; 3]> = samples
+    let domain_values: Vec<[f64; 3]> = canonical
         .par_iter()
         .map(|s| {
             let model = lobe.map_or(Rgb::ZERO, |l| l.eval(&Geometry::of(s.hd)));

@@ -31,13 +31,17 @@ struct DirectionPair {
 pub fn run(args: Args) -> Result<()> {
     let brdf = specula_formats::load_brdf(&args.brdf)?;
     let name = args.dirs.display().to_string();
-    let mut reader = csv::Reader::from_path(&args.dirs).with_context(|| format!("{name}: cannot open"))?;
+    let mut reader =
+        csv::Reader::from_path(&args.dirs).with_context(|| format!("{name}: cannot open"))?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     writeln!(out, "r,g,b")?;
     for (row, record) in reader.deserialize::<DirectionPair>().enumerate() {
         let pair = record.with_context(|| {
-            format!("{name}: row {}: expected numbers under theta_i,phi_i,theta_o,phi_o", row + 2)
+            format!(
+                "{name}: row {}: expected numbers under theta_i,phi_i,theta_o,phi_o",
+                row + 2
+            )
         })?;
         let wi = Spherical::from_degrees(pair.theta_i, pair.phi_i).to_vector();
         let wo = Spherical::from_degrees(pair.theta_o, pair.phi_o).to_vector();

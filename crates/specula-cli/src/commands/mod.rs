@@ -17,7 +17,7 @@ pub mod plan;
 pub mod plot;
 pub mod probe;
 pub mod reconstruct;
-pub mod report;
 pub mod render;
+pub mod report;
 pub mod session;
 pub mod tabulate;
