@@ -19,6 +19,9 @@ use specula_visual::plot::probe::{interpolate, plot_probe};
 use specula_visual::plot::raw_samples::{plot_raw_samples, RawSample};
 use specula_visual::plot::slice::{plot_slice, SliceOptions};
 use specula_visual::plot::ThetaHAxis;
+use specula_visual::report::{
+    CoverageSection, ErrorRow, ErrorSection, Figure, KHatSection, Report,
+};
 use specula_visual::{Environment, Lighting, RenderSettings, Scene, ShapeKind};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -29,15 +32,16 @@ const MATERIALS: [&str; 2] = ["silver-925", "green-paint"];
 
 /// Run the main job on the built-in default: measure silver-925 and green-paint (the paper's
 /// two materials) on the simulated device, the paper's way with our ordering and predicted
-/// exposures, and write for each the MERL table, the summary, the session journal and
-/// pictures; then print where everything is.
+/// exposures, and write for each the MERL table, the summary, the session journal,
+/// pictures and an HTML report; then print where everything is.
 ///
 /// Per material, in OUT/MATERIAL/: MATERIAL.binary (the measured BRDF, MERL format),
 /// MATERIAL.summary.txt (k-hat, counts, captures, simulated hours), MATERIAL.session.sqlite
 /// (the journal), probe.png (the probe against the adaptive samples, paper Fig. 13),
 /// raw_samples.png (the measured samples per phi_d, Fig. 15), slice.png (the measured and the
-/// true characteristic slice, Fig. 11) and render.png (the measured and the true material on
-/// a sphere in a studio, with their difference, Fig. 16).
+/// true characteristic slice, Fig. 11), render.png (the measured and the true material on
+/// a sphere in a studio, with their difference, Fig. 16) and report.html (one self-contained
+/// page with k-hat, coverage, the error against the truth and every picture).
 ///
 /// A rerun resumes the sessions (and is quick once they are complete); Ctrl-C stops after
 /// the sample in progress.
@@ -146,11 +150,13 @@ fn pictures(
     let journal = Journal::open_read_only(session)?;
     let measured = MerlBrdf::read(table)?;
     let mut files = Vec::new();
+    let mut figures = Vec::new();
     let mut save = |file: &str, image: RgbImage| -> Result<()> {
         let path = dir.join(file);
         image
             .save(&path)
             .with_context(|| format!("{}: cannot write", path.display()))?;
+        figures.push(Figure::new(file, format!("{name}: {file}"), &image)?);
         files.push(path);
         Ok(())
     };
@@ -227,6 +233,46 @@ fn pictures(
     save("render.png", grid::compose(&tiles)?)?;
 
     let errors = compare(&measured, &tabulate(truth, 0.0), 75.0);
+    let report = Report {
+        title: format!("{name} measured on the simulated device"),
+        generator: format!("specula {} demo", env!("CARGO_PKG_VERSION")),
+        k_hat: Some(KHatSection {
+            family: fit.function.family.to_string(),
+            k: fit.function.k,
+            fit_error: fit.error,
+            probe_samples: probe.len(),
+            placed_samples: settings.theta_h_samples,
+        }),
+        coverage: Some(CoverageSection {
+            rows: vec![
+                (
+                    "measured samples".into(),
+                    samples.len(),
+                    journal.plan(STAGE_MAIN)?.len(),
+                ),
+                (
+                    "measured MERL cells".into(),
+                    measured.measured_count(),
+                    specula_core::merl::CELLS,
+                ),
+            ],
+        }),
+        errors: Some(ErrorSection {
+            truth: name.to_string(),
+            rows: vec![ErrorRow {
+                set: "light and camera within 75 deg".into(),
+                cells: errors.cells,
+                relative_rmse: errors.relative_rmse,
+                log_rmse: errors.log_rmse,
+                slice_mae: errors.slice_mae,
+            }],
+        }),
+        figures,
+        ..Report::default()
+    };
+    let report_path = dir.join("report.html");
+    report.write(&report_path)?;
+    files.push(report_path);
     println!(
         "{name} against its truth, light and camera within 75 deg: relative RMSE {:.4}, log RMSE {:.4}; renders differ by {:.1} % on average",
         errors.relative_rmse,
