@@ -177,12 +177,7 @@ fn pictures(
     let samples = measured_samples(&journal.plan(STAGE_MAIN)?, &journal.samples(STAGE_MAIN)?);
     let raw: Vec<RawSample> = samples
         .iter()
-        .map(|s| RawSample {
-            theta_h_deg: s.hd.theta_h.to_degrees(),
-            theta_d_deg: s.hd.theta_d.to_degrees(),
-            phi_d_deg: s.hd.phi_d.to_degrees(),
-            value: s.value,
-        })
+        .map(|s| RawSample::new(s.hd, s.value))
         .collect();
     save(
         "raw_samples.png",

@@ -156,12 +156,7 @@ fn samples(args: SamplesArgs) -> Result<RgbImage> {
     let raw: Vec<RawSample> = set
         .samples()
         .iter()
-        .map(|s| RawSample {
-            theta_h_deg: s.angles.theta_h.to_degrees(),
-            theta_d_deg: s.angles.theta_d.to_degrees(),
-            phi_d_deg: s.angles.phi_d.to_degrees(),
-            value: s.value,
-        })
+        .map(|s| RawSample::new(s.angles, s.value))
         .collect();
     plot_raw_samples(&raw, &stem(&args.samples), args.axis)
         .with_context(|| args.samples.display().to_string())

@@ -325,12 +325,7 @@ fn raw_samples(path: &Path) -> Result<(Figure, (String, usize, usize))> {
     let raw: Vec<RawSample> = set
         .samples()
         .iter()
-        .map(|s| RawSample {
-            theta_h_deg: s.angles.theta_h.to_degrees(),
-            theta_d_deg: s.angles.theta_d.to_degrees(),
-            phi_d_deg: s.angles.phi_d.to_degrees(),
-            value: s.value,
-        })
+        .map(|s| RawSample::new(s.angles, s.value))
         .collect();
     let grid = SampleGrid::new(&raw).with_context(|| path.display().to_string())?;
     let (measured, planned) = grid.coverage();

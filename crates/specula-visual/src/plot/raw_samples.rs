@@ -12,6 +12,7 @@ use anyhow::{bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
 use specula_core::brdf::Rgb;
+use specula_core::HalfDiff;
 use std::collections::BTreeMap;
 
 /// One measured value.
@@ -22,6 +23,19 @@ pub struct RawSample {
     pub phi_d_deg: f64,
     /// f_r in 1/sr.
     pub value: Rgb,
+}
+
+impl RawSample {
+    /// A sample at half-difference angles (radians), shown in degrees; phi_h is dropped
+    /// (isotropic BRDF).
+    pub fn new(angles: HalfDiff, value: Rgb) -> Self {
+        Self {
+            theta_h_deg: angles.theta_h.to_degrees(),
+            theta_d_deg: angles.theta_d.to_degrees(),
+            phi_d_deg: angles.phi_d.to_degrees(),
+            value,
+        }
+    }
 }
 
 /// Per cell `(theta_h index, theta_d index)` of one panel: the sum of values and their count.
