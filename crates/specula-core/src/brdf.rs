@@ -22,8 +22,36 @@ pub trait Brdf: Send + Sync {
         self.eval(wi, wo)
     }
 
+    /// f_r at each cell of `row` (a row of the MERL grid), written into `out` (one value per
+    /// phi_d). Tabulation walks the grid this way; the default evaluates each cell with
+    /// [`Brdf::eval_half_diff`], and analytic isotropic models override it to compute the
+    /// factors of theta_h and theta_d alone (Fresnel, D) once per row.
+    fn eval_phi_d_row(&self, row: &PhiDRow, out: &mut [Option<Rgb>]) {
+        eval_phi_d_row_per_cell(self, row, out);
+    }
+
     /// A short human-readable name (a preset, a file name, a fit's material).
     fn name(&self) -> String;
+}
+
+/// Configurations of constant theta_h, theta_d and phi_h, phi_d varying: a row of the MERL
+/// grid when tabulating (angles in radians).
+#[derive(Debug, Clone, Copy)]
+pub struct PhiDRow<'a> {
+    pub theta_h: f64,
+    pub theta_d: f64,
+    pub phi_h: f64,
+    /// phi_d of each cell.
+    pub phi_d: &'a [f64],
+    /// `cos(phi_d)` of each cell, computed once for all rows.
+    pub cos_phi_d: &'a [f64],
+}
+
+/// [`Brdf::eval_phi_d_row`] one cell at a time, for BRDFs with no shortcut.
+pub fn eval_phi_d_row_per_cell<B: Brdf + ?Sized>(brdf: &B, row: &PhiDRow, out: &mut [Option<Rgb>]) {
+    for (phi_d, out) in row.phi_d.iter().zip(out) {
+        *out = brdf.eval_half_diff(HalfDiff::new(row.theta_h, row.phi_h, row.theta_d, *phi_d));
+    }
 }
 
 impl<T: Brdf + ?Sized> Brdf for Box<T> {
@@ -32,6 +60,9 @@ impl<T: Brdf + ?Sized> Brdf for Box<T> {
     }
     fn eval_half_diff(&self, hd: HalfDiff) -> Option<Rgb> {
         (**self).eval_half_diff(hd)
+    }
+    fn eval_phi_d_row(&self, row: &PhiDRow, out: &mut [Option<Rgb>]) {
+        (**self).eval_phi_d_row(row, out)
     }
     fn name(&self) -> String {
         (**self).name()
@@ -44,6 +75,9 @@ impl<T: Brdf + ?Sized> Brdf for std::sync::Arc<T> {
     }
     fn eval_half_diff(&self, hd: HalfDiff) -> Option<Rgb> {
         (**self).eval_half_diff(hd)
+    }
+    fn eval_phi_d_row(&self, row: &PhiDRow, out: &mut [Option<Rgb>]) {
+        (**self).eval_phi_d_row(row, out)
     }
     fn name(&self) -> String {
         (**self).name()

@@ -6,7 +6,7 @@ pub mod brdf;
 pub mod geometry;
 pub mod merl;
 
-pub use brdf::{Brdf, Rgb};
+pub use brdf::{Brdf, PhiDRow, Rgb};
 pub use geometry::{HalfDiff, Spherical};
 pub use merl::MerlBrdf;
 pub mod compare;

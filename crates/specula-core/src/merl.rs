@@ -105,6 +105,48 @@ impl Bin {
     }
 }
 
+/// A row of the MERL grid: the [`PHI_D_BINS`] cells of one (theta_h, theta_d) bin pair,
+/// contiguous in a plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Row {
+    pub theta_h_i: usize,
+    pub theta_d_i: usize,
+}
+
+impl Row {
+    /// The `index`-th row in file order.
+    pub fn from_index(index: usize) -> Self {
+        Self {
+            theta_h_i: index / THETA_D_BINS,
+            theta_d_i: index % THETA_D_BINS,
+        }
+    }
+
+    /// The flat index of the row's cell with phi_d bin 0.
+    pub fn first_cell(self) -> usize {
+        Bin {
+            theta_h_i: self.theta_h_i,
+            theta_d_i: self.theta_d_i,
+            phi_d_i: 0,
+        }
+        .index()
+    }
+}
+
+/// Centres of the phi_d bins in radians, `k + 0.5` degrees.
+pub fn phi_d_centres_rad() -> [f64; PHI_D_BINS] {
+    std::array::from_fn(|k| (k as f64 + 0.5).to_radians())
+}
+
+/// The three stored values of f_r in 1/sr: divided by the channel scales, or all
+/// [`NOT_MEASURED`] for `None`, a negative or a non-finite value.
+fn stored_values(value: Option<Rgb>) -> [f64; 3] {
+    match value.filter(|v| v.is_finite() && v.min_element() >= 0.0) {
+        Some(v) => std::array::from_fn(|c| v[c] / CHANNEL_SCALE[c]),
+        None => [NOT_MEASURED; 3],
+    }
+}
+
 /// Centre of theta_h bin `i` in degrees: `(i + 0.5)^2 / 90`.
 pub fn theta_h_centre_deg(i: usize) -> f64 {
     let x = i as f64 + 0.5;
@@ -120,14 +162,14 @@ fn clamp_bin(value: f64, bins: usize) -> usize {
 }
 
 /// A MERL table held as the stored (unscaled) values of the file, so that reading and
-/// writing is byte-exact, with a mask of the cells that were measured.
+/// writing is byte-exact. A cell is measured when none of its three stored values is
+/// negative (the file's own convention), so the planes are the mask: a cell that is not
+/// measured reads as `None`, never as a silent 0.
 #[derive(Clone)]
 pub struct MerlBrdf {
     name: String,
     /// Three planes (R, G, B) of `CELLS` stored values each, as in the file.
     stored: Vec<f64>,
-    /// `measured[i]`: all three channels of cell `i` hold a value (none negative).
-    measured: Vec<bool>,
 }
 
 impl MerlBrdf {
@@ -136,46 +178,52 @@ impl MerlBrdf {
         Self {
             name: name.into(),
             stored: vec![NOT_MEASURED; 3 * CELLS],
-            measured: vec![false; CELLS],
         }
     }
 
     /// A table whose cell `i` holds `value(i)` (f_r in 1/sr, or `None` for not measured),
-    /// evaluated in parallel over theta_h slabs straight into the stored planes.
+    /// evaluated in parallel straight into the stored planes.
     pub fn from_fn(name: impl Into<String>, value: impl Fn(usize) -> Option<Rgb> + Sync) -> Self {
-        let mut table = Self::empty(name);
-        let slab = PHI_D_BINS * THETA_D_BINS;
+        Self::from_rows(name, |row, out| {
+            let first = row.first_cell();
+            for (offset, out) in out.iter_mut().enumerate() {
+                *out = value(first + offset);
+            }
+        })
+    }
+
+    /// A table filled row by row, in parallel: `fill_row(row, out)` writes f_r in 1/sr (or
+    /// `None` for not measured) of the row's [`PHI_D_BINS`] cells, in phi_d order.
+    pub fn from_rows(
+        name: impl Into<String>,
+        fill_row: impl Fn(Row, &mut [Option<Rgb>]) + Sync,
+    ) -> Self {
+        let mut table = Self::unfilled(name.into());
         let (red, rest) = table.stored.split_at_mut(CELLS);
         let (green, blue) = rest.split_at_mut(CELLS);
-        red.par_chunks_mut(slab)
-            .zip(green.par_chunks_mut(slab))
-            .zip(blue.par_chunks_mut(slab))
-            .zip(table.measured.par_chunks_mut(slab))
+        red.par_chunks_mut(PHI_D_BINS)
+            .zip(green.par_chunks_mut(PHI_D_BINS))
+            .zip(blue.par_chunks_mut(PHI_D_BINS))
             .enumerate()
-            .for_each(|(slab_index, (((r, g), b), measured))| {
-                for offset in 0..slab {
-                    let v = value(slab_index * slab + offset)
-                        .filter(|v| v.is_finite() && v.min_element() >= 0.0);
-                    measured[offset] = v.is_some();
-                    let v = v.unwrap_or(Rgb::splat(f64::NAN));
-                    for (plane, c) in [(&mut *r, 0), (&mut *g, 1), (&mut *b, 2)] {
-                        plane[offset] = if v[c].is_nan() {
-                            NOT_MEASURED
-                        } else {
-                            v[c] / CHANNEL_SCALE[c]
-                        };
+            .with_min_len(THETA_D_BINS)
+            .for_each_init(
+                || [None; PHI_D_BINS],
+                |values, (row, ((red, green), blue))| {
+                    fill_row(Row::from_index(row), values);
+                    for (cell, value) in values.iter().enumerate() {
+                        [red[cell], green[cell], blue[cell]] = stored_values(*value);
                     }
-                }
-            });
+                },
+            );
         table
     }
 
     /// Reads a `.binary` file, checking its header, its length and every value.
     ///
-    /// The payload is read straight into the `f64` planes (no intermediate byte buffer), so
-    /// reading costs about what `numpy.fromfile` does (README, Performance).
+    /// The payload is read straight into the `f64` planes (no intermediate byte buffer) in
+    /// parallel units, each checked while it is still in the cache, so reading costs less
+    /// than `numpy.fromfile` does (README, Performance).
     pub fn read(path: &Path) -> Result<Self, MerlError> {
-        use std::io::Read;
         if path.is_dir() {
             return Err(MerlError::invalid(
                 path,
@@ -192,53 +240,73 @@ impl MerlBrdf {
         let header_len = read_up_to(&mut file, &mut header).map_err(io_error)?;
         check_header(&header[..header_len], length)
             .map_err(|problem| MerlError::invalid(path, problem))?;
-        let mut stored = allocate_planes();
-        file.read_exact(bytemuck::cast_slice_mut(&mut stored))
-            .map_err(io_error)?;
-        if cfg!(target_endian = "big") {
-            stored
-                .iter_mut()
-                .for_each(|v| *v = f64::from_bits(v.to_bits().swap_bytes()));
+        let mut table = Self::unfilled(file_stem(path));
+        let all_finite = table.read_planes(&file).map_err(io_error)?;
+        if !all_finite {
+            return Err(MerlError::invalid(path, table.non_finite_problem()));
         }
-        Self::from_planes(file_stem(path), stored)
-            .map_err(|problem| MerlError::invalid(path, problem))
+        Ok(table)
     }
 
     /// Parses the bytes of a `.binary` file; the error says what is wrong.
     pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, String> {
         check_header(&bytes[..bytes.len().min(HEADER_BYTES)], bytes.len() as u64)?;
-        let stored: Vec<f64> = bytes[HEADER_BYTES..]
-            .chunks_exact(8)
-            .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
-            .collect();
-        Self::from_planes(name.into(), stored)
+        let mut table = Self::unfilled(name.into());
+        table
+            .stored
+            .iter_mut()
+            .zip(bytes[HEADER_BYTES..].chunks_exact(8))
+            .for_each(|(v, c)| {
+                *v = f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])
+            });
+        if !all_finite(&table.stored) {
+            return Err(table.non_finite_problem());
+        }
+        Ok(table)
     }
 
-    /// Builds a table from the three stored planes, rejecting non-finite values.
-    fn from_planes(name: String, stored: Vec<f64>) -> Result<Self, String> {
-        if stored.par_iter().any(|v| !v.is_finite()) {
-            let pos = stored
-                .iter()
-                .position(|v| !v.is_finite())
-                .unwrap_or_default();
-            let channel = ["red", "green", "blue"][pos / CELLS];
-            let bin = Bin::from_index(pos % CELLS);
-            return Err(format!(
-                "non-finite value {} in the {channel} channel at cell (theta_h {}, theta_d {}, phi_d {})",
-                stored[pos], bin.theta_h_i, bin.theta_d_i, bin.phi_d_i
-            ));
-        }
-        let (red, rest) = stored.split_at(CELLS);
-        let (green, blue) = rest.split_at(CELLS);
-        let measured = (red, green, blue)
-            .into_par_iter()
-            .map(|(r, g, b)| *r >= 0.0 && *g >= 0.0 && *b >= 0.0)
-            .collect();
-        Ok(Self {
+    /// A table of zeros that is about to be overwritten: the planes come from the allocator
+    /// zeroed and untouched, backed by huge pages where the system offers them.
+    fn unfilled(name: String) -> Self {
+        Self {
             name,
-            stored,
-            measured,
-        })
+            stored: allocate_planes(),
+        }
+    }
+
+    /// Fills the planes from the payload of `file` (header already checked) in parallel
+    /// units of [`READ_UNIT_VALUES`], each checked right after its positioned read, while it
+    /// is in the cache. Returns whether every value is finite.
+    fn read_planes(&mut self, file: &std::fs::File) -> std::io::Result<bool> {
+        self.stored
+            .par_chunks_mut(READ_UNIT_VALUES)
+            .enumerate()
+            .map(|(unit, values)| {
+                let offset = HEADER_BYTES + 8 * unit * READ_UNIT_VALUES;
+                read_exact_at(file, bytemuck::cast_slice_mut(values), offset as u64)?;
+                if cfg!(target_endian = "big") {
+                    values
+                        .iter_mut()
+                        .for_each(|v| *v = f64::from_bits(v.to_bits().swap_bytes()));
+                }
+                Ok(all_finite(values))
+            })
+            .try_reduce(|| true, |a, b| Ok(a && b))
+    }
+
+    /// Where the first non-finite stored value is, in words.
+    fn non_finite_problem(&self) -> String {
+        let pos = self
+            .stored
+            .iter()
+            .position(|v| !v.is_finite())
+            .unwrap_or_default();
+        let channel = ["red", "green", "blue"][pos / CELLS];
+        let bin = Bin::from_index(pos % CELLS);
+        format!(
+            "non-finite value {} in the {channel} channel at cell (theta_h {}, theta_d {}, phi_d {})",
+            self.stored[pos], bin.theta_h_i, bin.theta_d_i, bin.phi_d_i
+        )
     }
 
     /// The bytes of the `.binary` file; cells not measured are written as -1.
@@ -248,7 +316,7 @@ impl MerlBrdf {
             out.extend_from_slice(&(d as i32).to_le_bytes());
         }
         for (i, v) in self.stored.iter().enumerate() {
-            let value = if self.measured[i % CELLS] {
+            let value = if self.is_measured(i % CELLS) {
                 *v
             } else {
                 v.min(NOT_MEASURED)
@@ -268,7 +336,7 @@ impl MerlBrdf {
 
     /// f_r in 1/sr of a cell, or `None` when it was not measured.
     pub fn cell(&self, index: usize) -> Option<Rgb> {
-        self.measured[index].then(|| {
+        self.is_measured(index).then(|| {
             Rgb::new(
                 self.stored[index] * CHANNEL_SCALE[0],
                 self.stored[index + CELLS] * CHANNEL_SCALE[1],
@@ -280,30 +348,22 @@ impl MerlBrdf {
     /// Sets a cell to f_r in 1/sr, or marks it not measured with `None`.
     /// Negative or non-finite values are stored as "not measured".
     pub fn set_cell(&mut self, index: usize, value: Option<Rgb>) {
-        match value.filter(|v| v.is_finite() && v.min_element() >= 0.0) {
-            Some(v) => {
-                for c in 0..3 {
-                    self.stored[index + c * CELLS] = v[c] / CHANNEL_SCALE[c];
-                }
-                self.measured[index] = true;
-            }
-            None => {
-                for c in 0..3 {
-                    self.stored[index + c * CELLS] = NOT_MEASURED;
-                }
-                self.measured[index] = false;
-            }
+        for (c, stored) in stored_values(value).into_iter().enumerate() {
+            self.stored[index + c * CELLS] = stored;
         }
     }
 
-    /// Whether each cell was measured.
-    pub fn measured_mask(&self) -> &[bool] {
-        &self.measured
+    /// Whether cell `index` was measured: none of its three stored values is negative.
+    pub fn is_measured(&self, index: usize) -> bool {
+        (0..3).all(|c| self.stored[index + c * CELLS] >= 0.0)
     }
 
     /// Number of measured cells.
     pub fn measured_count(&self) -> usize {
-        self.measured.iter().filter(|m| **m).count()
+        (0..CELLS)
+            .into_par_iter()
+            .filter(|&i| self.is_measured(i))
+            .count()
     }
 
     /// The nearest-bin lookup at half-difference angles.
@@ -353,12 +413,44 @@ fn check_header(header: &[u8], total_len: u64) -> Result<(), String> {
 
 /// A zeroed buffer for the three planes, backed by transparent huge pages where the system
 /// offers them: filling 35 MB of fresh 4 KiB pages costs more page faults than the read
-/// itself (numpy asks for huge pages for large arrays the same way).
+/// itself (numpy asks for huge pages for large arrays the same way). The allocator hands out
+/// zeroed pages it has not touched, so the advice takes effect before the first fault.
 fn allocate_planes() -> Vec<f64> {
-    let mut planes: Vec<f64> = Vec::with_capacity(3 * CELLS);
+    let mut planes = vec![0.0; 3 * CELLS];
     advise_huge_pages(&mut planes);
-    planes.resize(3 * CELLS, 0.0);
     planes
+}
+
+/// Values per unit of parallel reading and checking (64 KiB), so that a unit is still in
+/// the cache when it is checked.
+const READ_UNIT_VALUES: usize = 8192;
+
+/// Whether no value is infinite or NaN.
+fn all_finite(values: &[f64]) -> bool {
+    values.iter().fold(true, |finite, v| finite & v.is_finite())
+}
+
+/// Fills `buffer` from `file` at byte `offset`, without moving a shared cursor.
+#[cfg(unix)]
+fn read_exact_at(file: &std::fs::File, buffer: &mut [u8], offset: u64) -> std::io::Result<()> {
+    std::os::unix::fs::FileExt::read_exact_at(file, buffer, offset)
+}
+
+/// Fills `buffer` from `file` at byte `offset`, without moving a shared cursor.
+#[cfg(windows)]
+fn read_exact_at(file: &std::fs::File, buffer: &mut [u8], offset: u64) -> std::io::Result<()> {
+    let mut filled = 0;
+    while filled < buffer.len() {
+        match std::os::windows::fs::FileExt::seek_read(
+            file,
+            &mut buffer[filled..],
+            offset + filled as u64,
+        )? {
+            0 => return Err(std::io::ErrorKind::UnexpectedEof.into()),
+            n => filled += n,
+        }
+    }
+    Ok(())
 }
 
 #[cfg(target_os = "linux")]

@@ -23,7 +23,7 @@
 
 use super::coat_albedo::CoatAlbedo;
 use super::fresnel;
-use super::microfacet::{Distribution, IsotropicCosines, Microfacet};
+use super::microfacet::{Distribution, IsotropicCosines, IsotropicRow, Microfacet};
 use crate::brdf::Rgb;
 use std::f64::consts::PI;
 
@@ -75,11 +75,32 @@ impl ClearCoat {
     /// f_r in 1/sr from the cosines of an isotropic configuration.
     pub fn eval_cosines(&self, c: IsotropicCosines) -> Rgb {
         let specular = self.fresnel(c.cos_d) * self.coat.reflection_isotropic(c);
-        let through_coat = (1.0 - self.albedo.at(c.cos_i)) * (1.0 - self.albedo.at(c.cos_o))
-            / (PI * self.ior * self.ior);
+        Rgb::splat(specular) + self.multiple_bounces() * self.through_coat(c)
+    }
+
+    /// f_r in 1/sr as a function of `cos(phi_d)` along a row of constant theta_h and theta_d:
+    /// the coat's `F D` and the base's bounce factor are computed once for the row.
+    pub fn along_row(&self, row: IsotropicRow) -> impl Fn(f64) -> Rgb + '_ {
+        let fresnel_d = self.fresnel(row.cos_d) * self.coat.d_isotropic(row.cos_h);
+        let multiple_bounces = self.multiple_bounces();
+        move |cos_phi_d| {
+            row.at(cos_phi_d).map_or(Rgb::ZERO, |c| {
+                let specular = fresnel_d * self.coat.masking_over_cosines(c.cos_i, c.cos_o);
+                Rgb::splat(specular) + multiple_bounces * self.through_coat(c)
+            })
+        }
+    }
+
+    /// `(1 - E(cos_i)) (1 - E(cos_o)) / (pi eta^2)`: the light that crosses the coat twice.
+    fn through_coat(&self, c: IsotropicCosines) -> f64 {
+        (1.0 - self.albedo.at(c.cos_i)) * (1.0 - self.albedo.at(c.cos_o))
+            / (PI * self.ior * self.ior)
+    }
+
+    /// `rho / (1 - rho r_int)`: the base's albedo with the bounces under the coat.
+    fn multiple_bounces(&self) -> Rgb {
         let rho = self.base_color;
-        let multiple_bounces = rho / (Rgb::ONE - rho * self.internal_reflectance);
-        Rgb::splat(specular) + multiple_bounces * through_coat
+        rho / (Rgb::ONE - rho * self.internal_reflectance)
     }
 }
 

@@ -8,7 +8,7 @@
 //! and `D`, `G1` from [`Microfacet`].
 
 use super::fresnel;
-use super::microfacet::{Distribution, IsotropicCosines, Microfacet};
+use super::microfacet::{Distribution, IsotropicCosines, IsotropicRow, Microfacet};
 use crate::brdf::Rgb;
 
 /// A rough conductor with isotropic roughness and a complex index `eta + i k` per channel.
@@ -47,6 +47,17 @@ impl RoughConductor {
     /// f_r in 1/sr from the cosines of an isotropic configuration.
     pub fn eval_cosines(&self, c: IsotropicCosines) -> Rgb {
         self.fresnel(c.cos_d) * self.microfacet.reflection_isotropic(c)
+    }
+
+    /// f_r in 1/sr as a function of `cos(phi_d)` along a row of constant theta_h and theta_d:
+    /// `F D` depends on the row alone, so only the masking term is left per phi_d.
+    pub fn along_row(&self, row: IsotropicRow) -> impl Fn(f64) -> Rgb + '_ {
+        let fresnel_d = self.fresnel(row.cos_d) * self.microfacet.d_isotropic(row.cos_h);
+        move |cos_phi_d| {
+            row.at(cos_phi_d).map_or(Rgb::ZERO, |c| {
+                fresnel_d * self.microfacet.masking_over_cosines(c.cos_i, c.cos_o)
+            })
+        }
     }
 }
 

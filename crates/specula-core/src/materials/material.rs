@@ -10,9 +10,9 @@
 
 use super::clearcoat::ClearCoat;
 use super::conductor::RoughConductor;
-use super::microfacet::IsotropicCosines;
+use super::microfacet::{IsotropicCosines, IsotropicRow};
 use super::scratch::ScratchLobe;
-use crate::brdf::{Brdf, Rgb};
+use crate::brdf::{eval_phi_d_row_per_cell, Brdf, PhiDRow, Rgb};
 use crate::geometry::HalfDiff;
 use glam::DVec3;
 
@@ -31,6 +31,19 @@ impl Base {
         match self {
             Base::Conductor(conductor) => conductor.eval_cosines(c),
             Base::ClearCoat(coat) => coat.eval_cosines(c),
+        }
+    }
+
+    /// f_r in 1/sr along a row of constant theta_h and theta_d, at each of `cos_phi_d`.
+    fn eval_row(&self, row: IsotropicRow, cos_phi_d: &[f64], out: &mut [Option<Rgb>]) {
+        fn fill(cos_phi_d: &[f64], out: &mut [Option<Rgb>], f: impl Fn(f64) -> Rgb) {
+            for (cos_phi_d, out) in cos_phi_d.iter().zip(out) {
+                *out = Some(f(*cos_phi_d));
+            }
+        }
+        match self {
+            Base::Conductor(conductor) => fill(cos_phi_d, out, conductor.along_row(row)),
+            Base::ClearCoat(coat) => fill(cos_phi_d, out, coat.along_row(row)),
         }
     }
 
@@ -102,6 +115,16 @@ impl Brdf for Material {
             return Some(self.eval_rgb(wi, wo));
         }
         Some(IsotropicCosines::from_half_diff(hd).map_or(Rgb::ZERO, |c| self.base.eval_cosines(c)))
+    }
+
+    /// Isotropic materials compute their row factors once (tabulation's fast path); a
+    /// scratch lobe depends on `phi_h`, so it is evaluated cell by cell.
+    fn eval_phi_d_row(&self, row: &PhiDRow, out: &mut [Option<Rgb>]) {
+        if self.scratch.is_some() {
+            return eval_phi_d_row_per_cell(self, row, out);
+        }
+        let cosines = IsotropicRow::new(row.theta_h, row.theta_d);
+        self.base.eval_row(cosines, row.cos_phi_d, out);
     }
 
     fn name(&self) -> String {

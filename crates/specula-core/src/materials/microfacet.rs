@@ -131,14 +131,26 @@ impl Microfacet {
     /// [`Microfacet::reflection`] for isotropic roughness (`alpha_u` is used), from the
     /// cosines alone.
     pub fn reflection_isotropic(&self, c: IsotropicCosines) -> f64 {
+        self.d_isotropic(c.cos_h) * self.masking_over_cosines(c.cos_i, c.cos_o)
+    }
+
+    /// `D(h)` in 1/sr for isotropic roughness (`alpha_u`) from `cos theta_h`.
+    pub fn d_isotropic(&self, cos_h: f64) -> f64 {
+        let cos2_h = cos_h * cos_h;
         let alpha2 = self.alpha_u * self.alpha_u;
-        let cos2_h = c.cos_h * c.cos_h;
-        let d = self.d_of_scaled_tan2((1.0 - cos2_h).max(0.0) / (cos2_h * alpha2), cos2_h);
+        self.d_of_scaled_tan2((1.0 - cos2_h).max(0.0) / (cos2_h * alpha2), cos2_h)
+    }
+
+    /// `G1(wi, h) G1(wo, h) / (4 cos_i cos_o)` for isotropic roughness (`alpha_u`): the part
+    /// of [`Microfacet::reflection_isotropic`] that changes along a row of constant theta_h
+    /// and theta_d.
+    pub fn masking_over_cosines(&self, cos_i: f64, cos_o: f64) -> f64 {
+        let alpha2 = self.alpha_u * self.alpha_u;
         let g1 = |cos_v: f64| {
             let cos2 = cos_v * cos_v;
             self.g1_of_alpha2_tan2(alpha2 * (1.0 - cos2).max(0.0) / cos2)
         };
-        d * g1(c.cos_i) * g1(c.cos_o) / (4.0 * c.cos_i * c.cos_o)
+        g1(cos_i) * g1(cos_o) / (4.0 * cos_i * cos_o)
     }
 }
 
@@ -168,18 +180,45 @@ impl IsotropicCosines {
         })
     }
 
-    /// From half-difference angles without building the directions (DESIGN.md frame):
+    /// From half-difference angles without building the directions (DESIGN.md frame);
+    /// `None` when either direction is at or below the horizon. See [`IsotropicRow::at`].
+    pub fn from_half_diff(hd: HalfDiff) -> Option<Self> {
+        IsotropicRow::new(hd.theta_h, hd.theta_d).at(hd.phi_d.cos())
+    }
+}
+
+/// The configurations of constant theta_h and theta_d (a row of the MERL grid), where only
+/// `cos_i` and `cos_o` change with phi_d.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IsotropicRow {
+    pub cos_h: f64,
+    pub sin_h: f64,
+    pub cos_d: f64,
+    pub sin_d: f64,
+}
+
+impl IsotropicRow {
+    pub fn new(theta_h: f64, theta_d: f64) -> Self {
+        let (sin_h, cos_h) = theta_h.sin_cos();
+        let (sin_d, cos_d) = theta_d.sin_cos();
+        Self {
+            cos_h,
+            sin_h,
+            cos_d,
+            sin_d,
+        }
+    }
+
+    /// The cosines at the azimuth whose cosine is `cos_phi_d` (DESIGN.md frame):
     /// `cos_i = cos theta_h cos theta_d - sin theta_h sin theta_d cos phi_d` and, `wo`
     /// being `wi` mirrored about `h`, `cos_o = 2 cos theta_h cos theta_d - cos_i`.
     /// `None` when either direction is at or below the horizon.
-    pub fn from_half_diff(hd: HalfDiff) -> Option<Self> {
-        let (sin_h, cos_h) = hd.theta_h.sin_cos();
-        let (sin_d, cos_d) = hd.theta_d.sin_cos();
-        let cos_i = cos_h * cos_d - sin_h * sin_d * hd.phi_d.cos();
-        let cos_o = 2.0 * cos_h * cos_d - cos_i;
-        (cos_i > 0.0 && cos_o > 0.0).then_some(Self {
-            cos_h,
-            cos_d,
+    pub fn at(&self, cos_phi_d: f64) -> Option<IsotropicCosines> {
+        let cos_i = self.cos_h * self.cos_d - self.sin_h * self.sin_d * cos_phi_d;
+        let cos_o = 2.0 * self.cos_h * self.cos_d - cos_i;
+        (cos_i > 0.0 && cos_o > 0.0).then_some(IsotropicCosines {
+            cos_h: self.cos_h,
+            cos_d: self.cos_d,
             cos_i,
             cos_o,
         })
