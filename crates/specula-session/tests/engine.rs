@@ -1,106 +1,59 @@
 //! The acquisition loop on the simulated device in process: stopping after the sample in
 //! progress, recovering from device faults, giving up on errors no retry fixes, and pacing.
 
-use specula_acquisition::device::Device;
-use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
+use common::{events, planned_rows, run_main_stage, values, MainStage};
 use specula_acquisition::instrument::{Instrument, InstrumentError};
 use specula_acquisition::kinematics::AxisPositions;
-use specula_acquisition::plan::Plan;
-use specula_acquisition::simulator::sample::{MountedSample, Tilt};
-use specula_acquisition::simulator::{Simulator, SimulatorConfig};
-use specula_core::materials::preset;
-use specula_core::Rgb;
-use specula_session::engine::{Engine, EngineError, EngineSettings, StageOutcome};
+use specula_acquisition::simulator::Simulator;
+use specula_session::engine::{EngineError, StageOutcome};
 use specula_session::ideal::exact_calibration;
-use specula_session::journal::{Journal, PlannedRow};
+use specula_session::journal::Journal;
 use specula_session::pace::Paced;
-use specula_session::predict::Predictor;
-use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+mod common;
+
 fn simulator() -> Simulator {
-    let device = Device::utia();
-    let truth = Arc::new(preset("silver-925").unwrap());
-    let sample = MountedSample::new("silver-925", truth, Tilt::default());
-    Simulator::new(device.clone(), sample, SimulatorConfig::new(5, &device))
+    common::simulator("silver-925", 5)
 }
 
-fn rows() -> Vec<PlannedRow> {
-    let plan = Plan::from_grid(
-        &[0.3, 3.0, 15.0],
-        &[5.0, 30.0, 55.0],
-        &[0.0, 60.0],
-        45.0,
-        &Device::utia(),
-    );
-    plan.measured()
-        .enumerate()
-        .map(|(seq, s)| PlannedRow {
-            seq: seq as u32,
-            hd: s.hd,
-            axes: s.axes.unwrap(),
-            predicted_s: s.time_s,
-        })
-        .collect()
-}
-
-/// Runs stage `main` with `stop`, calling `after_sample` with the count after each sample.
+/// Runs stage `main` of a 3 x 3 x 2 plan with `stop`, calling `after_sample` with the count
+/// after each sample.
 fn acquire(
     instrument: &mut dyn Instrument,
     path: &Path,
     stop: Arc<AtomicBool>,
     after_sample: &mut dyn FnMut(usize),
 ) -> Result<StageOutcome, EngineError> {
+    let rows = planned_rows(&[0.3, 3.0, 15.0], &[5.0, 30.0, 55.0], &[0.0, 60.0]);
     let calibration = exact_calibration(&simulator().config().camera, "sim");
-    let mut journal = Journal::open(path).unwrap();
-    journal.set_plan("main", &rows()).unwrap();
-    let info = instrument.info().unwrap();
-    let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
-    let mut engine = Engine {
-        instrument,
-        journal: &mut journal,
-        hdr: &mut hdr,
+    let stage = MainStage {
+        rows: &rows,
         calibration: &calibration,
-        settings: EngineSettings::default(),
         stop,
         link_notes: None,
     };
-    let predictor = Predictor::new(calibration.clone(), None);
-    engine.run_stage("main", &predictor, &mut |p| after_sample(p.done))
+    run_main_stage(instrument, path, stage, after_sample)
 }
 
-fn values(path: &Path) -> BTreeMap<u32, Rgb> {
-    let journal = Journal::open_read_only(path).unwrap();
-    journal
-        .samples("main")
-        .unwrap()
-        .into_iter()
-        .map(|(k, s)| (k, s.value))
-        .collect()
-}
-
-fn events(path: &Path) -> BTreeMap<String, usize> {
-    Journal::open_read_only(path)
-        .unwrap()
-        .status()
-        .unwrap()
-        .events
+/// The whole stage without interruption.
+fn acquire_all(instrument: &mut dyn Instrument, path: &Path) -> Result<StageOutcome, EngineError> {
+    acquire(
+        instrument,
+        path,
+        Arc::new(AtomicBool::new(false)),
+        &mut |_| {},
+    )
 }
 
 #[test]
 fn a_stop_finishes_the_sample_in_progress_and_the_rest_resumes_identically() {
     let dir = tempfile::tempdir().unwrap();
     let whole = dir.path().join("whole.sqlite");
-    acquire(
-        &mut simulator(),
-        &whole,
-        Arc::new(AtomicBool::new(false)),
-        &mut |_| {},
-    )
-    .unwrap();
+    acquire_all(&mut simulator(), &whole).unwrap();
     let expected = values(&whole);
 
     let path = dir.path().join("stopped.sqlite");
@@ -120,13 +73,7 @@ fn a_stop_finishes_the_sample_in_progress_and_the_rest_resumes_identically() {
     assert_eq!(events(&path).get("interrupted"), Some(&1));
 
     // A new process (a new simulator) resumes: the rest only, and the same values.
-    let outcome = acquire(
-        &mut simulator(),
-        &path,
-        Arc::new(AtomicBool::new(false)),
-        &mut |_| {},
-    )
-    .unwrap();
+    let outcome = acquire_all(&mut simulator(), &path).unwrap();
     assert_eq!((outcome.resumed, outcome.measured), (3, expected.len() - 3));
     assert_eq!(values(&path), expected);
 }
@@ -135,13 +82,7 @@ fn a_stop_finishes_the_sample_in_progress_and_the_rest_resumes_identically() {
 fn a_motor_fault_costs_a_home_and_a_retry_not_a_different_value() {
     let dir = tempfile::tempdir().unwrap();
     let whole = dir.path().join("whole.sqlite");
-    acquire(
-        &mut simulator(),
-        &whole,
-        Arc::new(AtomicBool::new(false)),
-        &mut |_| {},
-    )
-    .unwrap();
+    acquire_all(&mut simulator(), &whole).unwrap();
 
     let mut faulty = simulator();
     // Calls: info, then per sample a move, light changes and captures: the 9th and 20th are
@@ -149,13 +90,7 @@ fn a_motor_fault_costs_a_home_and_a_retry_not_a_different_value() {
     faulty.schedule_fault(9, InstrumentError::MotorFault("following error".into()));
     faulty.schedule_fault(20, InstrumentError::CameraFault("frame lost".into()));
     let path = dir.path().join("faulty.sqlite");
-    let outcome = acquire(
-        &mut faulty,
-        &path,
-        Arc::new(AtomicBool::new(false)),
-        &mut |_| {},
-    )
-    .unwrap();
+    let outcome = acquire_all(&mut faulty, &path).unwrap();
     assert!(outcome.complete());
     let events = events(&path);
     assert_eq!(events.get("fault"), Some(&2), "{events:?}");
@@ -217,13 +152,7 @@ impl Instrument for Stuck {
 fn a_persistent_fault_stops_with_an_error_naming_the_sample() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("stuck.sqlite");
-    let err = acquire(
-        &mut Stuck,
-        &path,
-        Arc::new(AtomicBool::new(false)),
-        &mut |_| {},
-    )
-    .unwrap_err();
+    let err = acquire_all(&mut Stuck, &path).unwrap_err();
     let text = err.to_string();
     assert!(
         text.starts_with("main sample 0: motor fault: turntable"),

@@ -4,19 +4,15 @@
 //! (`tools/example_adapter.py`) that crashes now and then. Every loop here is bounded: the
 //! plans are small and the client gives up after a few failures.
 
+use common::{events, planned_rows, run_main_stage, values, MainStage};
 use specula_acquisition::calibration::Calibration;
-use specula_acquisition::device::Device;
-use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
 use specula_acquisition::instrument::{Instrument, InstrumentError};
-use specula_acquisition::plan::Plan;
-use specula_acquisition::simulator::sample::{MountedSample, Tilt};
-use specula_acquisition::simulator::{Simulator, SimulatorConfig};
-use specula_core::materials::preset;
+use specula_acquisition::simulator::Simulator;
 use specula_core::Rgb;
-use specula_session::engine::{Engine, EngineError, EngineSettings, StageOutcome};
+use specula_session::engine::{EngineError, StageOutcome};
 use specula_session::ideal::exact_calibration;
-use specula_session::journal::{Journal, PlannedRow};
-use specula_session::predict::Predictor;
+use specula_session::journal::PlannedRow;
+use specula_session::protocol::client::LinkNotes;
 use specula_session::protocol::{
     ClientSettings, Endpoint, FaultSchedule, RemoteInstrument, Server,
 };
@@ -28,33 +24,15 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-const SEED: u64 = 11;
+mod common;
 
 fn simulator() -> Simulator {
-    let device = Device::utia();
-    let truth = Arc::new(preset("green-paint").unwrap());
-    let sample = MountedSample::new("green-paint", truth, Tilt::default());
-    Simulator::new(device.clone(), sample, SimulatorConfig::new(SEED, &device))
+    common::simulator("green-paint", 11)
 }
 
 /// A small plan: 3 theta_h x 3 theta_d x 2 phi_d, the measurable ones in order.
 fn rows() -> Vec<PlannedRow> {
-    let plan = Plan::from_grid(
-        &[0.5, 4.0, 20.0],
-        &[10.0, 35.0, 60.0],
-        &[30.0, 90.0],
-        45.0,
-        &Device::utia(),
-    );
-    plan.measured()
-        .enumerate()
-        .map(|(seq, s)| PlannedRow {
-            seq: seq as u32,
-            hd: s.hd,
-            axes: s.axes.unwrap(),
-            predicted_s: s.time_s,
-        })
-        .collect()
+    planned_rows(&[0.5, 4.0, 20.0], &[10.0, 35.0, 60.0], &[30.0, 90.0])
 }
 
 /// A server on 127.0.0.1 in a thread, until dropped.
@@ -115,44 +93,15 @@ fn acquire(
     instrument: &mut dyn Instrument,
     path: &Path,
     calibration: &Calibration,
-    notes: Option<specula_session::protocol::client::LinkNotes>,
+    link_notes: Option<LinkNotes>,
 ) -> Result<StageOutcome, EngineError> {
-    let mut journal = Journal::open(path).unwrap();
-    journal.set_plan("main", &rows()).unwrap();
-    let info = instrument.info().unwrap();
-    let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
-    let mut engine = Engine {
-        instrument,
-        journal: &mut journal,
-        hdr: &mut hdr,
+    let stage = MainStage {
+        rows: &rows(),
         calibration,
-        settings: EngineSettings::default(),
         stop: Arc::new(AtomicBool::new(false)),
-        link_notes: notes,
+        link_notes,
     };
-    engine.run_stage(
-        "main",
-        &Predictor::new(calibration.clone(), None),
-        &mut |_| {},
-    )
-}
-
-fn values(path: &Path) -> BTreeMap<u32, Rgb> {
-    let journal = Journal::open_read_only(path).unwrap();
-    journal
-        .samples("main")
-        .unwrap()
-        .into_iter()
-        .map(|(k, s)| (k, s.value))
-        .collect()
-}
-
-fn events(path: &Path) -> BTreeMap<String, usize> {
-    Journal::open_read_only(path)
-        .unwrap()
-        .status()
-        .unwrap()
-        .events
+    run_main_stage(instrument, path, stage, &mut |_| {})
 }
 
 fn reference(dir: &Path) -> (PathBuf, BTreeMap<u32, Rgb>) {
