@@ -3,6 +3,7 @@
 
 use crate::geometry::HalfDiff;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// An RGB triple of BRDF values in 1/sr (`x` red, `y` green, `z` blue).
 pub type Rgb = DVec3;
@@ -54,35 +55,28 @@ pub fn eval_phi_d_row_per_cell<B: Brdf + ?Sized>(brdf: &B, row: &PhiDRow, out: &
     }
 }
 
-impl<T: Brdf + ?Sized> Brdf for Box<T> {
-    fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
-        (**self).eval(wi, wo)
-    }
-    fn eval_half_diff(&self, hd: HalfDiff) -> Option<Rgb> {
-        (**self).eval_half_diff(hd)
-    }
-    fn eval_phi_d_row(&self, row: &PhiDRow, out: &mut [Option<Rgb>]) {
-        (**self).eval_phi_d_row(row, out)
-    }
-    fn name(&self) -> String {
-        (**self).name()
-    }
+/// A smart pointer to a BRDF is the BRDF: every method goes to the pointee (its own
+/// shortcuts included, which the trait's defaults would otherwise hide).
+macro_rules! brdf_through_pointer {
+    ($($pointer:ident),*) => {$(
+        impl<T: Brdf + ?Sized> Brdf for $pointer<T> {
+            fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+                (**self).eval(wi, wo)
+            }
+            fn eval_half_diff(&self, hd: HalfDiff) -> Option<Rgb> {
+                (**self).eval_half_diff(hd)
+            }
+            fn eval_phi_d_row(&self, row: &PhiDRow, out: &mut [Option<Rgb>]) {
+                (**self).eval_phi_d_row(row, out)
+            }
+            fn name(&self) -> String {
+                (**self).name()
+            }
+        }
+    )*};
 }
 
-impl<T: Brdf + ?Sized> Brdf for std::sync::Arc<T> {
-    fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
-        (**self).eval(wi, wo)
-    }
-    fn eval_half_diff(&self, hd: HalfDiff) -> Option<Rgb> {
-        (**self).eval_half_diff(hd)
-    }
-    fn eval_phi_d_row(&self, row: &PhiDRow, out: &mut [Option<Rgb>]) {
-        (**self).eval_phi_d_row(row, out)
-    }
-    fn name(&self) -> String {
-        (**self).name()
-    }
-}
+brdf_through_pointer!(Box, Arc);
 
 /// True when both directions are strictly above the surface, i.e. when f_r may be non-zero.
 pub fn both_above_surface(wi: DVec3, wo: DVec3) -> bool {

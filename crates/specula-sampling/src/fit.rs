@@ -32,7 +32,8 @@
 use crate::column::{Column, Interpolation};
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::brent::BrentOpt;
-use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::sampling::{Family, InvalidK, SamplingFunction};
+use std::collections::HashMap;
 
 /// Brent's iteration limit per basin.
 const BRENT_MAX_ITERS: u64 = 60;
@@ -63,7 +64,7 @@ pub fn fit_error(column: &Column, function: &SamplingFunction, n: usize) -> f64 
     column.reinterpolation_error(&function.positions_deg(n), Interpolation::Linear)
 }
 
-/// The family's k for a scan coordinate, and back.
+/// The family's k for a scan coordinate.
 fn k_of(family: Family, s: f64) -> f64 {
     match family {
         Family::Power | Family::Exponential => s.exp(),
@@ -75,6 +76,21 @@ fn s_range() -> (f64, f64) {
     (K_RANGE.0.ln(), K_RANGE.1.ln())
 }
 
+/// The `n` sample positions of the family's function at scan coordinate `s`; `None` where k
+/// is outside the family's domain.
+fn positions_at(family: Family, s: f64, n: usize) -> Option<Vec<f64>> {
+    SamplingFunction::new(family, k_of(family, s))
+        .ok()
+        .map(|f| f.positions_deg(n))
+}
+
+/// The base-k function with the positions of the exponential function of parameter
+/// `k_exponential`: `k_base = e^k_exponential` (see the module documentation). Section 5.1's
+/// analysis takes its base-k fits from its exponential ones with it instead of fitting again.
+pub fn base_of_exponential(k_exponential: f64) -> Result<SamplingFunction, InvalidK> {
+    SamplingFunction::new(Family::Base, k_exponential.exp())
+}
+
 /// The cost that argmin minimises: the fit error as a function of the scan coordinate.
 struct ScanCost<'a> {
     column: &'a Column,
@@ -82,20 +98,16 @@ struct ScanCost<'a> {
     n: usize,
 }
 
-impl ScanCost<'_> {
-    fn at(&self, s: f64) -> f64 {
-        match SamplingFunction::new(self.family, k_of(self.family, s)) {
-            Ok(f) => fit_error(self.column, &f, self.n),
-            Err(_) => f64::INFINITY,
-        }
-    }
-}
-
 impl CostFunction for ScanCost<'_> {
     type Param = f64;
     type Output = f64;
     fn cost(&self, s: &f64) -> Result<f64, ArgminError> {
-        Ok(self.at(*s))
+        Ok(
+            positions_at(self.family, *s, self.n).map_or(f64::INFINITY, |positions| {
+                self.column
+                    .reinterpolation_error(&positions, Interpolation::Linear)
+            }),
+        )
     }
 }
 
@@ -136,67 +148,126 @@ pub fn fit_k_with(
     n: usize,
     search: &FitSearch,
 ) -> Result<KFit, FitError> {
-    if n < 2 {
-        return Err(FitError::TooFewSamples(n));
-    }
-    let cost = ScanCost { column, family, n };
-    let (lo, hi) = s_range();
-    let coarse = scan(&cost, lo, hi, search.coarse_points.max(2));
-    let coarse_best = lowest(&coarse);
-    let half = search.window_steps * (hi - lo) / (coarse.len() - 1) as f64;
-    let fine = scan(
-        &cost,
-        (coarse_best.0 - half).max(lo),
-        (coarse_best.0 + half).min(hi),
-        search.fine_points.max(2),
-    );
-    let mut evaluations = coarse.len() + fine.len();
-    let mut best = lowest(&[coarse_best, lowest(&fine)]);
+    Ok(KFitter::new(family, n, search)?.fit(column))
+}
 
-    for i in lowest_local_minima(&fine, search.refined_basins) {
-        let left = fine[i.saturating_sub(1)].0;
-        let right = fine[(i + 1).min(fine.len() - 1)].0;
-        let solver = BrentOpt::new(left, right).set_tolerance(1e-8, 1e-9);
-        let problem = ScanCost { column, family, n };
-        let Ok(result) = Executor::new(problem, solver)
-            .configure(|state| state.counting(true).max_iters(BRENT_MAX_ITERS))
-            .run()
-        else {
-            continue;
-        };
-        let state = result.state();
-        evaluations += state.counts.get("cost_count").copied().unwrap_or(0) as usize;
-        if let Some(s) = state.best_param {
-            if state.best_cost < best.1 {
-                best = (s, state.best_cost);
+/// [`fit_k_with`] for many columns: section 5.1 fits the 90 theta_d columns of a slice with
+/// the same family and `n`. The sample positions of the coarse scan, and of each fine scan
+/// window once used, do not depend on the column, and computing them (a power or an
+/// exponential per position) is most of the cost of an error evaluation; the fitter
+/// computes them once. Its fits are those of [`fit_k_with`], to the last bit.
+pub struct KFitter {
+    family: Family,
+    n: usize,
+    search: FitSearch,
+    coarse: ScanGrid,
+    /// The fine scan windows used so far, by the coarse point they are centred on.
+    fine: HashMap<usize, ScanGrid>,
+}
+
+impl KFitter {
+    /// A fitter of k of `family` for `n >= 2` samples with the given search.
+    pub fn new(family: Family, n: usize, search: &FitSearch) -> Result<Self, FitError> {
+        if n < 2 {
+            return Err(FitError::TooFewSamples(n));
+        }
+        let (lo, hi) = s_range();
+        Ok(Self {
+            family,
+            n,
+            search: *search,
+            coarse: ScanGrid::new(family, n, lo, hi, search.coarse_points.max(2)),
+            fine: HashMap::new(),
+        })
+    }
+
+    /// k-hat for `column` (see the module documentation for the search).
+    pub fn fit(&mut self, column: &Column) -> KFit {
+        let (family, n, search) = (self.family, self.n, self.search);
+        let coarse = self.coarse.scan(column);
+        let (centre, coarse_best) = lowest(&coarse);
+        let fine_grid = self.fine.entry(centre).or_insert_with(|| {
+            let (lo, hi) = s_range();
+            let half = search.window_steps * (hi - lo) / (coarse.len() - 1) as f64;
+            ScanGrid::new(
+                family,
+                n,
+                (coarse_best.0 - half).max(lo),
+                (coarse_best.0 + half).min(hi),
+                search.fine_points.max(2),
+            )
+        });
+        let fine = fine_grid.scan(column);
+        let mut evaluations = coarse.len() + fine.len();
+        let mut best = lowest(&[coarse_best, lowest(&fine).1]).1;
+
+        for i in lowest_local_minima(&fine, search.refined_basins) {
+            let left = fine[i.saturating_sub(1)].0;
+            let right = fine[(i + 1).min(fine.len() - 1)].0;
+            let solver = BrentOpt::new(left, right).set_tolerance(1e-8, 1e-9);
+            let problem = ScanCost { column, family, n };
+            let Ok(result) = Executor::new(problem, solver)
+                .configure(|state| state.counting(true).max_iters(BRENT_MAX_ITERS))
+                .run()
+            else {
+                continue;
+            };
+            let state = result.state();
+            evaluations += state.counts.get("cost_count").copied().unwrap_or(0) as usize;
+            if let Some(s) = state.best_param {
+                if state.best_cost < best.1 {
+                    best = (s, state.best_cost);
+                }
             }
         }
+        let function = SamplingFunction::new(family, k_of(family, best.0))
+            .expect("the scan range is inside every family's domain");
+        KFit {
+            function,
+            error: best.1,
+            evaluations,
+        }
     }
-    let function = SamplingFunction::new(family, k_of(family, best.0))
-        .expect("the scan range is inside every family's domain");
-    Ok(KFit {
-        function,
-        error: best.1,
-        evaluations,
-    })
 }
 
-/// The cost at `points` evenly spaced scan coordinates over `[lo, hi]`.
-fn scan(cost: &ScanCost, lo: f64, hi: f64, points: usize) -> Vec<(f64, f64)> {
-    let step = (hi - lo) / (points - 1) as f64;
-    (0..points)
-        .map(|i| {
-            let s = lo + step * i as f64;
-            (s, cost.at(s))
-        })
-        .collect()
+/// Evenly spaced scan coordinates over `[lo, hi]` and the sample positions of the family's
+/// function at each (`None` where k is outside the family's domain).
+struct ScanGrid {
+    points: Vec<(f64, Option<Vec<f64>>)>,
 }
 
-/// The lowest point of a scan.
-fn lowest(scan: &[(f64, f64)]) -> (f64, f64) {
+impl ScanGrid {
+    fn new(family: Family, n: usize, lo: f64, hi: f64, points: usize) -> Self {
+        let step = (hi - lo) / (points - 1) as f64;
+        let points = (0..points)
+            .map(|i| {
+                let s = lo + step * i as f64;
+                (s, positions_at(family, s, n))
+            })
+            .collect();
+        Self { points }
+    }
+
+    /// The fit error of `column` at every point of the grid: `(s, error)`.
+    fn scan(&self, column: &Column) -> Vec<(f64, f64)> {
+        self.points
+            .iter()
+            .map(|(s, positions)| {
+                let error = positions.as_ref().map_or(f64::INFINITY, |p| {
+                    column.reinterpolation_error(p, Interpolation::Linear)
+                });
+                (*s, error)
+            })
+            .collect()
+    }
+}
+
+/// The lowest point of a scan and its index (the first of equals).
+fn lowest(scan: &[(f64, f64)]) -> (usize, (f64, f64)) {
     scan.iter()
         .copied()
-        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .enumerate()
+        .min_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
         .expect("a scan is not empty")
 }
 
@@ -306,6 +377,39 @@ mod tests {
         let base = fit_k(&column, Family::Base, 30).unwrap();
         assert!((base.function.k.ln() - exp.function.k).abs() < 1e-6 * exp.function.k);
         assert!((base.error - exp.error).abs() < 1e-9 * exp.error.max(1e-12));
+    }
+
+    #[test]
+    fn a_fitter_reused_over_columns_fits_each_as_fit_k_does() {
+        // Lobes from 0.3 to 30 degrees wide: their fine windows differ and recur.
+        let columns: Vec<Column> = [0.3, 30.0, 2.0, 0.3, 8.0, 2.0]
+            .iter()
+            .map(|&width| dense_column(|x| 0.05 + 40.0 * (-(x / width).powi(2)).exp()))
+            .collect();
+        for family in Family::ALL {
+            let mut fitter = KFitter::new(family, 30, &FitSearch::default()).unwrap();
+            for column in &columns {
+                assert_eq!(fitter.fit(column), fit_k(column, family, 30).unwrap());
+            }
+            assert!(fitter.fine.len() >= 3, "{family}: {}", fitter.fine.len());
+        }
+    }
+
+    #[test]
+    fn base_of_exponential_has_the_same_positions() {
+        for k in [0.02, 1.0, 4.78, 40.0] {
+            let exponential = SamplingFunction::new(Family::Exponential, k).unwrap();
+            let base = base_of_exponential(k).unwrap();
+            assert_eq!(base.family, Family::Base);
+            for (a, b) in base
+                .positions_deg(30)
+                .iter()
+                .zip(exponential.positions_deg(30))
+            {
+                assert!((a - b).abs() <= 1e-12 * b.max(1e-300), "k {k}: {a} vs {b}");
+            }
+        }
+        assert!(base_of_exponential(0.0).is_err());
     }
 
     #[test]

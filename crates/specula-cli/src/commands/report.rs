@@ -3,7 +3,7 @@
 use anyhow::{bail, Context, Result};
 use specula_core::compare::compare;
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
-use specula_core::sampling::Family;
+use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, Rgb};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
@@ -21,24 +21,32 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
+mod session;
+
 /// Adaptive samples the paper places along theta_h with the fitted k (section 5.3).
 const PLACED_SAMPLES: usize = 30;
 
 /// Write one self-contained HTML report (pictures embedded, no other file needed) about a
-/// measured BRDF: the material, its coverage of the MERL grid, k-hat of its probe (paper 5.2),
-/// renders of it on a sphere and a speedshape in the studio, its characteristic slice and its
-/// probe against the adaptive samples; with --truth, the error figures against the truth and
-/// the renders side by side with their difference; with --samples, the raw samples (Fig. 15)
-/// and how many planned cells were measured.
+/// measured BRDF or a measurement session: the material, k-hat of its probe (paper 5.2), the
+/// coverage, renders on a sphere and a speedshape in the studio, the characteristic slice
+/// (Fig. 11) and the probe against the adaptive samples (Fig. 13); with a truth, the error
+/// figures and the renders beside the truth with their difference.
 ///
 /// INPUT is a MERL .binary (for instance from `specula reconstruct`; its provenance sidecar
-/// OUT.provenance.npy is used when present). Session journals (.sqlite) are not read yet: the
-/// report's measurement duration and plan coverage come from the journal.
+/// OUT.provenance.npy is used when present; --samples adds the raw samples, Fig. 15) or a
+/// session journal (.sqlite, from `specula measure` or `specula demo`). From a journal the
+/// report shows k-hat and the probe as measured, the samples measured of each stage's plan,
+/// the duration (device time: the simulated clock on the simulator) against the time
+/// model's estimate, the raw samples of the main stage, and the table reconstructed from
+/// them with the session's method (or --table); a simulated session's own truth gives the
+/// error figures unless --truth names another. An interrupted session is reported as far as
+/// it got.
 ///
-/// Example: specula report silver.binary --truth silver-925 --out silver.html
+/// Examples: specula report silver.binary --truth silver-925 --out silver.html;
+/// specula report demo-out/silver-925/silver-925.session.sqlite --out silver.html
 #[derive(clap::Args)]
 pub struct Args {
-    /// The measured BRDF: a MERL .binary file.
+    /// The measured BRDF (a MERL .binary file) or a session journal (.sqlite).
     pub input: PathBuf,
     /// The HTML file to write.
     #[arg(long)]
@@ -46,16 +54,21 @@ pub struct Args {
     /// The true BRDF, when known (a simulation): a preset, .toml, .binary or model:name.
     #[arg(long)]
     pub truth: Option<String>,
-    /// The raw samples of the measurement (CSV theta_h,phi_h,theta_d,phi_d,r,g,b).
+    /// The raw samples of the measurement (CSV theta_h,phi_h,theta_d,phi_d,r,g,b); with a
+    /// .binary input only (a journal holds its samples).
     #[arg(long)]
     pub samples: Option<PathBuf>,
+    /// With a session journal: the MERL .binary to show instead of reconstructing the
+    /// session's samples.
+    #[arg(long)]
+    pub table: Option<PathBuf>,
     /// Width and height of each render, pixels.
     #[arg(long, default_value_t = 320)]
     pub size: usize,
     /// Camera rays per pixel of the renders.
     #[arg(long, default_value_t = 32)]
     pub spp: usize,
-    /// The report's title (default: the input's file name).
+    /// The report's title (default: the input's material name).
     #[arg(long)]
     pub title: Option<String>,
 }
@@ -66,17 +79,40 @@ pub fn run(args: Args) -> Result<()> {
         .input
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    match extension.as_deref() {
-        Some("binary") => {}
-        Some("sqlite") => bail!(
-            "{}: reports of session journals are not supported yet; report the reconstructed .binary",
+    let session = match extension.as_deref() {
+        Some("binary") => false,
+        Some("sqlite") => true,
+        _ => bail!(
+            "{}: expected a MERL .binary file or a session journal (.sqlite)",
             args.input.display()
         ),
-        _ => bail!("{}: expected a MERL .binary file", args.input.display()),
-    }
+    };
     if !(8..=4096).contains(&args.size) || !(1..=4096).contains(&args.spp) {
         bail!("--size must lie in 8..=4096 and --spp in 1..=4096");
     }
+    let mut report = if session {
+        if args.samples.is_some() {
+            bail!("--samples is for a .binary input: a session journal holds its own samples");
+        }
+        session::report(&args)?
+    } else {
+        if args.table.is_some() {
+            bail!("--table is for a session journal input: the .binary input is the table");
+        }
+        table_report(&args)?
+    };
+    report.notes.push(format!(
+        "Report made in {:.1} s from {}.",
+        start.elapsed().as_secs_f64(),
+        args.input.display()
+    ));
+    report.write(&args.out)?;
+    println!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// The report of a MERL table: its probe and k-hat are taken from the table itself.
+fn table_report(args: &Args) -> Result<Report> {
     let table = MerlBrdf::read(&args.input)?;
     let truth = args
         .truth
@@ -89,13 +125,14 @@ pub fn run(args: Args) -> Result<()> {
             .title
             .clone()
             .unwrap_or_else(|| format!("BRDF report: {name}")),
-        generator: format!("specula {}", env!("CARGO_PKG_VERSION")),
+        generator: generator(),
         material: Some(material(&table, &args.input)),
         ..Report::default()
     };
     let mut coverage = coverage_rows(&table, &args.input)?;
     let spinner = crate::progress::spinner("probe and k-hat");
-    let probe = Probe::take(&table, &ProbeSettings::default());
+    let settings = ProbeSettings::default();
+    let probe = Probe::take(&table, &settings);
     let fit = probe
         .as_ref()
         .ok()
@@ -116,30 +153,18 @@ pub fn run(args: Args) -> Result<()> {
         _ => {}
     }
     if let Some(truth) = &truth {
-        let spinner = crate::progress::spinner("error figures");
         report.errors = Some(errors(
             &table,
             truth.as_ref(),
             args.truth.as_deref().unwrap_or(""),
         ));
-        spinner.finish_and_clear();
     }
     report
         .figures
-        .extend(renders(&table, truth.as_deref(), &args)?);
-    report.figures.push(Figure::new(
-        "Characteristic slice",
-        "f_r (mean of R, G, B) at phi_d = 90 deg over theta_d and theta_h, theta_h on MERL's \
-         square-root axis, log false colour (paper Fig. 11); blue: not measured.",
-        &plot_slice(&table, &name, &SliceOptions::default())?,
-    )?);
-    if let Some(truth) = &truth {
-        report.figures.push(Figure::new(
-            "Characteristic slice of the truth",
-            format!("The same slice of {}.", truth.name()),
-            &plot_slice(truth.as_ref(), &truth.name(), &SliceOptions::default())?,
-        )?);
-    }
+        .extend(renders(&table, truth.as_deref(), args)?);
+    report
+        .figures
+        .extend(slice_figures(&table, truth.as_deref())?);
     if let (Ok(probe), Some(fit)) = (&probe, &fit) {
         let points: Vec<(f64, Rgb)> = probe
             .theta_h_deg()
@@ -147,38 +172,60 @@ pub fn run(args: Args) -> Result<()> {
             .copied()
             .zip(probe.rgb().iter().copied())
             .collect();
-        let adaptive = interpolate(&points, &fit.function.positions_deg(PLACED_SAMPLES));
-        report.figures.push(Figure::new(
-            "Probe against the adaptive samples",
-            format!(
-                "f_r at theta_d = 40, phi_d = 90, phi_h = 45 deg: the square-root probe of {} \
-                 samples (solid) and the {PLACED_SAMPLES} positions of the exponential sampling \
-                 function with k-hat = {:.3} (dashed, values interpolated from the probe); \
-                 below, theta_h 0 to 2 deg (paper Fig. 13).",
-                probe.len(),
-                fit.function.k
-            ),
-            &plot_probe(&points, &adaptive, &name)?,
+        report.figures.push(probe_figure(
+            &points,
+            &fit.function,
+            PLACED_SAMPLES,
+            settings.phi_h_deg,
+            &name,
         )?);
     }
     if let Some(path) = &args.samples {
-        let (figure, row) = raw_samples(path)?;
-        report.figures.push(figure);
-        coverage.push(row);
+        let set = specula_formats::samples_csv::SampleSet::read(path)?;
+        let raw: Vec<RawSample> = set
+            .samples()
+            .iter()
+            .map(|s| RawSample::new(s.angles, s.value))
+            .collect();
+        let stem = path
+            .file_stem()
+            .map_or_else(|| "samples".into(), |s| s.to_string_lossy());
+        let origin = path.display().to_string();
+        let (measured, planned) = SampleGrid::new(&raw).context(origin.clone())?.coverage();
+        report
+            .figures
+            .push(raw_samples_figure(&raw, &stem, &origin).context(origin)?);
+        coverage.push((
+            "planned cells measured (raw samples)".into(),
+            measured,
+            planned,
+        ));
     }
     report.coverage = Some(CoverageSection { rows: coverage });
-    report.notes.push(format!(
-        "Report made in {:.1} s from {}.",
-        start.elapsed().as_secs_f64(),
-        args.input.display()
-    ));
-    report.write(&args.out)?;
-    println!("wrote {}", args.out.display());
-    Ok(())
+    Ok(report)
 }
 
-/// Name, source, peak and per-channel maxima of the table.
+/// Who made the report.
+fn generator() -> String {
+    format!("specula {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// Name, source and peak of the table.
 fn material(table: &MerlBrdf, path: &Path) -> MaterialSection {
+    let mut facts = vec![(
+        "format".to_string(),
+        "MERL .binary (90 x 90 x 180 cells)".to_string(),
+    )];
+    facts.extend(peak_fact(table));
+    MaterialSection {
+        name: table.name(),
+        source: path.display().to_string(),
+        facts,
+    }
+}
+
+/// The table's largest value (sum of R, G, B) and where it lies.
+fn peak_fact(table: &MerlBrdf) -> Option<(String, String)> {
     let mut peak: Option<(usize, Rgb)> = None;
     for index in 0..CELLS {
         if let Some(v) = table.cell(index) {
@@ -187,30 +234,20 @@ fn material(table: &MerlBrdf, path: &Path) -> MaterialSection {
             }
         }
     }
-    let mut facts = vec![(
-        "format".to_string(),
-        "MERL .binary (90 x 90 x 180 cells)".to_string(),
-    )];
-    if let Some((index, v)) = peak {
-        let bin = Bin::from_index(index).centre(0.0);
-        facts.push((
-            "peak f_r".into(),
-            format!(
-                "R {:.4e}, G {:.4e}, B {:.4e} 1/sr at theta_h {:.3}, theta_d {:.1}, phi_d {:.1} deg",
-                v.x,
-                v.y,
-                v.z,
-                bin.theta_h.to_degrees(),
-                bin.theta_d.to_degrees(),
-                bin.phi_d.to_degrees()
-            ),
-        ));
-    }
-    MaterialSection {
-        name: table.name(),
-        source: path.display().to_string(),
-        facts,
-    }
+    let (index, v) = peak?;
+    let bin = Bin::from_index(index).centre(0.0);
+    Some((
+        "peak f_r".into(),
+        format!(
+            "R {:.4e}, G {:.4e}, B {:.4e} 1/sr at theta_h {:.3}, theta_d {:.1}, phi_d {:.1} deg",
+            v.x,
+            v.y,
+            v.z,
+            bin.theta_h.to_degrees(),
+            bin.theta_d.to_degrees(),
+            bin.phi_d.to_degrees()
+        ),
+    ))
 }
 
 /// Cells holding a value, and where they come from when the provenance sidecar is there.
@@ -222,16 +259,24 @@ fn coverage_rows(table: &MerlBrdf, path: &Path) -> Result<Vec<(String, usize, us
     )];
     let sidecar = sidecar_path(path);
     if sidecar.exists() {
-        let provenance = Provenance::read(&sidecar)?;
-        let (measured, interpolated, extrapolated) = provenance.counts();
-        rows.push(("cells measured directly".into(), measured, CELLS));
-        rows.push(("cells interpolated".into(), interpolated, CELLS));
-        rows.push(("cells extrapolated".into(), extrapolated, CELLS));
+        rows.extend(provenance_rows(&Provenance::read(&sidecar)?));
     }
     Ok(rows)
 }
 
+/// The MERL cells measured directly, interpolated and extrapolated by a reconstruction.
+fn provenance_rows(provenance: &Provenance) -> [(String, usize, usize); 3] {
+    let (measured, interpolated, extrapolated) = provenance.counts();
+    [
+        ("cells measured directly".into(), measured, CELLS),
+        ("cells interpolated".into(), interpolated, CELLS),
+        ("cells extrapolated".into(), extrapolated, CELLS),
+    ]
+}
+
+/// The error figures of the table against the truth, on all cells and within 75 deg.
 fn errors(table: &MerlBrdf, truth: &dyn Brdf, truth_name: &str) -> ErrorSection {
+    let spinner = crate::progress::spinner("error figures");
     let reference = tabulate(truth, 0.0);
     let rows = [
         ("all cells above the surface", 90.0),
@@ -249,6 +294,7 @@ fn errors(table: &MerlBrdf, truth: &dyn Brdf, truth_name: &str) -> ErrorSection 
         }
     })
     .collect();
+    spinner.finish_and_clear();
     ErrorSection {
         truth: truth_name.to_string(),
         rows,
@@ -319,38 +365,61 @@ fn renders(table: &MerlBrdf, truth: Option<&dyn Brdf>, args: &Args) -> Result<Ve
     Ok(figures)
 }
 
-/// The raw-samples figure and the planned cells it shows measured.
-fn raw_samples(path: &Path) -> Result<(Figure, (String, usize, usize))> {
-    let set = specula_formats::samples_csv::SampleSet::read(path)?;
-    let raw: Vec<RawSample> = set
-        .samples()
-        .iter()
-        .map(|s| RawSample::new(s.angles, s.value))
-        .collect();
-    let grid = SampleGrid::new(&raw).with_context(|| path.display().to_string())?;
-    let (measured, planned) = grid.coverage();
-    let stem = path
-        .file_stem()
-        .map_or_else(|| "samples".into(), |s| s.to_string_lossy());
-    let image = plot_raw_samples(&raw, &stem, ThetaHAxis::Merl)?;
-    let figure = Figure::new(
+/// The characteristic slice of the table, and of the truth when known (paper Fig. 11).
+fn slice_figures(table: &MerlBrdf, truth: Option<&dyn Brdf>) -> Result<Vec<Figure>> {
+    let name = table.name();
+    let mut figures = vec![Figure::new(
+        "Characteristic slice",
+        "f_r (mean of R, G, B) at phi_d = 90 deg over theta_d and theta_h, theta_h on MERL's \
+         square-root axis, log false colour (paper Fig. 11); blue: not measured.",
+        &plot_slice(table, &name, &SliceOptions::default())?,
+    )?];
+    if let Some(truth) = truth {
+        figures.push(Figure::new(
+            "Characteristic slice of the truth",
+            format!("The same slice of {}.", truth.name()),
+            &plot_slice(truth, &truth.name(), &SliceOptions::default())?,
+        )?);
+    }
+    Ok(figures)
+}
+
+/// The probe `(theta_h deg, f)` against the `placed` positions of the fitted sampling
+/// function, valued by interpolating the probe (paper Fig. 13).
+fn probe_figure(
+    probe: &[(f64, Rgb)],
+    function: &SamplingFunction,
+    placed: usize,
+    phi_h_deg: f64,
+    name: &str,
+) -> Result<Figure> {
+    let adaptive = interpolate(probe, &function.positions_deg(placed));
+    Figure::new(
+        "Probe against the adaptive samples",
+        format!(
+            "f_r at theta_d = 40, phi_d = 90, phi_h = {phi_h_deg:.1} deg: the square-root probe of \
+             {} samples (solid) and the {placed} positions of the {} sampling function with \
+             k-hat = {:.3} (dashed, values interpolated from the probe); below, theta_h 0 to 2 \
+             deg (paper Fig. 13).",
+            probe.len(),
+            function.family,
+            function.k
+        ),
+        &plot_probe(probe, &adaptive, name)?,
+    )
+}
+
+/// The raw-samples figure (paper Fig. 15) of samples from `origin`.
+fn raw_samples_figure(raw: &[RawSample], title: &str, origin: &str) -> Result<Figure> {
+    Figure::new(
         "Raw samples",
         format!(
-            "The {} samples of {} as characteristic slices, one per phi_d (paper Fig. 15); blue \
-             cells of the plan's grid were not measured.",
-            raw.len(),
-            path.display()
+            "The {} samples of {origin} as characteristic slices, one per phi_d (paper Fig. 15); \
+             blue cells of the plan's grid were not measured.",
+            raw.len()
         ),
-        &image,
-    )?;
-    Ok((
-        figure,
-        (
-            "planned cells measured (raw samples)".into(),
-            measured,
-            planned,
-        ),
-    ))
+        &plot_raw_samples(raw, title, ThetaHAxis::Merl)?,
+    )
 }
 
 #[cfg(test)]
@@ -375,6 +444,7 @@ mod tests {
             out: out.clone(),
             truth: Some("steel".into()),
             samples: Some(samples),
+            table: None,
             size: 16,
             spp: 1,
             title: None,
@@ -408,14 +478,19 @@ mod tests {
             out: dir.path().join("r.html"),
             truth: None,
             samples: None,
+            table: None,
             size: 16,
             spp: 1,
             title: None,
         };
-        assert!(format!("{:#}", run(args("s.sqlite")).unwrap_err()).contains("not supported yet"));
-        assert!(format!("{:#}", run(args("x.csv")).unwrap_err()).contains("MERL .binary"));
-        assert!(
-            format!("{:#}", run(args("missing.binary")).unwrap_err()).contains("missing.binary")
-        );
+        let error = |args: Args| format!("{:#}", run(args).unwrap_err());
+        assert!(error(args("missing.sqlite")).contains("missing.sqlite"));
+        assert!(error(args("x.csv")).contains("x.csv: expected a MERL .binary file or a session"));
+        assert!(error(args("missing.binary")).contains("missing.binary"));
+        let with_table = Args {
+            table: Some(dir.path().join("t.binary")),
+            ..args("m.binary")
+        };
+        assert!(error(with_table).contains("--table is for a session journal"));
     }
 }
