@@ -1,10 +1,11 @@
 //! `specula evaluate`: the accuracy harness. Measures a known BRDF on a plan without noise,
 //! reconstructs it and prints the error figures.
 
+use super::grid_args::GridArgs;
 use anyhow::{bail, Context, Result};
 use specula_acquisition::device::Device;
 use specula_core::materials::builtin_database;
-use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::sampling::SamplingFunction;
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
 use specula_formats::fits::{load_fits, FitModel};
@@ -58,25 +59,12 @@ pub struct Args {
     /// k of the theta_h sampling function; default: k-hat fitted to each material's probe.
     #[arg(long)]
     pub k: Option<f64>,
-    /// Sampling function family: exponential (paper eq. 3), power (eq. 2) or base (eq. 4).
-    #[arg(long, default_value = "exponential")]
-    pub family: Family,
     /// How theta_h positions are placed: `function` (the sampling function, paper 5.2) or
     /// `probe` (the least-error placement on the material's probe).
     #[arg(long, value_enum, default_value_t = Placement::Function)]
     pub placement: Placement,
-    /// Number of theta_h positions.
-    #[arg(long, default_value_t = 30)]
-    pub theta_h_samples: usize,
-    /// Step of theta_d in degrees (0, step, ... below 90).
-    #[arg(long, default_value_t = 3.0)]
-    pub theta_d_step: f64,
-    /// Step of phi_d in degrees (0, step, ... up to 90).
-    #[arg(long, default_value_t = 15.0)]
-    pub phi_d_step: f64,
-    /// phi_h in degrees, the sample's orientation.
-    #[arg(long, default_value_t = 45.0)]
-    pub phi_h: f64,
+    #[command(flatten)]
+    pub grid: GridArgs,
     /// Device description (TOML) deciding which samples are taken; default: the paper's
     /// UTIA gonioreflectometer.
     #[arg(long)]
@@ -165,22 +153,12 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 fn check_args(args: &Args) -> Result<()> {
-    if args.theta_h_samples < 2 {
-        bail!("--theta-h-samples must be at least 2");
-    }
-    for (flag, step) in [
-        ("--theta-d-step", args.theta_d_step),
-        ("--phi-d-step", args.phi_d_step),
-    ] {
-        if !(step.is_finite() && step > 0.0 && step <= 90.0) {
-            bail!("{flag} must be a number of degrees in (0, 90], got {step}");
-        }
-    }
+    args.grid.check()?;
     if !(args.max_elevation > 0.0 && args.max_elevation <= 90.0) {
         bail!("--max-elevation must be in (0, 90] degrees");
     }
     if let Some(k) = args.k {
-        SamplingFunction::new(args.family, k)?;
+        SamplingFunction::new(args.grid.family, k)?;
     }
     if args.samples_out.is_some() && args.truth.len() != 1 {
         bail!("--samples-out needs exactly one --truth");
@@ -192,17 +170,17 @@ fn check_args(args: &Args) -> Result<()> {
 fn plan_settings(args: &Args) -> Result<PlanSettings> {
     let placement = match (args.placement, args.k) {
         (Placement::Function, Some(k)) => {
-            ThetaHPlacement::Function(SamplingFunction::new(args.family, k)?)
+            ThetaHPlacement::Function(SamplingFunction::new(args.grid.family, k)?)
         }
-        (Placement::Function, None) => ThetaHPlacement::FittedFunction(args.family),
+        (Placement::Function, None) => ThetaHPlacement::FittedFunction(args.grid.family),
         (Placement::Probe, _) => ThetaHPlacement::Probe,
     };
     Ok(PlanSettings {
         placement,
-        theta_h_samples: args.theta_h_samples,
-        theta_d_step_deg: args.theta_d_step,
-        phi_d_step_deg: args.phi_d_step,
-        phi_h_deg: args.phi_h,
+        theta_h_samples: args.grid.theta_h_samples,
+        theta_d_step_deg: args.grid.theta_d_step,
+        phi_d_step_deg: args.grid.phi_d_step,
+        phi_h_deg: args.grid.phi_h,
     })
 }
 
@@ -221,7 +199,7 @@ fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
             .collect();
         SampleSet::new(name.clone(), rows).write(path)?;
     }
-    let table = tabulate(truth, args.phi_h.to_radians());
+    let table = tabulate(truth, args.grid.phi_h.to_radians());
     let (_, accuracy) = evaluate(&samples, args.method, &table, args.max_elevation)
         .with_context(|| format!("{name}: reconstructing {} samples", samples.len()))?;
     Ok(Row {
@@ -236,14 +214,14 @@ fn print_rows(args: &Args, rows: &[Row]) {
     println!(
         "# method {}, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, phi_h {} deg; within = light and camera <= {} deg",
         args.method,
-        args.theta_h_samples,
+        args.grid.theta_h_samples,
         match args.placement {
-            Placement::Function => format!("{} function", args.family),
+            Placement::Function => format!("{} function", args.grid.family),
             Placement::Probe => "probe placement".to_string(),
         },
-        args.theta_d_step,
-        args.phi_d_step,
-        args.phi_h,
+        args.grid.theta_d_step,
+        args.grid.phi_d_step,
+        args.grid.phi_h,
         args.max_elevation
     );
     println!("material,k,measured,rel_rmse_within,log_rmse_within,slice_mae_within,rel_rmse_all,log_rmse_all,slice_mae_all");

@@ -1,10 +1,10 @@
 //! `specula measure`: the paper's whole measurement in one command, resumable.
 
+use super::grid_args::GridArgs;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
-use specula_core::sampling::Family;
 use specula_session::engine::{stop_on_ctrl_c, Progress, StageOutcome};
 use specula_session::protocol::{ClientSettings, Endpoint};
 use specula_session::workflow::{
@@ -71,23 +71,8 @@ pub struct Args {
     /// Probe samples along theta_h (square-root placement, paper 5.2).
     #[arg(long, default_value_t = 90)]
     pub probe_samples: usize,
-    /// Sampling function fitted to the probe: exponential (paper eq. 3), power (eq. 2) or
-    /// base (eq. 4).
-    #[arg(long, default_value = "exponential")]
-    pub family: Family,
-    /// theta_h positions of the fitted sampling function (paper: 30).
-    #[arg(long, default_value_t = 30)]
-    pub theta_h_samples: usize,
-    /// Step of theta_d, degrees (0, step, ... below 90).
-    #[arg(long, default_value_t = 3.0)]
-    pub theta_d_step: f64,
-    /// Step of phi_d, degrees (0, step, ... up to 90).
-    #[arg(long, default_value_t = 15.0)]
-    pub phi_d_step: f64,
-    /// phi_h, degrees: the sample's orientation (paper 4.3). When the orientation check
-    /// finds the scratch lobe there, the plan uses its recommendation instead.
-    #[arg(long, default_value_t = 45.0)]
-    pub phi_h: f64,
+    #[command(flatten)]
+    pub grid: GridArgs,
     /// Order of the samples: optimized (a short path through axis space) or nested
     /// (theta_h, theta_d, phi_d loops, as the paper).
     #[arg(long, value_enum, default_value_t = OrderArg::Optimized)]
@@ -149,11 +134,11 @@ impl Args {
             ideal: self.ideal,
             point_light: self.point_light,
             probe_samples: self.probe_samples,
-            family: self.family,
-            theta_h_samples: self.theta_h_samples,
-            theta_d_step_deg: self.theta_d_step,
-            phi_d_step_deg: self.phi_d_step,
-            phi_h_deg: self.phi_h,
+            family: self.grid.family,
+            theta_h_samples: self.grid.theta_h_samples,
+            theta_d_step_deg: self.grid.theta_d_step,
+            phi_d_step_deg: self.grid.phi_d_step,
+            phi_h_deg: self.grid.phi_h,
             order: match self.order {
                 OrderArg::Optimized => PlanOrder::Optimized,
                 OrderArg::Nested => PlanOrder::Nested,
@@ -170,19 +155,12 @@ impl Args {
     }
 
     fn check(&self) -> Result<()> {
-        if self.probe_samples < 2 || self.theta_h_samples < 2 {
-            bail!("--probe-samples and --theta-h-samples must be at least 2");
+        if self.probe_samples < 2 {
+            bail!("--probe-samples must be at least 2");
         }
-        for (name, step) in [
-            ("--theta-d-step", self.theta_d_step),
-            ("--phi-d-step", self.phi_d_step),
-        ] {
-            if !(step.is_finite() && step > 0.0 && step <= 90.0) {
-                bail!("{name} must be in (0, 90] degrees, got {step}");
-            }
-        }
-        if !self.phi_h.is_finite() || !self.tilt.is_finite() || !self.tilt_azimuth.is_finite() {
-            bail!("--phi-h, --tilt and --tilt-azimuth must be numbers of degrees");
+        self.grid.check()?;
+        if !self.tilt.is_finite() || !self.tilt_azimuth.is_finite() {
+            bail!("--tilt and --tilt-azimuth must be numbers of degrees");
         }
         if !(self.reply_timeout.is_finite() && self.reply_timeout > 0.0) {
             bail!("--reply-timeout must be a positive number of seconds");

@@ -1,11 +1,12 @@
 //! `specula plan`: the sparse sampling of paper 5.3 turned into device positions, with
 //! reachability, occlusion, an execution order and a time estimate.
 
+use super::grid_args::GridArgs;
 use anyhow::{bail, Context, Result};
 use specula_acquisition::device::Device;
 use specula_acquisition::ordering::{order, transition_time_s};
 use specula_acquisition::plan::{Plan, PlanSummary};
-use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::sampling::SamplingFunction;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::PathBuf;
@@ -38,26 +39,12 @@ pub struct Args {
     /// paint 5.64, silver 925 4.78).
     #[arg(long, allow_negative_numbers = true, required_unless_present_any = ["theta_h_list", "print_device"])]
     pub k: Option<f64>,
-    /// Sampling function family: exponential (paper eq. 3), power (eq. 2) or base (eq. 4).
-    #[arg(long, default_value = "exponential")]
-    pub family: Family,
-    /// Number of theta_h positions of the sampling function.
-    #[arg(long, default_value_t = 30)]
-    pub theta_h_samples: usize,
     /// Explicit theta_h positions in degrees, comma-separated, instead of --k
     /// (e.g. from adaptive placement).
     #[arg(long, value_delimiter = ',', conflicts_with = "k")]
     pub theta_h_list: Option<Vec<f64>>,
-    /// Step of theta_d in degrees (0, step, ... below 90).
-    #[arg(long, default_value_t = 3.0)]
-    pub theta_d_step: f64,
-    /// Step of phi_d in degrees (0, step, ... up to 90).
-    #[arg(long, default_value_t = 15.0)]
-    pub phi_d_step: f64,
-    /// phi_h in degrees: the sample's orientation, chosen to avoid anisotropic scratches
-    /// (paper 4.3). It only turns the turntable; reachability does not depend on it.
-    #[arg(long, default_value_t = 45.0, allow_negative_numbers = true)]
-    pub phi_h: f64,
+    #[command(flatten)]
+    pub grid: GridArgs,
     /// Device description (TOML); default: the paper's UTIA gonioreflectometer. See
     /// --print-device for the format.
     #[arg(long)]
@@ -93,14 +80,12 @@ pub fn run(args: Args) -> Result<()> {
         return Ok(());
     }
     let out = args.out.clone().context("--out is required")?;
+    args.grid.check()?;
     let theta_h = theta_h_positions(&args)?;
-    let theta_d = steps_deg(args.theta_d_step, "--theta-d-step", false)?;
-    let phi_d = steps_deg(args.phi_d_step, "--phi-d-step", true)?;
-    if !args.phi_h.is_finite() {
-        bail!("--phi-h must be a number of degrees");
-    }
+    let theta_d = steps_deg(args.grid.theta_d_step, false);
+    let phi_d = steps_deg(args.grid.phi_d_step, true);
 
-    let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, args.phi_h, &device);
+    let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, args.grid.phi_h, &device);
     let spinner = crate::progress::spinner("ordering");
     let optimized = order(&nested);
     spinner.finish_and_clear();
@@ -120,7 +105,7 @@ pub fn run(args: Args) -> Result<()> {
         theta_h.len(),
         theta_d.len(),
         phi_d.len(),
-        args.phi_h
+        args.grid.phi_h
     );
     print_summary(&nested.summary(&device), &optimized.summary(&device));
     println!(
@@ -146,18 +131,13 @@ fn theta_h_positions(args: &Args) -> Result<Vec<f64>> {
         return Ok(list.clone());
     }
     let k = args.k.context("give --k or --theta-h-list")?;
-    if args.theta_h_samples == 0 {
-        bail!("--theta-h-samples must be at least 1");
-    }
-    let function = SamplingFunction::new(args.family, k)?;
-    Ok(function.positions_deg(args.theta_h_samples))
+    let function = SamplingFunction::new(args.grid.family, k)?;
+    Ok(function.positions_deg(args.grid.theta_h_samples))
 }
 
-/// `0, step, 2 step, ...` below 90 degrees, or up to and including 90 with `include_90`.
-fn steps_deg(step: f64, flag: &str, include_90: bool) -> Result<Vec<f64>> {
-    if !(step.is_finite() && step > 0.0 && step <= 90.0) {
-        bail!("{flag} must be a number of degrees in (0, 90], got {step}");
-    }
+/// `0, step, 2 step, ...` below 90 degrees, or up to and including 90 with `include_90`;
+/// `step` lies in (0, 90] ([`GridArgs::check`]).
+fn steps_deg(step: f64, include_90: bool) -> Vec<f64> {
     let count = (90.0 / step + 1e-9).floor() as usize;
     let mut values: Vec<f64> = (0..=count).map(|i| i as f64 * step).collect();
     values.retain(|&v| {
@@ -167,7 +147,7 @@ fn steps_deg(step: f64, flag: &str, include_90: bool) -> Result<Vec<f64>> {
             v < 90.0 - 1e-9
         }
     });
-    Ok(values)
+    values
 }
 
 fn print_summary(nested: &PlanSummary, optimized: &PlanSummary) {
