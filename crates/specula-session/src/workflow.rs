@@ -136,14 +136,23 @@ pub enum Source {
     },
 }
 
+/// What the journal's `source` holds before the truth's name for a simulated session.
+const SIMULATED_SOURCE: &str = "simulated: ";
+
 impl Source {
     /// What the journal records as the measured thing.
     fn describe(&self) -> String {
         match self {
-            Source::Simulated { truth, .. } => format!("simulated: {}", truth.name()),
+            Source::Simulated { truth, .. } => format!("{SIMULATED_SOURCE}{}", truth.name()),
             Source::Remote { endpoint, .. } => format!("device: {endpoint}"),
         }
     }
+}
+
+/// The name of the truth a simulated session measured, from the journal's `source`; `None`
+/// for a real device.
+pub fn simulated_truth(source: &str) -> Option<&str> {
+    source.strip_prefix(SIMULATED_SOURCE)
 }
 
 /// Hears what the workflow is doing (the CLI draws progress bars).

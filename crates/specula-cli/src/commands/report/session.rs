@@ -1,0 +1,536 @@
+//! The report of a measurement session: what its journal holds (the settings, the probe and
+//! k-hat of paper 5.2, the plan of 5.3 and the samples measured of it, the device time), the
+//! table reconstructed from its samples, and the error against the truth it simulated.
+
+use super::{
+    errors, generator, peak_fact, probe_figure, provenance_rows, raw_samples_figure, renders,
+    slice_figures, Args, PLACED_SAMPLES,
+};
+use crate::commands::reconstruct::session_samples;
+use anyhow::{Context, Result};
+use specula_acquisition::device::Device;
+use specula_acquisition::instrument::InstrumentInfo;
+use specula_core::merl::CELLS;
+use specula_core::{MerlBrdf, Rgb};
+use specula_formats::BrdfSource;
+use specula_reconstruct::{reconstruct, Method, Sample};
+use specula_session::journal::{Journal, SessionStatus, StageStatus};
+use specula_session::workflow::{
+    probe_samples, simulated_truth, ChecksRecord, FitRecord, MeasureSettings, PlanRecord,
+    STAGE_MAIN, STAGE_PROBE,
+};
+use specula_visual::plot::raw_samples::RawSample;
+use specula_visual::report::{
+    CoverageSection, DurationSection, KHatSection, MaterialSection, Report,
+};
+use std::path::{Path, PathBuf};
+
+/// Everything the report reads from a session journal.
+struct Session {
+    path: PathBuf,
+    /// What was measured: "simulated: NAME" or "device: ENDPOINT".
+    source: Option<String>,
+    settings: Option<MeasureSettings>,
+    device: Option<Device>,
+    instrument: Option<InstrumentInfo>,
+    version: Option<String>,
+    created_unix_s: Option<f64>,
+    checks: Option<ChecksRecord>,
+    fit: Option<FitRecord>,
+    plan: Option<PlanRecord>,
+    status: SessionStatus,
+    /// The time model's estimate for every planned sample of every stage, seconds.
+    predicted_s: f64,
+    /// When the last sample finished, seconds since the Unix epoch.
+    last_unix_s: Option<f64>,
+    /// Main-stage samples whose value is only a lower bound (saturated in every capture).
+    lower_bounds: usize,
+    /// The probe `(theta_h deg, f)`, in increasing theta_h, and its phi_h, degrees.
+    probe: Vec<(f64, Rgb)>,
+    probe_phi_h_deg: Option<f64>,
+    /// The main stage's measured samples, in plan order.
+    main: Vec<Sample>,
+}
+
+impl Session {
+    fn read(path: &Path) -> Result<Self> {
+        let journal = Journal::open_read_only(path)?;
+        let status = journal.status()?;
+        let mut predicted_s = 0.0;
+        let mut last_unix_s: Option<f64> = None;
+        let mut lower_bounds = 0;
+        for stage in &status.stages {
+            let plan = journal.plan(&stage.stage)?;
+            predicted_s += plan.iter().map(|row| row.predicted_s).sum::<f64>();
+            let samples = journal.samples(&stage.stage)?;
+            for sample in samples.values() {
+                last_unix_s = Some(
+                    last_unix_s.map_or(sample.finished_unix_s, |t| t.max(sample.finished_unix_s)),
+                );
+            }
+            if stage.stage == STAGE_MAIN {
+                lower_bounds = samples.values().filter(|s| s.lower_bound).count();
+            }
+        }
+        let main_done = stage(&status, STAGE_MAIN).map_or(0, |s| s.done);
+        let main = if main_done > 0 {
+            session_samples(path)?
+        } else {
+            Vec::new()
+        };
+        let device = journal
+            .meta::<String>("device")?
+            .map(|text| Device::from_toml_str(&text, &path.display().to_string()))
+            .transpose()?;
+        Ok(Session {
+            path: path.to_path_buf(),
+            source: journal.meta("source")?,
+            settings: journal.meta("settings")?,
+            device,
+            instrument: journal.meta("instrument")?,
+            version: journal.meta("specula_version")?,
+            created_unix_s: journal.meta("created_unix_s")?,
+            checks: journal.meta("checks")?,
+            fit: journal.meta("fit")?,
+            plan: journal.meta("plan")?,
+            predicted_s,
+            last_unix_s,
+            lower_bounds,
+            probe: probe_samples(&journal)?,
+            probe_phi_h_deg: journal
+                .plan(STAGE_PROBE)?
+                .first()
+                .map(|row| row.hd.phi_h.to_degrees()),
+            main,
+            status,
+        })
+    }
+
+    /// The name of the truth a simulated session measured.
+    fn simulated_truth(&self) -> Option<&str> {
+        simulated_truth(self.source.as_deref()?)
+    }
+
+    /// The measured material's name: the simulated truth's, else the journal's file name.
+    fn material_name(&self) -> String {
+        if let Some(name) = self.simulated_truth() {
+            return name.to_string();
+        }
+        let stem = self
+            .path
+            .file_stem()
+            .map_or_else(|| "session".into(), |s| s.to_string_lossy());
+        stem.strip_suffix(".session").unwrap_or(&stem).to_string()
+    }
+
+    /// Samples the fitted function places along theta_h.
+    fn placed_samples(&self) -> usize {
+        self.settings
+            .as_ref()
+            .map_or(PLACED_SAMPLES, |s| s.theta_h_samples)
+    }
+
+    /// Every planned stage, the main one among them, is wholly measured.
+    fn measured_completely(&self) -> bool {
+        stage(&self.status, STAGE_MAIN).is_some()
+            && self.status.stages.iter().all(|s| s.done == s.planned)
+    }
+
+    fn k_hat(&self) -> Option<KHatSection> {
+        let fit = self.fit?;
+        Some(KHatSection {
+            family: fit.function.family.to_string(),
+            k: fit.function.k,
+            fit_error: fit.error,
+            probe_samples: self.probe.len(),
+            placed_samples: self.placed_samples(),
+        })
+    }
+
+    /// Per stage, the planned samples measured; and the grid samples the plan could take.
+    fn coverage_rows(&self) -> Vec<(String, usize, usize)> {
+        let mut rows: Vec<(String, usize, usize)> = self
+            .status
+            .stages
+            .iter()
+            .map(|s| {
+                (
+                    format!("{} stage: planned samples measured", s.stage),
+                    s.done,
+                    s.planned,
+                )
+            })
+            .collect();
+        if let Some(plan) = &self.plan {
+            rows.push((
+                "grid samples the device can take (the others lie beyond its axes' limits or are occluded)".into(),
+                plan.measurable,
+                plan.total,
+            ));
+        }
+        rows
+    }
+
+    /// Device time of the checks and of the samples measured, against the time model's
+    /// estimate for every planned sample; none before anything was done.
+    fn duration(&self) -> Option<DurationSection> {
+        let checks_s = self.checks.as_ref().map(|c| c.device_s);
+        if self.status.stages.is_empty() && checks_s.is_none() {
+            return None;
+        }
+        let samples_s: f64 = self.status.stages.iter().map(|s| s.device_s_done).sum();
+        Some(DurationSection {
+            measured_s: Some(checks_s.unwrap_or(0.0) + samples_s),
+            estimated_s: (self.predicted_s > 0.0).then_some(self.predicted_s),
+        })
+    }
+
+    /// How the duration was counted, stage by stage.
+    fn duration_note(&self) -> Option<String> {
+        self.duration()?;
+        let clock = if self.simulated_truth().is_some() {
+            "the simulated device's clock"
+        } else {
+            "the device's time"
+        };
+        let mut parts: Vec<String> = self
+            .checks
+            .iter()
+            .map(|c| format!("checks {}", hours(c.device_s)))
+            .collect();
+        parts.extend(
+            self.status
+                .stages
+                .iter()
+                .map(|s| format!("{} {}", s.stage, hours(s.device_s_done))),
+        );
+        let wall_s: f64 = self.status.stages.iter().map(|s| s.wall_s_done).sum();
+        Some(format!(
+            "Duration: {clock} spent on the session ({}). Planned duration: the time model's \
+             estimate for every planned sample of the probe and the main stage with the \
+             device's fixed exposure bracket (the checks are not planned, and predicted \
+             exposures need fewer captures than the bracket). The sample steps took {wall_s:.1} s \
+             of wall-clock time here.",
+            parts.join(", ")
+        ))
+    }
+
+    /// Complete, or how far the measurement got, in a few words.
+    fn state(&self) -> String {
+        if self.measured_completely() {
+            return "complete: every planned sample is measured".into();
+        }
+        let stages: Vec<String> = self
+            .status
+            .stages
+            .iter()
+            .map(|s| format!("{} {} of {}", s.stage, s.done, s.planned))
+            .collect();
+        if stages.is_empty() {
+            return "incomplete: nothing planned yet".into();
+        }
+        format!("incomplete: {} samples measured", stages.join(", "))
+    }
+
+    /// Where an incomplete session stands; none for a complete one.
+    fn progress_note(&self) -> Option<String> {
+        if self.measured_completely() {
+            return None;
+        }
+        let resume = "run the same `specula measure` command to resume; this report shows \
+                      what the journal holds so far.";
+        Some(
+            match (
+                stage(&self.status, STAGE_PROBE),
+                stage(&self.status, STAGE_MAIN),
+            ) {
+                (_, Some(main)) => format!(
+                    "This session is incomplete: {} of {} planned samples of the main stage are \
+                     measured ({:.1} %); the time model gives {} for the samples left (with the \
+                     fixed bracket; predicted exposures take less); {resume}",
+                    main.done,
+                    main.planned,
+                    100.0 * main.done as f64 / main.planned.max(1) as f64,
+                    hours(main.predicted_s_left)
+                ),
+                (Some(probe), None) => format!(
+                    "This session is incomplete: it stopped in the probe ({} of {} samples \
+                     measured), before k-hat was fitted and the main stage planned; {resume}",
+                    probe.done, probe.planned
+                ),
+                (None, None) => format!("This session has no planned stage yet; {resume}"),
+            },
+        )
+    }
+
+    /// The session's facts: what, on which device, how, when, and what happened.
+    fn facts(&self) -> Vec<(String, String)> {
+        let mut facts = Vec::new();
+        let mut fact = |label: &str, value: String| facts.push((label.to_string(), value));
+        fact("state", self.state());
+        if let Some(source) = &self.source {
+            fact("measured", source.clone());
+        }
+        if let Some(device) = &self.device {
+            fact("device model", device.name.clone());
+        }
+        if let Some(i) = &self.instrument {
+            fact("instrument", format!("{}, serial {}", i.model, i.serial));
+        }
+        if let Some(s) = &self.settings {
+            fact("settings", settings_text(s));
+        }
+        if let Some(checks) = &self.checks {
+            fact("alignment", checks.alignment.clone());
+            fact("orientation", checks.orientation.clone());
+        }
+        if let Some(plan) = &self.plan {
+            fact(
+                "plan",
+                format!(
+                    "{} grid samples: {} measurable, {} beyond the axes' limits, {} occluded",
+                    plan.total, plan.measurable, plan.limit, plan.occluded
+                ),
+            );
+        }
+        if let Some(main) = stage(&self.status, STAGE_MAIN) {
+            fact(
+                "captures",
+                format!(
+                    "{} for {} main samples ({:.3} per sample); {} lower bounds (a channel \
+                     saturated in every capture)",
+                    main.captures,
+                    main.done,
+                    main.captures as f64 / main.done.max(1) as f64,
+                    self.lower_bounds
+                ),
+            );
+        }
+        if !self.status.events.is_empty() {
+            let events: Vec<String> = self
+                .status
+                .events
+                .iter()
+                .map(|(kind, n)| format!("{kind} {n}"))
+                .collect();
+            fact("events", events.join(", "));
+        }
+        if let Some(t) = self.created_unix_s {
+            fact("session started", utc_text(t));
+        }
+        if let Some(t) = self.last_unix_s {
+            fact("last sample", utc_text(t));
+        }
+        if let Some(v) = &self.version {
+            fact("specula version", v.clone());
+        }
+        facts
+    }
+}
+
+/// The status of one stage, if it has a plan.
+fn stage<'a>(status: &'a SessionStatus, name: &str) -> Option<&'a StageStatus> {
+    status.stages.iter().find(|s| s.stage == name)
+}
+
+fn settings_text(s: &MeasureSettings) -> String {
+    format!(
+        "seed {}, {} probe samples, {} theta_h samples ({}), theta_d step {} deg, phi_d step {} \
+         deg, phi_h {} deg, order {:?}, exposures {:?}, method {}{}",
+        s.seed,
+        s.probe_samples,
+        s.theta_h_samples,
+        s.family,
+        s.theta_d_step_deg,
+        s.phi_d_step_deg,
+        s.phi_h_deg,
+        s.order,
+        s.hdr,
+        s.method,
+        if s.ideal { ", ideal" } else { "" }
+    )
+}
+
+fn hours(seconds: f64) -> String {
+    format!("{:.3} h", seconds / 3600.0)
+}
+
+/// Seconds since the Unix epoch as an RFC 3339 UTC time to the second.
+fn utc_text(unix_s: f64) -> String {
+    let since_epoch = std::time::Duration::try_from_secs_f64(unix_s).unwrap_or_default();
+    humantime::format_rfc3339_seconds(std::time::UNIX_EPOCH + since_epoch).to_string()
+}
+
+/// The truth to compare with: --truth, else the one a simulated session measured.
+fn truth(
+    args: &Args,
+    session: &Session,
+    notes: &mut Vec<String>,
+) -> Result<Option<(String, BrdfSource)>> {
+    if let Some(spec) = &args.truth {
+        return Ok(Some((spec.clone(), specula_formats::load_brdf(spec)?)));
+    }
+    let Some(name) = session.simulated_truth() else {
+        return Ok(None);
+    };
+    match specula_formats::load_brdf(name) {
+        Ok(brdf) => Ok(Some((
+            format!("{name} (the truth the session simulated)"),
+            brdf,
+        ))),
+        Err(e) => {
+            notes.push(format!(
+                "The session simulated {name}, which does not load by that name ({e:#}); give \
+                 --truth for the error figures."
+            ));
+            Ok(None)
+        }
+    }
+}
+
+/// The table shown: --table, or the main stage's samples reconstructed with the session's
+/// method (as `specula reconstruct --session`); with its coverage rows and where it is from.
+struct Shown {
+    table: MerlBrdf,
+    rows: Vec<(String, usize, usize)>,
+    origin: String,
+}
+
+fn shown_table(
+    args: &Args,
+    session: &Session,
+    name: &str,
+    notes: &mut Vec<String>,
+) -> Result<Option<Shown>> {
+    if let Some(path) = &args.table {
+        let table = MerlBrdf::read(path)?;
+        return Ok(Some(Shown {
+            rows: super::coverage_rows(&table, path)?,
+            table,
+            origin: format!("{} (--table)", path.display()),
+        }));
+    }
+    if session.main.is_empty() {
+        notes.push(
+            "No table: the main stage has no measured sample yet, so there are no renders, \
+             slices or error figures."
+                .into(),
+        );
+        return Ok(None);
+    }
+    let method: Method = match &session.settings {
+        Some(s) => s
+            .method
+            .parse()
+            .map_err(anyhow::Error::msg)
+            .with_context(|| session.path.display().to_string())?,
+        None => Method::LOBE,
+    };
+    let spinner = crate::progress::spinner("reconstructing");
+    let result = reconstruct(&session.main, method, &format!("{name}, measured"));
+    spinner.finish_and_clear();
+    match result {
+        Ok(r) => {
+            let mut rows = vec![(
+                "MERL cells holding a value".to_string(),
+                r.brdf.measured_count(),
+                CELLS,
+            )];
+            rows.extend(provenance_rows(&r.provenance));
+            Ok(Some(Shown {
+                table: r.brdf,
+                rows,
+                origin: format!(
+                    "reconstructed from the {} main samples with the {method} method",
+                    session.main.len()
+                ),
+            }))
+        }
+        Err(e) => {
+            notes.push(format!(
+                "No table could be reconstructed from the {} main samples measured: {e}.",
+                session.main.len()
+            ));
+            Ok(None)
+        }
+    }
+}
+
+/// The report of the session journal `args.input`.
+pub(super) fn report(args: &Args) -> Result<Report> {
+    let session = Session::read(&args.input)?;
+    let name = session.material_name();
+    let mut notes: Vec<String> = session.progress_note().into_iter().collect();
+    let truth = truth(args, &session, &mut notes)?;
+    let shown = shown_table(args, &session, &name, &mut notes)?;
+    notes.extend(session.duration_note());
+
+    let mut facts = session.facts();
+    let mut coverage = session.coverage_rows();
+    let mut report = Report {
+        title: args
+            .title
+            .clone()
+            .unwrap_or_else(|| format!("Session report: {name}")),
+        generator: generator(),
+        k_hat: session.k_hat(),
+        duration: session.duration(),
+        ..Report::default()
+    };
+    let truth_brdf = truth.as_ref().map(|(_, brdf)| brdf.as_ref());
+    if let Some(shown) = &shown {
+        facts.push(("table".into(), shown.origin.clone()));
+        facts.extend(peak_fact(&shown.table));
+        coverage.extend(shown.rows.iter().cloned());
+        if let Some((label, brdf)) = &truth {
+            report.errors = Some(errors(&shown.table, brdf.as_ref(), label));
+        }
+        report
+            .figures
+            .extend(renders(&shown.table, truth_brdf, args)?);
+        report
+            .figures
+            .extend(slice_figures(&shown.table, truth_brdf)?);
+    }
+    if let (Some(fit), false) = (&session.fit, session.probe.is_empty()) {
+        report.figures.push(probe_figure(
+            &session.probe,
+            &fit.function,
+            session.placed_samples(),
+            session.probe_phi_h_deg.unwrap_or_default(),
+            &format!("{name} (k-hat {:.2})", fit.function.k),
+        )?);
+    }
+    if !session.main.is_empty() {
+        let raw: Vec<RawSample> = session
+            .main
+            .iter()
+            .map(|s| RawSample::new(s.hd, s.value))
+            .collect();
+        report.figures.push(raw_samples_figure(
+            &raw,
+            &format!("{name}: measured samples"),
+            &format!("the main stage of {}", args.input.display()),
+        )?);
+    }
+    report.material = Some(MaterialSection {
+        name,
+        source: args.input.display().to_string(),
+        facts,
+    });
+    report.coverage = Some(CoverageSection { rows: coverage });
+    report.notes = notes;
+    Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unix_times_read_as_utc_dates() {
+        assert_eq!(utc_text(0.0), "1970-01-01T00:00:00Z");
+        assert_eq!(utc_text(1_700_000_000.0), "2023-11-14T22:13:20Z");
+        assert_eq!(utc_text(951_782_400.0), "2000-02-29T00:00:00Z");
+    }
+}

@@ -1,0 +1,236 @@
+//! `specula report SESSION.sqlite`: the report of a measurement session, checked against what
+//! the journal and the measured table say when read here independently; an interrupted
+//! session still reports; a file that is not a journal gets a one-line error.
+
+mod common;
+
+use common::{measure_small, report};
+use specula_core::compare::compare;
+use specula_core::materials::preset;
+use specula_core::tabulate::tabulate;
+use specula_core::MerlBrdf;
+use specula_session::journal::Journal;
+use specula_session::workflow::{FitRecord, STAGE_MAIN, STAGE_PROBE};
+use std::path::Path;
+use std::process::Output;
+
+/// Renders this small keep the tests quick.
+const SIZE_PX: usize = 16;
+
+/// The report page; the run must have succeeded.
+fn page(output: &Output, out: &Path) -> String {
+    assert!(
+        output.status.success(),
+        "report failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    std::fs::read_to_string(out).expect("the report was written")
+}
+
+fn assert_contains(html: &str, texts: &[String]) {
+    for text in texts {
+        assert!(html.contains(text.as_str()), "missing: {text}");
+    }
+}
+
+/// (measured, planned) samples of a stage, from the journal.
+fn counts(journal: &Journal, stage: &str) -> (usize, usize) {
+    (
+        journal.samples(stage).unwrap().len(),
+        journal.plan(stage).unwrap().len(),
+    )
+}
+
+/// How the page writes a duration: seconds when short, else hours and minutes.
+fn duration_text(seconds: f64) -> String {
+    if seconds < 120.0 {
+        format!("{seconds:.1} s")
+    } else {
+        let minutes = (seconds / 60.0).round() as u64;
+        format!("{} h {:02} min", minutes / 60, minutes % 60)
+    }
+}
+
+/// The device time the journal records for a session without checks, and the time model's
+/// estimate of its plans, seconds.
+fn device_and_predicted_s(journal: &Journal) -> (f64, f64) {
+    let mut device_s = 0.0;
+    let mut predicted_s = 0.0;
+    for stage in [STAGE_PROBE, STAGE_MAIN] {
+        device_s += journal
+            .samples(stage)
+            .unwrap()
+            .values()
+            .map(|s| s.device_s)
+            .sum::<f64>();
+        predicted_s += journal
+            .plan(stage)
+            .unwrap()
+            .iter()
+            .map(|r| r.predicted_s)
+            .sum::<f64>();
+    }
+    (device_s, predicted_s)
+}
+
+/// The error row of the report's 75-degree set for a table against silver-925.
+fn error_row(table: &MerlBrdf) -> String {
+    let truth = preset("silver-925").unwrap();
+    let e = compare(table, &tabulate(&truth, 0.0), 75.0);
+    format!(
+        "<tr><td>light and camera within 75 deg</td><td class=\"num\">{}</td><td class=\"num\">{:.4}</td><td class=\"num\">{:.4}</td>",
+        e.cells, e.relative_rmse, e.log_rmse
+    )
+}
+
+#[test]
+fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let (session, table) = measure_small(dir.path(), None);
+    let out = dir.path().join("report.html");
+    let html = page(&report(&session, &out, SIZE_PX, &[]), &out);
+
+    let journal = Journal::open_read_only(&session).unwrap();
+    let fit: FitRecord = journal.meta("fit").unwrap().expect("a fit");
+    let (probe_done, probe_planned) = counts(&journal, STAGE_PROBE);
+    let (main_done, main_planned) = counts(&journal, STAGE_MAIN);
+    assert_eq!(main_done, main_planned, "the session is complete");
+    let (device_s, predicted_s) = device_and_predicted_s(&journal);
+    assert!(
+        device_s > 120.0 && predicted_s > device_s,
+        "{device_s} {predicted_s}"
+    );
+    let measured = MerlBrdf::read(&table).unwrap();
+    assert_contains(
+        &html,
+        &[
+            "Session report: silver-925".into(),
+            "<th>measured</th><td>simulated: silver-925</td>".into(),
+            format!(
+                "k-hat</th><td>{:.3} (exponential sampling function, fit error {:.3e} 1/sr; fitted to a probe of {probe_done} samples, places 8 samples along theta_h)",
+                fit.function.k, fit.error
+            ),
+            format!("probe stage: planned samples measured</th><td>{probe_done} of {probe_planned} (100.0 %)"),
+            format!("main stage: planned samples measured</th><td>{main_done} of {main_planned} (100.0 %)"),
+            format!("<th>duration</th><td>{}</td>", duration_text(device_s)),
+            format!("<th>planned duration</th><td>{}</td>", duration_text(predicted_s)),
+            format!("reconstructed from the {main_done} main samples with the lobe method"),
+            format!(
+                "MERL cells holding a value</th><td>{} of 1458000",
+                measured.measured_count()
+            ),
+            "Against <b>silver-925 (the truth the session simulated)</b>".into(),
+            // The reconstruction equals the table `measure` wrote.
+            error_row(&measured),
+            "Render, sphere".into(),
+            "Render, speedshape".into(),
+            "Characteristic slice of the truth".into(),
+            format!("the square-root probe of {probe_done} samples"),
+            format!("The {main_done} samples of the main stage"),
+        ],
+    );
+    assert!(!html.contains("incomplete"));
+    // Renders on two shapes, two slices, the probe and the raw samples.
+    assert_eq!(html.matches("data:image/png;base64,").count(), 6);
+
+    // The same with the written table given, and another truth.
+    let out = dir.path().join("table.html");
+    let table_arg = table.display().to_string();
+    let html = page(
+        &report(
+            &session,
+            &out,
+            SIZE_PX,
+            &["--table", &table_arg, "--truth", "chrome"],
+        ),
+        &out,
+    );
+    assert_contains(
+        &html,
+        &[
+            format!("<th>table</th><td>{table_arg} (--table)</td>"),
+            "Against <b>chrome</b>".into(),
+            "cells measured directly</th><td>".into(),
+        ],
+    );
+}
+
+#[test]
+fn an_interrupted_session_reports_what_it_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let (session, table) = measure_small(dir.path(), Some((STAGE_MAIN, 20)));
+    assert!(!table.exists(), "no table from an interrupted run");
+    let journal = Journal::open_read_only(&session).unwrap();
+    let (done, planned) = counts(&journal, STAGE_MAIN);
+    assert!(done >= 20 && done < planned, "{done} of {planned}");
+    let (device_s, predicted_s) = device_and_predicted_s(&journal);
+    let out = dir.path().join("report.html");
+    let html = page(&report(&session, &out, SIZE_PX, &[]), &out);
+    assert_contains(
+        &html,
+        &[
+            format!(
+                "This session is incomplete: {done} of {planned} planned samples of the main stage are measured ({:.1} %)",
+                100.0 * done as f64 / planned as f64
+            ),
+            format!("main stage: planned samples measured</th><td>{done} of {planned} ("),
+            format!("<th>duration</th><td>{}</td>", duration_text(device_s)),
+            format!("<th>planned duration</th><td>{}</td>", duration_text(predicted_s)),
+            "k-hat</th><td>".into(),
+            "Probe against the adaptive samples".into(),
+            format!("The {done} samples of the main stage"),
+        ],
+    );
+}
+
+#[test]
+fn a_session_stopped_in_the_probe_reports_without_k_hat() {
+    let dir = tempfile::tempdir().unwrap();
+    let (session, _) = measure_small(dir.path(), Some((STAGE_PROBE, 5)));
+    let journal = Journal::open_read_only(&session).unwrap();
+    let (done, planned) = counts(&journal, STAGE_PROBE);
+    assert!(done >= 5 && done < planned, "{done} of {planned}");
+    assert_eq!(counts(&journal, STAGE_MAIN), (0, 0));
+    let out = dir.path().join("report.html");
+    let html = page(&report(&session, &out, SIZE_PX, &[]), &out);
+    assert_contains(
+        &html,
+        &[
+            format!("it stopped in the probe ({done} of {planned} samples measured)"),
+            "k-hat</th><td class=\"missing\">not known".into(),
+            format!("probe stage: planned samples measured</th><td>{done} of {planned} ("),
+            "No table: the main stage has no measured sample yet".into(),
+            "No pictures.".into(),
+        ],
+    );
+}
+
+#[test]
+fn files_that_are_not_journals_get_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.html");
+    let fails = |input: &Path, extra: &[&str], needle: &str| {
+        let output = report(input, &out, SIZE_PX, extra);
+        assert_eq!(output.status.code(), Some(1), "{}", input.display());
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(needle), "{needle}: {stderr}");
+    };
+    let text = dir.path().join("notes.sqlite");
+    std::fs::write(
+        &text,
+        "these are notes, not a database, and long enough to tell",
+    )
+    .unwrap();
+    fails(&text, &[], "notes.sqlite");
+    let empty = dir.path().join("empty.sqlite");
+    std::fs::write(&empty, "").unwrap();
+    fails(&empty, &[], "empty.sqlite: not a specula session journal");
+    fails(&dir.path().join("missing.sqlite"), &[], "missing.sqlite");
+    fails(
+        &empty,
+        &["--samples", "raw.csv"],
+        "--samples is for a .binary input",
+    );
+    assert!(!out.exists());
+}
