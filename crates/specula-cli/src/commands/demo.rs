@@ -2,29 +2,14 @@
 //! on the simulated device, with their tables, summaries and pictures.
 
 use super::measure::Bars;
+use super::report;
 use anyhow::{Context, Result};
-use image::RgbImage;
 use specula_acquisition::device::Device;
-use specula_core::compare::compare;
-use specula_core::tabulate::tabulate;
-use specula_core::{Brdf, MerlBrdf};
 use specula_session::engine::stop_on_ctrl_c;
-use specula_session::journal::Journal;
 use specula_session::workflow::{
-    default_session_path, measure, measured_samples, probe_samples, summary_path, FitRecord,
-    MeasureOutcome, MeasureSettings, Source, STAGE_MAIN,
+    default_session_path, measure, summary_path, MeasureOutcome, MeasureSettings, Source,
 };
-use specula_visual::grid::{self, Tile};
-use specula_visual::plot::probe::{interpolate, plot_probe};
-use specula_visual::plot::raw_samples::{plot_raw_samples, RawSample};
-use specula_visual::plot::slice::{plot_slice, SliceOptions};
-use specula_visual::plot::ThetaHAxis;
-use specula_visual::report::{
-    CoverageSection, ErrorRow, ErrorSection, Figure, KHatSection, Report,
-};
-use specula_visual::{Environment, Lighting, RenderSettings, Scene, ShapeKind};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 /// The paper's two materials (section 4.2).
@@ -37,11 +22,12 @@ const MATERIALS: [&str; 2] = ["silver-925", "green-paint"];
 ///
 /// Per material, in OUT/MATERIAL/: MATERIAL.binary (the measured BRDF, MERL format),
 /// MATERIAL.summary.txt (k-hat, counts, captures, simulated hours), MATERIAL.session.sqlite
-/// (the journal), probe.png (the probe against the adaptive samples, paper Fig. 13),
-/// raw_samples.png (the measured samples per phi_d, Fig. 15), slice.png (the measured and the
-/// true characteristic slice, Fig. 11), render.png (the measured and the true material on
-/// a sphere in a studio, with their difference, Fig. 16) and report.html (one self-contained
-/// page with k-hat, coverage, the error against the truth and every picture).
+/// (the journal), report.html (the session's report, as `specula report`: k-hat, coverage,
+/// duration, the error against the truth and every picture) and each of its pictures as a
+/// PNG: render_sphere.png and render_speedshape.png (the measured and the true material in a
+/// studio, with their difference, Fig. 16), characteristic_slice.png and
+/// characteristic_slice_of_the_truth.png (Fig. 11), probe_against_the_adaptive_samples.png
+/// (Fig. 13) and raw_samples.png (the measured samples per phi_d, Fig. 15).
 ///
 /// A rerun resumes the sessions (and is quick once they are complete); Ctrl-C stops after
 /// the sample in progress.
@@ -114,14 +100,7 @@ pub fn run(args: Args) -> Result<()> {
             pick("simulated_hours=")
         );
         let mut files = vec![table.clone(), summary_path(&table), session.clone()];
-        files.extend(pictures(
-            &dir,
-            name,
-            truth.as_ref(),
-            &table,
-            &session,
-            &settings,
-        )?);
+        files.extend(pictures(&dir, name, &table, &session)?);
         written.push((name, files));
     }
     println!(
@@ -138,141 +117,63 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// The pictures of one measured material, and the error against its truth.
-fn pictures(
-    dir: &Path,
-    name: &str,
-    truth: &dyn Brdf,
-    table: &Path,
-    session: &Path,
-    settings: &MeasureSettings,
-) -> Result<Vec<PathBuf>> {
-    let journal = Journal::open_read_only(session)?;
-    let measured = MerlBrdf::read(table)?;
+/// Render size of the demo's pictures, pixels, and camera rays per pixel.
+const RENDER_PX: usize = 256;
+const RENDER_SPP: usize = 32;
+
+/// The session report of one measured material (what `specula report SESSION --table TABLE
+/// --truth NAME` writes) as report.html, and each of its pictures as a PNG file beside it;
+/// prints the error against the truth.
+fn pictures(dir: &Path, name: &str, table: &Path, session: &Path) -> Result<Vec<PathBuf>> {
+    let args = report::Args {
+        input: session.to_path_buf(),
+        out: dir.join("report.html"),
+        truth: Some(name.to_string()),
+        samples: None,
+        table: Some(table.to_path_buf()),
+        size: RENDER_PX,
+        spp: RENDER_SPP,
+        title: Some(format!("{name} measured on the simulated device")),
+    };
+    let report = report::session::report(&args)?;
     let mut files = Vec::new();
-    let mut figures = Vec::new();
-    let mut save = |file: &str, image: RgbImage| -> Result<()> {
-        let path = dir.join(file);
-        image
-            .save(&path)
+    for figure in &report.figures {
+        let path = dir.join(format!("{}.png", file_stem_of(&figure.title)));
+        std::fs::write(&path, &figure.png)
             .with_context(|| format!("{}: cannot write", path.display()))?;
-        figures.push(Figure::new(file, format!("{name}: {file}"), &image)?);
         files.push(path);
-        Ok(())
-    };
-
-    // Fig. 13: the probe against the adaptive samples at k-hat.
-    let probe = probe_samples(&journal)?;
-    let fit: FitRecord = journal
-        .meta("fit")?
-        .context("the session has no fit of k")?;
-    let adaptive = interpolate(
-        &probe,
-        &fit.function.positions_deg(settings.theta_h_samples),
-    );
-    let title = format!("{name} (k-hat {:.2})", fit.function.k);
-    save("probe.png", plot_probe(&probe, &adaptive, &title)?)?;
-
-    // Fig. 15: the raw samples.
-    let samples = measured_samples(&journal.plan(STAGE_MAIN)?, &journal.samples(STAGE_MAIN)?);
-    let raw: Vec<RawSample> = samples
-        .iter()
-        .map(|s| RawSample::new(s.hd, s.value))
-        .collect();
-    save(
-        "raw_samples.png",
-        plot_raw_samples(&raw, &format!("{name}: measured samples"), ThetaHAxis::Merl)?,
-    )?;
-
-    // Fig. 11: the characteristic slice, measured and true.
-    let options = SliceOptions::default();
-    let slices = [
-        Tile {
-            label: "measured on the simulated device".into(),
-            image: plot_slice(&measured, &format!("{name}, measured"), &options)?,
-        },
-        Tile {
-            label: "ground truth".into(),
-            image: plot_slice(truth, &format!("{name}, truth"), &options)?,
-        },
-    ];
-    save("slice.png", grid::compose(&slices)?)?;
-
-    // Fig. 16: measured and true on a sphere in the studio, and their difference.
-    let scene = Scene::new(
-        ShapeKind::Sphere,
-        Lighting::Environment(Arc::new(Environment::studio())),
-    );
-    let render_settings = RenderSettings::square(256, 32);
-    let spinner = crate::progress::spinner("rendering");
-    let images = [
-        specula_visual::render(&measured, &scene, &render_settings, &|_| {}),
-        specula_visual::render(truth, &scene, &render_settings, &|_| {}),
-    ];
-    spinner.finish_and_clear();
-    let difference = grid::difference(&images[0], &images[1])?;
-    let tiles = [
-        Tile {
-            label: format!("{name}, measured"),
-            image: images[0].to_display(0.0),
-        },
-        Tile {
-            label: format!("{name}, truth"),
-            image: images[1].to_display(0.0),
-        },
-        Tile {
-            label: "relative difference (0 to 100 %)".into(),
-            image: difference.image,
-        },
-    ];
-    save("render.png", grid::compose(&tiles)?)?;
-
-    let errors = compare(&measured, &tabulate(truth, 0.0), 75.0);
-    let report = Report {
-        title: format!("{name} measured on the simulated device"),
-        generator: format!("specula {} demo", env!("CARGO_PKG_VERSION")),
-        k_hat: Some(KHatSection {
-            family: fit.function.family.to_string(),
-            k: fit.function.k,
-            fit_error: fit.error,
-            probe_samples: probe.len(),
-            placed_samples: settings.theta_h_samples,
-        }),
-        coverage: Some(CoverageSection {
-            rows: vec![
-                (
-                    "measured samples".into(),
-                    samples.len(),
-                    journal.plan(STAGE_MAIN)?.len(),
-                ),
-                (
-                    "measured MERL cells".into(),
-                    measured.measured_count(),
-                    specula_core::merl::CELLS,
-                ),
-            ],
-        }),
-        errors: Some(ErrorSection {
-            truth: name.to_string(),
-            rows: vec![ErrorRow {
-                set: "light and camera within 75 deg".into(),
-                cells: errors.cells,
-                relative_rmse: errors.relative_rmse,
-                log_rmse: errors.log_rmse,
-                slice_mae: errors.slice_mae,
-            }],
-        }),
-        figures,
-        ..Report::default()
-    };
-    let report_path = dir.join("report.html");
-    report.write(&report_path)?;
-    files.push(report_path);
-    println!(
-        "{name} against its truth, light and camera within 75 deg: relative RMSE {:.4}, log RMSE {:.4}; renders differ by {:.1} % on average",
-        errors.relative_rmse,
-        errors.log_rmse,
-        100.0 * difference.mean_relative
-    );
+    }
+    report.write(&args.out)?;
+    files.push(args.out);
+    for row in report.errors.iter().flat_map(|e| &e.rows) {
+        println!(
+            "{name} against its truth, {}: relative RMSE {:.4}, log RMSE {:.4}",
+            row.set, row.relative_rmse, row.log_rmse
+        );
+    }
     Ok(files)
+}
+
+/// A figure's title as a file name: lower case, words joined by `_`.
+fn file_stem_of(title: &str) -> String {
+    title
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|word| !word.is_empty())
+        .map(str::to_ascii_lowercase)
+        .collect::<Vec<_>>()
+        .join("_")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn figure_titles_become_file_names() {
+        assert_eq!(file_stem_of("Render, sphere"), "render_sphere");
+        assert_eq!(
+            file_stem_of("Probe against the adaptive samples"),
+            "probe_against_the_adaptive_samples"
+        );
+    }
 }

@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-mod session;
+pub(crate) mod session;
 
 /// Adaptive samples the paper places along theta_h with the fitted k (section 5.3).
 const PLACED_SAMPLES: usize = 30;

@@ -456,8 +456,8 @@ fn shown_table(
     }
 }
 
-/// The report of the session journal `args.input`.
-pub(super) fn report(args: &Args) -> Result<Report> {
+/// The report of the session journal `args.input` (`specula report`, and the demo's).
+pub(crate) fn report(args: &Args) -> Result<Report> {
     let session = Session::read(&args.input)?;
     let name = session.material_name();
     let mut notes: Vec<String> = session.progress_note().into_iter().collect();
