@@ -329,21 +329,28 @@ fn renders(table: &MerlBrdf, truth: Option<&dyn Brdf>, args: &Args) -> Result<Ve
             ShapeKind::Sphere => "sphere",
             ShapeKind::Speedshape => "speedshape",
         };
-        let mut tiles: Vec<Tile> = materials
-            .iter()
-            .zip(&images)
-            .map(|(brdf, image)| Tile {
-                label: brdf.name(),
-                image: image.to_display(0.0),
-            })
-            .collect();
+        let labels = match truth {
+            Some(truth) => vec![
+                format!("{} (measured)", table.name()),
+                format!("{} (truth)", truth.name()),
+            ],
+            None => vec![table.name()],
+        };
         let mut caption = format!(
             "{} on a {shape_name} in the built-in studio environment, {} x {} pixels, {} samples per pixel.",
-            materials.iter().map(|m| m.name()).collect::<Vec<_>>().join(" and "),
+            labels.join(" and "),
             args.size,
             args.size,
             args.spp
         );
+        let mut tiles: Vec<Tile> = labels
+            .into_iter()
+            .zip(&images)
+            .map(|(label, image)| Tile {
+                label,
+                image: image.to_display(0.0),
+            })
+            .collect();
         if images.len() == 2 {
             let difference = grid::difference(&images[0], &images[1])?;
             caption.push_str(&format!(

@@ -336,7 +336,7 @@ fn stage<'a>(status: &'a SessionStatus, name: &str) -> Option<&'a StageStatus> {
 fn settings_text(s: &MeasureSettings) -> String {
     format!(
         "seed {}, {} probe samples, {} theta_h samples ({}), theta_d step {} deg, phi_d step {} \
-         deg, phi_h {} deg, order {:?}, exposures {:?}, method {}{}",
+         deg, phi_h {} deg, order {}, exposures {}, method {}{}",
         s.seed,
         s.probe_samples,
         s.theta_h_samples,
@@ -344,8 +344,8 @@ fn settings_text(s: &MeasureSettings) -> String {
         s.theta_d_step_deg,
         s.phi_d_step_deg,
         s.phi_h_deg,
-        s.order,
-        s.hdr,
+        format!("{:?}", s.order).to_lowercase(),
+        format!("{:?}", s.hdr).to_lowercase(),
         s.method,
         if s.ideal { ", ideal" } else { "" }
     )
