@@ -88,7 +88,10 @@ fn merl_utia_and_samples_keep_provenance() {
     assert_eq!(c.measured, original.measured_count());
     run(&p("d.csv"), &p("e.binary"));
     let again = MerlBrdf::read(&p("e.binary")).unwrap();
-    assert_eq!(again.measured_mask(), original.measured_mask());
+    let unmatched = (0..CELLS)
+        .filter(|&i| again.is_measured(i) != original.is_measured(i))
+        .count();
+    assert_eq!(unmatched, 0, "cells measured in one table only");
     for index in (0..CELLS).step_by(997) {
         if let (Some(a), Some(b)) = (original.cell(index), again.cell(index)) {
             assert!(

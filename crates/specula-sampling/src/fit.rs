@@ -27,9 +27,20 @@
 //!
 //! The base-k function `m (k^(t/m) - 1) / (k - 1)` is the exponential one with
 //! `k_exp = ln k_base` (divide numerator and denominator by one), so both families give the
-//! same positions and errors; the ranges are chosen to match, so their fits agree exactly.
+//! same positions and errors up to rounding, and the ranges are chosen to match: their fits
+//! agree to within Brent's tolerance (rounding can steer the two Brent searches a few 1e-8
+//! of k apart). The analysis of section 5.1 therefore takes base-k from the exponential fit
+//! ([`base_of_exponential`]) instead of fitting it again.
+//!
+//! ## Cost
+//! An evaluation of the error is 30 powers or exponentials for the positions and two merge
+//! walks (about 0.4 and 0.2 microseconds). The 192 scan points are the same for every
+//! column, so [`KFitter`], which fits many columns (the 90 of a slice in 5.1), computes their
+//! positions once, and with the columns' shared nodes their [`Resampling`], which leaves a
+//! scan point under 0.1 microseconds; Brent's evaluations (about 75 per fit) are computed
+//! in full.
 
-use crate::column::{Column, Interpolation};
+use crate::column::{Column, Interpolation, Resampling};
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::brent::BrentOpt;
 use specula_core::sampling::{Family, InvalidK, SamplingFunction};
@@ -148,35 +159,46 @@ pub fn fit_k_with(
     n: usize,
     search: &FitSearch,
 ) -> Result<KFit, FitError> {
-    Ok(KFitter::new(family, n, search)?.fit(column))
+    Ok(KFitter::new(family, n, search, None)?.fit(column))
 }
 
 /// [`fit_k_with`] for many columns: section 5.1 fits the 90 theta_d columns of a slice with
 /// the same family and `n`. The sample positions of the coarse scan, and of each fine scan
 /// window once used, do not depend on the column, and computing them (a power or an
-/// exponential per position) is most of the cost of an error evaluation; the fitter
-/// computes them once. Its fits are those of [`fit_k_with`], to the last bit.
+/// exponential per position) is much of the cost of an error evaluation; the fitter computes
+/// them once. Given the nodes the columns share, it also finds once where the positions
+/// fall among the nodes and the nodes among the positions ([`Resampling`]), the rest of
+/// that cost. Its fits are those of [`fit_k_with`], to the last bit.
 pub struct KFitter {
     family: Family,
     n: usize,
     search: FitSearch,
+    nodes_deg: Option<Vec<f64>>,
     coarse: ScanGrid,
     /// The fine scan windows used so far, by the coarse point they are centred on.
     fine: HashMap<usize, ScanGrid>,
 }
 
 impl KFitter {
-    /// A fitter of k of `family` for `n >= 2` samples with the given search.
-    pub fn new(family: Family, n: usize, search: &FitSearch) -> Result<Self, FitError> {
+    /// A fitter of k of `family` for `n >= 2` samples with the given search, for columns
+    /// on `nodes_deg` if given (others are fitted too, without the precomputed weights).
+    pub fn new(
+        family: Family,
+        n: usize,
+        search: &FitSearch,
+        nodes_deg: Option<&[f64]>,
+    ) -> Result<Self, FitError> {
         if n < 2 {
             return Err(FitError::TooFewSamples(n));
         }
         let (lo, hi) = s_range();
+        let points = search.coarse_points.max(2);
         Ok(Self {
             family,
             n,
             search: *search,
-            coarse: ScanGrid::new(family, n, lo, hi, search.coarse_points.max(2)),
+            nodes_deg: nodes_deg.map(<[f64]>::to_vec),
+            coarse: ScanGrid::new(family, n, (lo, hi, points), nodes_deg),
             fine: HashMap::new(),
         })
     }
@@ -186,16 +208,16 @@ impl KFitter {
         let (family, n, search) = (self.family, self.n, self.search);
         let coarse = self.coarse.scan(column);
         let (centre, coarse_best) = lowest(&coarse);
+        let nodes_deg = self.nodes_deg.as_deref();
         let fine_grid = self.fine.entry(centre).or_insert_with(|| {
             let (lo, hi) = s_range();
             let half = search.window_steps * (hi - lo) / (coarse.len() - 1) as f64;
-            ScanGrid::new(
-                family,
-                n,
+            let window = (
                 (coarse_best.0 - half).max(lo),
                 (coarse_best.0 + half).min(hi),
                 search.fine_points.max(2),
-            )
+            );
+            ScanGrid::new(family, n, window, nodes_deg)
         });
         let fine = fine_grid.scan(column);
         let mut evaluations = coarse.len() + fine.len();
@@ -230,19 +252,48 @@ impl KFitter {
     }
 }
 
-/// Evenly spaced scan coordinates over `[lo, hi]` and the sample positions of the family's
-/// function at each (`None` where k is outside the family's domain).
+/// The sample positions of one scan point, with their [`Resampling`] on the fitter's nodes
+/// when it has some.
+enum ScanPositions {
+    /// k is outside the family's domain: the error is infinite.
+    Outside,
+    Positions(Vec<f64>),
+    Resampled(Resampling),
+}
+
+impl ScanPositions {
+    fn error(&self, column: &Column) -> f64 {
+        match self {
+            ScanPositions::Outside => f64::INFINITY,
+            ScanPositions::Positions(p) => column.reinterpolation_error(p, Interpolation::Linear),
+            ScanPositions::Resampled(r) => r.error(column),
+        }
+    }
+}
+
+/// Evenly spaced scan coordinates and the family's sample positions at each.
 struct ScanGrid {
-    points: Vec<(f64, Option<Vec<f64>>)>,
+    points: Vec<(f64, ScanPositions)>,
 }
 
 impl ScanGrid {
-    fn new(family: Family, n: usize, lo: f64, hi: f64, points: usize) -> Self {
+    /// `points` scan coordinates evenly spaced over `[lo, hi]`.
+    fn new(
+        family: Family,
+        n: usize,
+        (lo, hi, points): (f64, f64, usize),
+        nodes_deg: Option<&[f64]>,
+    ) -> Self {
         let step = (hi - lo) / (points - 1) as f64;
         let points = (0..points)
             .map(|i| {
                 let s = lo + step * i as f64;
-                (s, positions_at(family, s, n))
+                let positions = match (positions_at(family, s, n), nodes_deg) {
+                    (None, _) => ScanPositions::Outside,
+                    (Some(p), None) => ScanPositions::Positions(p),
+                    (Some(p), Some(nodes)) => ScanPositions::Resampled(Resampling::new(nodes, &p)),
+                };
+                (s, positions)
             })
             .collect();
         Self { points }
@@ -252,12 +303,7 @@ impl ScanGrid {
     fn scan(&self, column: &Column) -> Vec<(f64, f64)> {
         self.points
             .iter()
-            .map(|(s, positions)| {
-                let error = positions.as_ref().map_or(f64::INFINITY, |p| {
-                    column.reinterpolation_error(p, Interpolation::Linear)
-                });
-                (*s, error)
-            })
+            .map(|(s, positions)| (*s, positions.error(column)))
             .collect()
     }
 }
@@ -381,17 +427,24 @@ mod tests {
 
     #[test]
     fn a_fitter_reused_over_columns_fits_each_as_fit_k_does() {
-        // Lobes from 0.3 to 30 degrees wide: their fine windows differ and recur.
-        let columns: Vec<Column> = [0.3, 30.0, 2.0, 0.3, 8.0, 2.0]
+        // Lobes from 0.3 to 30 degrees wide, whose fine windows differ and recur, and a
+        // column on other nodes.
+        let mut columns: Vec<Column> = [0.3, 30.0, 2.0, 0.3, 8.0, 2.0]
             .iter()
             .map(|&width| dense_column(|x| 0.05 + 40.0 * (-(x / width).powi(2)).exp()))
             .collect();
+        let truth = SamplingFunction::new(Family::Exponential, 4.78).unwrap();
+        columns.push(polyline_of(truth, 30));
+        let nodes = columns[0].theta_h_deg().to_vec();
         for family in Family::ALL {
-            let mut fitter = KFitter::new(family, 30, &FitSearch::default()).unwrap();
-            for column in &columns {
-                assert_eq!(fitter.fit(column), fit_k(column, family, 30).unwrap());
+            for shared_nodes in [None, Some(nodes.as_slice())] {
+                let mut fitter =
+                    KFitter::new(family, 30, &FitSearch::default(), shared_nodes).unwrap();
+                for column in &columns {
+                    assert_eq!(fitter.fit(column), fit_k(column, family, 30).unwrap());
+                }
+                assert!(fitter.fine.len() >= 3, "{family}: {}", fitter.fine.len());
             }
-            assert!(fitter.fine.len() >= 3, "{family}: {}", fitter.fine.len());
         }
     }
 

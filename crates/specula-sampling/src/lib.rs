@@ -3,8 +3,8 @@
 //! - [`probe`]: the dense theta_h column at theta_d = 40, phi_d = 90 degrees that a
 //!   measurement starts with, and its CSV file;
 //! - [`fit`]: k-hat of a sampling function (paper eq. 2-4) fitted to a probe;
-//! - [`slice`], [`merl_slice`]: the characteristic slice (phi_d = 90) of a BRDF or of a MERL
-//!   file read in one pass;
+//! - [`slice`](mod@slice), [`merl_slice`]: the characteristic slice (phi_d = 90) of a BRDF
+//!   or of a MERL file read in one pass;
 //! - [`analysis`], [`database`]: the database analysis of section 5.1, in parallel;
 //! - [`placement`], [`placement_study`]: the optimal placement of n samples for a known
 //!   column (the oracle), a practical placement from the probe alone, and their comparison
