@@ -11,6 +11,7 @@ use specula_core::tabulate::tabulate;
 use specula_core::MerlBrdf;
 use specula_session::journal::Journal;
 use specula_session::workflow::{FitRecord, STAGE_MAIN, STAGE_PROBE};
+use specula_visual::report::duration_text;
 use std::path::Path;
 use std::process::Output;
 
@@ -39,16 +40,6 @@ fn counts(journal: &Journal, stage: &str) -> (usize, usize) {
         journal.samples(stage).unwrap().len(),
         journal.plan(stage).unwrap().len(),
     )
-}
-
-/// How the page writes a duration: seconds when short, else hours and minutes.
-fn duration_text(seconds: f64) -> String {
-    if seconds < 120.0 {
-        format!("{seconds:.1} s")
-    } else {
-        let minutes = (seconds / 60.0).round() as u64;
-        format!("{} h {:02} min", minutes / 60, minutes % 60)
-    }
 }
 
 /// The device time the journal records for a session without checks, and the time model's

@@ -138,8 +138,8 @@ pub fn escape(text: &str) -> String {
     out
 }
 
-/// Seconds as hours and minutes (or seconds when short).
-fn duration_text(seconds: f64) -> String {
+/// Seconds as hours and minutes (or seconds when short), as the page writes durations.
+pub fn duration_text(seconds: f64) -> String {
     if seconds < 120.0 {
         format!("{seconds:.1} s")
     } else {
