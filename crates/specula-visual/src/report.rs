@@ -47,7 +47,8 @@ pub struct CoverageSection {
 /// How long the measurement took.
 #[derive(Debug, Clone)]
 pub struct DurationSection {
-    /// Wall-clock time of the measurement, seconds.
+    /// The time the measurement took, seconds: the device's time (for a session on the
+    /// simulator, its simulated clock), not the wall-clock time of the computer.
     pub measured_s: Option<f64>,
     /// The plan's estimate, seconds.
     pub estimated_s: Option<f64>,
@@ -256,7 +257,7 @@ impl Report {
     fn errors_html(&self, html: &mut String) {
         html.push_str("<h2>Error figures</h2>\n");
         let Some(errors) = &self.errors else {
-            missing(html, "No ground truth known: no error figures.");
+            missing(html, "No error figures: no ground truth, or no table to compare with it.");
             return;
         };
         let _ = writeln!(
@@ -405,7 +406,7 @@ mod tests {
         for text in [
             "No material description.",
             "k-hat</th><td class=\"missing\">not known",
-            "No ground truth known",
+            "No error figures",
             "No pictures.",
         ] {
             assert!(html.contains(text), "{text}");
