@@ -107,6 +107,15 @@ impl Probe {
         &self.rgb
     }
 
+    /// The samples as `(theta_h in degrees, f_r in 1/sr)` pairs, in increasing theta_h.
+    pub fn points(&self) -> Vec<(f64, Rgb)> {
+        self.theta_h_deg
+            .iter()
+            .copied()
+            .zip(self.rgb.iter().copied())
+            .collect()
+    }
+
     pub fn len(&self) -> usize {
         self.rgb.len()
     }

@@ -257,7 +257,10 @@ impl Report {
     fn errors_html(&self, html: &mut String) {
         html.push_str("<h2>Error figures</h2>\n");
         let Some(errors) = &self.errors else {
-            missing(html, "No error figures: no ground truth, or no table to compare with it.");
+            missing(
+                html,
+                "No error figures: no ground truth, or no table to compare with it.",
+            );
             return;
         };
         let _ = writeln!(

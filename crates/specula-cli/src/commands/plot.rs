@@ -164,12 +164,7 @@ fn samples(args: SamplesArgs) -> Result<RgbImage> {
 
 fn probe(args: ProbeArgs) -> Result<RgbImage> {
     let probe = Probe::read_csv(&args.probe)?;
-    let points: Vec<(f64, Rgb)> = probe
-        .theta_h_deg()
-        .iter()
-        .copied()
-        .zip(probe.rgb().iter().copied())
-        .collect();
+    let points = probe.points();
     let adaptive = match (&args.adaptive, &args.positions, args.k) {
         (Some(path), _, _) => read_adaptive(path, &points)?,
         (None, Some(positions), _) => {

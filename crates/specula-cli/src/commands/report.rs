@@ -166,12 +166,7 @@ fn table_report(args: &Args) -> Result<Report> {
         .figures
         .extend(slice_figures(&table, truth.as_deref())?);
     if let (Ok(probe), Some(fit)) = (&probe, &fit) {
-        let points: Vec<(f64, Rgb)> = probe
-            .theta_h_deg()
-            .iter()
-            .copied()
-            .zip(probe.rgb().iter().copied())
-            .collect();
+        let points = probe.points();
         report.figures.push(probe_figure(
             &points,
             &fit.function,
