@@ -29,8 +29,10 @@ pub const CHANNEL_SCALE: [f64; 3] = [1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0]
 /// Value written for a cell that was not measured.
 pub const NOT_MEASURED: f64 = -1.0;
 
-const HEADER_BYTES: usize = 12;
-const FILE_BYTES: usize = HEADER_BYTES + 3 * CELLS * 8;
+/// Bytes of the header: three `i32` dimensions.
+pub const HEADER_BYTES: usize = 12;
+/// Bytes of a whole file: the header and three planes of `f64`.
+pub const FILE_BYTES: usize = HEADER_BYTES + 3 * CELLS * 8;
 
 /// What is wrong with a MERL file; shown after the file's path.
 #[derive(Debug, thiserror::Error)]
@@ -376,8 +378,9 @@ impl MerlBrdf {
     }
 }
 
-/// Checks the 12-byte header (or as much as there is) and the total length of a file.
-fn check_header(header: &[u8], total_len: u64) -> Result<(), String> {
+/// Checks the 12-byte header (or as much as there is) and the total length of a file; the
+/// error says what is wrong, for the caller to put after the file's name.
+pub fn check_header(header: &[u8], total_len: u64) -> Result<(), String> {
     if header.len() < HEADER_BYTES {
         return Err(format!(
             "too short for a MERL header ({total_len} bytes, need {HEADER_BYTES})"

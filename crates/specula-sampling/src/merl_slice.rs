@@ -8,9 +8,10 @@
 
 use crate::column::scalar_of;
 use crate::slice::{CharacteristicSlice, THETA_D_COLUMNS, THETA_H_NODES};
-use anyhow::{bail, Context, Result};
+use anyhow::{anyhow, bail, Context, Result};
 use specula_core::merl::{
-    theta_h_centre_deg, CELLS, CHANNEL_SCALE, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS,
+    check_header, theta_h_centre_deg, CHANNEL_SCALE, HEADER_BYTES, PHI_D_BINS, THETA_D_BINS,
+    THETA_H_BINS,
 };
 use specula_core::Rgb;
 use std::io::{BufReader, Read};
@@ -20,8 +21,6 @@ use std::path::Path;
 /// `f(phi_d) = f(180 - phi_d)` it stands for phi_d = 90 as well as bin 89 does.
 pub const SLICE_PHI_D_BIN: usize = 90;
 
-const HEADER_BYTES: usize = 3 * 4;
-const FILE_BYTES: u64 = (HEADER_BYTES + 3 * CELLS * 8) as u64;
 /// One run of phi_d values for a (theta_h, theta_d) pair: the unit the reader walks by.
 const ROW_BYTES: usize = PHI_D_BINS * 8;
 const READ_BUFFER_BYTES: usize = 1 << 20;
@@ -38,24 +37,11 @@ pub fn read_merl_slice(path: &Path) -> Result<CharacteristicSlice> {
     let mut reader = BufReader::with_capacity(READ_BUFFER_BYTES, file);
 
     let mut header = [0u8; HEADER_BYTES];
+    let header_len = (length as usize).min(HEADER_BYTES);
     reader
-        .read_exact(&mut header)
-        .with_context(|| format!("{name}: too short for a MERL header"))?;
-    let dims: Vec<i32> = header
-        .chunks_exact(4)
-        .map(|b| i32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect();
-    if dims != [THETA_H_BINS as i32, THETA_D_BINS as i32, PHI_D_BINS as i32] {
-        bail!(
-            "{name}: dimensions {} x {} x {}, expected 90 x 90 x 180 (theta_h, theta_d, phi_d)",
-            dims[0],
-            dims[1],
-            dims[2]
-        );
-    }
-    if length != FILE_BYTES {
-        bail!("{name}: {length} bytes, a MERL table has {FILE_BYTES}");
-    }
+        .read_exact(&mut header[..header_len])
+        .with_context(|| format!("{name}: cannot read"))?;
+    check_header(&header[..header_len], length).map_err(|problem| anyhow!("{name}: {problem}"))?;
 
     // stored[c][j * THETA_H_NODES + i]: channel c's stored value at (theta_h i, theta_d j).
     let mut stored = vec![vec![0.0f64; THETA_H_NODES * THETA_D_COLUMNS]; 3];
