@@ -124,14 +124,18 @@ impl Row {
         }
     }
 
-    /// The flat index of the row's cell with phi_d bin 0.
-    pub fn first_cell(self) -> usize {
+    /// The row's cell in phi_d bin `phi_d_i`.
+    pub fn bin(self, phi_d_i: usize) -> Bin {
         Bin {
             theta_h_i: self.theta_h_i,
             theta_d_i: self.theta_d_i,
-            phi_d_i: 0,
+            phi_d_i,
         }
-        .index()
+    }
+
+    /// The flat index of the row's cell with phi_d bin 0.
+    pub fn first_cell(self) -> usize {
+        self.bin(0).index()
     }
 }
 
@@ -223,8 +227,8 @@ impl MerlBrdf {
     /// Reads a `.binary` file, checking its header, its length and every value.
     ///
     /// The payload is read straight into the `f64` planes (no intermediate byte buffer) in
-    /// parallel units, each checked while it is still in the cache, so reading costs less
-    /// than `numpy.fromfile` does (README, Performance).
+    /// parallel units, each checked while it is still in the cache, so reading costs about
+    /// what `numpy.fromfile` does without any check (README, Performance).
     pub fn read(path: &Path) -> Result<Self, MerlError> {
         if path.is_dir() {
             return Err(MerlError::invalid(
@@ -317,13 +321,12 @@ impl MerlBrdf {
         for d in [THETA_H_BINS, THETA_D_BINS, PHI_D_BINS] {
             out.extend_from_slice(&(d as i32).to_le_bytes());
         }
-        for (i, v) in self.stored.iter().enumerate() {
-            let value = if self.is_measured(i % CELLS) {
-                *v
-            } else {
-                v.min(NOT_MEASURED)
-            };
-            out.extend_from_slice(&value.to_le_bytes());
+        let measured: Vec<bool> = (0..CELLS).map(|i| self.is_measured(i)).collect();
+        for plane in self.stored.chunks_exact(CELLS) {
+            for (v, measured) in plane.iter().zip(&measured) {
+                let value = if *measured { *v } else { v.min(NOT_MEASURED) };
+                out.extend_from_slice(&value.to_le_bytes());
+            }
         }
         out
     }

@@ -1,7 +1,7 @@
 //! Tabulation of any BRDF into the MERL grid at its bin centres (DESIGN.md), in parallel.
 
 use crate::brdf::{Brdf, PhiDRow};
-use crate::merl::{phi_d_centres_rad, Bin, MerlBrdf};
+use crate::merl::{phi_d_centres_rad, MerlBrdf};
 
 /// Evaluates `brdf` at the centre of every MERL cell, with the half vector at azimuth
 /// `phi_h_rad` (irrelevant for isotropic materials; it selects the slice of an anisotropic one).
@@ -11,7 +11,7 @@ pub fn tabulate(brdf: &dyn Brdf, phi_h_rad: f64) -> MerlBrdf {
     let phi_d = phi_d_centres_rad();
     let cos_phi_d = phi_d.map(f64::cos);
     MerlBrdf::from_rows(brdf.name(), |row, out| {
-        let centre = Bin::from_index(row.first_cell()).centre(phi_h_rad);
+        let centre = row.bin(0).centre(phi_h_rad);
         let row = PhiDRow {
             theta_h: centre.theta_h,
             theta_d: centre.theta_d,
@@ -28,7 +28,7 @@ mod tests {
     use super::*;
     use crate::brdf::Rgb;
     use crate::geometry::HalfDiff;
-    use crate::merl::CELLS;
+    use crate::merl::{Bin, CELLS};
     use glam::DVec3;
 
     /// A BRDF that is a known function of the half-difference angles.

@@ -82,7 +82,7 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 /// The measured samples of a session's main stage, in plan order.
-pub(crate) fn session_samples(path: &Path) -> Result<Vec<Sample>> {
+fn session_samples(path: &Path) -> Result<Vec<Sample>> {
     let journal = Journal::open_read_only(path)?;
     let plan = journal.plan(STAGE_MAIN)?;
     let samples = measured_samples(&plan, &journal.samples(STAGE_MAIN)?);

@@ -6,7 +6,6 @@ use super::{
     errors, generator, peak_fact, probe_figure, provenance_rows, raw_samples_figure, renders,
     slice_figures, Args, PLACED_SAMPLES,
 };
-use crate::commands::reconstruct::session_samples;
 use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::InstrumentInfo;
@@ -16,8 +15,8 @@ use specula_formats::BrdfSource;
 use specula_reconstruct::{reconstruct, Method, Sample};
 use specula_session::journal::{Journal, SessionStatus, StageStatus};
 use specula_session::workflow::{
-    probe_samples, simulated_truth, ChecksRecord, FitRecord, MeasureSettings, PlanRecord,
-    STAGE_MAIN, STAGE_PROBE,
+    measured_samples, probe_samples, simulated_truth, ChecksRecord, FitRecord, MeasureSettings,
+    PlanRecord, STAGE_MAIN, STAGE_PROBE,
 };
 use specula_visual::plot::raw_samples::RawSample;
 use specula_visual::report::{
@@ -59,6 +58,7 @@ impl Session {
         let mut predicted_s = 0.0;
         let mut last_unix_s: Option<f64> = None;
         let mut lower_bounds = 0;
+        let mut main = Vec::new();
         for stage in &status.stages {
             let plan = journal.plan(&stage.stage)?;
             predicted_s += plan.iter().map(|row| row.predicted_s).sum::<f64>();
@@ -70,14 +70,9 @@ impl Session {
             }
             if stage.stage == STAGE_MAIN {
                 lower_bounds = samples.values().filter(|s| s.lower_bound).count();
+                main = measured_samples(&plan, &samples);
             }
         }
-        let main_done = stage(&status, STAGE_MAIN).map_or(0, |s| s.done);
-        let main = if main_done > 0 {
-            session_samples(path)?
-        } else {
-            Vec::new()
-        };
         let device = journal
             .meta::<String>("device")?
             .map(|text| Device::from_toml_str(&text, &path.display().to_string()))
