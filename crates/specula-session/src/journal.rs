@@ -109,10 +109,12 @@ CREATE TABLE IF NOT EXISTS events (
 /// Why the journal cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum JournalError {
-    #[error("{path}: {source}")]
+    /// The cause is in the message, not an error `source`, so that error chains do not
+    /// print it again (as `MerlError` in specula-core).
+    #[error("{path}: {cause}")]
     Sqlite {
         path: String,
-        source: rusqlite::Error,
+        cause: rusqlite::Error,
     },
     #[error("{path}: journal schema version {found}, this specula reads version {expected}")]
     Version {
@@ -122,10 +124,10 @@ pub enum JournalError {
     },
     #[error("{path}: another specula process is writing this session (lock file {lock})")]
     Locked { path: String, lock: String },
-    #[error("{path}: cannot create the lock file: {source}")]
+    #[error("{path}: cannot create the lock file: {cause}")]
     Lock {
         path: String,
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     #[error("{path}: not a specula session journal (no schema version)")]
     NotAJournal { path: String },
@@ -687,10 +689,10 @@ impl Journal {
     }
 }
 
-fn sql_error(path: &Path, source: rusqlite::Error) -> JournalError {
+fn sql_error(path: &Path, cause: rusqlite::Error) -> JournalError {
     JournalError::Sqlite {
         path: path.display().to_string(),
-        source,
+        cause,
     }
 }
 
@@ -705,9 +707,9 @@ fn take_lock(path: &Path) -> Result<File, JournalError> {
         .truncate(false)
         .write(true)
         .open(&lock_path)
-        .map_err(|source| JournalError::Lock {
+        .map_err(|cause| JournalError::Lock {
             path: path.display().to_string(),
-            source,
+            cause,
         })?;
     // A few tries: a child process forked by another thread of this process holds a copy
     // of a just-closed lock until it execs (the descriptor is close-on-exec).
@@ -715,10 +717,10 @@ fn take_lock(path: &Path) -> Result<File, JournalError> {
         match file.try_lock() {
             Ok(()) => return Ok(file),
             Err(std::fs::TryLockError::WouldBlock) => std::thread::sleep(LOCK_PAUSE),
-            Err(std::fs::TryLockError::Error(source)) => {
+            Err(std::fs::TryLockError::Error(cause)) => {
                 return Err(JournalError::Lock {
                     path: path.display().to_string(),
-                    source,
+                    cause,
                 })
             }
         }
