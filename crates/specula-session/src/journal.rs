@@ -109,8 +109,8 @@ CREATE TABLE IF NOT EXISTS events (
 /// Why the journal cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum JournalError {
-    /// The cause is in the message, not an error `source`, so that error chains do not
-    /// print it again (as `MerlError` in specula-core).
+    /// Causes are in the messages, not error `source`s, so that error chains do not print
+    /// them again (as `MerlError` in specula-core).
     #[error("{path}: {cause}")]
     Sqlite {
         path: String,
@@ -125,17 +125,14 @@ pub enum JournalError {
     #[error("{path}: another specula process is writing this session (lock file {lock})")]
     Locked { path: String, lock: String },
     #[error("{path}: cannot create the lock file: {cause}")]
-    Lock {
-        path: String,
-        cause: std::io::Error,
-    },
+    Lock { path: String, cause: std::io::Error },
     #[error("{path}: not a specula session journal (no schema version)")]
     NotAJournal { path: String },
-    #[error("{path}: meta '{key}' holds unreadable JSON: {source}")]
+    #[error("{path}: meta '{key}' holds unreadable JSON: {cause}")]
     Json {
         path: String,
         key: String,
-        source: serde_json::Error,
+        cause: serde_json::Error,
     },
     #[error("{path}: the {stage} plan in the journal differs from the one asked for ({problem}); use a new --session file for a different measurement")]
     PlanMismatch {
@@ -394,10 +391,10 @@ impl Journal {
         key: &str,
         value: &T,
     ) -> Result<(), JournalError> {
-        let text = serde_json::to_string(value).map_err(|source| JournalError::Json {
+        let text = serde_json::to_string(value).map_err(|cause| JournalError::Json {
             path: self.name(),
             key: key.to_string(),
-            source,
+            cause,
         })?;
         self.conn
             .execute(
@@ -419,10 +416,10 @@ impl Journal {
             .optional()
             .map_err(|e| self.err(e))?;
         text.map(|t| {
-            serde_json::from_str(&t).map_err(|source| JournalError::Json {
+            serde_json::from_str(&t).map_err(|cause| JournalError::Json {
                 path: self.name(),
                 key: key.to_string(),
-                source,
+                cause,
             })
         })
         .transpose()
