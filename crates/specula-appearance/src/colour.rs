@@ -20,8 +20,9 @@
 //! `palette` crate.
 
 use palette::color_difference::Ciede2000;
+use palette::convert::FromColorUnclamped;
 use palette::white_point::D65;
-use palette::{FromColor, Lab, LinSrgb};
+use palette::{Lab, LinSrgb, Xyz};
 use specula_core::{Brdf, Rgb};
 use std::f64::consts::PI;
 
@@ -45,9 +46,10 @@ pub fn reading_directions(aspecular_deg: f64) -> (glam::DVec3, glam::DVec3) {
 }
 
 /// CIELAB under D65 of a reflectance factor given as linear sRGB (see the module
-/// documentation).
+/// documentation). Not clamped: near the specular an effect coating's L* exceeds 100.
 pub fn lab_of_reflectance(rgb: Rgb) -> LabD65 {
-    let lab: Lab<D65, f64> = Lab::from_color(LinSrgb::new(rgb.x, rgb.y, rgb.z));
+    let xyz: Xyz<D65, f64> = Xyz::from_color_unclamped(LinSrgb::new(rgb.x, rgb.y, rgb.z));
+    let lab: Lab<D65, f64> = Lab::from_color_unclamped(xyz);
     [lab.l, lab.a, lab.b]
 }
 

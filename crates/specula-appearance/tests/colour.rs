@@ -56,6 +56,13 @@ fn cielab_of_known_reflectances() {
         (grey[0] - expected).abs() < 1e-4 && grey[1].abs() < 1e-4,
         "{grey:?}"
     );
+    // Brighter than the white diffuser, as effect coatings are near the specular: L* goes on
+    // above 100 (116 2^(1/3) - 16 for twice the white), not clamped.
+    let bright = colour::lab_of_reflectance(Rgb::splat(2.0));
+    assert!(
+        (bright[0] - (116.0 * 2f64.cbrt() - 16.0)).abs() < 1e-3,
+        "{bright:?}"
+    );
     // Pure sRGB red: CIELAB (53.24, 80.09, 67.20), the commonly tabulated value.
     let red = colour::lab_of_reflectance(Rgb::new(1.0, 0.0, 0.0));
     for (got, want) in red.iter().zip([53.24, 80.09, 67.20]) {

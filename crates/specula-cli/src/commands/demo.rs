@@ -145,6 +145,15 @@ fn pictures(dir: &Path, name: &str, table: &Path, session: &Path) -> Result<Vec<
     }
     report.write(&args.out)?;
     files.push(args.out);
+    for table in &report.tables {
+        for row in table.rows.iter().filter(|r| {
+            ["gloss", "haze", "DOI", "dE00", "flop"]
+                .iter()
+                .any(|key| r[0].starts_with(key))
+        }) {
+            println!("{name} {}: {}", row[0], row[1..].join(" / "));
+        }
+    }
     for row in report.errors.iter().flat_map(|e| &e.rows) {
         println!(
             "{name} against its truth, {}: relative RMSE {:.4}, log RMSE {:.4}",

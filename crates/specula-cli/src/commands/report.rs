@@ -159,6 +159,16 @@ fn table_report(args: &Args) -> Result<Report> {
             args.truth.as_deref().unwrap_or(""),
         ));
     }
+    report.tables.push(super::appearance::report_section(
+        truth
+            .as_ref()
+            .map(|t| (args.truth.as_deref().unwrap_or(""), t.as_ref())),
+        (&name, &table),
+        specula_appearance::Options {
+            extrapolated: super::appearance::extrapolated_cells(&args.input.to_string_lossy())?,
+            resolution_deg: None,
+        },
+    ));
     report
         .figures
         .extend(renders(&table, truth.as_deref(), args)?);

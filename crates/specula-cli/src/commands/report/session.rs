@@ -6,9 +6,13 @@ use super::{
     errors, generator, peak_fact, probe_figure, provenance_rows, raw_samples_figure, renders,
     slice_figures, Args, PLACED_SAMPLES,
 };
+use crate::commands::appearance;
 use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::InstrumentInfo;
+use specula_acquisition::simulator::optics::LightDisk;
+use specula_appearance::aperture::ExtrapolatedCells;
+use specula_appearance::Options;
 use specula_core::merl::CELLS;
 use specula_core::{MerlBrdf, Rgb};
 use specula_formats::BrdfSource;
@@ -389,6 +393,8 @@ struct Shown {
     table: MerlBrdf,
     rows: Vec<(String, usize, usize)>,
     origin: String,
+    /// The cells the reconstruction extrapolated, when known.
+    extrapolated: Option<ExtrapolatedCells>,
 }
 
 fn shown_table(
@@ -403,6 +409,7 @@ fn shown_table(
             rows: super::coverage_rows(&table, path)?,
             table,
             origin: format!("{} (--table)", path.display()),
+            extrapolated: appearance::extrapolated_cells(&path.to_string_lossy())?,
         }));
     }
     if session.main.is_empty() {
@@ -433,6 +440,7 @@ fn shown_table(
             )];
             rows.extend(provenance_rows(&r.provenance));
             Ok(Some(Shown {
+                extrapolated: appearance::extrapolated_cells_of(&r.provenance),
                 table: r.brdf,
                 rows,
                 origin: format!(
@@ -480,6 +488,21 @@ pub(crate) fn report(args: &Args) -> Result<Report> {
         if let Some((label, brdf)) = &truth {
             report.errors = Some(errors(&shown.table, brdf.as_ref(), label));
         }
+        let resolution_deg = session.device.as_ref().map(|d| {
+            LightDisk::new(d.light.beam.end_radius_m, d.light.distance_m, 1)
+                .half_angle_rad
+                .to_degrees()
+        });
+        report.tables.push(appearance::report_section(
+            truth
+                .as_ref()
+                .map(|(label, brdf)| (label.as_str(), brdf.as_ref())),
+            (&format!("{name}, measured"), &shown.table),
+            Options {
+                extrapolated: shown.extrapolated.clone(),
+                resolution_deg,
+            },
+        ));
         report
             .figures
             .extend(renders(&shown.table, truth_brdf, args)?);
