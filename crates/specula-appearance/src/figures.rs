@@ -306,28 +306,25 @@ pub fn csv_row(
     row
 }
 
-/// The rows of the text table, one per figure: `(label, value per material)`; with a
-/// reference, each value is followed by its difference in brackets.
-pub fn text_rows(
-    figures: &[&Appearance],
-    differences: Option<&[Differences]>,
-) -> Vec<(String, Vec<String>)> {
+/// The rows of the text table, one per figure: its label, then its value per material;
+/// with a reference, each value is followed by its difference in brackets.
+pub fn text_rows(figures: &[&Appearance], differences: Option<&[Differences]>) -> Vec<Vec<String>> {
     let show = |value: Option<f64>, delta: Option<f64>| match (value, delta) {
         (Some(v), Some(d)) => format!("{v:.2} ({d:+.2})"),
         (Some(v), None) => format!("{v:.2}"),
         (None, Some(d)) => format!("{d:.2}"),
         (None, None) => "n/a".to_string(),
     };
-    let mut rows: Vec<(String, Vec<String>)> = Vec::new();
+    let mut rows: Vec<Vec<String>> = Vec::new();
     let mut add = |label: String,
                    value: &dyn Fn(&Appearance) -> Option<f64>,
                    delta: &dyn Fn(&Differences) -> Option<f64>| {
-        let cells = figures
+        let cells: Vec<String> = figures
             .iter()
             .enumerate()
             .map(|(i, f)| show(value(f), differences.and_then(|d| delta(&d[i]))))
             .collect();
-        rows.push((label, cells));
+        rows.push(std::iter::once(label).chain(cells).collect());
     };
     for (k, g) in GEOMETRIES.iter().enumerate() {
         add(

@@ -235,11 +235,11 @@ fn gloss_falls_and_haze_rises_with_roughness() {
         .collect();
     for (pair, alpha) in figures.windows(2).zip(alphas.windows(2)) {
         let (smoother, rougher) = (&pair[0], &pair[1]);
-        for k in 0..3 {
+        for (k, geometry) in GEOMETRIES.iter().enumerate() {
             assert!(
                 rougher.gloss[k] < smoother.gloss[k],
                 "gloss {} deg: alpha {} -> {}: {} -> {}",
-                GEOMETRIES[k].angle_deg,
+                geometry.angle_deg,
                 alpha[0],
                 alpha[1],
                 smoother.gloss[k],

@@ -142,11 +142,7 @@ fn text_table(
     let mut header = vec![String::new()];
     header.extend(sources.iter().cloned());
     let mut table = vec![header];
-    table.extend(rows.into_iter().map(|(label, cells)| {
-        let mut row = vec![label];
-        row.extend(cells);
-        row
-    }));
+    table.extend(rows);
     let widths: Vec<usize> = (0..table[0].len())
         .map(|c| {
             table
@@ -206,14 +202,7 @@ pub fn report_section(
     TableSection {
         title: "Appearance".into(),
         header,
-        rows: text_rows(&refs, differences.as_deref())
-            .into_iter()
-            .map(|(label, cells)| {
-                let mut row = vec![label];
-                row.extend(cells);
-                row
-            })
-            .collect(),
+        rows: text_rows(&refs, differences.as_deref()),
         notes,
     }
 }
