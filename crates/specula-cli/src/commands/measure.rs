@@ -1,11 +1,12 @@
 //! `specula measure`: the paper's whole measurement in one command, resumable.
 
 use super::grid_args::GridArgs;
+use crate::interrupt::stop_on_ctrl_c;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
-use specula_session::engine::{stop_on_ctrl_c, Progress, StageOutcome};
+use specula_session::engine::{Progress, StageOutcome};
 use specula_session::protocol::{ClientSettings, Endpoint};
 use specula_session::workflow::{
     default_session_path, measure, summary_path, HdrChoice, MeasureOutcome, MeasureSettings,

@@ -2,11 +2,12 @@
 //! k-hat of paper 5.2, the plan of 5.3 and the samples measured of it, the device time), the
 //! table reconstructed from its samples, and the error against the truth it simulated.
 
-use super::{
-    errors, generator, peak_fact, probe_figure, provenance_rows, raw_samples_figure, renders,
-    slice_figures, Args, PLACED_SAMPLES,
+use crate::error::{OrReport, ReportError};
+use crate::figures::{
+    coverage_rows, errors, peak_fact, probe_figure, provenance_rows, raw_samples_figure, renders,
+    slice_figures,
 };
-use anyhow::{Context, Result};
+use crate::{generator, Progress, ReportOptions, PLACED_SAMPLES};
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::InstrumentInfo;
 use specula_core::merl::CELLS;
@@ -52,17 +53,17 @@ struct Session {
 }
 
 impl Session {
-    fn read(path: &Path) -> Result<Self> {
-        let journal = Journal::open_read_only(path)?;
-        let status = journal.status()?;
+    fn read(path: &Path) -> Result<Self, ReportError> {
+        let journal = Journal::open_read_only(path).or_report()?;
+        let status = journal.status().or_report()?;
         let mut predicted_s = 0.0;
         let mut last_unix_s: Option<f64> = None;
         let mut lower_bounds = 0;
         let mut main = Vec::new();
         for stage in &status.stages {
-            let plan = journal.plan(&stage.stage)?;
+            let plan = journal.plan(&stage.stage).or_report()?;
             predicted_s += plan.iter().map(|row| row.predicted_s).sum::<f64>();
-            let samples = journal.samples(&stage.stage)?;
+            let samples = journal.samples(&stage.stage).or_report()?;
             for sample in samples.values() {
                 last_unix_s = Some(
                     last_unix_s.map_or(sample.finished_unix_s, |t| t.max(sample.finished_unix_s)),
@@ -74,26 +75,29 @@ impl Session {
             }
         }
         let device = journal
-            .meta::<String>("device")?
+            .meta::<String>("device")
+            .or_report()?
             .map(|text| Device::from_toml_str(&text, &path.display().to_string()))
-            .transpose()?;
+            .transpose()
+            .or_report()?;
         Ok(Session {
             path: path.to_path_buf(),
-            source: journal.meta("source")?,
-            settings: journal.meta("settings")?,
+            source: journal.meta("source").or_report()?,
+            settings: journal.meta("settings").or_report()?,
             device,
-            instrument: journal.meta("instrument")?,
-            version: journal.meta("specula_version")?,
-            created_unix_s: journal.meta("created_unix_s")?,
-            checks: journal.meta("checks")?,
-            fit: journal.meta("fit")?,
-            plan: journal.meta("plan")?,
+            instrument: journal.meta("instrument").or_report()?,
+            version: journal.meta("specula_version").or_report()?,
+            created_unix_s: journal.meta("created_unix_s").or_report()?,
+            checks: journal.meta("checks").or_report()?,
+            fit: journal.meta("fit").or_report()?,
+            plan: journal.meta("plan").or_report()?,
             predicted_s,
             last_unix_s,
             lower_bounds,
-            probe: probe_samples(&journal)?,
+            probe: probe_samples(&journal).or_report()?,
             probe_phi_h_deg: journal
-                .plan(STAGE_PROBE)?
+                .plan(STAGE_PROBE)
+                .or_report()?
                 .first()
                 .map(|row| row.hd.phi_h.to_degrees()),
             main,
@@ -358,12 +362,15 @@ fn utc_text(unix_s: f64) -> String {
 
 /// The truth to compare with: --truth, else the one a simulated session measured.
 fn truth(
-    args: &Args,
+    options: &ReportOptions,
     session: &Session,
     notes: &mut Vec<String>,
-) -> Result<Option<(String, BrdfSource)>> {
-    if let Some(spec) = &args.truth {
-        return Ok(Some((spec.clone(), specula_formats::load_brdf(spec)?)));
+) -> Result<Option<(String, BrdfSource)>, ReportError> {
+    if let Some(spec) = &options.truth {
+        return Ok(Some((
+            spec.clone(),
+            specula_formats::load_brdf(spec).or_report()?,
+        )));
     }
     let Some(name) = session.simulated_truth() else {
         return Ok(None);
@@ -392,15 +399,16 @@ struct Shown {
 }
 
 fn shown_table(
-    args: &Args,
+    options: &ReportOptions,
     session: &Session,
     name: &str,
     notes: &mut Vec<String>,
-) -> Result<Option<Shown>> {
-    if let Some(path) = &args.table {
-        let table = MerlBrdf::read(path)?;
+    progress: &dyn Progress,
+) -> Result<Option<Shown>, ReportError> {
+    if let Some(path) = &options.table {
+        let table = MerlBrdf::read(path).or_report()?;
         return Ok(Some(Shown {
-            rows: super::coverage_rows(&table, path)?,
+            rows: coverage_rows(&table, path)?,
             table,
             origin: format!("{} (--table)", path.display()),
         }));
@@ -414,16 +422,15 @@ fn shown_table(
         return Ok(None);
     }
     let method: Method = match &session.settings {
-        Some(s) => s
-            .method
-            .parse()
-            .map_err(anyhow::Error::msg)
-            .with_context(|| session.path.display().to_string())?,
+        Some(s) => s.method.parse().map_err(|reason| ReportError::Method {
+            path: session.path.clone(),
+            reason,
+        })?,
         None => Method::LOBE,
     };
-    let spinner = crate::progress::spinner("reconstructing");
+    progress.start("reconstructing", None);
     let result = reconstruct(&session.main, method, &format!("{name}, measured"));
-    spinner.finish_and_clear();
+    progress.finish();
     match result {
         Ok(r) => {
             let mut rows = vec![(
@@ -451,19 +458,22 @@ fn shown_table(
     }
 }
 
-/// The report of the session journal `args.input` (`specula report`, and the demo's).
-pub(crate) fn report(args: &Args) -> Result<Report> {
-    let session = Session::read(&args.input)?;
+/// The report of the session journal `options.input` (`specula report`, and the demo's).
+pub(crate) fn report(
+    options: &ReportOptions,
+    progress: &dyn Progress,
+) -> Result<Report, ReportError> {
+    let session = Session::read(&options.input)?;
     let name = session.material_name();
     let mut notes: Vec<String> = session.progress_note().into_iter().collect();
-    let truth = truth(args, &session, &mut notes)?;
-    let shown = shown_table(args, &session, &name, &mut notes)?;
+    let truth = truth(options, &session, &mut notes)?;
+    let shown = shown_table(options, &session, &name, &mut notes, progress)?;
     notes.extend(session.duration_note());
 
     let mut facts = session.facts();
     let mut coverage = session.coverage_rows();
     let mut report = Report {
-        title: args
+        title: options
             .title
             .clone()
             .unwrap_or_else(|| format!("Session report: {name}")),
@@ -478,11 +488,11 @@ pub(crate) fn report(args: &Args) -> Result<Report> {
         facts.extend(peak_fact(&shown.table));
         coverage.extend(shown.rows.iter().cloned());
         if let Some((label, brdf)) = &truth {
-            report.errors = Some(errors(&shown.table, brdf.as_ref(), label));
+            report.errors = Some(errors(&shown.table, brdf.as_ref(), label, progress));
         }
         report
             .figures
-            .extend(renders(&shown.table, truth_brdf, args)?);
+            .extend(renders(&shown.table, truth_brdf, options, progress)?);
         report
             .figures
             .extend(slice_figures(&shown.table, truth_brdf)?);
@@ -505,12 +515,12 @@ pub(crate) fn report(args: &Args) -> Result<Report> {
         report.figures.push(raw_samples_figure(
             &raw,
             &format!("{name}: measured samples"),
-            &format!("the main stage of {}", args.input.display()),
+            &format!("the main stage of {}", options.input.display()),
         )?);
     }
     report.material = Some(MaterialSection {
         name,
-        source: args.input.display().to_string(),
+        source: options.input.display().to_string(),
         facts,
     });
     report.coverage = Some(CoverageSection { rows: coverage });
