@@ -12,14 +12,6 @@ pub enum ReportError {
     /// The options do not fit together or lie out of range.
     #[error("{0}")]
     Options(&'static str),
-    /// The session's reconstruction method is not one the reconstruction knows.
-    #[error("{}: {reason}", path.display())]
-    Method {
-        /// The session journal.
-        path: PathBuf,
-        /// Why the method was refused.
-        reason: String,
-    },
     /// A file of the report could not be written.
     #[error("{}: cannot write", path.display())]
     Write {

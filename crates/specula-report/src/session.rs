@@ -14,10 +14,11 @@ use specula_core::merl::CELLS;
 use specula_core::{MerlBrdf, Rgb};
 use specula_formats::BrdfSource;
 use specula_reconstruct::{reconstruct, Method, Sample};
-use specula_session::journal::{Journal, SessionStatus, StageStatus};
+use specula_session::journal::{
+    Journal, SessionRecord, SessionStatus, SourceRecord, Stage, StageStatus,
+};
 use specula_session::workflow::{
-    measured_samples, probe_samples, simulated_truth, ChecksRecord, FitRecord, MeasureSettings,
-    PlanRecord, STAGE_MAIN, STAGE_PROBE,
+    measured_samples, probe_samples, ChecksRecord, FitRecord, MeasureSettings, PlanRecord,
 };
 use specula_visual::plot::raw_samples::RawSample;
 use specula_visual::report::{
@@ -28,8 +29,8 @@ use std::path::{Path, PathBuf};
 /// Everything the report reads from a session journal.
 struct Session {
     path: PathBuf,
-    /// What was measured: "simulated: NAME" or "device: ENDPOINT".
-    source: Option<String>,
+    /// What was measured.
+    source: Option<SourceRecord>,
     settings: Option<MeasureSettings>,
     device: Option<Device>,
     instrument: Option<InstrumentInfo>,
@@ -55,12 +56,12 @@ struct Session {
 impl Session {
     fn read(path: &Path) -> Result<Self, ReportError> {
         let journal = Journal::open_read_only(path).or_report()?;
-        let status = journal.status().or_report()?;
+        let record = SessionRecord::of(&journal).or_report()?;
         let mut predicted_s = 0.0;
         let mut last_unix_s: Option<f64> = None;
         let mut lower_bounds = 0;
         let mut main = Vec::new();
-        for stage in &status.stages {
+        for stage in &record.status.stages {
             let plan = journal.plan(&stage.stage).or_report()?;
             predicted_s += plan.iter().map(|row| row.predicted_s).sum::<f64>();
             let samples = journal.samples(&stage.stage).or_report()?;
@@ -69,45 +70,45 @@ impl Session {
                     last_unix_s.map_or(sample.finished_unix_s, |t| t.max(sample.finished_unix_s)),
                 );
             }
-            if stage.stage == STAGE_MAIN {
+            if Stage::from_name(&stage.stage) == Some(Stage::Main) {
                 lower_bounds = samples.values().filter(|s| s.lower_bound).count();
                 main = measured_samples(&plan, &samples);
             }
         }
-        let device = journal
-            .meta::<String>("device")
-            .or_report()?
-            .map(|text| Device::from_toml_str(&text, &path.display().to_string()))
+        let device = record
+            .device
+            .as_ref()
+            .map(|text| Device::from_toml_str(&text.0, &path.display().to_string()))
             .transpose()
             .or_report()?;
         Ok(Session {
             path: path.to_path_buf(),
-            source: journal.meta("source").or_report()?,
-            settings: journal.meta("settings").or_report()?,
+            source: record.source,
+            settings: record.settings,
             device,
-            instrument: journal.meta("instrument").or_report()?,
-            version: journal.meta("specula_version").or_report()?,
-            created_unix_s: journal.meta("created_unix_s").or_report()?,
-            checks: journal.meta("checks").or_report()?,
-            fit: journal.meta("fit").or_report()?,
-            plan: journal.meta("plan").or_report()?,
+            instrument: record.instrument,
+            version: record.version.map(|v| v.0),
+            created_unix_s: record.created_unix_s,
+            checks: record.checks,
+            fit: record.fit,
+            plan: record.plan,
             predicted_s,
             last_unix_s,
             lower_bounds,
             probe: probe_samples(&journal).or_report()?,
             probe_phi_h_deg: journal
-                .plan(STAGE_PROBE)
+                .plan(Stage::Probe.name())
                 .or_report()?
                 .first()
                 .map(|row| row.hd.phi_h.to_degrees()),
             main,
-            status,
+            status: record.status,
         })
     }
 
     /// The name of the truth a simulated session measured.
     fn simulated_truth(&self) -> Option<&str> {
-        simulated_truth(self.source.as_deref()?)
+        self.source.as_ref()?.simulated_truth()
     }
 
     /// The measured material's name: the simulated truth's, else the journal's file name.
@@ -131,7 +132,7 @@ impl Session {
 
     /// Every planned stage, the main one among them, is wholly measured.
     fn measured_completely(&self) -> bool {
-        stage(&self.status, STAGE_MAIN).is_some()
+        stage(&self.status, Stage::Main).is_some()
             && self.status.stages.iter().all(|s| s.done == s.planned)
     }
 
@@ -240,8 +241,8 @@ impl Session {
                       what the journal holds so far.";
         Some(
             match (
-                stage(&self.status, STAGE_PROBE),
-                stage(&self.status, STAGE_MAIN),
+                stage(&self.status, Stage::Probe),
+                stage(&self.status, Stage::Main),
             ) {
                 (_, Some(main)) => format!(
                     "This session is incomplete: {} of {} planned samples of the main stage are \
@@ -268,7 +269,7 @@ impl Session {
         let mut fact = |label: &str, value: String| facts.push((label.to_string(), value));
         fact("state", self.state());
         if let Some(source) = &self.source {
-            fact("measured", source.clone());
+            fact("measured", source.to_string());
         }
         if let Some(device) = &self.device {
             fact("device model", device.name.clone());
@@ -292,7 +293,7 @@ impl Session {
                 ),
             );
         }
-        if let Some(main) = stage(&self.status, STAGE_MAIN) {
+        if let Some(main) = stage(&self.status, Stage::Main) {
             fact(
                 "captures",
                 format!(
@@ -328,8 +329,8 @@ impl Session {
 }
 
 /// The status of one stage, if it has a plan.
-fn stage<'a>(status: &'a SessionStatus, name: &str) -> Option<&'a StageStatus> {
-    status.stages.iter().find(|s| s.stage == name)
+fn stage(status: &SessionStatus, stage: Stage) -> Option<&StageStatus> {
+    status.stages.iter().find(|s| s.stage == stage.name())
 }
 
 fn settings_text(s: &MeasureSettings) -> String {
@@ -421,13 +422,7 @@ fn shown_table(
         );
         return Ok(None);
     }
-    let method: Method = match &session.settings {
-        Some(s) => s.method.parse().map_err(|reason| ReportError::Method {
-            path: session.path.clone(),
-            reason,
-        })?,
-        None => Method::LOBE,
-    };
+    let method = session.settings.as_ref().map_or(Method::LOBE, |s| s.method);
     progress.start("reconstructing", None);
     let result = reconstruct(&session.main, method, &format!("{name}, measured"));
     progress.finish();

@@ -148,7 +148,10 @@ impl Args {
                 HdrArg::Predicted => HdrChoice::Predicted,
                 HdrArg::Bracket => HdrChoice::Bracket,
             },
-            method: self.method.clone(),
+            method: self
+                .method
+                .parse()
+                .unwrap_or(specula_reconstruct::Method::LOBE),
             checks: !self.skip_checks,
             tilt_deg: self.tilt,
             tilt_azimuth_deg: self.tilt_azimuth,
