@@ -1,4 +1,4 @@
-//! `convert` between MERL, UTIA, RGL (input) and samples CSV: resampling at the target's
+//! `convert` between MERL, UTIA, RGL and samples CSV: resampling at the target's
 //! nodes, provenance of unmeasured cells, exact same-format copies, detection by content.
 
 mod common;
@@ -10,7 +10,7 @@ use specula_core::{Brdf, MerlBrdf};
 use specula_formats::convert::{convert, ConvertOptions, CsvGrid, FileFormat};
 use specula_formats::lafortune::Lafortune;
 use specula_formats::load_brdf;
-use specula_formats::rgl::RglBsdf;
+use specula_formats::rgl::{RglBsdf, RglResolution};
 use specula_formats::samples_csv::SampleSet;
 use specula_formats::utia::{Node, UtiaBrdf, NODES};
 use std::path::Path;
@@ -18,6 +18,7 @@ use std::path::Path;
 const OPTIONS: ConvertOptions = ConvertOptions {
     phi_h_rad: std::f64::consts::FRAC_PI_4,
     csv_grid: CsvGrid::Merl,
+    rgl: RglResolution::DEFAULT,
 };
 
 fn run(input: &Path, output: &Path) -> specula_formats::convert::Conversion {
@@ -159,10 +160,11 @@ fn rgl_converts_to_every_writable_format() {
     let c = convert(source.to_str().unwrap(), &p("rgl.csv"), &on_utia_nodes).unwrap();
     assert_eq!(c.measured, NODES);
 
-    let err = convert(source.to_str().unwrap(), &p("copy.bsdf"), &OPTIONS)
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("input-only"), "{err}");
+    let c = convert(source.to_str().unwrap(), &p("copy.bsdf"), &OPTIONS).unwrap();
+    assert_eq!((c.target, c.not_measured), (FileFormat::Rgl, 0));
+    assert!(c.measured > 0 && c.measured <= 16 * 64 * 64);
+    let back = RglBsdf::read(&p("copy.bsdf")).unwrap();
+    assert!(back.description().contains("cc_iris_purple_gem_rgb"));
     let err = convert(source.to_str().unwrap(), &p("x.exr"), &OPTIONS)
         .unwrap_err()
         .to_string();
