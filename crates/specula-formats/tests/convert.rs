@@ -203,3 +203,42 @@ fn fits_convert_and_files_are_recognised_by_content() {
         assert!(!brdf.name().is_empty());
     }
 }
+
+/// MERL -> RGL: the RGL nodes at unmeasured direction pairs are counted and filled from the
+/// nearest measured node, so the file renders everywhere; measured pairs keep their values.
+#[test]
+fn rgl_output_fills_and_counts_unmeasured_nodes() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name);
+    let original = merl_with_hole();
+    original.write(&p("a.binary")).unwrap();
+    let small = ConvertOptions {
+        rgl: RglResolution {
+            elevations: 8,
+            ndf_size: 64,
+            sample_size: 16,
+        },
+        ..OPTIONS
+    };
+    let c = convert(p("a.binary").to_str().unwrap(), &p("a.bsdf"), &small).unwrap();
+    assert_eq!(c.target, FileFormat::Rgl);
+    assert!(c.not_measured > 100 && c.measured > 100, "{c:?}");
+    assert!(c.measured + c.not_measured <= 8 * 16 * 16);
+    let rgl = RglBsdf::read(&p("a.bsdf")).unwrap();
+    // theta_d = 30 deg is not measured in the source; the file holds a filled, positive value.
+    let (wi, wo) = specula_core::HalfDiff::from_degrees(5.0, 0.0, 30.0, 90.0).to_directions();
+    assert!(original.eval(wi, wo).is_none());
+    assert!(rgl.eval(wi, wo).unwrap().min_element() > 0.0);
+
+    let bad = ConvertOptions {
+        rgl: RglResolution {
+            sample_size: 3,
+            ..RglResolution::DEFAULT
+        },
+        ..OPTIONS
+    };
+    let err = convert(p("a.binary").to_str().unwrap(), &p("b.bsdf"), &bad)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("sample size = 3 is out of range"), "{err}");
+}

@@ -10,9 +10,13 @@
 //! 2. Mitsuba's value of the written file agrees with Specula's evaluation of the source where
 //!    the BRDF matters: at the values whose `f_r cos(theta_o)` is at least [`SIGNIFICANT`] of
 //!    the material's largest, the mean relative difference weighted by `f_r cos(theta_o)`
-//!    (what a render integrates) and the median are within the bounds below, which are the
-//!    format's own interpolation error at the default resolution (bilinear over the warped
-//!    sample grid, linear between the 16 elevations).
+//!    (what a render integrates), the median and the 90th percentile; and the weighted mean
+//!    over all 2100 pairs (the diffuse and tail values too). The bounds are about twice the
+//!    figures measured (README, "Rendering in Mitsuba 3 and pbrt-v4"): the format's own
+//!    interpolation error at the default resolution (bilinear over each elevation's warped
+//!    sample grid, linear between the 16 elevations), largest for the paint, whose sharp coat
+//!    gets few samples near grazing incidence because its diffuse base spreads the
+//!    retro-reflection's distribution over the hemisphere.
 
 mod common;
 
@@ -40,6 +44,8 @@ struct Vector {
 /// Agreement of Mitsuba with the source over the significant values.
 #[derive(Debug)]
 struct Agreement {
+    /// Weighted mean relative difference over every pair.
+    weighted_mean_all: f64,
     compared: usize,
     weighted_mean: f64,
     median: f64,
@@ -74,6 +80,8 @@ fn check(material: &str, source: &str) -> Agreement {
         rows.push((luminance(truth) * wo.z, luminance(mitsuba) * wo.z));
     }
     assert!(rows.len() >= 2000, "{material}: only {} vectors", rows.len());
+    let weighted_mean_all = rows.iter().map(|(t, m)| (m - t).abs()).sum::<f64>()
+        / rows.iter().map(|(t, _)| t).sum::<f64>();
     let peak = rows.iter().map(|r| r.0).fold(0.0, f64::max);
     let significant: Vec<(f64, f64)> = rows
         .into_iter()
@@ -87,6 +95,7 @@ fn check(material: &str, source: &str) -> Agreement {
         .collect();
     relative.sort_by(f64::total_cmp);
     let agreement = Agreement {
+        weighted_mean_all,
         compared: relative.len(),
         weighted_mean,
         median: relative[relative.len() / 2],
@@ -99,15 +108,17 @@ fn check(material: &str, source: &str) -> Agreement {
 #[test]
 fn sharp_conductor_agrees_with_mitsuba() {
     let a = check("chrome", "chrome");
-    assert!(a.compared >= 500, "{a:?}");
-    assert!(a.weighted_mean < 0.02 && a.median < 0.01 && a.p90 < 0.03, "{a:?}");
+    assert!(a.compared >= 300, "{a:?}");
+    assert!(a.weighted_mean < 0.005 && a.median < 0.002 && a.p90 < 0.01, "{a:?}");
+    assert!(a.weighted_mean_all < 0.01, "{a:?}");
 }
 
 #[test]
 fn green_paint_agrees_with_mitsuba() {
     let a = check("green-paint", "green-paint");
-    assert!(a.compared >= 500, "{a:?}");
-    assert!(a.weighted_mean < 0.05 && a.median < 0.02 && a.p90 < 0.06, "{a:?}");
+    assert!(a.compared >= 200, "{a:?}");
+    assert!(a.weighted_mean < 0.06 && a.median < 0.025 && a.p90 < 0.08, "{a:?}");
+    assert!(a.weighted_mean_all < 0.06, "{a:?}");
 }
 
 #[test]
@@ -122,5 +133,6 @@ fn real_rgl_file_round_trips_through_mitsuba() {
     }
     let a = check("cc_ibiza_sunset_rgb", file.to_str().unwrap());
     assert!(a.compared >= 500, "{a:?}");
-    assert!(a.weighted_mean < 0.02 && a.median < 0.01 && a.p90 < 0.03, "{a:?}");
+    assert!(a.weighted_mean < 0.03 && a.median < 0.005 && a.p90 < 0.04, "{a:?}");
+    assert!(a.weighted_mean_all < 0.03, "{a:?}");
 }

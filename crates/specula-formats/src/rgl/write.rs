@@ -20,7 +20,8 @@
 //!    every direction stays reachable.
 //! 5. `valid`: one bit per `rgb` node (`[T][row][column]`, most significant bit first, as the
 //!    RGL files pack it): 0 where `wo` falls below the horizon (stored 0) or the source has not
-//!    measured `f_r` (stored as the nearest measured node of the same slice, in grid steps).
+//!    measured `f_r` (stored as the nearest measured node of the same slice, in grid steps, or
+//!    when the slice has none, the same node of the nearest slice that has).
 //! 6. `theta_i` (radians), `phi_i = [0]`, `description`, `jacobian = [1]`, `version = [1, 0]`.
 //!
 //! The source is evaluated with `wi` in the plane `phi_i = 0`; an anisotropic source is thus
@@ -91,8 +92,8 @@ pub enum RglWriteError {
     },
     #[error("{brdf}: the retro-reflection is zero or not measured at every elevation, so no microfacet distribution can be derived from it")]
     NoRetroReflection { brdf: String },
-    #[error("{brdf}: elevation slice {slice} has no measured value above the horizon")]
-    EmptySlice { brdf: String, slice: usize },
+    #[error("{brdf}: no direction pair of the RGL sample grid is measured")]
+    NothingMeasured { brdf: String },
     #[error("{}: cannot write: {source}", path.display())]
     Io {
         path: PathBuf,
@@ -122,10 +123,32 @@ pub struct RglTables {
     pub ndf_iterations: usize,
 }
 
-/// One elevation slice's samples, before hole filling.
+/// One elevation slice's samples, before hole filling: `None` where not measured.
 struct Slice {
     rgb: Vec<Option<[f64; 3]>>,
     below_horizon: Vec<bool>,
+}
+
+impl Slice {
+    /// The values with each unmeasured node taken from the nearest measured node above the
+    /// horizon (in grid steps); `None` when there is none.
+    fn filled(&self, size: usize) -> Option<Vec<[f64; 3]>> {
+        let measured: Vec<usize> = (0..self.rgb.len())
+            .filter(|i| self.rgb[*i].is_some() && !self.below_horizon[*i])
+            .collect();
+        if measured.is_empty() {
+            return None;
+        }
+        Some(
+            (0..self.rgb.len())
+                .map(|i| {
+                    self.rgb[i].unwrap_or_else(|| {
+                        self.rgb[nearest(&measured, i, size)].expect("a measured node")
+                    })
+                })
+                .collect(),
+        )
+    }
 }
 
 impl RglTables {
@@ -189,41 +212,38 @@ impl RglTables {
             retro_not_measured: retro.not_measured,
             ndf_iterations: retro.iterations,
         };
-        for (k, slice) in slices.into_iter().enumerate() {
-            tables.push_slice(slice, s_count).ok_or(RglWriteError::EmptySlice {
-                brdf: brdf.name(),
-                slice: k,
-            })?;
+        let filled: Vec<Option<Vec<[f64; 3]>>> =
+            slices.iter().map(|slice| slice.filled(s_count)).collect();
+        let donors: Vec<usize> = (0..t_count).filter(|k| filled[*k].is_some()).collect();
+        if donors.is_empty() {
+            return Err(RglWriteError::NothingMeasured { brdf: brdf.name() });
+        }
+        for (k, slice) in slices.iter().enumerate() {
+            let donor = *donors
+                .iter()
+                .min_by_key(|d| d.abs_diff(k))
+                .expect("at least one donor");
+            let values = filled[donor].as_ref().expect("a donor is filled");
+            tables.push_slice(slice, values);
         }
         Ok(tables)
     }
 
-    /// Adds a slice: holes filled, luminance and validity; `None` if nothing is measured.
-    fn push_slice(&mut self, slice: Slice, size: usize) -> Option<()> {
-        let measured: Vec<usize> = (0..slice.rgb.len())
-            .filter(|i| slice.rgb[*i].is_some() && !slice.below_horizon[*i])
-            .collect();
-        if measured.is_empty() {
-            return None;
-        }
-        let mut values = Vec::with_capacity(slice.rgb.len());
+    /// Adds a slice whose nodes hold `values` (its own, holes filled, or those of the nearest
+    /// slice with measured nodes): counts, validity, RGB and luminance.
+    fn push_slice(&mut self, slice: &Slice, values: &[[f64; 3]]) {
+        let mut stored = Vec::with_capacity(values.len());
         for (i, value) in slice.rgb.iter().enumerate() {
             let below = slice.below_horizon[i];
-            let filled = match value {
-                Some(v) => *v,
-                None => {
-                    self.not_measured += 1;
-                    slice.rgb[nearest(&measured, i, size)].expect("a measured node")
-                }
-            };
             self.below_horizon += usize::from(below);
+            self.not_measured += usize::from(value.is_none());
             self.valid.push(value.is_some() && !below);
-            values.push(filled);
+            stored.push(if below { [0.0; 3] } else { values[i] });
         }
         for channel in 0..3 {
-            self.rgb.extend(values.iter().map(|v| v[channel] as f32));
+            self.rgb.extend(stored.iter().map(|v| v[channel] as f32));
         }
-        let lum: Vec<f64> = values
+        let lum: Vec<f64> = stored
             .iter()
             .map(|v| luminance(DVec3::from_array(*v)).max(0.0))
             .collect();
@@ -231,7 +251,6 @@ impl RglTables {
         let floor = if peak > 0.0 { LUMINANCE_FLOOR * peak } else { 1.0 };
         self.luminance
             .extend(lum.iter().map(|v| v.max(floor) as f32));
-        Some(())
     }
 
     /// The table sizes.
