@@ -79,7 +79,11 @@ fn check(material: &str, source: &str) -> Agreement {
         let truth = brdf.eval(wi, wo).unwrap();
         rows.push((luminance(truth) * wo.z, luminance(mitsuba) * wo.z));
     }
-    assert!(rows.len() >= 2000, "{material}: only {} vectors", rows.len());
+    assert!(
+        rows.len() >= 2000,
+        "{material}: only {} vectors",
+        rows.len()
+    );
     let weighted_mean_all = rows.iter().map(|(t, m)| (m - t).abs()).sum::<f64>()
         / rows.iter().map(|(t, _)| t).sum::<f64>();
     let peak = rows.iter().map(|r| r.0).fold(0.0, f64::max);
@@ -89,10 +93,7 @@ fn check(material: &str, source: &str) -> Agreement {
         .collect();
     let weighted_mean = significant.iter().map(|(t, m)| (m - t).abs()).sum::<f64>()
         / significant.iter().map(|(t, _)| t).sum::<f64>();
-    let mut relative: Vec<f64> = significant
-        .iter()
-        .map(|(t, m)| (m - t).abs() / t)
-        .collect();
+    let mut relative: Vec<f64> = significant.iter().map(|(t, m)| (m - t).abs() / t).collect();
     relative.sort_by(f64::total_cmp);
     let agreement = Agreement {
         weighted_mean_all,
@@ -109,7 +110,10 @@ fn check(material: &str, source: &str) -> Agreement {
 fn sharp_conductor_agrees_with_mitsuba() {
     let a = check("chrome", "chrome");
     assert!(a.compared >= 300, "{a:?}");
-    assert!(a.weighted_mean < 0.005 && a.median < 0.002 && a.p90 < 0.01, "{a:?}");
+    assert!(
+        a.weighted_mean < 0.005 && a.median < 0.002 && a.p90 < 0.01,
+        "{a:?}"
+    );
     assert!(a.weighted_mean_all < 0.01, "{a:?}");
 }
 
@@ -117,7 +121,10 @@ fn sharp_conductor_agrees_with_mitsuba() {
 fn green_paint_agrees_with_mitsuba() {
     let a = check("green-paint", "green-paint");
     assert!(a.compared >= 200, "{a:?}");
-    assert!(a.weighted_mean < 0.06 && a.median < 0.025 && a.p90 < 0.08, "{a:?}");
+    assert!(
+        a.weighted_mean < 0.06 && a.median < 0.025 && a.p90 < 0.08,
+        "{a:?}"
+    );
     assert!(a.weighted_mean_all < 0.06, "{a:?}");
 }
 
@@ -133,6 +140,9 @@ fn real_rgl_file_round_trips_through_mitsuba() {
     }
     let a = check("cc_ibiza_sunset_rgb", file.to_str().unwrap());
     assert!(a.compared >= 500, "{a:?}");
-    assert!(a.weighted_mean < 0.03 && a.median < 0.005 && a.p90 < 0.04, "{a:?}");
+    assert!(
+        a.weighted_mean < 0.03 && a.median < 0.005 && a.p90 < 0.04,
+        "{a:?}"
+    );
     assert!(a.weighted_mean_all < 0.03, "{a:?}");
 }

@@ -115,7 +115,8 @@ fn written_rgl_files_render_in_mitsuba_as_their_sources() {
     for material in ["chrome", "green-paint"] {
         check_rgl_export(&preset(material).unwrap(), material);
     }
-    let file = specula_formats::input::measured_data_dir().join("rgl_bsdf/cc_ibiza_sunset_rgb.bsdf");
+    let file =
+        specula_formats::input::measured_data_dir().join("rgl_bsdf/cc_ibiza_sunset_rgb.bsdf");
     if file.is_file() {
         let source = specula_formats::rgl::RglBsdf::read(&file).unwrap();
         check_rgl_export(&source, "cc_ibiza_sunset_rgb");

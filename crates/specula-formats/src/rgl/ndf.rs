@@ -190,7 +190,10 @@ mod tests {
                 })
                 .sum();
             let closed = azimuthal_clamped_cosine(theta, theta_m);
-            assert!((numeric - closed).abs() < 1e-7, "{theta} {theta_m}: {numeric} {closed}");
+            assert!(
+                (numeric - closed).abs() < 1e-7,
+                "{theta} {theta_m}: {numeric} {closed}"
+            );
         }
     }
 
@@ -223,12 +226,20 @@ mod tests {
                 let exact = model.d(m);
                 if exact > 1e-3 * model.d(glam::DVec3::Z) && theta < MAX_RETRO_ELEVATION_RAD {
                     let rel = (ndf.d[j] - exact).abs() / exact;
-                    assert!(rel < 5e-3, "alpha {alpha} theta {theta}: {} vs {exact}", ndf.d[j]);
+                    assert!(
+                        rel < 5e-3,
+                        "alpha {alpha} theta {theta}: {} vs {exact}",
+                        ndf.d[j]
+                    );
                 }
                 if theta < 1.4 {
                     let sigma = theta.cos() / model.g1(m, glam::DVec3::Z);
                     let rel = (ndf.sigma[j] - sigma).abs() / sigma;
-                    assert!(rel < 5e-3, "alpha {alpha} theta {theta}: sigma {} vs {sigma}", ndf.sigma[j]);
+                    assert!(
+                        rel < 5e-3,
+                        "alpha {alpha} theta {theta}: sigma {} vs {sigma}",
+                        ndf.sigma[j]
+                    );
                 }
             }
         }

@@ -402,8 +402,14 @@ mod tests {
         assert_eq!(grid, vec![1.0, 2.0, 3.0, 4.0, 5.0, -6.5]);
         assert_eq!(shape, vec![2, 3]);
         let version = tf.field("version").unwrap();
-        assert_eq!((version.dtype, version.shape.clone()), (Dtype::U32, vec![2]));
-        assert!(tf.fields.values().all(|f| f.data_start % DATA_ALIGNMENT == 0));
+        assert_eq!(
+            (version.dtype, version.shape.clone()),
+            (Dtype::U32, vec![2])
+        );
+        assert!(tf
+            .fields
+            .values()
+            .all(|f| f.data_start % DATA_ALIGNMENT == 0));
         for code in 1..=11 {
             assert_eq!(Dtype::from_code(code).unwrap().code(), code);
         }

@@ -232,7 +232,11 @@ impl MarginalSlice {
             .marginal_cdf
             .partition_point(|c| *c < s.y)
             .min(height - 2);
-        let below = if py > 0 { self.marginal_cdf[py - 1] } else { 0.0 };
+        let below = if py > 0 {
+            self.marginal_cdf[py - 1]
+        } else {
+            0.0
+        };
         let (r0, r1) = (row_total(py), row_total(py + 1));
         let ty = solve_linear_density(r0, r1, (s.y - below) * cells_y);
 

@@ -164,9 +164,8 @@ impl RglTables {
             ndf_size: n,
             sample_size: s_count,
         } = resolution;
-        let retro = RetroNdf::from_brdf(brdf, n).ok_or_else(|| RglWriteError::NoRetroReflection {
-            brdf: brdf.name(),
-        })?;
+        let retro = RetroNdf::from_brdf(brdf, n)
+            .ok_or_else(|| RglWriteError::NoRetroReflection { brdf: brdf.name() })?;
         let ndf: Vec<f32> = retro.d.iter().map(|v| *v as f32).collect();
         let sigma: Vec<f32> = retro.sigma.iter().map(|v| *v as f32).collect();
         let ndf_grid = azimuth_constant_grid(&ndf);
@@ -194,7 +193,17 @@ impl RglTables {
 
         let slices: Vec<Slice> = (0..t_count)
             .into_par_iter()
-            .map(|k| sample_slice(brdf, &warp, &ndf_grid, &sigma_grid, k, elevations[k], s_count))
+            .map(|k| {
+                sample_slice(
+                    brdf,
+                    &warp,
+                    &ndf_grid,
+                    &sigma_grid,
+                    k,
+                    elevations[k],
+                    s_count,
+                )
+            })
             .collect();
 
         let mut tables = Self {
@@ -248,7 +257,11 @@ impl RglTables {
             .map(|v| luminance(DVec3::from_array(*v)).max(0.0))
             .collect();
         let peak = lum.iter().cloned().fold(0.0, f64::max);
-        let floor = if peak > 0.0 { LUMINANCE_FLOOR * peak } else { 1.0 };
+        let floor = if peak > 0.0 {
+            LUMINANCE_FLOOR * peak
+        } else {
+            1.0
+        };
         self.luminance
             .extend(lum.iter().map(|v| v.max(floor) as f32));
     }
@@ -347,7 +360,11 @@ fn unit_to_phi(u: f64) -> f64 {
 /// The normal of unit-square coordinates `(u(theta_m), u(phi_m - phi_i))`, with `phi_i = 0`.
 fn normal_at(u: DVec2) -> DVec3 {
     let (theta, phi) = (unit_to_theta(u.x), unit_to_phi(u.y));
-    DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos())
+    DVec3::new(
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    )
 }
 
 /// The incident direction at elevation `theta_rad` in the plane `phi_i = 0`.
