@@ -6,7 +6,8 @@ For each test material (a sharp conductor, the green paint, a real RGL file roun
 1. `specula convert SOURCE out.bsdf` writes the file at the default resolution;
 2. Mitsuba 3.9.1 (variant scalar_rgb) loads it with `measured` and evaluates it at 2100
    direction pairs (seeded): 1400 uniform over the hemisphere pair (elevations up to 85 deg)
-   and 700 near the mirror direction (half vector within a few degrees of the normal), writing
+   and 700 near the mirror direction (wi up to 80 deg, half vector |N(0, 1.5 deg)| mod 5 deg
+   from the normal), writing
 
        crates/specula-formats/tests/data/rgl_export_mitsuba_<material>.csv
 
@@ -42,7 +43,7 @@ mi.set_variant("scalar_rgb")
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mitsuba_render_check import FOV_X_DEG, CAMERA_ORIGIN, POINT_POSITION, POINT_INTENSITY  # noqa: E402
-from rgl_vectors import DATA as MEASURED, angles, direction  # noqa: E402
+from rgl_vectors import DATA as MEASURED, direction, near_mirror_pair  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 VECTORS = os.path.join(ROOT, "crates", "specula-formats", "tests", "data")
@@ -63,24 +64,11 @@ def uniform_pair(rng):
     return pick() + pick()
 
 
-def near_mirror_pair(rng):
-    """wi uniform up to 80 deg, wo = wi reflected about a half vector within ~5 deg of the normal."""
-    while True:
-        ti = math.degrees(math.acos(rng.uniform(math.cos(math.radians(80.0)), 1.0)))
-        pi_ = rng.uniform(0.0, 360.0)
-        h = direction(abs(rng.normal(0.0, 1.5)) % 5.0, rng.uniform(0.0, 360.0))
-        wi = direction(ti, pi_)
-        wo = 2.0 * wi.dot(h) * h - wi
-        to, po = angles(wo / np.linalg.norm(wo))
-        if to <= MAX_ELEVATION_DEG:
-            return ti, pi_, to, po
-
-
 def write_vectors(name, path, seed):
     bsdf = mi.load_dict({"type": "measured", "filename": path})
     ctx = mi.BSDFContext()
     rng = np.random.default_rng(seed)
-    pairs = [uniform_pair(rng) for _ in range(1400)] + [near_mirror_pair(rng) for _ in range(700)]
+    pairs = [uniform_pair(rng) for _ in range(1400)] + [near_mirror_pair(rng, 1.5, 5.0, MAX_ELEVATION_DEG) for _ in range(700)]
     rows = []
     for ti, pi_, to, po in pairs:
         wi, wo = direction(ti, pi_), direction(to, po)

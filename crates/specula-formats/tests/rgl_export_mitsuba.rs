@@ -20,7 +20,7 @@
 
 mod common;
 
-use common::test_data;
+use common::{test_data, MitsubaVector as Vector};
 use specula_core::brdf::luminance;
 use specula_core::{Brdf, Spherical};
 use specula_formats::rgl::{RglBsdf, RglResolution, RglTables};
@@ -29,17 +29,6 @@ use specula_formats::{input::measured_data_dir, load_brdf};
 /// Values below this fraction of the material's largest `f_r cos(theta_o)` are not compared
 /// with the source (they still are in check 1).
 const SIGNIFICANT: f64 = 0.01;
-
-#[derive(serde::Deserialize)]
-struct Vector {
-    theta_i: f64,
-    phi_i: f64,
-    theta_o: f64,
-    phi_o: f64,
-    r: f64,
-    g: f64,
-    b: f64,
-}
 
 /// Agreement of Mitsuba with the source over the significant values.
 #[derive(Debug)]
