@@ -12,4 +12,5 @@ pub use merl::MerlBrdf;
 pub mod compare;
 pub mod materials;
 pub mod sampling;
+pub mod shown;
 pub mod tabulate;

@@ -134,7 +134,7 @@ fn one_line(text: &str) -> String {
 }
 
 /// The checksum stored with a sample: SHA-256 of its stage, seq and every value (bit for
-/// bit), first 8 bytes as an integer. Captures are not part of it.
+/// bit, zeros without their sign), first 8 bytes as an integer. Captures are not part of it.
 pub(crate) fn sample_checksum(s: &SampleRecord) -> i64 {
     let mut hash = Sha256::new();
     hash.update(s.stage.as_bytes());
@@ -160,7 +160,9 @@ pub(crate) fn sample_checksum(s: &SampleRecord) -> i64 {
         s.finished_unix_s,
     ];
     for v in values {
-        hash.update(v.to_bits().to_le_bytes());
+        // + 0.0 turns -0.0 into 0.0: SQLite stores a whole REAL as an integer, losing the
+        // sign of a zero.
+        hash.update((v + 0.0).to_bits().to_le_bytes());
     }
     hash.update([u8::from(s.lower_bound)]);
     hash.update(s.attempts.to_le_bytes());

@@ -18,9 +18,13 @@
 
 use crate::engine::{Engine, EngineSettings, HdrMode, Progress, StageOutcome};
 use crate::ideal::{exact_calibration, NoiselessSimulator};
+use crate::inputs::{
+    brdf_fingerprint, check_device, check_inputs, sha256_hex, DeviceIdentity, InputHashes,
+};
 use crate::journal::{Durability, Journal, PlannedRow, SampleRecord};
 use crate::pace::Paced;
 use crate::predict::{Predictor, ProbeModel};
+use crate::protocol::validate::ReplyRanges;
 use crate::protocol::{ClientSettings, Endpoint, RemoteInstrument};
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
@@ -321,6 +325,24 @@ struct Connected {
     calibration: Calibration,
     link_notes: Option<crate::protocol::client::LinkNotes>,
     simulated: bool,
+    /// The name the device gave in `hello` (a remote device only).
+    server: Option<String>,
+}
+
+/// The content hashes of what a session measures from (see [`crate::inputs`]).
+fn input_hashes(source: &Source, device: &Device) -> InputHashes {
+    let (truth, calibration) = match source {
+        Source::Simulated { truth, .. } => (Some(brdf_fingerprint(truth.as_ref())), None),
+        Source::Remote { calibration, .. } => {
+            let json = serde_json::to_vec(calibration.as_ref()).unwrap_or_default();
+            (None, Some(sha256_hex(&json)))
+        }
+    };
+    InputHashes {
+        truth,
+        device_model: sha256_hex(device.to_toml_string().as_bytes()),
+        calibration,
+    }
 }
 
 /// Runs the whole workflow (see the module documentation) into `session`, writing `out` and
@@ -341,11 +363,17 @@ pub fn measure(
     }
     let description = source.describe();
     start_session(&journal, settings, &description, device)?;
-    let mut connected = connect(source, device, settings, &journal, observer)?;
+    check_inputs(&journal, &input_hashes(&source, device))?;
+    let mut connected = connect(source, device, settings, &journal, &stop, observer)?;
     let info = connected
         .instrument
         .info()
         .with_context(|| format!("{description}: cannot describe the device"))?;
+    let identity = DeviceIdentity {
+        server: connected.server.clone(),
+        info: info.clone(),
+    };
+    check_device(&journal, &identity)?;
     journal.put_meta("instrument", &info)?;
     let calibration = connected.calibration.clone();
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
@@ -507,6 +535,7 @@ fn connect(
     device: &Device,
     settings: &MeasureSettings,
     journal: &Journal,
+    stop: &Arc<AtomicBool>,
     observer: &mut dyn Observer,
 ) -> Result<Connected> {
     match source {
@@ -545,9 +574,11 @@ fn connect(
                 }
             };
             let instrument: Box<dyn Instrument> = match (settings.ideal, speedup) {
-                (true, Some(s)) => Box::new(Paced::new(NoiselessSimulator::new(simulator), s)),
+                (true, Some(s)) => Box::new(
+                    Paced::new(NoiselessSimulator::new(simulator), s).with_stop(stop.clone()),
+                ),
                 (true, None) => Box::new(NoiselessSimulator::new(simulator)),
-                (false, Some(s)) => Box::new(Paced::new(simulator, s)),
+                (false, Some(s)) => Box::new(Paced::new(simulator, s).with_stop(stop.clone())),
                 (false, None) => Box::new(simulator),
             };
             Ok(Connected {
@@ -555,6 +586,7 @@ fn connect(
                 calibration,
                 link_notes: None,
                 simulated: true,
+                server: None,
             })
         }
         Source::Remote {
@@ -574,15 +606,21 @@ fn connect(
                     journal.path().display()
                 );
             }
+            let client = ClientSettings {
+                ranges: ReplyRanges::for_device(device),
+                ..client
+            };
             let remote = RemoteInstrument::connect(endpoint.clone(), client)
                 .with_context(|| format!("{endpoint}: cannot reach the device"))?;
             let notes = remote.notes();
             let simulated = remote.simulated_clock_s().is_some();
+            let server = remote.server_name().map(str::to_string);
             Ok(Connected {
                 instrument: Box::new(remote),
                 calibration,
                 link_notes: Some(notes),
                 simulated,
+                server,
             })
         }
     }

@@ -218,3 +218,252 @@ mod journal_damage {
         assert!(refused >= 15, "only {refused} of 20 damaged files refused");
     }
 }
+
+mod serve {
+    use serde_json::{json, Value};
+    use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
+    use specula_acquisition::kinematics::AxisPositions;
+    use specula_session::protocol::{ServeLimits, Server, Token};
+    use std::io::{BufRead, BufReader, Read, Write};
+    use std::net::{TcpListener, TcpStream};
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    use std::time::{Duration, Instant};
+
+    /// A device that answers at once; a capture with pixels is 512 x 512 of them (~8 MB).
+    struct Quick;
+    impl Instrument for Quick {
+        fn home(&mut self) -> Result<AxisPositions, InstrumentError> {
+            Ok(AxisPositions::new(0.0, 0.0, 0.0, 0.0))
+        }
+        fn move_to(&mut self, target: &AxisPositions) -> Result<AxisPositions, InstrumentError> {
+            Ok(*target)
+        }
+        fn set_light(&mut self, _: f64) -> Result<(), InstrumentError> {
+            Ok(())
+        }
+        fn capture(
+            &mut self,
+            exposure_s: f64,
+            with_pixels: bool,
+        ) -> Result<Capture, InstrumentError> {
+            let side = 512;
+            Ok(Capture {
+                exposure_s,
+                light_level: 1.0,
+                mean_raw: [100.0; 3],
+                saturated_fraction: [0.0; 3],
+                pixel_count: side * side,
+                pixels: with_pixels.then(|| vec![[100.25f32; 3]; (side * side) as usize]),
+            })
+        }
+        fn info(&mut self) -> Result<InstrumentInfo, InstrumentError> {
+            Ok(InstrumentInfo {
+                model: "quick".into(),
+                serial: "1".into(),
+                bit_depth: 12,
+                white_level: 4095.0,
+                light_levels: vec![1.0],
+                exposure_range_s: (1e-5, 1.0),
+            })
+        }
+    }
+
+    struct Served {
+        address: String,
+        stop: Arc<AtomicBool>,
+    }
+
+    impl Drop for Served {
+        fn drop(&mut self) {
+            self.stop.store(true, Ordering::SeqCst);
+        }
+    }
+
+    fn limits() -> ServeLimits {
+        ServeLimits {
+            idle: Duration::from_millis(1500),
+            auth: Duration::from_millis(1500),
+            control_wait: Duration::from_millis(300),
+            write: Duration::from_millis(500),
+            max_connections: 4,
+            failed_auth_pause: Duration::from_millis(300),
+        }
+    }
+
+    fn serve(token: Option<&str>) -> Served {
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+        let address = listener.local_addr().unwrap().to_string();
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = stop.clone();
+        let token = token.map(|t| Token::new(t).unwrap());
+        std::thread::spawn(move || {
+            let mut server = Server::new(Box::new(Quick), "quick")
+                .with_token(token)
+                .with_limits(limits());
+            server
+                .serve_tcp(&listener, &flag, limits().idle, &mut |_| {})
+                .unwrap();
+        });
+        Served { address, stop }
+    }
+
+    /// A client connection with a 10 s read timeout (every test stops by itself).
+    struct Client {
+        reader: BufReader<TcpStream>,
+        writer: TcpStream,
+    }
+
+    impl Client {
+        fn connect(served: &Served) -> Client {
+            let stream = TcpStream::connect(&served.address).unwrap();
+            stream
+                .set_read_timeout(Some(Duration::from_secs(10)))
+                .unwrap();
+            Client {
+                reader: BufReader::new(stream.try_clone().unwrap()),
+                writer: stream,
+            }
+        }
+
+        fn send(&mut self, request: Value) {
+            writeln!(self.writer, "{request}").unwrap();
+        }
+
+        /// The next reply, or `None` when the server closed the connection.
+        fn reply(&mut self) -> Option<Value> {
+            let mut line = String::new();
+            match self.reader.read_line(&mut line) {
+                Ok(0) | Err(_) => None,
+                Ok(_) => Some(serde_json::from_str(&line).unwrap()),
+            }
+        }
+
+        fn hello(&mut self, token: Option<&str>) -> Option<Value> {
+            let mut params = json!({"protocol": 1});
+            if let Some(t) = token {
+                params["token"] = json!(t);
+            }
+            self.send(json!({"id": 1, "method": "hello", "params": params}));
+            self.reply()
+        }
+    }
+
+    #[test]
+    fn a_silent_connection_locks_no_one_out_and_is_closed_at_the_deadline() {
+        let served = serve(None);
+        let mut silent = Client::connect(&served);
+        std::thread::sleep(Duration::from_millis(100));
+        let started = Instant::now();
+        let mut client = Client::connect(&served);
+        let reply = client.hello(None).expect("answered");
+        assert_eq!(reply["result"]["server"], "quick");
+        assert!(
+            started.elapsed() < Duration::from_secs(1),
+            "{:?}",
+            started.elapsed()
+        );
+        // The silent one never authenticated: disconnected after the 1.5 s deadline.
+        let started = Instant::now();
+        assert_eq!(silent.reply(), None);
+        assert!(
+            started.elapsed() < Duration::from_secs(3),
+            "{:?}",
+            started.elapsed()
+        );
+    }
+
+    #[test]
+    fn a_second_client_is_told_busy_and_a_dripping_controller_is_cut_off() {
+        let served = serve(Some("lab"));
+        let mut controller = Client::connect(&served);
+        assert!(controller.hello(Some("lab")).unwrap()["result"].is_object());
+        let dripping = std::thread::spawn(move || {
+            // One byte every 100 ms, for up to 10 s: never a whole line.
+            controller.writer.set_nonblocking(true).unwrap();
+            for byte in b"{\"id\":2,\"method\":\"home\"".iter().cycle().take(100) {
+                if controller.writer.write_all(&[*byte]).is_err() {
+                    return true;
+                }
+                std::thread::sleep(Duration::from_millis(100));
+                match controller.writer.peek(&mut [0u8; 1]) {
+                    Ok(0) => return true,
+                    Err(e) if e.kind() != std::io::ErrorKind::WouldBlock => return true,
+                    _ => {}
+                }
+            }
+            false
+        });
+        std::thread::sleep(Duration::from_millis(200));
+        let mut other = Client::connect(&served);
+        let reply = other.hello(Some("lab")).expect("a clear reply");
+        assert_eq!(reply["error"]["kind"], "busy", "{reply}");
+        assert_eq!(other.reply(), None, "then closed");
+        assert!(dripping.join().unwrap(), "the dripping client was cut off");
+        let mut other = Client::connect(&served);
+        assert!(other.hello(Some("lab")).unwrap()["result"].is_object());
+    }
+
+    #[test]
+    fn a_client_that_never_reads_is_cut_off_by_the_write_timeout() {
+        let served = serve(None);
+        let mut greedy = Client::connect(&served);
+        assert!(greedy.hello(None).unwrap()["result"].is_object());
+        for id in 2..8 {
+            greedy.send(json!({"id": id, "method": "capture",
+                               "params": {"exposure_s": 0.01, "with_pixels": true}}));
+        }
+        // Never read: the replies (~8 MB each) fill the socket buffers.
+        let started = Instant::now();
+        let mut next = loop {
+            let mut client = Client::connect(&served);
+            match client.hello(None) {
+                Some(reply) if reply["result"].is_object() => break client,
+                _ => std::thread::sleep(Duration::from_millis(100)),
+            }
+            assert!(
+                started.elapsed() < Duration::from_secs(8),
+                "still locked out"
+            );
+        };
+        assert_eq!(next.hello(None).unwrap()["result"]["server"], "quick");
+        drop(greedy);
+    }
+
+    #[test]
+    fn failed_authentications_are_slowed_one_at_a_time() {
+        let served = serve(Some("lab"));
+        let started = Instant::now();
+        let guesses: Vec<_> = (0..4)
+            .map(|i| {
+                let mut client = Client::connect(&served);
+                std::thread::spawn(move || client.hello(Some(&format!("guess{i}"))))
+            })
+            .collect();
+        for guess in guesses {
+            let reply = guess.join().unwrap().unwrap();
+            assert_eq!(reply["error"]["kind"], "unauthorized");
+        }
+        let elapsed = started.elapsed();
+        // The first is answered at once, each next one after the pause of the one before.
+        assert!(elapsed >= Duration::from_millis(3 * 300), "{elapsed:?}");
+        assert!(Token::new("").is_err() && Token::new(" \n").is_err());
+    }
+
+    #[test]
+    fn a_line_over_64_mib_gets_a_bad_request_reply() {
+        let served = serve(None);
+        let mut client = Client::connect(&served);
+        let chunk = vec![b'x'; 1 << 20];
+        for _ in 0..65 {
+            if client.writer.write_all(&chunk).is_err() {
+                break;
+            }
+        }
+        let reply = client.reply().expect("a reply before the close");
+        assert_eq!(reply["id"], Value::Null);
+        assert_eq!(reply["error"]["kind"], "bad_request", "{reply}");
+        let mut rest = Vec::new();
+        let _ = client.reader.read_to_end(&mut rest);
+    }
+}

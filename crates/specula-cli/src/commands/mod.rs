@@ -22,3 +22,4 @@ pub mod render;
 pub mod report;
 pub mod session;
 pub mod tabulate;
+pub mod token_args;
