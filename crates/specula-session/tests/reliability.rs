@@ -467,3 +467,259 @@ mod serve {
         let _ = client.reader.read_to_end(&mut rest);
     }
 }
+
+mod replies_and_inputs {
+    use specula_acquisition::device::Device;
+    use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
+    use specula_acquisition::kinematics::AxisPositions;
+    use specula_core::materials::preset;
+    use specula_core::{Brdf, Rgb};
+    use specula_session::pace::Paced;
+    use specula_session::protocol::validate::ReplyRanges;
+    use specula_session::protocol::{ClientSettings, Endpoint, RemoteInstrument, Server};
+    use specula_session::workflow::{measure, MeasureOutcome, MeasureSettings, Quiet, Source};
+    use std::net::TcpListener;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    use std::time::{Duration, Instant};
+
+    /// A device whose captures and moves say what the test tells it to.
+    struct Liar {
+        capture: Capture,
+        readback: Option<AxisPositions>,
+    }
+
+    impl Instrument for Liar {
+        fn home(&mut self) -> Result<AxisPositions, InstrumentError> {
+            Ok(AxisPositions::new(0.0, 0.0, 0.0, 0.0))
+        }
+        fn move_to(&mut self, target: &AxisPositions) -> Result<AxisPositions, InstrumentError> {
+            Ok(self.readback.unwrap_or(*target))
+        }
+        fn set_light(&mut self, _: f64) -> Result<(), InstrumentError> {
+            Ok(())
+        }
+        fn capture(&mut self, _: f64, _: bool) -> Result<Capture, InstrumentError> {
+            Ok(self.capture.clone())
+        }
+        fn info(&mut self) -> Result<InstrumentInfo, InstrumentError> {
+            Ok(InstrumentInfo {
+                model: "liar".into(),
+                serial: "7".into(),
+                bit_depth: 12,
+                white_level: 4095.0,
+                light_levels: vec![1.0, 0.1],
+                exposure_range_s: (1e-5, 1.0),
+            })
+        }
+    }
+
+    fn good_capture() -> Capture {
+        Capture {
+            exposure_s: 0.01,
+            light_level: 1.0,
+            mean_raw: [100.0, 200.0, 300.0],
+            saturated_fraction: [0.0; 3],
+            pixel_count: 1849,
+            pixels: None,
+        }
+    }
+
+    /// Serves `instrument` named `name` on 127.0.0.1 (`port` 0: any) until `stop`.
+    fn serve(instrument: Box<dyn Instrument>, name: &str, port: u16, stop: Arc<AtomicBool>) -> u16 {
+        let listener = TcpListener::bind(("127.0.0.1", port)).unwrap();
+        let port = listener.local_addr().unwrap().port();
+        let name = name.to_string();
+        std::thread::spawn(move || {
+            let mut server = Server::new(instrument, name);
+            server
+                .serve_tcp(&listener, &stop, Duration::from_secs(20), &mut |_| {})
+                .unwrap();
+        });
+        port
+    }
+
+    fn settings() -> ClientSettings {
+        ClientSettings {
+            reply_timeout: Duration::from_secs(5),
+            max_failures: 3,
+            backoff_initial: Duration::from_millis(1),
+            ranges: ReplyRanges::for_device(&Device::utia()),
+            ..ClientSettings::default()
+        }
+    }
+
+    #[test]
+    fn replies_outside_the_protocol_ranges_are_device_faults_naming_the_field() {
+        let cases: [(Box<dyn Fn(&mut Capture)>, &str); 4] = [
+            (
+                Box::new(|c| c.mean_raw[0] = 1e9),
+                "mean_raw[0] = 1e9 is outside [0, 4095]",
+            ),
+            (
+                Box::new(|c| c.mean_raw[2] = -5.0),
+                "mean_raw[2] = -5 is outside",
+            ),
+            (
+                Box::new(|c| c.saturated_fraction[1] = 1.5),
+                "saturated_fraction[1] = 1.5",
+            ),
+            (Box::new(|c| c.mean_raw[1] = 1e308), "mean_raw[1] = 1e308"),
+        ];
+        for (spoil, needle) in cases {
+            let mut capture = good_capture();
+            spoil(&mut capture);
+            let stop = Arc::new(AtomicBool::new(false));
+            let liar = Liar {
+                capture,
+                readback: None,
+            };
+            let port = serve(Box::new(liar), "liar", 0, stop.clone());
+            let endpoint = Endpoint::Tcp(format!("127.0.0.1:{port}"));
+            let mut client = RemoteInstrument::connect(endpoint, settings()).unwrap();
+            let err = client.capture(0.01, false).unwrap_err();
+            let text = err.to_string();
+            assert!(matches!(err, InstrumentError::CameraFault(_)), "{text}");
+            assert!(
+                text.contains(needle) && text.contains("127.0.0.1"),
+                "{needle}: {text}"
+            );
+            assert!(text.contains("3 replies in a row"), "retried: {text}");
+            stop.store(true, Ordering::SeqCst);
+        }
+        let stop = Arc::new(AtomicBool::new(false));
+        let liar = Liar {
+            capture: good_capture(),
+            readback: Some(AxisPositions::new(1e300, 0.0, 0.0, 0.0)),
+        };
+        let port = serve(Box::new(liar), "liar", 0, stop.clone());
+        let endpoint = Endpoint::Tcp(format!("127.0.0.1:{port}"));
+        let mut client = RemoteInstrument::connect(endpoint, settings()).unwrap();
+        let err = client
+            .move_to(&AxisPositions::new(0.1, 0.2, 0.3, 0.4))
+            .unwrap_err();
+        let text = err.to_string();
+        assert!(matches!(err, InstrumentError::MotorFault(_)), "{text}");
+        assert!(
+            text.contains("turntable_rad = 1e300 rad is outside"),
+            "{text}"
+        );
+        assert!(client.capture(0.01, false).is_ok(), "a good reply passes");
+        stop.store(true, Ordering::SeqCst);
+    }
+
+    #[test]
+    fn a_reconnection_to_another_device_is_refused() {
+        let stop = Arc::new(AtomicBool::new(false));
+        let liar = || {
+            Box::new(Liar {
+                capture: good_capture(),
+                readback: None,
+            })
+        };
+        let port = serve(liar(), "serve: silver-925", 0, stop.clone());
+        let endpoint = Endpoint::Tcp(format!("127.0.0.1:{port}"));
+        let mut client = RemoteInstrument::connect(endpoint, settings()).unwrap();
+        client.home().unwrap();
+        stop.store(true, Ordering::SeqCst);
+        std::thread::sleep(Duration::from_millis(200));
+        let other = Arc::new(AtomicBool::new(false));
+        serve(liar(), "serve: chrome", port, other.clone());
+        let err = client.home().unwrap_err().to_string();
+        assert!(
+            err.contains("reconnected to another device")
+                && err.contains("silver-925")
+                && err.contains("chrome"),
+            "{err}"
+        );
+        other.store(true, Ordering::SeqCst);
+    }
+
+    /// A BRDF under another name (as a file of the same name with other contents).
+    struct Named(Arc<dyn Brdf>);
+
+    impl Brdf for Named {
+        fn eval(&self, wi: glam::DVec3, wo: glam::DVec3) -> Option<Rgb> {
+            self.0.eval(wi, wo)
+        }
+        fn name(&self) -> String {
+            "mat".into()
+        }
+    }
+
+    fn start(truth: &str, session: &std::path::Path, stop: bool) -> anyhow::Result<MeasureOutcome> {
+        let settings = MeasureSettings {
+            probe_samples: 30,
+            theta_h_samples: 8,
+            theta_d_step_deg: 15.0,
+            phi_d_step_deg: 45.0,
+            checks: false,
+            ..MeasureSettings::default()
+        };
+        let truth: Arc<dyn Brdf> = Arc::new(Named(Arc::new(preset(truth).unwrap())));
+        measure(
+            Source::Simulated {
+                truth,
+                speedup: None,
+            },
+            &Device::utia(),
+            &settings,
+            session,
+            &session.with_extension("binary"),
+            Arc::new(AtomicBool::new(stop)),
+            &mut Quiet,
+        )
+    }
+
+    #[test]
+    fn a_resume_with_another_truth_of_the_same_name_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let session = dir.path().join("s.sqlite");
+        let outcome = start("silver-925", &session, true).unwrap();
+        assert!(matches!(outcome, MeasureOutcome::Stopped { .. }));
+        let err = start("chrome", &session, false).unwrap_err().to_string();
+        assert!(
+            err.contains("other inputs") && err.contains("truth (content sha256)"),
+            "{err}"
+        );
+        assert!(matches!(
+            start("silver-925", &session, true).unwrap(),
+            MeasureOutcome::Stopped { .. }
+        ));
+    }
+
+    #[test]
+    fn a_slow_paced_device_stops_within_a_poll_of_the_flag() {
+        let device = Device::utia();
+        let stop = Arc::new(AtomicBool::new(false));
+        let simulator = crate::common_simulator();
+        // A millionth of real time: one move would take weeks.
+        let mut paced = Paced::new(simulator, 1e-6).with_stop(stop.clone());
+        let flag = stop.clone();
+        std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(200));
+            flag.store(true, Ordering::SeqCst);
+        });
+        let started = Instant::now();
+        paced.move_to(&device.park_axes()).unwrap();
+        paced
+            .move_to(&AxisPositions::from_degrees(10.0, 30.0, 150.0, 40.0))
+            .unwrap();
+        assert!(
+            started.elapsed() < Duration::from_secs(2),
+            "{:?}",
+            started.elapsed()
+        );
+    }
+}
+
+/// The UTIA device simulated with silver.
+fn common_simulator() -> specula_acquisition::simulator::Simulator {
+    use specula_acquisition::device::Device;
+    use specula_acquisition::simulator::sample::{MountedSample, Tilt};
+    use specula_acquisition::simulator::{Simulator, SimulatorConfig};
+    let device = Device::utia();
+    let truth = std::sync::Arc::new(specula_core::materials::preset("silver-925").unwrap());
+    let sample = MountedSample::new("silver-925", truth, Tilt::default());
+    Simulator::new(device.clone(), sample, SimulatorConfig::new(1, &device))
+}

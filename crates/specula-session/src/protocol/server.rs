@@ -27,7 +27,7 @@ use serde_json::{json, Value};
 use specula_acquisition::instrument::{Instrument, InstrumentError};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -205,7 +205,8 @@ impl Server {
 
     /// Accepts connections on `listener` until `stop` is set (checked every 20 ms), each in
     /// a thread of its own, with the limits of [`ServeLimits`] and `idle` for the
-    /// controlling client. `log` hears how each connection ended.
+    /// controlling client; on stop, the open connections are shut down too. `log` hears how
+    /// each connection ended.
     pub fn serve_tcp(
         &mut self,
         listener: &TcpListener,
@@ -215,7 +216,7 @@ impl Server {
     ) -> std::io::Result<()> {
         self.shared_mut().limits.idle = idle;
         listener.set_nonblocking(true)?;
-        let open = Arc::new(AtomicUsize::new(0));
+        let open = Arc::new(OpenConnections::default());
         let (log_sender, log_lines) = mpsc::channel::<String>();
         while !stop.load(Ordering::SeqCst) {
             while let Ok(line) = log_lines.try_recv() {
@@ -238,6 +239,9 @@ impl Server {
                 log(format!("{peer}: cannot serve: {e}"));
             }
         }
+        for stream in lock(&open.streams).values() {
+            let _ = stream.shutdown(std::net::Shutdown::Both);
+        }
         while let Ok(line) = log_lines.try_recv() {
             log(line);
         }
@@ -249,14 +253,14 @@ impl Server {
         &self,
         stream: TcpStream,
         peer: String,
-        open: &Arc<AtomicUsize>,
+        open: &Arc<OpenConnections>,
         log: &mpsc::Sender<String>,
     ) -> std::io::Result<()> {
         let limits = self.shared.limits;
         stream.set_nonblocking(false)?;
         stream.set_nodelay(true)?;
         stream.set_write_timeout(Some(limits.write))?;
-        if open.load(Ordering::SeqCst) >= limits.max_connections {
+        if lock(&open.streams).len() >= limits.max_connections {
             let error = WireError::new(
                 "busy",
                 format!(
@@ -268,7 +272,8 @@ impl Server {
             let _ = log.send(format!("{peer}: refused, too many connections"));
             return Ok(());
         }
-        open.fetch_add(1, Ordering::SeqCst);
+        let key = open.next.fetch_add(1, Ordering::SeqCst);
+        lock(&open.streams).insert(key, stream.try_clone()?);
         let shared = self.shared.clone();
         let open = open.clone();
         let log = log.clone();
@@ -282,11 +287,18 @@ impl Server {
             });
             let end = connection.serve(reader, writer);
             drop(connection);
-            open.fetch_sub(1, Ordering::SeqCst);
+            lock(&open.streams).remove(&key);
             let _ = log.send(format!("{peer}: {end:?}"));
         });
         Ok(())
     }
+}
+
+/// The TCP connections being served, to count them and to shut them down on stop.
+#[derive(Default)]
+struct OpenConnections {
+    streams: Mutex<std::collections::BTreeMap<u64, TcpStream>>,
+    next: AtomicU64,
 }
 
 /// A byte source whose reads can be given a deadline.
