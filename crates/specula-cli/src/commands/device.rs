@@ -7,6 +7,7 @@ use specula_acquisition::instrument::Instrument;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_session::ideal::NoiselessSimulator;
+use specula_session::inputs::brdf_fingerprint;
 use specula_session::protocol::{FaultSchedule, Server};
 use std::net::{SocketAddr, TcpListener};
 use std::path::PathBuf;
@@ -87,6 +88,9 @@ fn serve(args: ServeArgs) -> Result<()> {
         None => Device::utia(),
     };
     let truth = specula_formats::source::load_brdf(&args.truth)?;
+    // The truth's content hash goes in the server's name: a client reconnecting to a server
+    // restarted with another truth (or an edited file of the same name) sees another device.
+    let fingerprint = brdf_fingerprint(truth.as_ref());
     let mut config = SimulatorConfig::new(args.seed, &device);
     if args.ideal {
         config.positioning.sigma_deg = 0.0;
@@ -98,7 +102,11 @@ fn serve(args: ServeArgs) -> Result<()> {
     } else {
         Box::new(simulator)
     };
-    let name = format!("specula device serve: {}", args.truth);
+    let name = format!(
+        "specula device serve: {} (truth sha256 {})",
+        args.truth,
+        &fingerprint[..16]
+    );
     let mut server = Server::new(instrument, name)
         .with_token(token)
         .with_faults(faults);
