@@ -797,10 +797,15 @@ fn main_plan(
     phi_h_deg: f64,
     observer: &mut dyn Observer,
 ) -> Result<PlanRecord> {
-    if let (Some(record), false) = (
-        journal.meta::<PlanRecord>("plan")?,
-        journal.plan(STAGE_MAIN)?.is_empty(),
-    ) {
+    let stored_rows = journal.plan(STAGE_MAIN)?.len();
+    if let (Some(record), true) = (journal.meta::<PlanRecord>("plan")?, stored_rows > 0) {
+        if record.measurable != stored_rows {
+            bail!(
+                "{}: the journal is damaged (its main plan holds {stored_rows} samples, its plan record {} measurable ones); restore it from a copy or measure into a new --session",
+                journal.path().display(),
+                record.measurable
+            );
+        }
         return Ok(record);
     }
     if !(settings.theta_d_step_deg > 0.0 && settings.phi_d_step_deg > 0.0) {
