@@ -7,16 +7,12 @@
 //! half-difference angles, so an edited material file or another file of the same name is
 //! another truth, whatever it is called.
 
-use crate::journal::{Journal, JournalError};
+use crate::journal::{Journal, JournalError, Record};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use specula_acquisition::instrument::InstrumentInfo;
 use specula_core::{Brdf, HalfDiff};
 
-/// The journal key of [`InputHashes`].
-const INPUTS_KEY: &str = "inputs";
-/// The journal key of [`DeviceIdentity`].
-const IDENTITY_KEY: &str = "device_identity";
 
 /// SHA-256 content hashes of a session's inputs, hex.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -35,6 +31,14 @@ pub struct InputHashes {
 pub struct DeviceIdentity {
     pub server: Option<String>,
     pub info: InstrumentInfo,
+}
+
+impl Record for InputHashes {
+    const KEY: &'static str = "inputs";
+}
+
+impl Record for DeviceIdentity {
+    const KEY: &'static str = "device_identity";
 }
 
 /// Why a session cannot go on with these inputs.
@@ -85,7 +89,7 @@ pub fn brdf_fingerprint(brdf: &dyn Brdf) -> String {
 
 /// Stores the inputs of a new session, or checks a resumed one's against them.
 pub fn check_inputs(journal: &Journal, asked: &InputHashes) -> Result<(), InputsError> {
-    let stored: InputHashes = journal.meta_or_insert(INPUTS_KEY, || asked.clone())?;
+    let stored: InputHashes = journal.record_or_insert(|| asked.clone())?;
     let mut changes = Vec::new();
     let mut compare = |what: &str, a: &Option<String>, b: &Option<String>| {
         if a != b {
@@ -119,7 +123,7 @@ pub fn check_inputs(journal: &Journal, asked: &InputHashes) -> Result<(), Inputs
 /// Stores the device's identity in a new session, or checks that a resumed one measures the
 /// same device.
 pub fn check_device(journal: &Journal, asked: &DeviceIdentity) -> Result<(), InputsError> {
-    let stored: DeviceIdentity = journal.meta_or_insert(IDENTITY_KEY, || asked.clone())?;
+    let stored: DeviceIdentity = journal.record_or_insert(|| asked.clone())?;
     let mut changes = Vec::new();
     if stored.server != asked.server {
         changes.push(format!(
