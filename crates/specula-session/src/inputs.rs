@@ -13,7 +13,6 @@ use sha2::{Digest, Sha256};
 use specula_acquisition::instrument::InstrumentInfo;
 use specula_core::{Brdf, HalfDiff};
 
-
 /// SHA-256 content hashes of a session's inputs, hex.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct InputHashes {

@@ -551,7 +551,8 @@ mod replies_and_inputs {
 
     #[test]
     fn replies_outside_the_protocol_ranges_are_device_faults_naming_the_field() {
-        let cases: [(Box<dyn Fn(&mut Capture)>, &str); 4] = [
+        type Spoil = Box<dyn Fn(&mut Capture)>;
+        let cases: [(Spoil, &str); 4] = [
             (
                 Box::new(|c| c.mean_raw[0] = 1e9),
                 "mean_raw[0] = 1e9 is outside [0, 4095]",
