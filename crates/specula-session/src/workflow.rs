@@ -18,6 +18,9 @@
 
 use crate::engine::{Engine, EngineSettings, HdrMode, Progress, StageOutcome};
 use crate::ideal::{exact_calibration, NoiselessSimulator};
+use crate::inputs::{
+    brdf_fingerprint, check_device, check_inputs, sha256_hex, DeviceIdentity, InputHashes,
+};
 pub use crate::journal::{
     ChecksRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder, PlanRecord,
 };
@@ -31,6 +34,7 @@ pub const STAGE_PROBE: &str = Stage::Probe.name();
 pub const STAGE_MAIN: &str = Stage::Main.name();
 use crate::pace::Paced;
 use crate::predict::{Predictor, ProbeModel};
+use crate::protocol::validate::ReplyRanges;
 use crate::protocol::{ClientSettings, Endpoint, RemoteInstrument};
 use anyhow::{bail, Context, Result};
 use specula_acquisition::calibration::{
@@ -213,6 +217,24 @@ struct Connected {
     calibration: Calibration,
     link_notes: Option<crate::protocol::client::LinkNotes>,
     simulated: bool,
+    /// The name the device gave in `hello` (a remote device only).
+    server: Option<String>,
+}
+
+/// The content hashes of what a session measures from (see [`crate::inputs`]).
+fn input_hashes(source: &Source, device: &Device) -> InputHashes {
+    let (truth, calibration) = match source {
+        Source::Simulated { truth, .. } => (Some(brdf_fingerprint(truth.as_ref())), None),
+        Source::Remote { calibration, .. } => {
+            let json = serde_json::to_vec(calibration.as_ref()).unwrap_or_default();
+            (None, Some(sha256_hex(&json)))
+        }
+    };
+    InputHashes {
+        truth,
+        device_model: sha256_hex(device.to_toml_string().as_bytes()),
+        calibration,
+    }
 }
 
 /// Runs the whole workflow (see the module documentation) into `session`, writing `out` and
@@ -233,11 +255,17 @@ pub fn measure(
     }
     let description = source.record();
     start_session(&journal, settings, &description, device)?;
-    let mut connected = connect(source, device, settings, &journal, observer)?;
+    check_inputs(&journal, &input_hashes(&source, device))?;
+    let mut connected = connect(source, device, settings, &journal, &stop, observer)?;
     let info = connected
         .instrument
         .info()
         .with_context(|| format!("{description}: cannot describe the device"))?;
+    let identity = DeviceIdentity {
+        server: connected.server.clone(),
+        info: info.clone(),
+    };
+    check_device(&journal, &identity)?;
     journal.put_record(&info)?;
     let calibration = connected.calibration.clone();
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
@@ -399,6 +427,7 @@ fn connect(
     device: &Device,
     settings: &MeasureSettings,
     journal: &Journal,
+    stop: &Arc<AtomicBool>,
     observer: &mut dyn Observer,
 ) -> Result<Connected> {
     match source {
@@ -437,9 +466,11 @@ fn connect(
                 }
             };
             let instrument: Box<dyn Instrument> = match (settings.ideal, speedup) {
-                (true, Some(s)) => Box::new(Paced::new(NoiselessSimulator::new(simulator), s)),
+                (true, Some(s)) => Box::new(
+                    Paced::new(NoiselessSimulator::new(simulator), s).with_stop(stop.clone()),
+                ),
                 (true, None) => Box::new(NoiselessSimulator::new(simulator)),
-                (false, Some(s)) => Box::new(Paced::new(simulator, s)),
+                (false, Some(s)) => Box::new(Paced::new(simulator, s).with_stop(stop.clone())),
                 (false, None) => Box::new(simulator),
             };
             Ok(Connected {
@@ -447,6 +478,7 @@ fn connect(
                 calibration,
                 link_notes: None,
                 simulated: true,
+                server: None,
             })
         }
         Source::Remote {
@@ -465,15 +497,21 @@ fn connect(
                     journal.path().display()
                 );
             }
+            let client = ClientSettings {
+                ranges: ReplyRanges::for_device(device),
+                ..client
+            };
             let remote = RemoteInstrument::connect(endpoint.clone(), client)
                 .with_context(|| format!("{endpoint}: cannot reach the device"))?;
             let notes = remote.notes();
             let simulated = remote.simulated_clock_s().is_some();
+            let server = remote.server_name().map(str::to_string);
             Ok(Connected {
                 instrument: Box::new(remote),
                 calibration,
                 link_notes: Some(notes),
                 simulated,
+                server,
             })
         }
     }
@@ -650,10 +688,15 @@ fn main_plan(
     phi_h_deg: f64,
     observer: &mut dyn Observer,
 ) -> Result<PlanRecord> {
-    if let (Some(record), false) = (
-        journal.record::<PlanRecord>()?,
-        journal.plan(STAGE_MAIN)?.is_empty(),
-    ) {
+    let stored_rows = journal.plan(STAGE_MAIN)?.len();
+    if let (Some(record), true) = (journal.record::<PlanRecord>()?, stored_rows > 0) {
+        if record.measurable != stored_rows {
+            bail!(
+                "{}: the journal is damaged (its main plan holds {stored_rows} samples, its plan record {} measurable ones); restore it from a copy or measure into a new --session",
+                journal.path().display(),
+                record.measurable
+            );
+        }
         return Ok(record);
     }
     if !(settings.theta_d_step_deg > 0.0 && settings.phi_d_step_deg > 0.0) {

@@ -23,3 +23,4 @@ pub mod render;
 pub mod report;
 pub mod session;
 pub mod tabulate;
+pub mod token_args;
