@@ -289,7 +289,15 @@ fn absurd_inputs_are_refused_in_one_line_before_allocating() {
     std::fs::write(&wide, utia).unwrap();
     let wide = wide.display().to_string();
     one_line_error(
-        &["plan", "--device", &wide, "--theta-h-samples", "8"],
+        &[
+            "plan",
+            "--device",
+            &wide,
+            "--k",
+            "4.78",
+            "--out",
+            &format!("{out}.plan.csv"),
+        ],
         &["wide.toml", "turntable", "[-720, 720]"],
     );
 
