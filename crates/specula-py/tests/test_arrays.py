@@ -79,7 +79,7 @@ def test_eval_matches_the_cli(tmp_path, cli, source, silver_binary):
     with open(dirs, "w") as f:
         f.write("theta_i,phi_i,theta_o,phi_o\n")
         for (ti, to), (pi, po) in zip(theta, phi):
-            f.write(f"{ti!r},{pi!r},{to!r},{po!r}\n")
+            f.write(",".join(repr(float(x)) for x in (ti, pi, to, po)) + "\n")
     _, out, _ = cli("eval", source, "--dirs", dirs)
     expected = np.array([[float(r[c]) for c in "rgb"] for r in read_csv(out)])
     wi = directions(theta[:, 0], phi[:, 0])
