@@ -202,9 +202,7 @@ fn broadcast_shape(views: &[ArrayViewD<'_, f64>]) -> PyResult<Vec<usize>> {
 #[pyfunction]
 pub fn load(py: Python<'_>, source: PathBuf) -> PyResult<PyBrdf> {
     let spec = source.to_string_lossy().into_owned();
-    let inner = py
-        .detach(|| specula_formats::load_brdf(&spec))
-        .or_raise()?;
+    let inner = py.detach(|| specula_formats::load_brdf(&spec)).or_raise()?;
     Ok(PyBrdf { inner })
 }
 

@@ -130,19 +130,20 @@ pub fn plan<'py>(
         grid.phi_d_step_deg,
         grid.phi_h_deg,
     );
-    let (chosen, nested_summary, optimized_summary) = interrupt::run(py, Stop::Abandon, move |_| {
-        let nested = Plan::from_grid(
-            &grid.theta_h_deg,
-            &grid.theta_d_deg,
-            &grid.phi_d_deg,
-            grid.phi_h_deg,
-            &device,
-        );
-        let ordered = specula_acquisition::ordering::order(&nested);
-        let summaries = (nested.summary(&device), ordered.summary(&device));
-        let chosen = if optimized { ordered } else { nested };
-        (chosen, summaries.0, summaries.1)
-    })?;
+    let (chosen, nested_summary, optimized_summary) =
+        interrupt::run(py, Stop::Abandon, move |_| {
+            let nested = Plan::from_grid(
+                &grid.theta_h_deg,
+                &grid.theta_d_deg,
+                &grid.phi_d_deg,
+                grid.phi_h_deg,
+                &device,
+            );
+            let ordered = specula_acquisition::ordering::order(&nested);
+            let summaries = (nested.summary(&device), ordered.summary(&device));
+            let chosen = if optimized { ordered } else { nested };
+            (chosen, summaries.0, summaries.1)
+        })?;
     let dict = plan_dict(py, &chosen)?;
     let summary = PyDict::new(py);
     summary.set_item("nested", summary_dict(py, &nested_summary)?)?;

@@ -179,14 +179,15 @@ pub fn evaluate<'py>(
         let measurement = Measurement::simulate(truth.as_ref(), &settings, &device)?;
         let table = tabulate(truth.as_ref(), settings.phi_h_deg.to_radians());
         let (_, accuracy) =
-            evaluate_samples(&measurement.samples, method, &table, max_elevation_deg)
-                .map_err(|e| {
+            evaluate_samples(&measurement.samples, method, &table, max_elevation_deg).map_err(
+                |e| {
                     format!(
                         "{name}: reconstructing {} samples: {}",
                         measurement.samples.len(),
                         one_line(&e)
                     )
-                })?;
+                },
+            )?;
         Ok::<_, Box<dyn std::error::Error + Send + Sync>>((
             name,
             measurement.k,
