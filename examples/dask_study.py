@@ -39,10 +39,12 @@ def main():
         parallel = client.gather(futures)
         dask_s = time.perf_counter() - t0
 
-    assert parallel == serial, "Dask and the serial loop disagree"
+    # Equal up to the rounding of parallel sums (rayon splits the work as the load allows).
+    worst = max(abs(p[i] - s[i]) / abs(s[i]) for p, s in zip(parallel, serial) for i in (2, 3))
+    assert [p[:2] for p in parallel] == [s[:2] for s in serial] and worst < 1e-9, worst
     mean = sum(r[2] for r in parallel) / len(parallel)
     print(f"{len(names)} materials, method {args.method}: mean relative RMSE within 75 deg {mean:.4f}")
-    print(f"serial {serial_s:.1f} s, Dask {args.workers} workers {dask_s:.1f} s")
+    print(f"serial {serial_s:.1f} s, Dask {args.workers} workers {dask_s:.1f} s; figures agree to {worst:.1e}")
 
 
 if __name__ == "__main__":
