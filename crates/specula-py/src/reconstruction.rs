@@ -8,7 +8,7 @@ use crate::plan::{device, Grid};
 use crate::sampling::{rgb_array, rgb_rows};
 use crate::table::to_array;
 use numpy::ndarray::Array3;
-use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike1, PyArrayLike2};
+use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
@@ -18,6 +18,7 @@ use specula_core::HalfDiff;
 use specula_reconstruct::accuracy::{
     evaluate as evaluate_samples, Measurement, PlanSettings, ThetaHPlacement,
 };
+use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_reconstruct::{reconstruct as reconstruct_samples, Method, Sample};
 use std::path::PathBuf;
 
@@ -67,6 +68,30 @@ pub fn samples_of(samples: &Bound<'_, PyMapping>) -> PyResult<Vec<Sample>> {
         .collect())
 }
 
+/// Cell origins as a uint8 `(90, 90, 180)` array: 0 measured, 1 interpolated, 2 extrapolated.
+fn provenance_array<'py>(py: Python<'py>, provenance: &Provenance) -> Bound<'py, PyArray3<u8>> {
+    let codes: Vec<u8> = provenance.cells.iter().map(|&c| c as u8).collect();
+    Array3::from_shape_vec((THETA_H_BINS, THETA_D_BINS, PHI_D_BINS), codes)
+        .expect("one origin per cell")
+        .into_pyarray(py)
+}
+
+/// The provenance of a reconstructed MERL file: its `OUT.provenance.npy` sidecar (written by
+/// `specula reconstruct` and `specula measure`) as a uint8 `(90, 90, 180)` array (0 measured,
+/// 1 interpolated, 2 extrapolated), or None when the file has no sidecar.
+#[pyfunction]
+pub fn read_provenance(
+    py: Python<'_>,
+    merl_path: PathBuf,
+) -> PyResult<Option<Bound<'_, PyArray3<u8>>>> {
+    let sidecar = sidecar_path(&merl_path);
+    if !sidecar.exists() {
+        return Ok(None);
+    }
+    let provenance = Provenance::read(&sidecar).or_raise()?;
+    Ok(Some(provenance_array(py, &provenance)))
+}
+
 /// The reconstruction method named `name` (`lobe`, `log` or `linear`).
 fn method(name: &str) -> PyResult<Method> {
     name.parse().map_err(invalid)
@@ -93,10 +118,7 @@ pub fn reconstruct<'py>(
         .detach(|| reconstruct_samples(&samples, method, "reconstruction"))
         .or_raise()?;
     let dict = PyDict::new(py);
-    let provenance: Vec<u8> = r.provenance.cells.iter().map(|&c| c as u8).collect();
-    let provenance = Array3::from_shape_vec((THETA_H_BINS, THETA_D_BINS, PHI_D_BINS), provenance)
-        .expect("one origin per cell");
-    dict.set_item("provenance", provenance.into_pyarray(py))?;
+    dict.set_item("provenance", provenance_array(py, &r.provenance))?;
     dict.set_item("lattice_shape", r.lattice_shape.to_vec())?;
     dict.set_item("measured_nodes", r.measured_nodes)?;
     dict.set_item("filled_nodes", r.filled_nodes)?;

@@ -70,6 +70,8 @@ def test_reconstruct_matches_the_cli(cli, tmp_path):
     result = specula.reconstruct(samples, method="linear")
     np.testing.assert_array_equal(result["table"], specula.read_merl(out))
     np.testing.assert_array_equal(result["provenance"], np.load(tmp_path / "rec.provenance.npy"))
+    np.testing.assert_array_equal(specula.read_provenance(out), result["provenance"])
+    assert specula.read_provenance(samples_csv) is None
     assert result["lobe"] is None
 
 

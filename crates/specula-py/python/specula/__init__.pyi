@@ -77,6 +77,9 @@ def read_merl(path: Path) -> FloatArray:
 def write_merl(path: Path, array: FloatArray) -> None:
     """Write a (90, 90, 180, 3) array as a MERL .binary file (NaN: not measured)."""
 
+def read_provenance(merl_path: Path) -> Optional[npt.NDArray[np.uint8]]:
+    """The OUT.provenance.npy sidecar of a reconstructed table: (90, 90, 180) uint8, or None."""
+
 def load(source: Path) -> Brdf:
     """Any BRDF the CLI takes: preset, material .toml, MERL, RGL .bsdf, UTIA, model:name fits."""
 
