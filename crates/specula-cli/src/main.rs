@@ -3,6 +3,7 @@
 //! the work lives in the library crates.
 
 mod commands;
+mod interrupt;
 mod progress;
 
 use clap::{Parser, Subcommand};

@@ -11,11 +11,11 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use specula_reconstruct::Method;
 use specula_sampling::Probe;
-use specula_session::journal::Journal;
+use specula_session::journal::{Journal, SourceRecord};
 use specula_session::workflow::{
-    default_session_path, measure as run_measurement, measured_samples, probe_samples,
-    simulated_truth, FitRecord, HdrChoice, MeasureOutcome, MeasureSettings, PlanOrder, Quiet,
-    Source, Summary, STAGE_MAIN, STAGE_PROBE,
+    default_session_path, measure as run_measurement, measured_samples, probe_samples, FitRecord,
+    HdrChoice, MeasureOutcome, MeasureSettings, PlanOrder, Quiet, Source, Summary, STAGE_MAIN,
+    STAGE_PROBE,
 };
 use std::path::PathBuf;
 
@@ -73,11 +73,9 @@ pub fn measure<'py>(
             "tilt_deg and tilt_azimuth_deg must be numbers of degrees",
         ));
     }
-    if method.parse::<Method>().is_err() {
-        return Err(invalid(format!(
-            "method {method}: expected lobe, log or linear"
-        )));
-    }
+    let method: Method = method
+        .parse()
+        .map_err(|_| invalid(format!("method {method}: expected lobe, log or linear")))?;
     let settings = MeasureSettings {
         seed,
         ideal,
@@ -106,7 +104,7 @@ pub fn measure<'py>(
                 )))
             }
         },
-        method: method.to_string(),
+        method,
         checks,
         tilt_deg,
         tilt_azimuth_deg,
@@ -153,7 +151,7 @@ fn summary_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict
     dict.set_item("device_s", s.device_s)?;
     dict.set_item("main_device_s", s.main_device_s)?;
     dict.set_item("simulated", s.simulated)?;
-    dict.set_item("method", &s.method)?;
+    dict.set_item("method", s.method.name())?;
     let events = PyDict::new(py);
     for (kind, count) in &s.events {
         events.set_item(kind, count)?;
@@ -172,8 +170,8 @@ fn summary_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict
 pub fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     let journal = Journal::open_read_only(&path).or_raise()?;
     let status = journal.status().or_raise()?;
-    let source: Option<String> = journal.meta("source").or_raise()?;
-    let fit: Option<FitRecord> = journal.meta("fit").or_raise()?;
+    let source: Option<SourceRecord> = journal.record().or_raise()?;
+    let fit: Option<FitRecord> = journal.record().or_raise()?;
     let has = |stage: &str| status.stages.iter().any(|s| s.stage == stage);
     let probe = if has(STAGE_PROBE) {
         let points = probe_samples(&journal).or_raise()?;
@@ -190,10 +188,10 @@ pub fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>
     };
 
     let dict = PyDict::new(py);
-    dict.set_item("source", &source)?;
+    dict.set_item("source", source.as_ref().map(|s| s.to_string()))?;
     dict.set_item(
         "simulated_truth",
-        source.as_deref().and_then(simulated_truth),
+        source.as_ref().and_then(|s| s.simulated_truth()),
     )?;
     let stages = PyDict::new(py);
     for stage in &status.stages {

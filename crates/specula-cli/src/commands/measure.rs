@@ -1,11 +1,12 @@
 //! `specula measure`: the paper's whole measurement in one command, resumable.
 
 use super::grid_args::GridArgs;
+use crate::interrupt::stop_on_ctrl_c;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
-use specula_session::engine::{stop_on_ctrl_c, Progress, StageOutcome};
+use specula_session::engine::{Progress, StageOutcome};
 use specula_session::protocol::{ClientSettings, Endpoint};
 use specula_session::workflow::{
     default_session_path, measure, summary_path, HdrChoice, MeasureOutcome, MeasureSettings,
@@ -147,7 +148,10 @@ impl Args {
                 HdrArg::Predicted => HdrChoice::Predicted,
                 HdrArg::Bracket => HdrChoice::Bracket,
             },
-            method: self.method.clone(),
+            method: self
+                .method
+                .parse()
+                .unwrap_or(specula_reconstruct::Method::LOBE),
             checks: !self.skip_checks,
             tilt_deg: self.tilt,
             tilt_azimuth_deg: self.tilt_azimuth,

@@ -34,6 +34,13 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
+mod records;
+
+pub use records::{
+    ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder,
+    PlanRecord, Record, SessionRecord, SourceRecord, Stage, VersionRecord,
+};
+
 /// The version of the tables below; a journal of another version is refused.
 pub const SCHEMA_VERSION: i64 = 1;
 
@@ -438,6 +445,24 @@ impl Journal {
         let value = value();
         self.put_meta(key, &value)?;
         Ok(value)
+    }
+
+    /// The typed record `R`, if the journal holds it.
+    pub fn record<R: Record + DeserializeOwned>(&self) -> Result<Option<R>, JournalError> {
+        self.meta(R::KEY)
+    }
+
+    /// Keep the typed record `R` (replacing the one held).
+    pub fn put_record<R: Record>(&self, value: &R) -> Result<(), JournalError> {
+        self.put_meta(R::KEY, value)
+    }
+
+    /// The typed record `R` held, or `value()` kept and returned when there is none.
+    pub fn record_or_insert<R: Record + DeserializeOwned>(
+        &self,
+        value: impl FnOnce() -> R,
+    ) -> Result<R, JournalError> {
+        self.meta_or_insert(R::KEY, value)
     }
 
     /// Writes a stage's plan in one transaction. If the stage already has a plan (a resumed
