@@ -216,7 +216,8 @@ fn files_that_are_not_journals_get_one_line_errors() {
     fails(&text, &[], "notes.sqlite");
     let empty = dir.path().join("empty.sqlite");
     std::fs::write(&empty, "").unwrap();
-    fails(&empty, &[], "empty.sqlite: not a specula session journal");
+    // An empty file is a truncated journal (issue 16, item 8), not a new session.
+    fails(&empty, &[], "empty.sqlite: the journal is damaged");
     fails(&dir.path().join("missing.sqlite"), &[], "missing.sqlite");
     fails(
         &empty,
