@@ -2,8 +2,11 @@
 //! specular materials. This crate only parses arguments, shows progress and reports errors;
 //! the work lives in the library crates.
 
+#[macro_use]
+mod output;
 mod commands;
 mod progress;
+mod range;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -11,7 +14,9 @@ use std::process::ExitCode;
 /// Measure the BRDF of highly specular materials on a goniometer with few, well-placed samples.
 ///
 /// BRDF arguments accept a MERL .binary file, a material .toml file, a preset name
-/// (silver-925, green-paint, chrome, steel) or a published fit as model:name.
+/// (silver-925, green-paint, chrome, steel) or a published fit as model:name (`specula
+/// materials` lists them). Angles are in degrees everywhere and flag names carry no unit;
+/// each numeric option's range is in its help.
 #[derive(Parser)]
 #[command(name = "specula", version, propagate_version = true)]
 struct Cli {
@@ -24,6 +29,7 @@ enum Command {
     Demo(commands::demo::Args),
     Tabulate(commands::tabulate::Args),
     Info(commands::info::Args),
+    Materials(commands::materials::Args),
     Eval(commands::eval::Args),
     Compare(commands::compare::Args),
     Convert(commands::convert::Args),
@@ -50,6 +56,7 @@ fn main() -> ExitCode {
         Command::Demo(args) => commands::demo::run(args),
         Command::Tabulate(args) => commands::tabulate::run(args),
         Command::Info(args) => commands::info::run(args),
+        Command::Materials(args) => commands::materials::run(args),
         Command::Eval(args) => commands::eval::run(args),
         Command::Compare(args) => commands::compare::run(args),
         Command::Convert(args) => commands::convert::run(args),
@@ -71,6 +78,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(err) if output::is_closed_pipe(&err) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err:#}");
             ExitCode::from(1)

@@ -257,7 +257,7 @@ fn the_driver_protocol_over_tcp_and_exec_gives_the_same_bytes() {
     let output = run(&measure_args(
         &out,
         &[
-            "--device",
+            "--connect",
             &device,
             "--calibration",
             &calibration,
@@ -288,7 +288,7 @@ fn the_driver_protocol_over_tcp_and_exec_gives_the_same_bytes() {
     let device = format!("exec:{SPECULA} device serve --truth silver-925 --seed 3 --stdio");
     run(&measure_args(
         &out,
-        &["--device", &device, "--calibration", &calibration],
+        &["--connect", &device, "--calibration", &calibration],
     ));
     let exec = std::fs::read(&out).unwrap();
 
@@ -311,11 +311,11 @@ fn bad_arguments_get_one_line_errors() {
         assert!(stderr.contains(needle), "{needle}: {stderr}");
     };
     fails(
-        &measure_args(&out, &["--device", "tcp://127.0.0.1:9"]),
+        &measure_args(&out, &["--connect", "tcp://127.0.0.1:9"]),
         "--calibration",
     );
     fails(
-        &measure_args(&out, &["--device", "serial:/dev/ttyUSB0"]),
+        &measure_args(&out, &["--connect", "serial:/dev/ttyUSB0"]),
         "tcp://HOST:PORT or exec:COMMAND",
     );
     fails(

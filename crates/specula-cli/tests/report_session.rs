@@ -220,8 +220,8 @@ fn files_that_are_not_journals_get_one_line_errors() {
     fails(&dir.path().join("missing.sqlite"), &[], "missing.sqlite");
     fails(
         &empty,
-        &["--samples", "raw.csv"],
-        "--samples is for a .binary input",
+        &["--samples-csv", "raw.csv"],
+        "--samples-csv is for a .binary input",
     );
     assert!(!out.exists());
 }

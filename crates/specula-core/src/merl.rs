@@ -331,9 +331,9 @@ impl MerlBrdf {
         out
     }
 
-    /// Writes the `.binary` file.
+    /// Writes the `.binary` file, atomically ([`crate::atomic_file`]).
     pub fn write(&self, path: &Path) -> Result<(), MerlError> {
-        std::fs::write(path, self.to_bytes()).map_err(|cause| MerlError::Io {
+        crate::atomic_file::write_bytes(path, &self.to_bytes()).map_err(|cause| MerlError::Io {
             path: path.to_path_buf(),
             cause,
         })

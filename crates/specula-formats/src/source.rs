@@ -50,7 +50,10 @@ pub fn load_brdf(spec: &str) -> Result<BrdfSource> {
         }
         _ => match materials::preset(spec) {
             Some(material) => Ok(Arc::new(material)),
-            None => bail!("{spec}: no such file, preset or model fit"),
+            None => bail!(
+                "{spec}: no such file, preset or model fit (`specula materials` lists them){}",
+                crate::catalog::did_you_mean(spec, &crate::catalog::all_names())
+            ),
         },
     }
 }

@@ -136,9 +136,11 @@ impl Provenance {
     }
 
     pub fn write(&self, path: &Path) -> Result<(), ProvenanceError> {
-        std::fs::write(path, self.to_npy()).map_err(|source| ProvenanceError::Io {
-            path: path.to_path_buf(),
-            source,
+        specula_core::atomic_file::write_bytes(path, &self.to_npy()).map_err(|source| {
+            ProvenanceError::Io {
+                path: path.to_path_buf(),
+                source,
+            }
         })
     }
 

@@ -220,9 +220,34 @@ pub struct StageStatus {
     pub device_s_done: f64,
     /// The time model's estimate for the samples left, seconds.
     pub predicted_s_left: f64,
+    /// The time model's estimate for the finished samples, seconds.
+    pub predicted_s_done: f64,
     /// Wall-clock time of the finished samples, seconds.
     pub wall_s_done: f64,
     pub captures: usize,
+}
+
+impl StageStatus {
+    /// Device time left, seconds, as the progress bar estimates it
+    /// ([`device_s_left`]).
+    pub fn eta_device_s(&self) -> f64 {
+        device_s_left(
+            self.predicted_s_left,
+            self.device_s_done,
+            self.predicted_s_done,
+        )
+    }
+}
+
+/// Device time left, seconds: the time model's estimate for the samples left, scaled by how
+/// the finished samples compared with their estimate (the model assumes a fixed bracket;
+/// predicted exposures take less).
+pub fn device_s_left(predicted_s_left: f64, device_s_done: f64, predicted_s_done: f64) -> f64 {
+    if predicted_s_done > 0.0 && device_s_done > 0.0 {
+        predicted_s_left * device_s_done / predicted_s_done
+    } else {
+        predicted_s_left
+    }
 }
 
 /// What `specula session status` shows.
@@ -241,7 +266,7 @@ pub struct Journal {
     conn: Connection,
     path: PathBuf,
     /// Held while this process may write the session.
-    _lock: Option<File>,
+    lock: Option<File>,
 }
 
 /// Seconds since the Unix epoch, now.
@@ -261,7 +286,7 @@ impl Journal {
         let mut journal = Journal {
             conn,
             path: path.to_path_buf(),
-            _lock: Some(lock),
+            lock: Some(lock),
         };
         journal.prepare()?;
         Ok(journal)
@@ -275,7 +300,7 @@ impl Journal {
         let journal = Journal {
             conn,
             path: path.to_path_buf(),
-            _lock: None,
+            lock: None,
         };
         let version = journal.schema_version()?;
         match version {
@@ -293,6 +318,23 @@ impl Journal {
 
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Closes a finished session: the journal goes back to one file (rollback mode, so that
+    /// later readers leave no `-wal` or `-shm` file beside it) and the lock file is removed
+    /// while still held. A resumed run opens it in WAL mode again.
+    pub fn close(self) -> Result<(), JournalError> {
+        self.conn
+            .pragma_update(None, "journal_mode", "DELETE")
+            .map_err(|e| self.err(e))?;
+        if self.lock.is_some() {
+            // A process waiting on the removed file sees that it is gone ([`take_lock`]).
+            std::fs::remove_file(lock_path(&self.path)).map_err(|cause| JournalError::Lock {
+                path: self.name(),
+                cause,
+            })?;
+        }
+        Ok(())
     }
 
     /// Sets what a committed sample survives (default [`Durability::PowerCut`]).
@@ -639,14 +681,15 @@ impl Journal {
     }
 
     fn stage_status(&self, stage: &str) -> Result<StageStatus, JournalError> {
-        let (planned, predicted_s_left): (i64, f64) = self
+        let (planned, predicted_s_left, predicted_s_done): (i64, f64, f64) = self
             .conn
             .query_row(
-                "SELECT count(*), coalesce(sum(CASE WHEN s.seq IS NULL THEN p.predicted_s END), 0)
+                "SELECT count(*), coalesce(sum(CASE WHEN s.seq IS NULL THEN p.predicted_s END), 0),
+                        coalesce(sum(CASE WHEN s.seq IS NOT NULL THEN p.predicted_s END), 0)
                  FROM plan p LEFT JOIN samples s ON s.stage = p.stage AND s.seq = p.seq
                  WHERE p.stage = ?1",
                 params![stage],
-                |r| Ok((r.get(0)?, r.get(1)?)),
+                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
             )
             .map_err(|e| self.err(e))?;
         let (done, device_s_done, wall_s_done): (i64, f64, f64) = self
@@ -672,6 +715,7 @@ impl Journal {
             done: done as usize,
             device_s_done,
             predicted_s_left,
+            predicted_s_done,
             wall_s_done,
             captures: captures as usize,
         })
@@ -695,24 +739,28 @@ fn sql_error(path: &Path, cause: rusqlite::Error) -> JournalError {
 
 /// The lock file beside the journal, locked exclusively for as long as it is open (the OS
 /// releases it when the process dies, however it dies).
+/// A lock taken on a file that [`Journal::close`] removed meanwhile is no lock: the file is
+/// opened again until the locked file is the one at the path.
 fn take_lock(path: &Path) -> Result<File, JournalError> {
-    let mut lock_path = path.as_os_str().to_owned();
-    lock_path.push(".lock");
-    let lock_path = PathBuf::from(lock_path);
-    let file = File::options()
-        .create(true)
-        .truncate(false)
-        .write(true)
-        .open(&lock_path)
-        .map_err(|cause| JournalError::Lock {
-            path: path.display().to_string(),
-            cause,
-        })?;
+    let lock_path = lock_path(path);
+    let open = || {
+        File::options()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&lock_path)
+            .map_err(|cause| JournalError::Lock {
+                path: path.display().to_string(),
+                cause,
+            })
+    };
+    let mut file = open()?;
     // A few tries: a child process forked by another thread of this process holds a copy
     // of a just-closed lock until it execs (the descriptor is close-on-exec).
     for _ in 0..LOCK_TRIES {
         match file.try_lock() {
-            Ok(()) => return Ok(file),
+            Ok(()) if is_at_path(&file, &lock_path) => return Ok(file),
+            Ok(()) => file = open()?,
             Err(std::fs::TryLockError::WouldBlock) => std::thread::sleep(LOCK_PAUSE),
             Err(std::fs::TryLockError::Error(cause)) => {
                 return Err(JournalError::Lock {
@@ -726,6 +774,30 @@ fn take_lock(path: &Path) -> Result<File, JournalError> {
         path: path.display().to_string(),
         lock: lock_path.display().to_string(),
     })
+}
+
+/// `S.sqlite.lock` beside the journal `S.sqlite`.
+fn lock_path(path: &Path) -> PathBuf {
+    let mut lock_path = path.as_os_str().to_owned();
+    lock_path.push(".lock");
+    PathBuf::from(lock_path)
+}
+
+/// Whether the open `file` is still the file at `path` (not removed or replaced).
+fn is_at_path(file: &File, path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (file.metadata(), std::fs::metadata(path)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = file;
+        path.exists()
+    }
 }
 
 const LOCK_TRIES: usize = 10;

@@ -33,7 +33,7 @@ const PLACED_SAMPLES: usize = 30;
 /// figures and the renders beside the truth with their difference.
 ///
 /// INPUT is a MERL .binary (for instance from `specula reconstruct`; its provenance sidecar
-/// OUT.provenance.npy is used when present; --samples adds the raw samples, Fig. 15) or a
+/// OUT.provenance.npy is used when present; --samples-csv adds the raw samples, Fig. 15) or a
 /// session journal (.sqlite, from `specula measure` or `specula demo`). From a journal the
 /// report shows k-hat and the probe as measured, the samples measured of each stage's plan,
 /// the duration (device time: the simulated clock on the simulator) against the time
@@ -56,17 +56,17 @@ pub struct Args {
     pub truth: Option<String>,
     /// The raw samples of the measurement (CSV theta_h,phi_h,theta_d,phi_d,r,g,b); with a
     /// .binary input only (a journal holds its samples).
-    #[arg(long)]
+    #[arg(long = "samples-csv")]
     pub samples: Option<PathBuf>,
     /// With a session journal: the MERL .binary to show instead of reconstructing the
     /// session's samples.
     #[arg(long)]
     pub table: Option<PathBuf>,
-    /// Width and height of each render, pixels.
-    #[arg(long, default_value_t = 320)]
+    /// Width and height of each render, pixels. Range: a whole number from 8 to 8192.
+    #[arg(long, default_value_t = 320, value_parser = crate::range::IMAGE_PX)]
     pub size: usize,
-    /// Camera rays per pixel of the renders.
-    #[arg(long, default_value_t = 32)]
+    /// Camera rays per pixel of the renders. Range: a whole number from 1 to 65536.
+    #[arg(long, default_value_t = 32, value_parser = crate::range::SAMPLES_PER_PIXEL)]
     pub spp: usize,
     /// The report's title (default: the input's material name).
     #[arg(long)]
@@ -87,12 +87,9 @@ pub fn run(args: Args) -> Result<()> {
             args.input.display()
         ),
     };
-    if !(8..=4096).contains(&args.size) || !(1..=4096).contains(&args.spp) {
-        bail!("--size must lie in 8..=4096 and --spp in 1..=4096");
-    }
     let mut report = if session {
         if args.samples.is_some() {
-            bail!("--samples is for a .binary input: a session journal holds its own samples");
+            bail!("--samples-csv is for a .binary input: a session journal holds its own samples");
         }
         session::report(&args)?
     } else {
@@ -107,7 +104,7 @@ pub fn run(args: Args) -> Result<()> {
         args.input.display()
     ));
     report.write(&args.out)?;
-    println!("wrote {}", args.out.display());
+    outln!("wrote {}", args.out.display());
     Ok(())
 }
 

@@ -38,6 +38,17 @@ pub enum ConnectionEnd {
     Broken(String),
 }
 
+impl std::fmt::Display for ConnectionEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::ClientClosed => write!(f, "the client closed the connection"),
+            Self::Dropped => write!(f, "connection dropped (an injected fault)"),
+            Self::Refused(why) => write!(f, "client refused: {why}"),
+            Self::Broken(why) => write!(f, "connection broken: {why}"),
+        }
+    }
+}
+
 /// What to do after a request.
 enum Next {
     Continue,
@@ -146,7 +157,7 @@ impl Server {
             let writer = stream.try_clone()?;
             log(format!("{peer}: connected"));
             let end = self.serve_connection(stream, writer);
-            log(format!("{peer}: {end:?}"));
+            log(format!("{peer}: {end}"));
         }
         Ok(())
     }

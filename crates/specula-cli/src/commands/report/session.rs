@@ -339,8 +339,8 @@ fn settings_text(s: &MeasureSettings) -> String {
         s.theta_d_step_deg,
         s.phi_d_step_deg,
         s.phi_h_deg,
-        format!("{:?}", s.order).to_lowercase(),
-        format!("{:?}", s.hdr).to_lowercase(),
+        s.order.to_string(),
+        s.hdr.to_string(),
         s.method,
         if s.ideal { ", ideal" } else { "" }
     )
