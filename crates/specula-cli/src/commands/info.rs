@@ -8,7 +8,7 @@ use specula_core::Rgb;
 use specula_formats::convert::Loaded;
 use specula_formats::samples_csv::SampleSet;
 use specula_formats::utia::{self, UtiaBrdf};
-use specula_reconstruct::provenance::{sidecar_path, CellOrigin, Provenance};
+use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use std::path::Path;
 
 /// Describe any BRDF source Specula loads: its format, its grid, how many cells (nodes,
@@ -30,15 +30,13 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    let loaded = Loaded::resolve(&args.brdf)?;
     outln!("source: {}", args.brdf);
-    match Loaded::resolve(&args.brdf)? {
+    match loaded {
         Loaded::Merl(table) => {
             outln!("format: MERL .binary");
             let sidecar = sidecar_path(Path::new(&args.brdf));
-            let provenance = sidecar
-                .is_file()
-                .then(|| Provenance::read(&sidecar))
-                .transpose()?;
+            let provenance = Provenance::beside(Path::new(&args.brdf))?;
             let origin = match &provenance {
                 Some(_) => format!(
                     "the cells a sample fell in, per {} (interpolated and extrapolated cells left out)",
@@ -122,8 +120,7 @@ impl Stats {
 
 fn describe_merl(table: &MerlBrdf, provenance: Option<&Provenance>, among: &str) {
     outln!("grid: 90 theta_h x 90 theta_d x 180 phi_d cells (MERL)");
-    let chosen =
-        |index: usize| provenance.is_none_or(|p| p.cells.get(index) == Some(&CellOrigin::Measured));
+    let chosen = |index: usize| provenance.is_none_or(|p| p.is_measured(index));
     let stats = Stats::of(
         (0..CELLS)
             .filter(|&i| chosen(i))

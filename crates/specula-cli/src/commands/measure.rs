@@ -1,6 +1,7 @@
 //! `specula measure`: the paper's whole measurement in one command, resumable.
 
 use super::grid_args::GridArgs;
+use super::plan::Order;
 use crate::range;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
@@ -77,8 +78,8 @@ pub struct Args {
     pub grid: GridArgs,
     /// Order of the samples: optimized (a short path through axis space) or nested
     /// (theta_h, theta_d, phi_d loops, as the paper).
-    #[arg(long, value_enum, default_value_t = OrderArg::Optimized)]
-    pub order: OrderArg,
+    #[arg(long, value_enum, default_value_t = Order::Optimized)]
+    pub order: Order,
     /// HDR at each sample: predicted (adaptive from the probe and the previous sample, one or
     /// two captures) or bracket (the device file's fixed bracket, the paper's way).
     #[arg(long, value_enum, default_value_t = HdrArg::Predicted)]
@@ -121,12 +122,6 @@ pub struct Args {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum OrderArg {
-    Optimized,
-    Nested,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum HdrArg {
     Predicted,
     Bracket,
@@ -145,8 +140,8 @@ impl Args {
             phi_d_step_deg: self.grid.phi_d_step,
             phi_h_deg: self.grid.phi_h,
             order: match self.order {
-                OrderArg::Optimized => PlanOrder::Optimized,
-                OrderArg::Nested => PlanOrder::Nested,
+                Order::Optimized => PlanOrder::Optimized,
+                Order::Nested => PlanOrder::Nested,
             },
             hdr: match self.hdr {
                 HdrArg::Predicted => HdrChoice::Predicted,

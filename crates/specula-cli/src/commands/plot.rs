@@ -357,7 +357,7 @@ mod tests {
             positions: None,
             k: None,
             family: Family::Exponential,
-            samples: 30,
+            theta_h_samples: 30,
         }
     }
 
@@ -440,11 +440,6 @@ mod tests {
         };
         let err = run_to(Plot::Probe(args)).unwrap_err();
         assert!(format!("{err:#}").contains("no theta_h column"), "{err:#}");
-        let args = ProbeArgs {
-            positions: Some(vec![1.0, 95.0]),
-            ..probe_args(probe_csv(d), d.join("x.png"))
-        };
-        assert!(format!("{:#}", run_to(Plot::Probe(args)).unwrap_err()).contains("[0, 90]"));
         let slice = SliceArgs {
             brdf: "chrome".into(),
             out: d.join("slice.jpg"),

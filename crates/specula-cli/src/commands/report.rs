@@ -1,5 +1,6 @@
 //! `specula report`: one self-contained HTML page about a measured BRDF.
 
+use crate::output::plain;
 use anyhow::{bail, Context, Result};
 use specula_core::compare::compare;
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
@@ -208,7 +209,8 @@ fn material(table: &MerlBrdf, path: &Path) -> MaterialSection {
         "format".to_string(),
         "MERL .binary (90 x 90 x 180 cells)".to_string(),
     )];
-    facts.extend(peak_fact(table));
+    let provenance = Provenance::beside(path).ok().flatten();
+    facts.extend(peak_fact(table, provenance.as_ref()));
     MaterialSection {
         name: table.name(),
         source: path.display().to_string(),
@@ -217,27 +219,25 @@ fn material(table: &MerlBrdf, path: &Path) -> MaterialSection {
 }
 
 /// The table's largest value (sum of R, G, B) and where it lies.
-fn peak_fact(table: &MerlBrdf) -> Option<(String, String)> {
-    let mut peak: Option<(usize, Rgb)> = None;
-    for index in 0..CELLS {
-        if let Some(v) = table.cell(index) {
-            if peak.is_none_or(|(_, p)| v.element_sum() > p.element_sum()) {
-                peak = Some((index, v));
-            }
-        }
-    }
-    let (index, v) = peak?;
+/// The peak among the measured cells (those a sample fell in, when the reconstruction's
+/// provenance is known), saying which cells it was looked for in.
+fn peak_fact(table: &MerlBrdf, provenance: Option<&Provenance>) -> Option<(String, String)> {
+    let (index, v) = table.peak(|i| provenance.is_none_or(|p| p.is_measured(i)))?;
+    let among = match provenance {
+        Some(_) => "among the cells a sample fell in",
+        None => "among the cells holding a value",
+    };
     let bin = Bin::from_index(index).centre(0.0);
     Some((
         "peak f_r".into(),
         format!(
-            "R {:.4e}, G {:.4e}, B {:.4e} 1/sr at theta_h {:.3}, theta_d {:.1}, phi_d {:.1} deg",
-            v.x,
-            v.y,
-            v.z,
-            bin.theta_h.to_degrees(),
-            bin.theta_d.to_degrees(),
-            bin.phi_d.to_degrees()
+            "R {}, G {}, B {} 1/sr at θ_h {} deg, θ_d {} deg, φ_d {} deg, {among}",
+            plain(v.x),
+            plain(v.y),
+            plain(v.z),
+            plain(bin.theta_h.to_degrees()),
+            plain(bin.theta_d.to_degrees()),
+            plain(bin.phi_d.to_degrees())
         ),
     ))
 }

@@ -12,6 +12,7 @@ use specula_acquisition::instrument::InstrumentInfo;
 use specula_core::merl::CELLS;
 use specula_core::{MerlBrdf, Rgb};
 use specula_formats::BrdfSource;
+use specula_reconstruct::provenance::Provenance;
 use specula_reconstruct::{reconstruct, Method, Sample};
 use specula_session::journal::{Journal, SessionStatus, StageStatus};
 use specula_session::workflow::{
@@ -387,6 +388,7 @@ fn truth(
 /// method (as `specula reconstruct --session`); with its coverage rows and where it is from.
 struct Shown {
     table: MerlBrdf,
+    provenance: Option<Provenance>,
     rows: Vec<(String, usize, usize)>,
     origin: String,
 }
@@ -401,6 +403,7 @@ fn shown_table(
         let table = MerlBrdf::read(path)?;
         return Ok(Some(Shown {
             rows: super::coverage_rows(&table, path)?,
+            provenance: Provenance::beside(path)?,
             table,
             origin: format!("{} (--table)", path.display()),
         }));
@@ -434,6 +437,7 @@ fn shown_table(
             rows.extend(provenance_rows(&r.provenance));
             Ok(Some(Shown {
                 table: r.brdf,
+                provenance: Some(r.provenance),
                 rows,
                 origin: format!(
                     "reconstructed from the {} main samples with the {method} method",
@@ -475,7 +479,7 @@ pub(crate) fn report(args: &Args) -> Result<Report> {
     let truth_brdf = truth.as_ref().map(|(_, brdf)| brdf.as_ref());
     if let Some(shown) = &shown {
         facts.push(("table".into(), shown.origin.clone()));
-        facts.extend(peak_fact(&shown.table));
+        facts.extend(peak_fact(&shown.table, shown.provenance.as_ref()));
         coverage.extend(shown.rows.iter().cloned());
         if let Some((label, brdf)) = &truth {
             report.errors = Some(errors(&shown.table, brdf.as_ref(), label));
