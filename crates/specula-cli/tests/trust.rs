@@ -300,7 +300,7 @@ fn a_failed_connection_creates_no_session() {
 }
 
 /// `measure` through a child process serving the simulated device, with `faults` injected.
-fn measure_with_faults(dir: &Path, faults: &str) -> Output {
+fn measure_with_faults(dir: &Path, name: &str, faults: &str) -> Output {
     let calibration = dir.join("cal.toml");
     if !calibration.exists() {
         ok(&[
@@ -316,7 +316,7 @@ fn measure_with_faults(dir: &Path, faults: &str) -> Output {
     let connect = format!(
         "exec:'{SPECULA}' device serve --truth silver-925 --seed 3 --stdio --inject-faults {faults}"
     );
-    let out = dir.join(format!("faults-{}.binary", faults.replace([',', '@'], "-")));
+    let out = dir.join(format!("{name}.binary"));
     specula(&[
         "measure",
         "--connect",
@@ -340,7 +340,7 @@ fn measure_with_faults(dir: &Path, faults: &str) -> Output {
 fn a_fault_in_the_checks_is_retried_and_a_check_that_cannot_run_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
     // Request 10 falls in the alignment check (after hello, two infos and the homing).
-    let output = measure_with_faults(dir.path(), "motor@10");
+    let output = measure_with_faults(dir.path(), "one", "motor@10");
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(
         output.status.success(),
@@ -351,7 +351,7 @@ fn a_fault_in_the_checks_is_retried_and_a_check_that_cannot_run_is_an_error() {
     assert!(!stdout.contains("alignment=not done"), "{stdout}");
 
     let every: Vec<String> = (10..200).map(|n| format!("motor@{n}")).collect();
-    let output = measure_with_faults(dir.path(), &every.join(","));
+    let output = measure_with_faults(dir.path(), "every", &every.join(","));
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("alignment check"), "{stderr}");
