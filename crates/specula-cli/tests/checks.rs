@@ -126,8 +126,10 @@ fn bad_input_is_one_line_and_exit_1() {
             "2",
         ])
         .assert()
-        .code(1)
-        .stderr(predicate::str::contains("--rotations"));
+        .code(2)
+        .stderr(predicate::str::contains(
+            "--rotations 2: expected a whole number from 3 to 72",
+        ));
     specula()
         .args([
             "calibrate",

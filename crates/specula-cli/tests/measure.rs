@@ -322,10 +322,15 @@ fn bad_arguments_get_one_line_errors() {
         &measure_args(&out, &["--truth", "no-such-material"]),
         "no-such-material",
     );
-    fails(
-        &measure_args(&out, &["--truth", "silver-925", "--method", "magic"]),
-        "--method magic",
-    );
+    let magic = Command::new(SPECULA)
+        .args(measure_args(
+            &out,
+            &["--truth", "silver-925", "--method", "magic"],
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(magic.status.code(), Some(2), "a usage error");
+    assert!(String::from_utf8_lossy(&magic.stderr).contains("magic"));
     let session = dir.path().join("s.sqlite");
     let session_arg = session.display().to_string();
     // A session belongs to one measurement.
