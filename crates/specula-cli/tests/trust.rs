@@ -16,6 +16,18 @@ const SPECULA: &str = env!("CARGO_BIN_EXE_specula");
 /// Size of a MERL .binary file: the header and three planes of 90 x 90 x 180 doubles.
 const MERL_BYTES: u64 = 12 + 3 * 90 * 90 * 180 * 8;
 
+/// A small plan: 30 probe samples, 8 theta_h x 6 theta_d x 3 phi_d.
+const SMALL: [&str; 8] = [
+    "--probe-samples",
+    "30",
+    "--theta-h-samples",
+    "8",
+    "--theta-d-step",
+    "15",
+    "--phi-d-step",
+    "45",
+];
+
 fn specula(args: &[&str]) -> Output {
     Command::new(SPECULA)
         .args(args)
@@ -40,24 +52,18 @@ fn text(path: &Path) -> String {
 /// A small simulated measurement of silver-925 (no checks), complete.
 fn measured_session(dir: &Path) -> (PathBuf, PathBuf) {
     let out = dir.join("silver.binary");
-    ok(&[
+    let mut args = vec![
         "measure",
         "--truth",
         "silver-925",
         "--skip-checks",
-        "--probe-samples",
-        "30",
-        "--theta-h-samples",
-        "8",
-        "--theta-d-step",
-        "15",
-        "--phi-d-step",
-        "45",
         "--seed",
         "3",
-        "--out",
-        &text(&out),
-    ]);
+    ];
+    args.extend(SMALL);
+    let out_arg = text(&out);
+    args.extend(["--out", &out_arg]);
+    ok(&args);
     (out.with_extension("session.sqlite"), out)
 }
 
@@ -317,23 +323,17 @@ fn measure_with_faults(dir: &Path, name: &str, faults: &str) -> Output {
         "exec:'{SPECULA}' device serve --truth silver-925 --seed 3 --stdio --inject-faults {faults}"
     );
     let out = dir.join(format!("{name}.binary"));
-    specula(&[
+    let (calibration, out) = (text(&calibration), text(&out));
+    let mut args = vec![
         "measure",
         "--connect",
         &connect,
         "--calibration",
-        &text(&calibration),
-        "--probe-samples",
-        "30",
-        "--theta-h-samples",
-        "8",
-        "--theta-d-step",
-        "15",
-        "--phi-d-step",
-        "45",
-        "--out",
-        &text(&out),
-    ])
+        &calibration,
+    ];
+    args.extend(SMALL);
+    args.extend(["--out", &out]);
+    specula(&args)
 }
 
 #[test]

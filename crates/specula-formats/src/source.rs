@@ -45,6 +45,9 @@ pub fn load_brdf(spec: &str) -> Result<BrdfSource> {
     match extension.as_deref() {
         Some("binary") => Ok(Arc::new(MerlBrdf::read(path)?)),
         Some("toml") => Ok(Arc::new(Material::from_toml_file(path)?)),
+        _ if path.is_dir() => {
+            bail!("{spec}: is a directory, not a BRDF file (a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)")
+        }
         _ if path.exists() => {
             bail!("{spec}: unrecognised BRDF file (expected a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)")
         }

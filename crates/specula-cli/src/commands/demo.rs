@@ -26,7 +26,8 @@ const MATERIALS: [&str; 2] = ["silver-925", "green-paint"];
 /// duration, the error against the truth and every picture) and each of its pictures as a
 /// PNG: render_sphere.png and render_speedshape.png (the measured and the true material in a
 /// studio, with their difference, Fig. 16), characteristic_slice.png and
-/// characteristic_slice_of_the_truth.png (Fig. 11), probe_against_the_adaptive_samples.png
+/// characteristic_slice_of_the_truth.png and characteristic_slice_of_the_difference.png (Fig.
+/// 11, on one colour scale), probe_against_the_adaptive_samples.png
 /// (Fig. 13) and raw_samples.png (the measured samples per phi_d, Fig. 15).
 ///
 /// A rerun resumes the sessions (and is quick once they are complete); Ctrl-C stops after

@@ -12,7 +12,7 @@ use specula_sampling::{Probe, ProbeSettings};
 use specula_visual::grid::{self, Tile};
 use specula_visual::plot::probe::{interpolate, plot_probe};
 use specula_visual::plot::raw_samples::{plot_raw_samples, RawSample, SampleGrid};
-use specula_visual::plot::slice::{plot_slice, SliceOptions};
+use specula_visual::plot::slice::{plot_slice, plot_slices_against_truth, SliceOptions};
 use specula_visual::plot::ThetaHAxis;
 use specula_visual::report::{
     CoverageSection, ErrorRow, ErrorSection, Figure, KHatSection, MaterialSection, Report,
@@ -367,20 +367,37 @@ fn renders(table: &MerlBrdf, truth: Option<&dyn Brdf>, args: &Args) -> Result<Ve
 /// The characteristic slice of the table, and of the truth when known (paper Fig. 11).
 fn slice_figures(table: &MerlBrdf, truth: Option<&dyn Brdf>) -> Result<Vec<Figure>> {
     let name = table.name();
-    let mut figures = vec![Figure::new(
-        "Characteristic slice",
-        "f_r (mean of R, G, B) at phi_d = 90 deg over theta_d and theta_h, theta_h on MERL's \
-         square-root axis, log false colour (paper Fig. 11); blue: not measured.",
-        &plot_slice(table, &name, &SliceOptions::default())?,
-    )?];
-    if let Some(truth) = truth {
-        figures.push(Figure::new(
+    let caption = "f_r (mean of R, G, B) at φ_d = 90 deg over θ_d and θ_h, θ_h on MERL's \
+         square-root axis, log false colour (paper Fig. 11); blue: not measured.";
+    let options = SliceOptions::default();
+    let Some(truth) = truth else {
+        return Ok(vec![Figure::new(
+            "Characteristic slice",
+            caption,
+            &plot_slice(table, &name, &options)?,
+        )?]);
+    };
+    let truth_name = truth.name();
+    let [measured, true_slice, difference] =
+        plot_slices_against_truth((table, &name), (truth, &truth_name), &options)?;
+    Ok(vec![
+        Figure::new(
+            "Characteristic slice",
+            format!("{caption} On one colour scale with the truth's slice and the difference."),
+            &measured,
+        )?,
+        Figure::new(
             "Characteristic slice of the truth",
-            format!("The same slice of {}.", truth.name()),
-            &plot_slice(truth, &truth.name(), &SliceOptions::default())?,
-        )?);
-    }
-    Ok(figures)
+            format!("The same slice of {truth_name}, on the same colour scale."),
+            &true_slice,
+        )?,
+        Figure::new(
+            "Characteristic slice of the difference",
+            "|measured - truth| on the same slice and the same colour scale: where it is as \
+             bright as the truth, the error there is 100 %.",
+            &difference,
+        )?,
+    ])
 }
 
 /// The probe `(theta_h deg, f)` against the `placed` positions of the fitted sampling
@@ -459,6 +476,7 @@ mod tests {
             "Render, sphere",
             "Render, speedshape",
             "Characteristic slice of the truth",
+            "Characteristic slice of the difference",
             "Probe against the adaptive samples",
             "Raw samples",
         ] {
@@ -466,7 +484,7 @@ mod tests {
         }
         // A table against itself: no error.
         assert!(html.contains("<td class=\"num\">0.0000</td>"));
-        assert_eq!(html.matches("data:image/png;base64,").count(), 6);
+        assert_eq!(html.matches("data:image/png;base64,").count(), 7);
     }
 
     #[test]
