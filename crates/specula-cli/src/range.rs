@@ -127,8 +127,8 @@ pub const AZIMUTH_DEG: Real = Real::from_to(-360.0, 360.0, "degrees");
 pub const PHI_D_DEG: Real = Real::from_to(0.0, 180.0, "degrees");
 /// theta_d, from the half vector: below the horizon at 90.
 pub const THETA_D_DEG: Real = Real::from_to(0.0, 89.5, "degrees");
-/// A polar angle from the normal: theta_h, theta_i, theta_o.
-pub const POLAR_DEG: Real = Real::from_to(0.0, 90.0, "degrees");
+/// A theta_h position.
+pub const THETA_H_DEG: Real = Real::from_to(0.0, 90.0, "degrees");
 /// A step of a grid in degrees (theta_d, phi_d).
 pub const GRID_STEP_DEG: Real = Real::from_to(0.5, 90.0, "degrees");
 /// An elevation from the normal that bounds the device's reach.

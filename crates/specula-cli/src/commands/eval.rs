@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 /// Evaluate a BRDF at the directions of a CSV file and print f_r as CSV on stdout.
 ///
-/// DIRS.csv has the header theta_i,phi_i,theta_o,phi_o (degrees; theta from 0 to 90, phi
+/// DIRS.csv has the header theta_i,phi_i,theta_o,phi_o (degrees; theta from 0 to 180, phi
 /// from -360 to 360). Every row is read and checked before anything is printed. The output has the header
 /// r,g,b (1/sr), one row per input row: `nan` where a MERL cell is not measured, 0 where a
 /// direction is at or below the horizon. A MERL file is looked up in its nearest bin, as
@@ -30,8 +30,8 @@ struct DirectionPair {
 }
 
 impl DirectionPair {
-    /// Refuses an angle outside its range (theta from 0 to 90 deg: at or above the
-    /// horizon; phi from -360 to 360 deg), naming the column.
+    /// Refuses an angle outside its range (theta from 0 to 180 deg, phi from -360 to 360
+    /// deg), naming the column.
     fn check(&self) -> std::result::Result<(), String> {
         for (column, value, range) in [
             ("theta_i", self.theta_i, THETA),
@@ -47,7 +47,9 @@ impl DirectionPair {
     }
 }
 
-const THETA: crate::range::Real = crate::range::POLAR_DEG;
+/// A direction's polar angle from the normal (above 90: below the horizon, where f_r is 0).
+const THETA: crate::range::Real = crate::range::Real::from_to(0.0, 180.0, "degrees");
+/// A direction's azimuth.
 const PHI: crate::range::Real = crate::range::AZIMUTH_DEG;
 
 pub fn run(args: Args) -> Result<()> {

@@ -39,7 +39,7 @@ pub struct Args {
     pub k: Option<f64>,
     /// Explicit theta_h positions in degrees, comma-separated, instead of --k (e.g. from
     /// adaptive placement). Range: degrees from 0 to 90.
-    #[arg(long, value_delimiter = ',', conflicts_with = "k", value_parser = crate::range::POLAR_DEG)]
+    #[arg(long, value_delimiter = ',', conflicts_with = "k", value_parser = crate::range::THETA_H_DEG)]
     pub theta_h_list: Option<Vec<f64>>,
     #[command(flatten)]
     pub grid: GridArgs,

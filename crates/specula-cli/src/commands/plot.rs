@@ -95,7 +95,7 @@ pub struct ProbeArgs {
     pub adaptive: Option<PathBuf>,
     /// The adaptive theta_h positions in degrees, comma-separated. Range: degrees from 0 to
     /// 90.
-    #[arg(long, value_delimiter = ',', conflicts_with = "k", value_parser = range::POLAR_DEG)]
+    #[arg(long, value_delimiter = ',', conflicts_with = "k", value_parser = range::THETA_H_DEG)]
     pub positions: Option<Vec<f64>>,
     /// k of the sampling function that places the adaptive samples (default: fitted).
     /// Range: a number above 0 and at most 100.
