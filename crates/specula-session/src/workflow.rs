@@ -168,7 +168,7 @@ enum Reached {
         speedup: Option<f64>,
     },
     Remote {
-        remote: RemoteInstrument,
+        remote: Box<RemoteInstrument>,
         calibration: Box<Calibration>,
     },
 }
@@ -188,7 +188,7 @@ impl Reached {
                 let remote = RemoteInstrument::connect(endpoint.clone(), client)
                     .with_context(|| format!("{endpoint}: cannot reach the device"))?;
                 Reached::Remote {
-                    remote,
+                    remote: Box::new(remote),
                     calibration,
                 }
             }
@@ -636,7 +636,7 @@ fn connect(
             let notes = remote.notes();
             let simulated = remote.simulated_clock_s().is_some();
             Ok(Connected {
-                instrument: Box::new(remote),
+                instrument: remote,
                 calibration,
                 link_notes: Some(notes),
                 simulated,

@@ -6,7 +6,7 @@ use specula_sampling::column::Interpolation;
 use specula_sampling::placement_study::{study_slice, summarize, MaterialPlacement, Method};
 use specula_sampling::slice::DENSE_NODES;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Compare ways of placing n theta_h samples over a database: how well each rebuilds the
 /// characteristic slice (phi_d = 90 deg, all theta_d) from one set of theta_h positions.
@@ -87,7 +87,7 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 fn write_csv(
-    path: &PathBuf,
+    path: &Path,
     domains: &[Interpolation],
     rows: &[Vec<MaterialPlacement>],
 ) -> Result<()> {

@@ -340,8 +340,8 @@ fn settings_text(s: &MeasureSettings) -> String {
         s.theta_d_step_deg,
         s.phi_d_step_deg,
         s.phi_h_deg,
-        s.order.to_string(),
-        s.hdr.to_string(),
+        s.order,
+        s.hdr,
         s.method,
         if s.ideal { ", ideal" } else { "" }
     )
