@@ -5,6 +5,7 @@
 #[macro_use]
 mod output;
 mod commands;
+mod interrupt;
 mod progress;
 mod range;
 
@@ -32,6 +33,7 @@ enum Command {
     Materials(commands::materials::Args),
     Eval(commands::eval::Args),
     Compare(commands::compare::Args),
+    Appearance(commands::appearance::Args),
     Convert(commands::convert::Args),
     Render(commands::render::Args),
     Plot(commands::plot::Args),
@@ -59,6 +61,7 @@ fn main() -> ExitCode {
         Command::Materials(args) => commands::materials::run(args),
         Command::Eval(args) => commands::eval::run(args),
         Command::Compare(args) => commands::compare::run(args),
+        Command::Appearance(args) => commands::appearance::run(args),
         Command::Convert(args) => commands::convert::run(args),
         Command::Render(args) => commands::render::run(args),
         Command::Plot(args) => commands::plot::run(args),

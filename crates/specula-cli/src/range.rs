@@ -162,7 +162,7 @@ pub const FAILURES: Count = Count::from_to(1, 100);
 /// Turntable rotations of the alignment check.
 pub const ROTATIONS: Count = Count::from_to(3, 72);
 /// Width and height of a picture, pixels.
-pub const IMAGE_PX: Count = Count::from_to(8, 8192);
+pub const IMAGE_PX: Count = Count::from_to(8, specula_report::MAX_IMAGE_PX);
 /// Camera rays per pixel.
 pub const SAMPLES_PER_PIXEL: Count =
     Count::from_to(1, specula_visual::render::MAX_SAMPLES_PER_PIXEL);

@@ -3,6 +3,7 @@
 //! and tabulation into the MERL grid. Pure computation: no terminal, network or database.
 
 pub mod atomic_file;
+pub mod bounded_read;
 pub mod brdf;
 pub mod geometry;
 pub mod merl;
@@ -13,4 +14,5 @@ pub use merl::MerlBrdf;
 pub mod compare;
 pub mod materials;
 pub mod sampling;
+pub mod shown;
 pub mod tabulate;

@@ -3,9 +3,14 @@
 //! and under a constant environment. The mean relative difference over the pixels fully
 //! covered by the sphere (reference luminance above 0.1 percent of the brightest) must stay
 //! under 2 percent.
+//!
+//! The RGL writer end to end (tools/rgl_export_check.py made the references): Mitsuba renders
+//! the `.bsdf` file `specula convert` wrote with its `measured` plugin; Specula renders the
+//! source itself (chrome, the green paint, a real RGL file); within 3 percent.
 
 use glam::DVec3;
-use specula_core::materials::Material;
+use specula_core::materials::{preset, Material};
+use specula_core::Brdf;
 use specula_visual::camera::Camera;
 use specula_visual::color::luminance;
 use specula_visual::{
@@ -58,6 +63,13 @@ fn mean_relative_difference(ours: &LinearImage, reference: &LinearImage) -> (f64
 
 fn check(lighting: Lighting, reference: &str, spp: usize) {
     let material = Material::from_toml_file(data("mitsuba_conductor.toml")).unwrap();
+    check_brdf(&material, lighting, reference, spp, 0.02);
+}
+
+/// Renders `brdf` as the reference was rendered and holds the mean relative difference under
+/// `tolerance`.
+fn check_brdf(brdf: &dyn Brdf, lighting: Lighting, reference: &str, spp: usize, tolerance: f64) {
+    let name = reference;
     let reference = LinearImage::load(&data(reference)).unwrap();
     let scene = Scene::new(ShapeKind::Sphere, lighting);
     let settings = RenderSettings {
@@ -66,14 +78,51 @@ fn check(lighting: Lighting, reference: &str, spp: usize) {
         samples_per_pixel: spp,
         seed: 7,
     };
-    let ours = render(&material, &scene, &settings, &|_| {});
+    let ours = render(brdf, &scene, &settings, &|_| {});
     let (difference, pixels) = mean_relative_difference(&ours, &reference);
     println!(
-        "{}: mean relative difference {difference:.4} over {pixels} pixels",
+        "{name} ({} px): mean relative difference {difference:.4} over {pixels} pixels",
         reference.width
     );
     assert!(pixels > 1500, "too few pixels compared: {pixels}");
-    assert!(difference < 0.02, "mean relative difference {difference}");
+    assert!(
+        difference < tolerance,
+        "{name}: mean relative difference {difference}"
+    );
+}
+
+/// Specula's render of `source` against Mitsuba's renders of the `.bsdf` written from it.
+fn check_rgl_export(source: &dyn Brdf, material: &str) {
+    check_brdf(
+        source,
+        Lighting::standard_point(),
+        &format!("mitsuba_rgl_{material}_point.exr"),
+        64,
+        0.03,
+    );
+    let env = Environment::constant(DVec3::ONE);
+    check_brdf(
+        source,
+        Lighting::Environment(Arc::new(env)),
+        &format!("mitsuba_rgl_{material}_constant.exr"),
+        256,
+        0.03,
+    );
+}
+
+#[test]
+fn written_rgl_files_render_in_mitsuba_as_their_sources() {
+    for material in ["chrome", "green-paint"] {
+        check_rgl_export(&preset(material).unwrap(), material);
+    }
+    let file =
+        specula_formats::input::measured_data_dir().join("rgl_bsdf/cc_ibiza_sunset_rgb.bsdf");
+    if file.is_file() {
+        let source = specula_formats::rgl::RglBsdf::read(&file).unwrap();
+        check_rgl_export(&source, "cc_ibiza_sunset_rgb");
+    } else {
+        println!("skipped the real RGL file: {} not found", file.display());
+    }
 }
 
 #[test]

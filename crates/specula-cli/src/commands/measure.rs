@@ -2,12 +2,14 @@
 
 use super::grid_args::GridArgs;
 use super::plan::Order;
+use super::token_args::TokenArgs;
+use crate::interrupt::stop_on_ctrl_c;
 use crate::range;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
-use specula_session::engine::{stop_on_ctrl_c, Progress, StageOutcome};
+use specula_session::engine::{Progress, StageOutcome};
 use specula_session::protocol::{ClientSettings, Endpoint};
 use specula_session::workflow::{
     default_session_path, measure, summary_path, HdrChoice, MeasureOutcome, MeasureSettings,
@@ -101,9 +103,9 @@ pub struct Args {
     /// UTIA gonioreflectometer. The device to talk to is --connect.
     #[arg(long, alias = "device-model")]
     pub device: Option<PathBuf>,
-    /// Shared token for `specula device serve --token`.
-    #[arg(long)]
-    pub token: Option<String>,
+    /// Shared token for a server that asks for one (`specula device serve --token-file`).
+    #[command(flatten)]
+    pub token: TokenArgs,
     /// Seconds to wait for a reply from a device before retrying. Range: seconds above 0
     /// and at most 86400.
     #[arg(long, default_value_t = 120.0, value_parser = range::TIMEOUT_S)]
@@ -147,7 +149,7 @@ impl Args {
                 HdrArg::Predicted => HdrChoice::Predicted,
                 HdrArg::Bracket => HdrChoice::Bracket,
             },
-            method: self.method.to_string(),
+            method: self.method,
             checks: !self.skip_checks,
             tilt_deg: self.tilt,
             tilt_azimuth_deg: self.tilt_azimuth,
@@ -242,7 +244,7 @@ fn source(args: &Args) -> Result<Source> {
         client: ClientSettings {
             reply_timeout: Duration::from_secs_f64(args.reply_timeout),
             max_failures: u32::try_from(args.max_failures).unwrap_or(u32::MAX),
-            token: args.token.clone(),
+            token: args.token.resolve()?.map(|t| t.secret().to_string()),
             ..ClientSettings::default()
         },
         calibration: Box::new(calibration),

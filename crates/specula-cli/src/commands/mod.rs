@@ -1,6 +1,7 @@
 //! One module per subcommand: its arguments (with the `--help` text) and its `run`.
 
 pub mod analyze;
+pub mod appearance;
 pub mod calibrate;
 pub mod check;
 pub mod compare;
@@ -38,3 +39,4 @@ pub fn require_merl_out(path: &std::path::Path) -> anyhow::Result<()> {
     }
     Ok(())
 }
+pub mod token_args;

@@ -2,8 +2,7 @@
 
 use super::measure::duration_text;
 use anyhow::Result;
-use specula_session::journal::{Journal, SessionStatus};
-use specula_session::workflow::{ChecksRecord, FitRecord, MeasureSettings, PlanRecord};
+use specula_session::journal::{SessionRecord, SessionStatus};
 use std::path::PathBuf;
 
 /// Inspect measurement sessions (the SQLite journals of `specula measure`).
@@ -32,17 +31,17 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 fn status(path: &std::path::Path) -> Result<()> {
-    let journal = Journal::open_read_only(path)?;
-    let status: SessionStatus = journal.status()?;
+    let record = SessionRecord::read(path)?;
+    let status: &SessionStatus = &record.status;
     outln!(
         "session: {} (schema {})",
         path.display(),
         status.schema_version
     );
-    if let Some(source) = journal.meta::<String>("source")? {
+    if let Some(source) = &record.source {
         outln!("measures: {source}");
     }
-    if let Some(settings) = journal.meta::<MeasureSettings>("settings")? {
+    if let Some(settings) = &record.settings {
         outln!(
             "settings: seed {}, {} probe samples, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, order {}, hdr {}{}",
             settings.seed,
@@ -56,11 +55,11 @@ fn status(path: &std::path::Path) -> Result<()> {
             if settings.ideal { ", ideal" } else { "" }
         );
     }
-    if let Some(checks) = journal.meta::<ChecksRecord>("checks")? {
+    if let Some(checks) = &record.checks {
         outln!("alignment: {}", checks.alignment);
         outln!("orientation: {}", checks.orientation);
     }
-    if let Some(fit) = journal.meta::<FitRecord>("fit")? {
+    if let Some(fit) = &record.fit {
         outln!(
             "k-hat: {} ({}), fit error {} 1/sr",
             crate::output::plain(fit.function.k),
@@ -68,7 +67,7 @@ fn status(path: &std::path::Path) -> Result<()> {
             crate::output::plain(fit.error)
         );
     }
-    if let Some(plan) = journal.meta::<PlanRecord>("plan")? {
+    if let Some(plan) = &record.plan {
         outln!(
             "plan: {} samples, {} measurable, {} beyond the axes' limits, {} occluded",
             plan.total,
