@@ -21,6 +21,7 @@
 //! ([`Calibration::brdf`]). `specula calibrate` stores the result as TOML for later runs.
 
 pub mod colorchecker;
+pub mod response;
 
 use crate::hdr::{HdrCapturer, HdrSettings, HdrValue, NoiseModel};
 use crate::instrument::{Capture, Instrument, InstrumentError};
@@ -147,6 +148,10 @@ pub struct Calibration {
     /// The colour reference used.
     pub colour_reference: String,
     pub noise: NoiseModel,
+    /// The instrument's response measured with the reference mirror
+    /// ([`response::measure_response`]); absent in files made before it was measured.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub response: Option<response::ResponseFit>,
 }
 
 impl Calibration {
@@ -390,6 +395,7 @@ pub fn calibrate<I: Instrument>(
                            linear sRGB D65"
             .into(),
         noise,
+        response: None,
     })
 }
 

@@ -21,5 +21,5 @@ pub mod reconstruct;
 pub mod sample;
 
 pub use method::Method;
-pub use reconstruct::{reconstruct, ReconstructError, Reconstruction};
+pub use reconstruct::{reconstruct, reconstruct_through, ReconstructError, Reconstruction};
 pub use sample::Sample;

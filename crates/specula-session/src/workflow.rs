@@ -34,6 +34,7 @@ use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
 use specula_acquisition::instrument::Instrument;
 use specula_acquisition::ordering::order;
 use specula_acquisition::plan::Plan;
+use specula_acquisition::response::InstrumentResponse;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::sampling::{Family, SamplingFunction};
@@ -513,7 +514,10 @@ fn connect(
         Source::Simulated { truth, speedup } => {
             let mut config = SimulatorConfig::new(settings.seed, device);
             if settings.point_light {
-                config.disk_points = 1;
+                config.response = InstrumentResponse::point(
+                    device.light.distance_m,
+                    device.camera.distance_m,
+                );
             }
             let tilt = if settings.ideal {
                 config.positioning.sigma_deg = 0.0;

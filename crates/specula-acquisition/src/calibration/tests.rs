@@ -117,6 +117,7 @@ fn calibration_file_round_trip_and_errors() {
         colour_rms_error: 0.001,
         colour_reference: "test".into(),
         noise: crate::simulator::camera::CameraModel::default().noise_model(),
+        response: None,
     };
     cal.save(&path).unwrap();
     assert_eq!(Calibration::load(&path).unwrap(), cal);
