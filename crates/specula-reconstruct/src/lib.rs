@@ -9,6 +9,7 @@
 
 pub mod accuracy;
 pub mod axis;
+pub mod deblur;
 pub mod domain;
 pub mod extrapolate;
 pub mod grid;

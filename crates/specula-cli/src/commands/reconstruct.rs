@@ -3,7 +3,9 @@
 use anyhow::{bail, Context, Result};
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::provenance::sidecar_path;
-use specula_reconstruct::{reconstruct, Method, Sample};
+use specula_acquisition::calibration::Calibration;
+use specula_acquisition::response::InstrumentResponse;
+use specula_reconstruct::{reconstruct_through, Method, Sample};
 use specula_session::journal::Journal;
 use specula_session::workflow::{measured_samples, STAGE_MAIN};
 use std::path::{Path, PathBuf};
@@ -38,15 +40,22 @@ pub struct Args {
     /// Reconstruction method: lobe, log or linear (the paper's baseline).
     #[arg(long, default_value = "lobe")]
     pub method: Method,
+    /// With --session: do not fit the lobe through the instrument's response that the
+    /// session's calibration holds (the BRDF as measured, blurred by the light's disk).
+    #[arg(long, requires = "session")]
+    pub no_deblur: bool,
     /// The MERL .binary file to write.
     #[arg(long)]
     pub out: PathBuf,
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let (input, samples) = match (&args.samples, &args.session) {
-        (Some(path), _) => (path, read_samples(path)?),
-        (None, Some(path)) => (path, session_samples(path)?),
+    let (input, samples, response) = match (&args.samples, &args.session) {
+        (Some(path), _) => (path, read_samples(path)?, None),
+        (None, Some(path)) => {
+            let (samples, response) = session_samples(path)?;
+            (path, samples, response.filter(|_| !args.no_deblur))
+        }
         (None, None) => bail!("give --samples or --session"),
     };
     let name = args.out.file_stem().map_or_else(
@@ -54,7 +63,7 @@ pub fn run(args: Args) -> Result<()> {
         |s| s.to_string_lossy().into_owned(),
     );
     let spinner = crate::progress::spinner("reconstructing");
-    let result = reconstruct(&samples, args.method, &name);
+    let result = reconstruct_through(&samples, args.method, &name, response.as_ref());
     spinner.finish_and_clear();
     let r = result.with_context(|| input.display().to_string())?;
     r.brdf.write(&args.out)?;
@@ -69,6 +78,19 @@ pub fn run(args: Args) -> Result<()> {
             lobe.shape.alpha, lobe.shape.gamma, lobe.diffuse.x, lobe.diffuse.y, lobe.diffuse.z
         );
     }
+    if let Some(resolution) = r.resolution_deg {
+        let width = r.lobe.map(|l| l.shape.half_width_deg());
+        println!(
+            "fitted through the instrument's response: resolution {resolution:.3} deg in theta_h; {}",
+            match width {
+                Some(w) if w < resolution => format!(
+                    "the peak's half width {w:.3} deg is below it: a bound, not a measurement"
+                ),
+                Some(w) => format!("the peak's half width {w:.3} deg is resolved"),
+                None => "no lobe".into(),
+            }
+        );
+    }
     println!(
         "cells: {measured} measured, {interpolated} interpolated, {extrapolated} extrapolated"
     );
@@ -81,9 +103,14 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// The measured samples of a session's main stage, in plan order.
-fn session_samples(path: &Path) -> Result<Vec<Sample>> {
+/// The measured samples of a session's main stage, in plan order, and the instrument's
+/// response its calibration holds.
+fn session_samples(path: &Path) -> Result<(Vec<Sample>, Option<InstrumentResponse>)> {
     let journal = Journal::open_read_only(path)?;
+    let response = journal
+        .meta::<Calibration>("calibration")?
+        .and_then(|c| c.response)
+        .map(|fit| fit.response);
     let plan = journal.plan(STAGE_MAIN)?;
     let samples = measured_samples(&plan, &journal.samples(STAGE_MAIN)?);
     if samples.is_empty() {
@@ -92,7 +119,7 @@ fn session_samples(path: &Path) -> Result<Vec<Sample>> {
             path.display()
         );
     }
-    Ok(samples)
+    Ok((samples, response))
 }
 
 /// The samples of a CSV file.
