@@ -77,7 +77,9 @@ impl LightProfile {
         if self.emission.is_empty() {
             return q.sqrt();
         }
-        let i = table.partition_point(|&(_, c)| c < q).clamp(1, table.len() - 1);
+        let i = table
+            .partition_point(|&(_, c)| c < q)
+            .clamp(1, table.len() - 1);
         let (u0, c0) = table[i - 1];
         let (u1, c1) = table[i];
         if c1 <= c0 {
@@ -300,7 +302,11 @@ mod tests {
         let nodes = response.capture_nodes(1000);
         let a = response.light.radius_deg.to_radians().tan();
         let m2 = nodes.iter().map(|p| p.light.length_squared()).sum::<f64>() / 1000.0;
-        assert!((m2 / (a * a / 2.0) - 1.0).abs() < 0.005, "{}", m2 / (a * a / 2.0));
+        assert!(
+            (m2 / (a * a / 2.0) - 1.0).abs() < 0.005,
+            "{}",
+            m2 / (a * a / 2.0)
+        );
         let max = nodes.iter().map(|p| p.light.length()).fold(0.0, f64::max);
         assert!(max <= a * 1.002, "{max} vs {a}");
         assert!(nodes.iter().all(|p| p.camera == DVec2::ZERO));
@@ -336,7 +342,10 @@ mod tests {
         let wo = DVec3::new(-0.3, 0.2, 0.9).normalize();
         let m = InstrumentResponse::measure(&nodes, wi, wo, |_, _| Rgb::splat(0.3));
         assert!((m.x / 0.3 - 1.0).abs() < 1e-3, "{m}");
-        assert_eq!(InstrumentResponse::point(1.1, 2.0).capture_nodes(50).len(), 1);
+        assert_eq!(
+            InstrumentResponse::point(1.1, 2.0).capture_nodes(50).len(),
+            1
+        );
     }
 
     #[test]

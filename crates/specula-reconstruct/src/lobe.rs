@@ -125,7 +125,8 @@ impl Shape {
     /// `(1 + tan^2 / ((gamma - 1) alpha^2))^-gamma` is 1/2 (the `cos^4` is 1 to within the
     /// width's square).
     pub fn half_width_deg(&self) -> f64 {
-        let tan2 = (self.gamma - 1.0) * self.alpha * self.alpha * (2f64.powf(1.0 / self.gamma) - 1.0);
+        let tan2 =
+            (self.gamma - 1.0) * self.alpha * self.alpha * (2f64.powf(1.0 / self.gamma) - 1.0);
         tan2.sqrt().atan().to_degrees()
     }
 

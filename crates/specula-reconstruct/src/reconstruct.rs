@@ -6,11 +6,11 @@ use crate::extrapolate::fill_missing;
 use crate::grid::{extrapolated_cells, interpolate_to_merl};
 use crate::lattice::Lattice;
 use crate::lobe::{Geometry, Lobe, LobeOnGrid, BLUR_THETA_H_DEG};
-use specula_acquisition::response::{CaptureNode, InstrumentResponse};
 use crate::method::Method;
 use crate::provenance::Provenance;
 use crate::sample::Sample;
 use rayon::prelude::*;
+use specula_acquisition::response::{CaptureNode, InstrumentResponse};
 use specula_core::merl::MerlBrdf;
 use specula_core::{HalfDiff, Rgb};
 

@@ -24,9 +24,7 @@ use crate::predict::{Predictor, ProbeModel};
 use crate::protocol::{ClientSettings, Endpoint, RemoteInstrument};
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
-use specula_acquisition::calibration::response::{
-    measure_response, ResponseFit, ResponseOptions,
-};
+use specula_acquisition::calibration::response::{measure_response, ResponseFit, ResponseOptions};
 use specula_acquisition::calibration::{
     calibrate, mount_in_simulator, Calibration, CalibrationOptions,
 };
@@ -42,8 +40,8 @@ use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, HalfDiff, Rgb};
-use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::deblur::deblur_samples;
+use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::{reconstruct_through, Method, Sample};
 use specula_sampling::{fit_k, Probe};
 use std::path::{Path, PathBuf};
@@ -343,6 +341,20 @@ impl DeblurRecord {
             .is_some_and(|w| w >= self.resolution_deg)
     }
 
+    /// One sentence: the resolution and whether the peak is resolved.
+    pub fn describe(&self) -> String {
+        let resolution = format!("resolution {:.3} deg in theta_h", self.resolution_deg);
+        match self.peak_half_width_deg {
+            Some(w) if self.resolved() => {
+                format!("{resolution}; the peak's half width {w:.3} deg is resolved")
+            }
+            Some(w) => format!(
+                "{resolution}; the peak's half width {w:.3} deg is narrower than that: a bound, not a measurement"
+            ),
+            None => resolution,
+        }
+    }
+
     /// The summary's lines.
     pub fn lines(&self) -> Vec<String> {
         let mut lines = vec![
@@ -594,10 +606,8 @@ fn connect(
         Source::Simulated { truth, speedup } => {
             let mut config = SimulatorConfig::new(settings.seed, device);
             if settings.point_light {
-                config.response = InstrumentResponse::point(
-                    device.light.distance_m,
-                    device.camera.distance_m,
-                );
+                config.response =
+                    InstrumentResponse::point(device.light.distance_m, device.camera.distance_m);
             }
             let tilt = if settings.ideal {
                 config.positioning.sigma_deg = 0.0;

@@ -1,10 +1,10 @@
 //! `specula reconstruct`: measured samples into a full MERL table with its provenance.
 
 use anyhow::{bail, Context, Result};
-use specula_formats::samples_csv::SampleSet;
-use specula_reconstruct::provenance::sidecar_path;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::response::InstrumentResponse;
+use specula_formats::samples_csv::SampleSet;
+use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::{reconstruct_through, Method, Sample};
 use specula_session::journal::Journal;
 use specula_session::workflow::{measured_samples, STAGE_MAIN};

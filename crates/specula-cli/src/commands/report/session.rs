@@ -7,16 +7,18 @@ use super::{
     slice_figures, Args, PLACED_SAMPLES,
 };
 use anyhow::{Context, Result};
+use specula_acquisition::calibration::response::ResponseFit;
+use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::InstrumentInfo;
 use specula_core::merl::CELLS;
 use specula_core::{MerlBrdf, Rgb};
 use specula_formats::BrdfSource;
-use specula_reconstruct::{reconstruct, Method, Sample};
+use specula_reconstruct::{reconstruct_through, Method, Sample};
 use specula_session::journal::{Journal, SessionStatus, StageStatus};
 use specula_session::workflow::{
-    measured_samples, probe_samples, simulated_truth, ChecksRecord, FitRecord, MeasureSettings,
-    PlanRecord, STAGE_MAIN, STAGE_PROBE,
+    measured_samples, probe_samples, simulated_truth, ChecksRecord, DeblurRecord, FitRecord,
+    MeasureSettings, PlanRecord, STAGE_MAIN, STAGE_PROBE,
 };
 use specula_visual::plot::raw_samples::RawSample;
 use specula_visual::report::{
@@ -49,6 +51,8 @@ struct Session {
     probe_phi_h_deg: Option<f64>,
     /// The main stage's measured samples, in plan order.
     main: Vec<Sample>,
+    /// The instrument's response of the session's calibration, if the session deblurs.
+    response: Option<ResponseFit>,
 }
 
 impl Session {
@@ -97,6 +101,7 @@ impl Session {
                 .first()
                 .map(|row| row.hd.phi_h.to_degrees()),
             main,
+            response: response_of(&journal)?,
             status,
         })
     }
@@ -275,6 +280,20 @@ impl Session {
         if let Some(s) = &self.settings {
             fact("settings", settings_text(s));
         }
+        if let Some(fit) = &self.response {
+            fact(
+                "instrument response",
+                format!(
+                    "light disk of {:.3} deg angular radius (measured with the {}; fit residual {:.3} of the peak), camera pupil {:.3} deg, measured area {:.1} mm across: resolution {:.3} deg in theta_h",
+                    fit.response.light.radius_deg,
+                    fit.reference,
+                    fit.rms_relative,
+                    fit.response.camera_aperture_deg,
+                    2e3 * fit.response.footprint_radius_m,
+                    fit.response.resolution_deg()
+                ),
+            );
+        }
         if let Some(checks) = &self.checks {
             fact("alignment", checks.alignment.clone());
             fact("orientation", checks.orientation.clone());
@@ -383,6 +402,16 @@ fn truth(
     }
 }
 
+/// The response a session's reconstruction goes through: its calibration's, unless the
+/// session was measured with `--no-deblur`.
+fn response_of(journal: &Journal) -> Result<Option<ResponseFit>> {
+    let deblur = journal
+        .meta::<MeasureSettings>("settings")?
+        .is_none_or(|s| s.deblur);
+    let calibration = journal.meta::<Calibration>("calibration")?;
+    Ok(calibration.and_then(|c| c.response).filter(|_| deblur))
+}
+
 /// The table shown: --table, or the main stage's samples reconstructed with the session's
 /// method (as `specula reconstruct --session`); with its coverage rows and where it is from.
 struct Shown {
@@ -422,7 +451,13 @@ fn shown_table(
         None => Method::LOBE,
     };
     let spinner = crate::progress::spinner("reconstructing");
-    let result = reconstruct(&session.main, method, &format!("{name}, measured"));
+    let response = session.response.as_ref().map(|fit| &fit.response);
+    let result = reconstruct_through(
+        &session.main,
+        method,
+        &format!("{name}, measured"),
+        response,
+    );
     spinner.finish_and_clear();
     match result {
         Ok(r) => {
@@ -436,8 +471,15 @@ fn shown_table(
                 table: r.brdf,
                 rows,
                 origin: format!(
-                    "reconstructed from the {} main samples with the {method} method",
-                    session.main.len()
+                    "reconstructed from the {} main samples with the {method} method{}",
+                    session.main.len(),
+                    match (&session.response, r.resolution_deg) {
+                        (Some(fit), Some(_)) => format!(
+                            ", fitted through the instrument's response: {}",
+                            DeblurRecord::new(fit, r.lobe.as_ref()).describe()
+                        ),
+                        _ => ", not deblurred (as measured, blurred by the light's disk)".into(),
+                    }
                 ),
             }))
         }
