@@ -6,14 +6,14 @@
 # disk and its noise; scored by `specula compare` (cosine-weighted relative RMSE and log RMSE
 # within 75 deg at the MERL bin centres) against the truth, with k-hat from the summaries.
 #
-#   cargo build --release && tools/instrument_accuracy.sh [TRUTH...] > table.md
+#   cargo build -p specula-cli && tools/instrument_accuracy.sh [TRUTH...] > table.md
 #
 # Default truths: tools/instrument_truths/*.toml (GGX and Beckmann conductors, two-lobe
 # materials), green-paint, two NBRDF fits of MERL and an RGL measurement when
 # ../shared/data/measured is present.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
-bin="${SPECULA:-$here/target/release/specula}"
+bin="${SPECULA:-$here/target/debug/specula}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 if [ "$#" -eq 0 ]; then
