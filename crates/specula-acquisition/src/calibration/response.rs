@@ -159,7 +159,7 @@ pub fn measure_response<I: Instrument>(
         data.push((f.x + f.y + f.z) / 3.0);
     }
     let peak = data.iter().copied().fold(0.0, f64::max);
-    if !(peak > 0.0) {
+    if peak <= 0.0 || peak.is_nan() {
         return Err(CalibrationError::Fit(
             "the mirror's scan saw no light: is the light's image within the scan?".into(),
         ));

@@ -189,7 +189,9 @@ fn the_mirror_scan_recovers_the_light_disk() {
             (fitted / truth - 1.0).abs() < 0.02,
             "radius {radius_m}: fitted {fitted} deg, true {truth} deg"
         );
-        assert!(fit.rms_relative < 0.05, "residual {}", fit.rms_relative);
+        // A wrong shape (a radius off by 10 %) leaves a residual of about a third of the peak
+        // at the edges; noise and the simulator's quadrature leave under a tenth.
+        assert!(fit.rms_relative < 0.1, "residual {}", fit.rms_relative);
         assert_eq!(fit.scan.len(), 141);
     }
 }
