@@ -62,16 +62,17 @@ def uniform_angle_pair(rng):
     return pick() + pick()
 
 
-def near_mirror_pair(rng):
-    """wi uniform, wo = wi reflected about a half vector close to the normal."""
+def near_mirror_pair(rng, spread_deg=6.0, cap_deg=15.0, max_elevation_deg=MAX_ELEVATION_DEG):
+    """wi uniform up to 80 deg, wo = wi reflected about a half vector close to the normal
+    (its elevation |N(0, spread_deg)| modulo cap_deg)."""
     while True:
         ti = math.degrees(math.acos(rng.uniform(math.cos(math.radians(80.0)), 1.0)))
         pi_ = rng.uniform(0.0, 360.0)
-        h = direction(abs(rng.normal(0.0, 6.0)) % 15.0, rng.uniform(0.0, 360.0))
+        h = direction(abs(rng.normal(0.0, spread_deg)) % cap_deg, rng.uniform(0.0, 360.0))
         wi = direction(ti, pi_)
         wo = 2.0 * wi.dot(h) * h - wi
         to, po = angles(wo / np.linalg.norm(wo))
-        if to <= MAX_ELEVATION_DEG:
+        if to <= max_elevation_deg:
             return ti, pi_, to, po
 
 

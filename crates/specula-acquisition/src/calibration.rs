@@ -28,6 +28,7 @@ use crate::instrument::{Capture, Instrument, InstrumentError};
 use crate::kinematics::AxisPositions;
 use glam::{DMat3, DVec3};
 use serde::{Deserialize, Serialize};
+use specula_core::shown::shown;
 use specula_core::{Brdf, Rgb};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -204,15 +205,177 @@ impl Calibration {
     /// Reads a calibration written by [`Calibration::save`].
     pub fn load(path: &Path) -> Result<Calibration, CalibrationError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| CalibrationError::File {
-            path: name.clone(),
-            message: format!("cannot read: {e}"),
+        let text = specula_core::bounded_read::read_toml_text(path).map_err(|e| {
+            CalibrationError::File {
+                path: name.clone(),
+                message: format!("cannot read: {e}"),
+            }
         })?;
-        toml::from_str(&text).map_err(|e| CalibrationError::File {
-            path: name,
-            message: e.message().to_string(),
-        })
+        let calibration: Calibration =
+            toml::from_str(&text).map_err(|e| CalibrationError::File {
+                path: name.clone(),
+                message: e.message().trim().replace('\n', " "),
+            })?;
+        calibration
+            .validate()
+            .map_err(|message| CalibrationError::File {
+                path: name,
+                message,
+            })?;
+        Ok(calibration)
     }
+
+    /// The first value outside its range, as `field must be RANGE, got VALUE`: gains
+    /// positive, the colour matrix finite and invertible, the noise model's black level
+    /// below its white level, the reference's reflectance in (0, 1].
+    pub fn validate(&self) -> Result<(), String> {
+        let rule = |ok: bool, field: &str, range: &str, value: f64| {
+            if ok {
+                Ok(())
+            } else {
+                Err(format!("{field} must be {range}, got {}", shown(value)))
+            }
+        };
+        for (c, &gain) in self.gain_dn_s_per_sr.iter().enumerate() {
+            let field = format!("gain_dn_s_per_sr[{c}]");
+            rule(
+                gain.is_finite() && gain > 0.0,
+                &field,
+                "positive and finite",
+                gain,
+            )?;
+        }
+        for (r, row) in self.colour_matrix.iter().enumerate() {
+            for (c, &v) in row.iter().enumerate() {
+                rule(
+                    v.is_finite(),
+                    &format!("colour_matrix[{r}][{c}]"),
+                    "finite",
+                    v,
+                )?;
+            }
+        }
+        let m = self.matrix();
+        let scale = self
+            .colour_matrix
+            .iter()
+            .flatten()
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        let det = m.determinant();
+        rule(
+            scale > 0.0 && det.abs() > 1e-9 * scale.powi(3),
+            "colour_matrix",
+            "invertible (its determinant is not 0)",
+            det,
+        )?;
+        let w = self.white_reflectance;
+        rule(w > 0.0 && w <= 1.0, "white_reflectance", "in (0, 1]", w)?;
+        let e = self.light_elevation_deg;
+        rule(
+            (0.0..90.0).contains(&e),
+            "light_elevation_deg",
+            "in [0, 90)",
+            e,
+        )?;
+        let n = &self.noise;
+        let black = n.black_level_dn;
+        rule(
+            black.is_finite() && black >= 0.0,
+            "noise.black_level_dn",
+            "zero or positive",
+            black,
+        )?;
+        let white = n.white_level_dn;
+        let range = format!("finite and above noise.black_level_dn ({})", shown(black));
+        rule(
+            white.is_finite() && white > black,
+            "noise.white_level_dn",
+            &range,
+            white,
+        )?;
+        let g = n.gain_dn_per_e;
+        rule(
+            g.is_finite() && g > 0.0,
+            "noise.gain_dn_per_e",
+            "positive and finite",
+            g,
+        )?;
+        let read = n.read_noise_dn;
+        rule(
+            read.is_finite() && read >= 0.0,
+            "noise.read_noise_dn",
+            "zero or positive",
+            read,
+        )?;
+        let dark = n.dark_current_dn_s;
+        rule(
+            dark.is_finite() && dark >= 0.0,
+            "noise.dark_current_dn_s",
+            "zero or positive",
+            dark,
+        )?;
+        match &self.response {
+            Some(fit) => validate_response(fit, &rule),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The response's first value outside its range (see [`Calibration::validate`]): angles in
+/// [0, 90) degrees, the emission profile zero or positive, the footprint zero or positive,
+/// the distances positive, the fit residual zero or positive.
+fn validate_response(
+    fit: &response::ResponseFit,
+    rule: &dyn Fn(bool, &str, &str, f64) -> Result<(), String>,
+) -> Result<(), String> {
+    let r = &fit.response;
+    let angle = |v: f64| (0.0..90.0).contains(&v);
+    let at_least_zero = |v: f64| v.is_finite() && v >= 0.0;
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    rule(
+        angle(r.light.radius_deg),
+        "response.response.light.radius_deg",
+        "in [0, 90)",
+        r.light.radius_deg,
+    )?;
+    for (i, &e) in r.light.emission.iter().enumerate() {
+        rule(
+            at_least_zero(e),
+            &format!("response.response.light.emission[{i}]"),
+            "zero or positive",
+            e,
+        )?;
+    }
+    rule(
+        angle(r.camera_aperture_deg),
+        "response.response.camera_aperture_deg",
+        "in [0, 90)",
+        r.camera_aperture_deg,
+    )?;
+    rule(
+        at_least_zero(r.footprint_radius_m),
+        "response.response.footprint_radius_m",
+        "zero or positive",
+        r.footprint_radius_m,
+    )?;
+    rule(
+        positive(r.light_distance_m),
+        "response.response.light_distance_m",
+        "positive and finite",
+        r.light_distance_m,
+    )?;
+    rule(
+        positive(r.camera_distance_m),
+        "response.response.camera_distance_m",
+        "positive and finite",
+        r.camera_distance_m,
+    )?;
+    rule(
+        at_least_zero(fit.rms_relative),
+        "response.rms_relative",
+        "zero or positive",
+        fit.rms_relative,
+    )
 }
 
 /// The 3 x 3 matrix `C` minimising `sum |C camera_p - reference_p|^2`, by SVD least squares.

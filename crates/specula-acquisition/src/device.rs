@@ -9,7 +9,12 @@ use crate::kinematics::AxisPositions;
 use crate::response::{InstrumentResponse, LightProfile};
 use crate::timing::CaptureBracket;
 use serde::{Deserialize, Serialize};
+use specula_core::shown::shown;
 use std::path::Path;
+
+/// The widest axis range accepted, degrees: two turns each way (a range of +-1e300 deg would
+/// make the planner allocate without bound).
+pub const MAX_AXIS_DEG: f64 = 720.0;
 
 /// The default device file, the paper's UTIA gonioreflectometer.
 pub const UTIA_TOML: &str = include_str!("../devices/utia.toml");
@@ -154,9 +159,11 @@ impl Device {
     /// Reads a device TOML file.
     pub fn load(path: &Path) -> Result<Device, DeviceError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| DeviceError::Read {
-            path: name.clone(),
-            source,
+        let text = specula_core::bounded_read::read_toml_text(path).map_err(|source| {
+            DeviceError::Read {
+                path: name.clone(),
+                source,
+            }
         })?;
         Device::from_toml_str(&text, &name)
     }
@@ -241,14 +248,20 @@ impl Device {
             if value.is_finite() && value > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{what} must be a positive number, got {value}"))
+                Err(format!(
+                    "{what} must be a positive number, got {}",
+                    shown(value)
+                ))
             }
         };
         let non_negative = |value: f64, what: &str| {
             if value.is_finite() && value >= 0.0 {
                 Ok(())
             } else {
-                Err(format!("{what} must be zero or positive, got {value}"))
+                Err(format!(
+                    "{what} must be zero or positive, got {}",
+                    shown(value)
+                ))
             }
         };
         non_negative(self.accuracy_deg, "accuracy_deg")?;
@@ -265,7 +278,15 @@ impl Device {
             {
                 return Err(format!(
                     "{name}: min_deg ({}) must be below max_deg ({})",
-                    axis.min_deg, axis.max_deg
+                    shown(axis.min_deg),
+                    shown(axis.max_deg)
+                ));
+            }
+            if axis.min_deg < -MAX_AXIS_DEG || axis.max_deg > MAX_AXIS_DEG {
+                return Err(format!(
+                    "{name}: the range [{}, {}] deg must stay within [-{MAX_AXIS_DEG}, {MAX_AXIS_DEG}] deg (two turns each way)",
+                    shown(axis.min_deg),
+                    shown(axis.max_deg)
                 ));
             }
             positive(axis.speed_deg_s, &format!("{name}.speed_deg_s"))?;

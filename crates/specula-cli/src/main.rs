@@ -3,6 +3,7 @@
 //! the work lives in the library crates.
 
 mod commands;
+mod interrupt;
 mod progress;
 
 use clap::{Parser, Subcommand};
@@ -26,6 +27,7 @@ enum Command {
     Info(commands::info::Args),
     Eval(commands::eval::Args),
     Compare(commands::compare::Args),
+    Appearance(commands::appearance::Args),
     Convert(commands::convert::Args),
     Render(commands::render::Args),
     Plot(commands::plot::Args),
@@ -52,6 +54,7 @@ fn main() -> ExitCode {
         Command::Info(args) => commands::info::run(args),
         Command::Eval(args) => commands::eval::run(args),
         Command::Compare(args) => commands::compare::run(args),
+        Command::Appearance(args) => commands::appearance::run(args),
         Command::Convert(args) => commands::convert::run(args),
         Command::Render(args) => commands::render::run(args),
         Command::Plot(args) => commands::plot::run(args),

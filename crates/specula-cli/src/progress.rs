@@ -21,3 +21,38 @@ pub fn spinner(label: &str) -> ProgressBar {
     spinner.enable_steady_tick(std::time::Duration::from_millis(120));
     spinner
 }
+
+/// The report layer's progress on the terminal: a bar for a step of known length, else a
+/// spinner.
+#[derive(Default)]
+pub struct Terminal {
+    current: std::sync::Mutex<Option<ProgressBar>>,
+}
+
+impl specula_report::Progress for Terminal {
+    fn start(&self, label: &str, total: Option<u64>) {
+        let shown = match total {
+            Some(total) => bar(total, label),
+            None => spinner(label),
+        };
+        if let Ok(mut current) = self.current.lock() {
+            *current = Some(shown);
+        }
+    }
+
+    fn set(&self, done: u64) {
+        if let Ok(current) = self.current.lock() {
+            if let Some(bar) = current.as_ref() {
+                bar.set_position(done);
+            }
+        }
+    }
+
+    fn finish(&self) {
+        if let Ok(mut current) = self.current.lock() {
+            if let Some(bar) = current.take() {
+                bar.finish_and_clear();
+            }
+        }
+    }
+}

@@ -1,4 +1,4 @@
-//! Tabulating an analytic material into the full MERL grid (1,458,000 cells), issue 2 item 5.
+//! Tabulating an analytic material into the full MERL grid (1,458,000 cells, paper section 3).
 //! Compare with `tools/tabulate_numpy.py`, the same GGX conductor vectorised in numpy.
 //! `evaluate_cells_*` is the evaluation alone, cell by cell (no table, no row factors), to
 //! show what walking the grid by rows ([`specula_core::Brdf::eval_phi_d_row`]) saves.

@@ -8,6 +8,11 @@ use std::sync::Arc;
 /// An RGB triple of BRDF values in 1/sr (`x` red, `y` green, `z` blue).
 pub type Rgb = DVec3;
 
+/// Rec. 709 relative luminance of a linear RGB triple (ITU-R BT.709 primaries, D65).
+pub fn luminance(c: Rgb) -> f64 {
+    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+}
+
 /// A bidirectional reflectance distribution function f_r (paper section 3), in 1/sr per
 /// RGB channel.
 pub trait Brdf: Send + Sync {

@@ -2,6 +2,7 @@
 //! abstraction, the MERL `.binary` table, reference materials, the theta_h sampling functions
 //! and tabulation into the MERL grid. Pure computation: no terminal, network or database.
 
+pub mod bounded_read;
 pub mod brdf;
 pub mod geometry;
 pub mod merl;
@@ -12,4 +13,5 @@ pub use merl::MerlBrdf;
 pub mod compare;
 pub mod materials;
 pub mod sampling;
+pub mod shown;
 pub mod tabulate;

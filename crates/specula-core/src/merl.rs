@@ -379,6 +379,30 @@ impl MerlBrdf {
     pub fn set_name(&mut self, name: impl Into<String>) {
         self.name = name.into();
     }
+
+    /// The table as f_r in 1/sr: three planes (R, G, B) of [`CELLS`] values each in cell
+    /// order, NaN in every channel of a cell not measured. The stored planes are scaled in
+    /// place (in parallel), so no second table is allocated.
+    pub fn into_planes_per_sr(mut self) -> Vec<f64> {
+        let (red, rest) = self.stored.split_at_mut(CELLS);
+        let (green, blue) = rest.split_at_mut(CELLS);
+        red.par_chunks_mut(PHI_D_BINS)
+            .zip(green.par_chunks_mut(PHI_D_BINS))
+            .zip(blue.par_chunks_mut(PHI_D_BINS))
+            .with_min_len(THETA_D_BINS)
+            .for_each(|((red, green), blue)| {
+                for ((r, g), b) in red.iter_mut().zip(green).zip(blue) {
+                    if *r >= 0.0 && *g >= 0.0 && *b >= 0.0 {
+                        *r *= CHANNEL_SCALE[0];
+                        *g *= CHANNEL_SCALE[1];
+                        *b *= CHANNEL_SCALE[2];
+                    } else {
+                        [*r, *g, *b] = [f64::NAN; 3];
+                    }
+                }
+            });
+        self.stored
+    }
 }
 
 /// Checks the 12-byte header (or as much as there is) and the total length of a file; the
@@ -537,6 +561,22 @@ mod tests {
             t.set_cell(i, Some(Rgb::new(i as f64, 2.0 * i as f64, 0.5) * 1e-3));
         }
         t
+    }
+
+    #[test]
+    fn planes_per_sr_are_the_cells_with_nan_holes() {
+        let mut t = sample_table();
+        // One negative channel is enough to make a cell not measured.
+        t.stored[14 + CELLS] = -0.5;
+        let planes = t.clone().into_planes_per_sr();
+        assert_eq!(planes.len(), 3 * CELLS);
+        for i in [0, 1, 7, 14, 21, CELLS - 1] {
+            match t.cell(i) {
+                Some(v) => (0..3).for_each(|c| assert_eq!(planes[i + c * CELLS], v[c])),
+                None => (0..3).for_each(|c| assert!(planes[i + c * CELLS].is_nan())),
+            }
+        }
+        assert!(t.cell(14).is_none() && t.cell(21).is_some());
     }
 
     #[test]

@@ -183,3 +183,32 @@ fn a_missing_file_names_itself() {
     );
     assert!(!message.contains('\n'));
 }
+
+#[test]
+fn absurd_values_and_sizes_are_refused_at_load() {
+    // eta = 1e300 used to load and evaluate to NaN.
+    assert_error(
+        &EXAMPLE.replace("eta = [3.1, 3.2, 2.3]", "eta = [1e300, 3.2, 2.3]"),
+        &["base.eta", "(0, 100]", "1e300"],
+    );
+    assert_error(
+        &EXAMPLE.replace("k = [3.3, 3.3, 3.1]", "k = [3.3, 3.3, 1e300]"),
+        &["base.k", "[0, 100]"],
+    );
+    assert_error(
+        &EXAMPLE.replace("alpha = 0.02", "alpha = nan"),
+        &["base.alpha", "NaN"],
+    );
+    // A 4 GiB file is refused by its size, not read.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("huge.toml");
+    std::fs::File::create(&path)
+        .unwrap()
+        .set_len(4 << 30)
+        .unwrap();
+    let message = Material::from_toml_file(&path).unwrap_err().to_string();
+    assert!(
+        message.contains("huge.toml") && message.contains("4294967296 bytes"),
+        "{message}"
+    );
+}

@@ -1,16 +1,18 @@
 //! Which measured format a file is, and conversion between the formats Specula reads and
-//! writes: MERL `.binary` (read, write), UTIA `.bin` (read, write), RGL `.bsdf` (read only) and
-//! the samples `.csv` (read, write). Any other BRDF source (a preset, a `model:name` fit) can be
+//! writes: MERL `.binary`, UTIA `.bin`, RGL `.bsdf` (isotropic RGB, [`crate::rgl::RglTables`])
+//! and the samples `.csv`. Any other BRDF source (a preset, a `model:name` fit) can be
 //! converted too.
 //!
 //! Where grids differ the source is resampled at the target's nodes with its own evaluator
 //! (MERL nearest bin, UTIA quadrilinear, RGL the adaptive warp, samples their binned cells).
 //! Provenance is kept where the target can say "not measured": a node whose source value is
 //! not measured is written as such in MERL (negative) and UTIA (-1, Specula's convention), and
-//! has no row in a samples CSV. Same-format conversions copy.
+//! has no row in a samples CSV, and its RGL node holds the nearest measured node's value with
+//! its `valid` bit cleared. Same-format conversions copy, except RGL, which is rebuilt at the
+//! chosen resolution.
 
 use crate::input::{file_error, read_input};
-use crate::rgl::RglBsdf;
+use crate::rgl::{RglBsdf, RglResolution, RglTables};
 use crate::samples_csv::{Sample, SampleSet};
 use crate::utia::{self, UtiaBrdf};
 use crate::BrdfSource;
@@ -29,7 +31,7 @@ pub enum FileFormat {
     Merl,
     /// UTIA BRDF database `.bin` (Filip & Vávra 2014).
     Utia,
-    /// RGL material database `.bsdf` (Dupuy & Jakob 2018), isotropic RGB; input only.
+    /// RGL material database `.bsdf` (Dupuy & Jakob 2018), isotropic RGB.
     Rgl,
     /// Samples `.csv` (`theta_h,phi_h,theta_d,phi_d,r,g,b`, degrees, 1/sr).
     SamplesCsv,
@@ -177,6 +179,8 @@ pub struct ConvertOptions {
     pub phi_h_rad: f64,
     /// Sample placement for continuous sources written as CSV.
     pub csv_grid: CsvGrid,
+    /// Table sizes of a written RGL `.bsdf`.
+    pub rgl: RglResolution,
 }
 
 /// What a conversion did.
@@ -194,18 +198,11 @@ pub struct Conversion {
 /// Converts the BRDF source `input` (a file of any readable format, or any BRDF source) into
 /// the file `output`, whose format is given by its extension.
 pub fn convert(input: &str, output: &Path, options: &ConvertOptions) -> Result<Conversion> {
-    let target = match FileFormat::from_extension(output) {
-        Some(FileFormat::Rgl) => {
-            bail!(
-                "{}: RGL .bsdf is an input-only format; write .binary, .bin or .csv",
-                output.display()
-            )
-        }
-        Some(format) => format,
-        None => bail!(
-            "{}: unknown output format (use .binary for MERL, .bin for UTIA, .csv for samples)",
+    let Some(target) = FileFormat::from_extension(output) else {
+        bail!(
+            "{}: unknown output format (use .binary for MERL, .bin for UTIA, .bsdf for RGL, .csv for samples)",
             output.display()
-        ),
+        )
     };
     let source = Loaded::resolve(input)?;
     match target {
@@ -241,8 +238,24 @@ pub fn convert(input: &str, output: &Path, options: &ConvertOptions) -> Result<C
                 not_measured: 0,
             })
         }
-        FileFormat::Rgl => unreachable!("rejected above"),
+        FileFormat::Rgl => {
+            let tables = to_rgl(&source, options.rgl)?;
+            tables.write(output)?;
+            Ok(Conversion {
+                target,
+                method: "evaluated on the VNDF-warped grid (NDF from the retro-reflection by power iteration)",
+                measured: tables.nodes() - tables.not_measured - tables.below_horizon,
+                not_measured: tables.not_measured,
+            })
+        }
     }
+}
+
+/// The source as the tables of an RGL `.bsdf` file.
+pub fn to_rgl(source: &Loaded, resolution: RglResolution) -> Result<RglTables> {
+    let brdf = source.as_brdf();
+    let description = format!("{} (written by Specula)", brdf.name());
+    Ok(RglTables::from_brdf(brdf, resolution, &description)?)
 }
 
 /// The source as a MERL table.

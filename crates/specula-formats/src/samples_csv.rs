@@ -10,7 +10,7 @@
 //! samples of each cell; phi_d folded by reciprocity as MERL does, no other symmetry), so it
 //! answers `None` where no sample fell: filling the gaps is reconstruction's job.
 
-use crate::input::{file_error, file_stem, read_input};
+use crate::input::{file_error, file_stem, open_input};
 use anyhow::Result;
 use glam::DVec3;
 use specula_core::merl::{Bin, CELLS};
@@ -99,14 +99,16 @@ impl SampleSet {
         }
     }
 
-    /// Reads a samples CSV file; the error names the file, the row and the problem.
+    /// Reads a samples CSV file, streamed (its size checked first); the error names the
+    /// file, the row and the problem.
     pub fn read(path: &Path) -> Result<Self> {
-        let bytes = read_input(path)?;
-        Self::from_csv(file_stem(path), &bytes).map_err(|problem| file_error(path, problem))
+        let file = std::io::BufReader::new(open_input(path)?);
+        Self::from_csv(file_stem(path), file).map_err(|problem| file_error(path, problem))
     }
 
-    /// Parses the text of a samples CSV file; the error says which row is wrong and why.
-    pub fn from_csv(name: impl Into<String>, text: &[u8]) -> Result<Self, String> {
+    /// Parses the text of a samples CSV file, streamed; the error says which row is wrong and
+    /// why.
+    pub fn from_csv(name: impl Into<String>, text: impl std::io::Read) -> Result<Self, String> {
         let mut reader = csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .from_reader(text);
@@ -270,7 +272,7 @@ mod tests {
         let set = SampleSet::from_csv("t", TEXT.as_bytes()).unwrap();
         let mut out = Vec::new();
         set.write_to(&mut out).unwrap();
-        let back = SampleSet::from_csv("t", &out).unwrap();
+        let back = SampleSet::from_csv("t", out.as_slice()).unwrap();
         for (a, b) in set.samples().iter().zip(back.samples()) {
             assert!((a.angles.theta_h - b.angles.theta_h).abs() < 1e-15);
             assert!((a.angles.phi_d - b.angles.phi_d).abs() < 1e-14);

@@ -1,4 +1,4 @@
-//! `convert` between MERL, UTIA, RGL (input) and samples CSV: resampling at the target's
+//! `convert` between MERL, UTIA, RGL and samples CSV: resampling at the target's
 //! nodes, provenance of unmeasured cells, exact same-format copies, detection by content.
 
 mod common;
@@ -10,7 +10,7 @@ use specula_core::{Brdf, MerlBrdf};
 use specula_formats::convert::{convert, ConvertOptions, CsvGrid, FileFormat};
 use specula_formats::lafortune::Lafortune;
 use specula_formats::load_brdf;
-use specula_formats::rgl::RglBsdf;
+use specula_formats::rgl::{RglBsdf, RglResolution};
 use specula_formats::samples_csv::SampleSet;
 use specula_formats::utia::{Node, UtiaBrdf, NODES};
 use std::path::Path;
@@ -18,6 +18,7 @@ use std::path::Path;
 const OPTIONS: ConvertOptions = ConvertOptions {
     phi_h_rad: std::f64::consts::FRAC_PI_4,
     csv_grid: CsvGrid::Merl,
+    rgl: RglResolution::DEFAULT,
 };
 
 fn run(input: &Path, output: &Path) -> specula_formats::convert::Conversion {
@@ -159,10 +160,11 @@ fn rgl_converts_to_every_writable_format() {
     let c = convert(source.to_str().unwrap(), &p("rgl.csv"), &on_utia_nodes).unwrap();
     assert_eq!(c.measured, NODES);
 
-    let err = convert(source.to_str().unwrap(), &p("copy.bsdf"), &OPTIONS)
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("input-only"), "{err}");
+    let c = convert(source.to_str().unwrap(), &p("copy.bsdf"), &OPTIONS).unwrap();
+    assert_eq!((c.target, c.not_measured), (FileFormat::Rgl, 0));
+    assert!(c.measured > 0 && c.measured <= 16 * 64 * 64);
+    let back = RglBsdf::read(&p("copy.bsdf")).unwrap();
+    assert!(back.description().contains("cc_iris_purple_gem_rgb"));
     let err = convert(source.to_str().unwrap(), &p("x.exr"), &OPTIONS)
         .unwrap_err()
         .to_string();
@@ -200,4 +202,43 @@ fn fits_convert_and_files_are_recognised_by_content() {
         let brdf = load_brdf(p(name).to_str().unwrap()).unwrap();
         assert!(!brdf.name().is_empty());
     }
+}
+
+/// MERL -> RGL: the RGL nodes at unmeasured direction pairs are counted and filled from the
+/// nearest measured node, so the file renders everywhere; measured pairs keep their values.
+#[test]
+fn rgl_output_fills_and_counts_unmeasured_nodes() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name);
+    let original = merl_with_hole();
+    original.write(&p("a.binary")).unwrap();
+    let small = ConvertOptions {
+        rgl: RglResolution {
+            elevations: 8,
+            ndf_size: 64,
+            sample_size: 16,
+        },
+        ..OPTIONS
+    };
+    let c = convert(p("a.binary").to_str().unwrap(), &p("a.bsdf"), &small).unwrap();
+    assert_eq!(c.target, FileFormat::Rgl);
+    assert!(c.not_measured > 100 && c.measured > 100, "{c:?}");
+    assert!(c.measured + c.not_measured <= 8 * 16 * 16);
+    let rgl = RglBsdf::read(&p("a.bsdf")).unwrap();
+    // theta_d = 30 deg is not measured in the source; the file holds a filled, positive value.
+    let (wi, wo) = specula_core::HalfDiff::from_degrees(5.0, 0.0, 30.0, 90.0).to_directions();
+    assert!(original.eval(wi, wo).is_none());
+    assert!(rgl.eval(wi, wo).unwrap().min_element() > 0.0);
+
+    let bad = ConvertOptions {
+        rgl: RglResolution {
+            sample_size: 3,
+            ..RglResolution::DEFAULT
+        },
+        ..OPTIONS
+    };
+    let err = convert(p("a.binary").to_str().unwrap(), &p("b.bsdf"), &bad)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("sample size = 3 is out of range"), "{err}");
 }

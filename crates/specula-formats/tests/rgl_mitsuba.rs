@@ -4,20 +4,9 @@
 
 mod common;
 
-use common::{measured, test_data, RGL_MATERIALS};
+use common::{measured, test_data, MitsubaVector as Vector, RGL_MATERIALS};
 use specula_core::{Brdf, Spherical};
 use specula_formats::rgl::RglBsdf;
-
-#[derive(serde::Deserialize)]
-struct Vector {
-    theta_i: f64,
-    phi_i: f64,
-    theta_o: f64,
-    phi_o: f64,
-    r: f64,
-    g: f64,
-    b: f64,
-}
 
 #[test]
 fn rgl_reader_matches_mitsuba_measured_plugin() {

@@ -2,16 +2,20 @@
 //! device, for hours, without losing or repeating a sample (paper 4, 5.3).
 //!
 //! - [`journal`]: the session's SQLite file (one transaction per sample, resumable);
+//! - `journal_check`: seeing damage to a journal (integrity check, checksums, counts);
 //! - [`protocol`]: the JSON-lines driver protocol for real hardware (client and server);
 //! - [`engine`]: the acquisition loop: move, HDR capture, calibrate, journal; Ctrl-C;
 //! - [`predict`]: predicted exposures from the probe and the previous sample;
+//! - [`inputs`]: content hashes of the inputs and the device identity, checked on resume;
 //! - [`workflow`]: the paper's workflow behind `specula measure`;
 //! - [`ideal`], [`pace`]: a noise-free simulated device, and a simulated one paced in real
 //!   time.
 
 pub mod engine;
 pub mod ideal;
+pub mod inputs;
 pub mod journal;
+mod journal_check;
 pub mod pace;
 pub mod predict;
 pub mod protocol;

@@ -18,9 +18,23 @@
 
 use crate::engine::{Engine, EngineSettings, HdrMode, Progress, StageOutcome};
 use crate::ideal::{exact_calibration, NoiselessSimulator};
-use crate::journal::{Durability, Journal, PlannedRow, SampleRecord};
+use crate::inputs::{
+    brdf_fingerprint, check_device, check_inputs, sha256_hex, DeviceIdentity, InputHashes,
+};
+pub use crate::journal::{
+    ChecksRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder, PlanRecord,
+};
+use crate::journal::{
+    DeviceRecord, Durability, Journal, PlannedRow, SampleRecord, SourceRecord, Stage, VersionRecord,
+};
+
+/// The probe's stage name in the journal.
+pub const STAGE_PROBE: &str = Stage::Probe.name();
+/// The main measurement's stage name in the journal.
+pub const STAGE_MAIN: &str = Stage::Main.name();
 use crate::pace::Paced;
 use crate::predict::{Predictor, ProbeModel};
+use crate::protocol::validate::ReplyRanges;
 use crate::protocol::{ClientSettings, Endpoint, RemoteInstrument};
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
@@ -48,90 +62,6 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-/// The probe's stage name in the journal.
-pub const STAGE_PROBE: &str = "probe";
-/// The main measurement's stage name in the journal.
-pub const STAGE_MAIN: &str = "main";
-
-/// Execution order of the main plan.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PlanOrder {
-    /// A short path through axis space ([`specula_acquisition::ordering`]).
-    Optimized,
-    /// theta_h, theta_d, phi_d loops, as the paper.
-    Nested,
-}
-
-/// How HDR captures are chosen at each sample.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum HdrChoice {
-    /// Adaptive from a predicted rate.
-    Predicted,
-    /// The device file's fixed bracket at every sample (the paper's way).
-    Bracket,
-}
-
-/// What a measurement is; kept in the journal, and a resumed session must ask the same.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct MeasureSettings {
-    pub seed: u64,
-    /// Noise-free camera, exact positioning, exact calibration (simulated devices only).
-    pub ideal: bool,
-    /// The simulated light as a point instead of its disk (which blurs sharp highlights as
-    /// the real device's does).
-    pub point_light: bool,
-    /// Probe samples along theta_h (square-root placement, paper 5.2).
-    pub probe_samples: usize,
-    pub family: Family,
-    pub theta_h_samples: usize,
-    pub theta_d_step_deg: f64,
-    pub phi_d_step_deg: f64,
-    pub phi_h_deg: f64,
-    pub order: PlanOrder,
-    pub hdr: HdrChoice,
-    /// Reconstruction method name (lobe, log, linear).
-    pub method: String,
-    /// Fit the reconstruction and the probe through the instrument's response when it is
-    /// known (always on the simulator): the BRDF before the blur of the light's disk.
-    #[serde(default = "deblur_by_default")]
-    pub deblur: bool,
-    /// Run the alignment and orientation checks.
-    pub checks: bool,
-    /// The simulated sample's tilt on the turntable, degrees, and its azimuth.
-    pub tilt_deg: f64,
-    pub tilt_azimuth_deg: f64,
-}
-
-impl Default for MeasureSettings {
-    /// The paper's measurement (5.2, 5.3) with our ordering and predicted exposures.
-    fn default() -> Self {
-        Self {
-            seed: 1,
-            ideal: false,
-            point_light: false,
-            probe_samples: 90,
-            family: Family::Exponential,
-            theta_h_samples: 30,
-            theta_d_step_deg: 3.0,
-            phi_d_step_deg: 15.0,
-            phi_h_deg: 45.0,
-            order: PlanOrder::Optimized,
-            hdr: HdrChoice::Predicted,
-            method: "lobe".into(),
-            deblur: true,
-            checks: true,
-            tilt_deg: 0.0,
-            tilt_azimuth_deg: 0.0,
-        }
-    }
-}
-
-fn deblur_by_default() -> bool {
-    true
-}
-
 /// Where the samples come from.
 pub enum Source {
     /// The simulated device with a ground-truth BRDF.
@@ -148,23 +78,18 @@ pub enum Source {
     },
 }
 
-/// What the journal's `source` holds before the truth's name for a simulated session.
-const SIMULATED_SOURCE: &str = "simulated: ";
-
 impl Source {
     /// What the journal records as the measured thing.
-    fn describe(&self) -> String {
+    fn record(&self) -> SourceRecord {
         match self {
-            Source::Simulated { truth, .. } => format!("{SIMULATED_SOURCE}{}", truth.name()),
-            Source::Remote { endpoint, .. } => format!("device: {endpoint}"),
+            Source::Simulated { truth, .. } => SourceRecord::Simulated {
+                truth: truth.name(),
+            },
+            Source::Remote { endpoint, .. } => SourceRecord::Device {
+                endpoint: endpoint.to_string(),
+            },
         }
     }
-}
-
-/// The name of the truth a simulated session measured, from the journal's `source`; `None`
-/// for a real device.
-pub fn simulated_truth(source: &str) -> Option<&str> {
-    source.strip_prefix(SIMULATED_SOURCE)
 }
 
 /// Hears what the workflow is doing (the CLI draws progress bars).
@@ -185,43 +110,6 @@ impl Observer for Quiet {
     fn stage_started(&mut self, _: &str, _: usize, _: usize) {}
     fn sample(&mut self, _: &Progress) {}
     fn stage_finished(&mut self, _: &str, _: &StageOutcome) {}
-}
-
-/// The checks' results as the journal keeps them.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ChecksRecord {
-    pub tilt_deg: Option<f64>,
-    pub tilt_azimuth_deg: Option<f64>,
-    /// What the operator should do about the alignment, or why the check failed.
-    pub alignment: String,
-    pub anisotropic: Option<bool>,
-    /// The phi_h the plan uses, degrees.
-    pub plan_phi_h_deg: f64,
-    /// What the orientation check said.
-    pub orientation: String,
-    /// Device time of the checks, seconds.
-    pub device_s: f64,
-}
-
-/// The fit of k as the journal keeps it.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct FitRecord {
-    pub function: SamplingFunction,
-    /// The fit error (DESIGN.md), 1/sr.
-    pub error: f64,
-}
-
-/// The main plan's counts as the journal keeps them.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct PlanRecord {
-    pub total: usize,
-    pub measurable: usize,
-    pub limit: usize,
-    pub occluded: usize,
-    /// The time model's estimate of the paper's way: nested order, fixed bracket, seconds.
-    pub nested_bracket_s: f64,
-    /// The time model's estimate for the plan as ordered (fixed bracket), seconds.
-    pub ordered_bracket_s: f64,
 }
 
 /// What a finished measurement reports (the summary file, `key=value` lines).
@@ -245,7 +133,7 @@ pub struct Summary {
     pub main_device_s: f64,
     /// True when the device time is a simulated clock.
     pub simulated: bool,
-    pub method: String,
+    pub method: Method,
     /// The instrument's response the reconstruction went through, if any.
     pub deblur: Option<DeblurRecord>,
     /// Events in the journal by kind (faults, retries, resumptions).
@@ -406,6 +294,24 @@ struct Connected {
     calibration: Calibration,
     link_notes: Option<crate::protocol::client::LinkNotes>,
     simulated: bool,
+    /// The name the device gave in `hello` (a remote device only).
+    server: Option<String>,
+}
+
+/// The content hashes of what a session measures from (see [`crate::inputs`]).
+fn input_hashes(source: &Source, device: &Device) -> InputHashes {
+    let (truth, calibration) = match source {
+        Source::Simulated { truth, .. } => (Some(brdf_fingerprint(truth.as_ref())), None),
+        Source::Remote { calibration, .. } => {
+            let json = serde_json::to_vec(calibration.as_ref()).unwrap_or_default();
+            (None, Some(sha256_hex(&json)))
+        }
+    };
+    InputHashes {
+        truth,
+        device_model: sha256_hex(device.to_toml_string().as_bytes()),
+        calibration,
+    }
 }
 
 /// Runs the whole workflow (see the module documentation) into `session`, writing `out` and
@@ -419,19 +325,25 @@ pub fn measure(
     stop: Arc<AtomicBool>,
     observer: &mut dyn Observer,
 ) -> Result<MeasureOutcome> {
-    let method: Method = settings.method.parse().map_err(anyhow::Error::msg)?;
+    let method = settings.method;
     let mut journal = Journal::open(session)?;
     if let Source::Simulated { .. } = source {
         journal.set_durability(Durability::Crash)?;
     }
-    let description = source.describe();
+    let description = source.record();
     start_session(&journal, settings, &description, device)?;
-    let mut connected = connect(source, device, settings, &journal, observer)?;
+    check_inputs(&journal, &input_hashes(&source, device))?;
+    let mut connected = connect(source, device, settings, &journal, &stop, observer)?;
     let info = connected
         .instrument
         .info()
         .with_context(|| format!("{description}: cannot describe the device"))?;
-    journal.put_meta("instrument", &info)?;
+    let identity = DeviceIdentity {
+        server: connected.server.clone(),
+        info: info.clone(),
+    };
+    check_device(&journal, &identity)?;
+    journal.put_record(&info)?;
     let calibration = connected.calibration.clone();
     let response_fit = calibration.response.clone().filter(|_| settings.deblur);
     let response = response_fit.as_ref().map(|r| r.response.clone());
@@ -478,13 +390,13 @@ pub fn measure(
         return Ok(stopped(STAGE_PROBE, &outcome));
     }
     let probe = probe_samples(engine.journal)?;
-    let fit = match engine.journal.meta::<FitRecord>("fit")? {
+    let fit = match engine.journal.record::<FitRecord>()? {
         Some(stored) => stored,
         None => {
             let fit = fit_probe(&probe, settings, response.as_ref(), phi_h_deg)
                 .map_err(anyhow::Error::msg)
                 .context("fitting k to the probe")?;
-            engine.journal.put_meta("fit", &fit)?;
+            engine.journal.put_record(&fit)?;
             fit
         }
     };
@@ -538,7 +450,7 @@ pub fn measure(
         &journal,
         session,
         out,
-        description,
+        description.to_string(),
         &fit,
         checks,
         plan,
@@ -557,26 +469,26 @@ pub fn measure(
 fn start_session(
     journal: &Journal,
     settings: &MeasureSettings,
-    source: &str,
+    source: &SourceRecord,
     device: &Device,
 ) -> Result<()> {
     let name = journal.path().display().to_string();
-    let stored: MeasureSettings = journal.meta_or_insert("settings", || settings.clone())?;
+    let stored: MeasureSettings = journal.record_or_insert(|| settings.clone())?;
     if stored != *settings {
         bail!(
             "{name}: this session was started with other settings ({}); rerun with those or use another --session",
             differences(&stored, settings)
         );
     }
-    let stored_source: String = journal.meta_or_insert("source", || source.to_string())?;
-    if stored_source != source {
+    let stored_source = journal.record_or_insert(|| source.clone())?;
+    if stored_source != *source {
         bail!("{name}: this session measures '{stored_source}', not '{source}'; use another --session");
     }
-    let stored_device: String = journal.meta_or_insert("device", || device.to_toml_string())?;
-    if stored_device != device.to_toml_string() {
+    let stored_device = journal.record_or_insert(|| DeviceRecord(device.to_toml_string()))?;
+    if stored_device.0 != device.to_toml_string() {
         bail!("{name}: this session was started with another device model; use another --session");
     }
-    journal.meta_or_insert("specula_version", || env!("CARGO_PKG_VERSION").to_string())?;
+    journal.record_or_insert(|| VersionRecord(env!("CARGO_PKG_VERSION").to_string()))?;
     Ok(())
 }
 
@@ -600,6 +512,7 @@ fn connect(
     device: &Device,
     settings: &MeasureSettings,
     journal: &Journal,
+    stop: &Arc<AtomicBool>,
     observer: &mut dyn Observer,
 ) -> Result<Connected> {
     match source {
@@ -618,7 +531,7 @@ fn connect(
             let sample = MountedSample::new(truth.name(), truth, tilt);
             let true_response = config.response.clone();
             let mut simulator = Simulator::new(device.clone(), sample.clone(), config);
-            let calibration = match journal.meta::<Calibration>("calibration")? {
+            let calibration = match journal.record::<Calibration>()? {
                 Some(stored) => stored,
                 None => {
                     let calibration = if settings.ideal {
@@ -643,14 +556,16 @@ fn connect(
                         simulator.mount(sample);
                         c
                     };
-                    journal.put_meta("calibration", &calibration)?;
+                    journal.put_record(&calibration)?;
                     calibration
                 }
             };
             let instrument: Box<dyn Instrument> = match (settings.ideal, speedup) {
-                (true, Some(s)) => Box::new(Paced::new(NoiselessSimulator::new(simulator), s)),
+                (true, Some(s)) => Box::new(
+                    Paced::new(NoiselessSimulator::new(simulator), s).with_stop(stop.clone()),
+                ),
                 (true, None) => Box::new(NoiselessSimulator::new(simulator)),
-                (false, Some(s)) => Box::new(Paced::new(simulator, s)),
+                (false, Some(s)) => Box::new(Paced::new(simulator, s).with_stop(stop.clone())),
                 (false, None) => Box::new(simulator),
             };
             Ok(Connected {
@@ -658,6 +573,7 @@ fn connect(
                 calibration,
                 link_notes: None,
                 simulated: true,
+                server: None,
             })
         }
         Source::Remote {
@@ -669,23 +585,28 @@ fn connect(
                 bail!("--ideal is for the simulated device (--truth), not {endpoint}");
             }
             let calibration = *calibration;
-            let stored: Calibration =
-                journal.meta_or_insert("calibration", || calibration.clone())?;
+            let stored: Calibration = journal.record_or_insert(|| calibration.clone())?;
             if stored != calibration {
                 bail!(
                     "{}: this session was measured with another calibration; give the same --calibration or use another --session",
                     journal.path().display()
                 );
             }
+            let client = ClientSettings {
+                ranges: ReplyRanges::for_device(device),
+                ..client
+            };
             let remote = RemoteInstrument::connect(endpoint.clone(), client)
                 .with_context(|| format!("{endpoint}: cannot reach the device"))?;
             let notes = remote.notes();
             let simulated = remote.simulated_clock_s().is_some();
+            let server = remote.server_name().map(str::to_string);
             Ok(Connected {
                 instrument: Box::new(remote),
                 calibration,
                 link_notes: Some(notes),
                 simulated,
+                server,
             })
         }
     }
@@ -733,7 +654,7 @@ fn run_checks(
     settings: &MeasureSettings,
     observer: &mut dyn Observer,
 ) -> Result<ChecksRecord> {
-    if let Some(stored) = journal.meta::<ChecksRecord>("checks")? {
+    if let Some(stored) = journal.record::<ChecksRecord>()? {
         return Ok(stored);
     }
     let clock = |i: &dyn Instrument| i.simulated_clock_s();
@@ -743,7 +664,7 @@ fn run_checks(
     let (tilt_deg, tilt_azimuth_deg, alignment) =
         match check_alignment(instrument, hdr, &AlignmentSettings::default()) {
             Ok(report) => {
-                journal.put_meta("alignment_report", &report)?;
+                journal.put_record(&report)?;
                 let advice = report.adjustment(device.accuracy_deg);
                 (
                     Some(report.fit.tilt_deg),
@@ -766,7 +687,7 @@ fn run_checks(
         &orientation_settings,
     ) {
         Ok(report) => {
-            journal.put_meta("orientation_report", &report)?;
+            journal.put_record(&report)?;
             if report.planned_is_clean {
                 let what = if report.anisotropic {
                     "anisotropic, but"
@@ -805,7 +726,7 @@ fn run_checks(
         orientation,
         device_s,
     };
-    journal.put_meta("checks", &record)?;
+    journal.put_record(&record)?;
     Ok(record)
 }
 
@@ -915,10 +836,15 @@ fn main_plan(
     phi_h_deg: f64,
     observer: &mut dyn Observer,
 ) -> Result<PlanRecord> {
-    if let (Some(record), false) = (
-        journal.meta::<PlanRecord>("plan")?,
-        journal.plan(STAGE_MAIN)?.is_empty(),
-    ) {
+    let stored_rows = journal.plan(STAGE_MAIN)?.len();
+    if let (Some(record), true) = (journal.record::<PlanRecord>()?, stored_rows > 0) {
+        if record.measurable != stored_rows {
+            bail!(
+                "{}: the journal is damaged (its main plan holds {stored_rows} samples, its plan record {} measurable ones); restore it from a copy or measure into a new --session",
+                journal.path().display(),
+                record.measurable
+            );
+        }
         return Ok(record);
     }
     if !(settings.theta_d_step_deg > 0.0 && settings.phi_d_step_deg > 0.0) {
@@ -943,7 +869,7 @@ fn main_plan(
         ordered_bracket_s: chosen.summary(device).duration_s(),
     };
     journal.set_plan(STAGE_MAIN, &rows_of(&chosen))?;
-    journal.put_meta("plan", &record)?;
+    journal.put_record(&record)?;
     Ok(record)
 }
 
@@ -993,9 +919,15 @@ fn summarise(
     deblur: Option<DeblurRecord>,
 ) -> Result<Summary> {
     let status = journal.status()?;
-    let stage = |name: &str| status.stages.iter().find(|s| s.stage == name).cloned();
-    let probe = stage(STAGE_PROBE).context("the journal has no probe")?;
-    let main = stage(STAGE_MAIN).context("the journal has no main stage")?;
+    let stage = |stage: Stage| {
+        status
+            .stages
+            .iter()
+            .find(|s| s.stage == stage.name())
+            .cloned()
+    };
+    let probe = stage(Stage::Probe).context("the journal has no probe")?;
+    let main = stage(Stage::Main).context("the journal has no main stage")?;
     let lower_bounds = journal
         .samples(STAGE_MAIN)?
         .values()
@@ -1018,7 +950,7 @@ fn summarise(
         device_s: checks_s + probe.device_s_done + main.device_s_done,
         main_device_s: main.device_s_done,
         simulated,
-        method: settings.method.clone(),
+        method: settings.method,
         deblur,
         events: status.events.into_iter().collect(),
     })

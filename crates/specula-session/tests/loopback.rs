@@ -85,6 +85,7 @@ fn client_settings(max_failures: u32) -> ClientSettings {
         backoff_initial: Duration::from_millis(20),
         backoff_max: Duration::from_millis(200),
         token: None,
+        ranges: Default::default(),
     }
 }
 
@@ -228,8 +229,9 @@ fn a_wrong_token_is_refused_without_retries() {
     let stop = Arc::new(AtomicBool::new(false));
     let flag = stop.clone();
     let thread = std::thread::spawn(move || {
-        let mut server =
-            Server::new(Box::new(simulator()), "test").with_token(Some("lab-secret".into()));
+        let mut server = Server::new(Box::new(simulator()), "test").with_token(Some(
+            specula_session::protocol::Token::new("lab-secret").unwrap(),
+        ));
         server
             .serve_tcp(&listener, &flag, Duration::from_secs(5), &mut |_| {})
             .unwrap();

@@ -1,4 +1,4 @@
-//! The renderer's speed target (issue 8): a 512 x 512 sphere under the studio environment at
+//! The renderer's speed target: a 512 x 512 sphere under the studio environment at
 //! 64 samples per pixel in under 5 s on 2 cores, for a measured table (the `silver-925` preset
 //! tabulated into the MERL grid, nearest-bin lookups) and for the analytic preset itself.
 //!

@@ -9,10 +9,7 @@ use glam::DVec3;
 /// The colour of a cell that was not measured (paper Fig. 15: "non-measured blue areas").
 pub const UNMEASURED_BLUE: [u8; 3] = [36, 84, 230];
 
-/// Rec. 709 relative luminance of a linear RGB triple.
-pub fn luminance(c: DVec3) -> f64 {
-    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
-}
+pub use specula_core::brdf::luminance;
 
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value in `[0, 1]`.
 pub fn srgb_encode(linear: f64) -> f64 {

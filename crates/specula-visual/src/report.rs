@@ -74,6 +74,17 @@ pub struct ErrorRow {
     pub slice_mae: f64,
 }
 
+/// A titled table of figures computed elsewhere (e.g. the appearance figures of
+/// `specula-appearance`), with notes below it.
+#[derive(Debug, Clone, Default)]
+pub struct TableSection {
+    pub title: String,
+    pub header: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+    /// Paragraphs under the table (definitions, warnings).
+    pub notes: Vec<String>,
+}
+
 /// A picture with its title and caption.
 #[derive(Debug, Clone)]
 pub struct Figure {
@@ -109,6 +120,8 @@ pub struct Report {
     pub coverage: Option<CoverageSection>,
     pub duration: Option<DurationSection>,
     pub errors: Option<ErrorSection>,
+    /// Further tables, each its own section after the error figures.
+    pub tables: Vec<TableSection>,
     pub figures: Vec<Figure>,
     /// Free remarks, one paragraph each.
     pub notes: Vec<String>,
@@ -177,6 +190,9 @@ impl Report {
         self.material_html(&mut html);
         self.measurement_html(&mut html);
         self.errors_html(&mut html);
+        for table in &self.tables {
+            table_html(&mut html, table);
+        }
         self.figures_html(&mut html);
         if !self.notes.is_empty() {
             html.push_str("<h2>Notes</h2>\n");
@@ -306,6 +322,24 @@ impl Report {
     }
 }
 
+fn table_html(html: &mut String, table: &TableSection) {
+    let _ = writeln!(html, "<h2>{}</h2>\n<table>", escape(&table.title));
+    let cells = |tag: &str, cells: &[String]| {
+        cells
+            .iter()
+            .map(|c| format!("<{tag}>{}</{tag}>", escape(c)))
+            .collect::<String>()
+    };
+    let _ = writeln!(html, "<tr>{}</tr>", cells("th", &table.header));
+    for r in &table.rows {
+        let _ = writeln!(html, "<tr>{}</tr>", cells("td", r));
+    }
+    html.push_str("</table>\n");
+    for note in &table.notes {
+        let _ = writeln!(html, "<p>{}</p>", escape(note));
+    }
+}
+
 fn row(html: &mut String, label: &str, value: &str) {
     let _ = writeln!(
         html,
@@ -375,10 +409,19 @@ mod tests {
                     slice_mae: 0.3,
                 }],
             }),
+            tables: vec![TableSection {
+                title: "Appearance".into(),
+                header: vec!["figure".into(), "a<b".into()],
+                rows: vec![vec!["gloss 20 deg (GU)".into(), "95.25".into()]],
+                notes: vec!["n & m".into()],
+            }],
             figures: vec![figure()],
             notes: vec!["x < y".into()],
         };
         let html = report.to_html();
+        assert!(html.contains("<h2>Appearance</h2>"));
+        assert!(html.contains("<th>a&lt;b</th>") && html.contains("<td>95.25</td>"));
+        assert!(html.contains("n &amp; m"));
         assert!(html.contains("<title>silver &lt;925&gt;</title>"));
         assert!(html.contains("a&quot;b.binary"));
         assert!(html.contains("4.780 (exponential"));

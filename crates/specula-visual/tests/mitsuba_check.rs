@@ -3,9 +3,18 @@
 //! and under a constant environment. The mean relative difference over the pixels fully
 //! covered by the sphere (reference luminance above 0.1 percent of the brightest) must stay
 //! under 2 percent.
+//!
+//! The RGL writer end to end (tools/rgl_export_check.py made the references): Mitsuba renders
+//! the `.bsdf` file `specula convert` wrote with its `measured` plugin; Specula renders the
+//! source itself (chrome, the green paint); within 3 percent. The real RGL file round-tripped
+//! (`cc_ibiza_sunset_rgb`) is not held here: Specula's render of the original file differs by
+//! 40 % from Mitsuba's render of the rewritten one under the point light although the two
+//! agree pointwise within 1.3 % (`rgl_export_mitsuba.rs`); not yet explained (suspected: which
+//! of light and camera each renderer passes as `wi` to a non-reciprocal measured BRDF).
 
 use glam::DVec3;
-use specula_core::materials::Material;
+use specula_core::materials::{preset, Material};
+use specula_core::Brdf;
 use specula_visual::camera::Camera;
 use specula_visual::color::luminance;
 use specula_visual::{
@@ -58,6 +67,20 @@ fn mean_relative_difference(ours: &LinearImage, reference: &LinearImage) -> (f64
 
 fn check(lighting: Lighting, reference: &str, spp: usize) {
     let material = Material::from_toml_file(data("mitsuba_conductor.toml")).unwrap();
+    check_brdf(&material, lighting, reference, spp, 0.02, 1500);
+}
+
+/// Renders `brdf` as the reference was rendered and holds the mean relative difference under
+/// `tolerance` over at least `min_pixels` pixels.
+fn check_brdf(
+    brdf: &dyn Brdf,
+    lighting: Lighting,
+    reference: &str,
+    spp: usize,
+    tolerance: f64,
+    min_pixels: usize,
+) {
+    let name = reference;
     let reference = LinearImage::load(&data(reference)).unwrap();
     let scene = Scene::new(ShapeKind::Sphere, lighting);
     let settings = RenderSettings {
@@ -66,14 +89,46 @@ fn check(lighting: Lighting, reference: &str, spp: usize) {
         samples_per_pixel: spp,
         seed: 7,
     };
-    let ours = render(&material, &scene, &settings, &|_| {});
+    let ours = render(brdf, &scene, &settings, &|_| {});
     let (difference, pixels) = mean_relative_difference(&ours, &reference);
     println!(
-        "{}: mean relative difference {difference:.4} over {pixels} pixels",
+        "{name} ({} px): mean relative difference {difference:.4} over {pixels} pixels",
         reference.width
     );
-    assert!(pixels > 1500, "too few pixels compared: {pixels}");
-    assert!(difference < 0.02, "mean relative difference {difference}");
+    assert!(pixels >= min_pixels, "too few pixels compared: {pixels}");
+    assert!(
+        difference < tolerance,
+        "{name}: mean relative difference {difference}"
+    );
+}
+
+/// Specula's render of `source` against Mitsuba's renders of the `.bsdf` written from it.
+fn check_rgl_export(source: &dyn Brdf, material: &str) {
+    check_brdf(
+        source,
+        Lighting::standard_point(),
+        &format!("mitsuba_rgl_{material}_point.exr"),
+        64,
+        0.03,
+        // A sharp conductor lights only its highlight (about 50 pixels) under a point light.
+        40,
+    );
+    let env = Environment::constant(DVec3::ONE);
+    check_brdf(
+        source,
+        Lighting::Environment(Arc::new(env)),
+        &format!("mitsuba_rgl_{material}_constant.exr"),
+        256,
+        0.03,
+        1500,
+    );
+}
+
+#[test]
+fn written_rgl_files_render_in_mitsuba_as_their_sources() {
+    for material in ["chrome", "green-paint"] {
+        check_rgl_export(&preset(material).unwrap(), material);
+    }
 }
 
 #[test]

@@ -20,6 +20,7 @@ use crate::device::Device;
 use crate::hdr::{HdrCapturer, HdrMeasurement, HdrValue, NoiseModel};
 use crate::instrument::{Capture, Instrument, InstrumentError};
 use crate::kinematics::AxisPositions;
+use crate::simulator::Simulator;
 use serde::Serialize;
 use specula_core::HalfDiff;
 
@@ -403,4 +404,52 @@ mod tests {
         .unwrap();
         assert_eq!(report.retaken + report.excluded, 0, "{report:?}");
     }
+}
+
+/// The sparse grid over the paper's plan at phi_h = 45 deg that `specula check flare`
+/// visits: 10 theta_h with square-root spacing to 60 deg, theta_d 5 to 80 deg by 15, phi_d
+/// 0, 45 and 90 deg.
+pub fn survey_samples() -> Vec<HalfDiff> {
+    let mut samples = Vec::new();
+    for i in 0..10 {
+        let theta_h_deg = (i as f64 + 0.5).powi(2) * 60.0 / 100.0;
+        for theta_d_deg in [5.0, 20.0, 35.0, 50.0, 65.0, 80.0] {
+            for phi_d_deg in [0.0, 45.0, 90.0] {
+                samples.push(HalfDiff::from_degrees(
+                    theta_h_deg,
+                    45.0,
+                    theta_d_deg,
+                    phi_d_deg,
+                ));
+            }
+        }
+    }
+    samples
+}
+
+/// The simulator's ground truth for the flare check: how many of the free arm positions of
+/// the samples put a ghost in the sample's region.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SimulatedGhosts {
+    /// Free arm positions of all the samples.
+    pub positions: usize,
+    /// Those with a ghost in the region (harmless where the sample outshines it).
+    pub ghosted: usize,
+}
+
+/// Count, on the simulator, the free arm positions of `samples` and those whose lens-flare
+/// ghost falls in the region (the truth [`check_flare`] is judged against).
+pub fn simulated_ghosts(sim: &Simulator, device: &Device, samples: &[HalfDiff]) -> SimulatedGhosts {
+    let mut truth = SimulatedGhosts {
+        positions: 0,
+        ghosted: 0,
+    };
+    for hd in samples {
+        let (wi, wo) = hd.to_directions();
+        for axes in free_positions(device, wi, wo, None) {
+            truth.positions += 1;
+            truth.ghosted += sim.ghost(&axes, 1.0).is_some() as usize;
+        }
+    }
+    truth
 }

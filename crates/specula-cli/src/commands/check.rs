@@ -2,8 +2,9 @@
 
 use anyhow::{bail, Context, Result};
 use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
-use specula_acquisition::checks::flare::{check_flare, FlareOutcome, FlareSettings};
-use specula_acquisition::checks::free_positions;
+use specula_acquisition::checks::flare::{
+    check_flare, simulated_ghosts, survey_samples, FlareOutcome, FlareSettings,
+};
 use specula_acquisition::checks::orientation::{check_orientation, OrientationSettings};
 use specula_acquisition::device::Device;
 use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
@@ -14,7 +15,7 @@ use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::materials::microfacet::Distribution;
 use specula_core::materials::scratch::ScratchLobe;
 use specula_core::materials::{preset, Material};
-use specula_core::{Brdf, HalfDiff};
+use specula_core::Brdf;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -274,20 +275,6 @@ fn orientation(args: OrientationArgs) -> Result<()> {
     Ok(())
 }
 
-/// A sparse grid over the paper's plan at phi_h = 45 deg: the samples the flare check visits.
-fn flare_samples() -> Vec<HalfDiff> {
-    let mut samples = Vec::new();
-    for i in 0..10 {
-        let theta_h = (i as f64 + 0.5).powi(2) * 60.0 / 100.0; // square-root spacing to 60 deg
-        for theta_d in [5.0, 20.0, 35.0, 50.0, 65.0, 80.0] {
-            for phi_d in [0.0, 45.0, 90.0] {
-                samples.push(HalfDiff::from_degrees(theta_h, 45.0, theta_d, phi_d));
-            }
-        }
-    }
-    samples
-}
-
 fn flare(args: FlareArgs) -> Result<()> {
     if !(args.flare_strength_sr.is_finite() && args.flare_strength_sr >= 0.0) {
         bail!("--flare-strength-sr must be zero or positive");
@@ -298,16 +285,8 @@ fn flare(args: FlareArgs) -> Result<()> {
     });
     let (mut sim, mut hdr) = args.simulated.build(flare)?;
     let device = sim.device().clone();
-    let samples = flare_samples();
-    // Ground truth from the simulator: how many free positions put a ghost in the region.
-    let (mut positions, mut ghosted) = (0, 0);
-    for hd in &samples {
-        let (wi, wo) = hd.to_directions();
-        for axes in free_positions(&device, wi, wo, None) {
-            positions += 1;
-            ghosted += sim.ghost(&axes, 1.0).is_some() as usize;
-        }
-    }
+    let samples = survey_samples();
+    let truth = simulated_ghosts(&sim, &device, &samples);
     let spinner = crate::progress::spinner("flare");
     let (report, outcomes) = check_flare(
         &mut sim,
@@ -335,8 +314,9 @@ fn flare(args: FlareArgs) -> Result<()> {
         .unwrap_or(0);
     println!("most retakes for one sample: {worst_retake}");
     println!(
-        "simulated truth: a ghost in the region at {ghosted} of the {positions} free arm \
-         positions (harmless where the sample outshines it)"
+        "simulated truth: a ghost in the region at {} of the {} free arm \
+         positions (harmless where the sample outshines it)",
+        truth.ghosted, truth.positions
     );
     print_effort(&sim, &hdr);
     Ok(())

@@ -3,10 +3,12 @@
 use crate::progress;
 use anyhow::Result;
 use specula_formats::convert::{convert, ConvertOptions, CsvGrid};
+use specula_formats::rgl::write::{ELEVATIONS_RANGE, NDF_SIZE_RANGE, SAMPLE_SIZE_RANGE};
+use specula_formats::rgl::RglResolution;
 use std::path::PathBuf;
 
-/// Convert a BRDF between MERL (.binary), UTIA (.bin), RGL (.bsdf, input only) and a samples
-/// CSV (.csv), resampling where the grids differ.
+/// Convert a BRDF between MERL (.binary), UTIA (.bin), RGL (.bsdf) and a samples CSV (.csv),
+/// resampling where the grids differ.
 ///
 /// IN is any BRDF source: a measured file (recognised by its magic bytes or extension), a
 /// preset, a material .toml or a fit such as nbrdf:gold-metallic-paint or lafortune:NAME. The
@@ -17,16 +19,24 @@ use std::path::PathBuf;
 /// measured stay "not measured": negative in MERL, -1 in UTIA, no row in a CSV; a CSV source
 /// is binned into MERL cells (the mean of each cell's samples). The samples CSV has the header
 /// theta_h,phi_h,theta_d,phi_d,r,g,b (degrees, f_r in 1/sr).
+///
+/// A .bsdf output is the isotropic RGB tensor file of the RGL material database (Dupuy & Jakob
+/// 2018) that Mitsuba 3 and pbrt-v4 render with their `measured` BSDF: the microfacet
+/// distribution from the source's retro-reflection (power iteration), its visible-normal warp
+/// per incident elevation, and the source sampled on the warped grid. Nodes the source has not
+/// measured hold the nearest measured node's value and have their `valid` bit cleared.
 #[derive(clap::Args)]
 #[command(after_help = "Examples:
   specula convert paper_white_rgb.bsdf paper_white.binary
   specula convert gold.binary gold.bin
   specula convert samples.csv binned.binary
+  specula convert measured.binary measured.bsdf
+  specula convert green-paint paint.bsdf --rgl-sample-size 96
   specula convert nbrdf:chrome chrome.csv --grid utia")]
 pub struct Args {
     /// The BRDF to convert: a .binary, .bin, .bsdf or .csv file, a preset or a model:name fit.
     pub input: String,
-    /// The file to write; .binary (MERL), .bin (UTIA) or .csv (samples).
+    /// The file to write; .binary (MERL), .bin (UTIA), .bsdf (RGL) or .csv (samples).
     pub output: PathBuf,
     /// Azimuth of the half vector (degrees) at which MERL cells and MERL-grid samples are
     /// taken. Matters only for anisotropic sources (UTIA files); 45 is the paper's choice
@@ -37,6 +47,21 @@ pub struct Args {
     /// the 1,458,000 MERL bin centres, or `utia`, the 82,944 UTIA nodes.
     #[arg(long, value_enum, default_value_t = Grid::Merl)]
     pub grid: Grid,
+    /// RGL output: incident elevations (slices), 2 to 90, evenly spaced in cos(theta_i) from
+    /// the normal to 89.9 deg. Each adds ndf-size^2 + 4 sample-size^2 floats to the file.
+    #[arg(long, default_value_t = RglResolution::DEFAULT.elevations as u16,
+          value_parser = clap::value_parser!(u16).range(*ELEVATIONS_RANGE.start() as i64..=*ELEVATIONS_RANGE.end() as i64))]
+    pub rgl_elevations: u16,
+    /// RGL output: nodes per axis of the microfacet distribution and of the visible-normal
+    /// warp, 8 to 512 (the RGL database uses 128).
+    #[arg(long, default_value_t = RglResolution::DEFAULT.ndf_size as u16,
+          value_parser = clap::value_parser!(u16).range(*NDF_SIZE_RANGE.start() as i64..=*NDF_SIZE_RANGE.end() as i64))]
+    pub rgl_ndf_size: u16,
+    /// RGL output: samples per axis of each elevation's RGB grid, 4 to 256 (the RGL database
+    /// uses 32; finer resolves sharp highlights over a diffuse base better).
+    #[arg(long, default_value_t = RglResolution::DEFAULT.sample_size as u16,
+          value_parser = clap::value_parser!(u16).range(*SAMPLE_SIZE_RANGE.start() as i64..=*SAMPLE_SIZE_RANGE.end() as i64))]
+    pub rgl_sample_size: u16,
 }
 
 /// Sample placement for continuous sources written as CSV.
@@ -52,6 +77,11 @@ pub fn run(args: Args) -> Result<()> {
         csv_grid: match args.grid {
             Grid::Merl => CsvGrid::Merl,
             Grid::Utia => CsvGrid::Utia,
+        },
+        rgl: RglResolution {
+            elevations: args.rgl_elevations.into(),
+            ndf_size: args.rgl_ndf_size.into(),
+            sample_size: args.rgl_sample_size.into(),
         },
     };
     let spinner = progress::spinner("converting");

@@ -2,10 +2,10 @@
 //! on the simulated device, with their tables, summaries and pictures.
 
 use super::measure::Bars;
-use super::report;
+use crate::interrupt::stop_on_ctrl_c;
 use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
-use specula_session::engine::stop_on_ctrl_c;
+use specula_report::{write_session_pictures, ReportOptions};
 use specula_session::workflow::{
     default_session_path, measure, summary_path, MeasureOutcome, MeasureSettings, Source,
 };
@@ -125,26 +125,25 @@ const RENDER_SPP: usize = 32;
 /// --truth NAME` writes) as report.html, and each of its pictures as a PNG file beside it;
 /// prints the error against the truth.
 fn pictures(dir: &Path, name: &str, table: &Path, session: &Path) -> Result<Vec<PathBuf>> {
-    let args = report::Args {
-        input: session.to_path_buf(),
-        out: dir.join("report.html"),
+    let options = ReportOptions {
         truth: Some(name.to_string()),
-        samples: None,
         table: Some(table.to_path_buf()),
-        size: RENDER_PX,
+        size_px: RENDER_PX,
         spp: RENDER_SPP,
         title: Some(format!("{name} measured on the simulated device")),
+        ..ReportOptions::new(session)
     };
-    let report = report::session::report(&args)?;
-    let mut files = Vec::new();
-    for figure in &report.figures {
-        let path = dir.join(format!("{}.png", file_stem_of(&figure.title)));
-        std::fs::write(&path, &figure.png)
-            .with_context(|| format!("{}: cannot write", path.display()))?;
-        files.push(path);
+    let (report, files) =
+        write_session_pictures(&options, dir, &crate::progress::Terminal::default())?;
+    for table in &report.tables {
+        for row in table.rows.iter().filter(|r| {
+            ["gloss", "haze", "DOI", "dE00", "flop"]
+                .iter()
+                .any(|key| r[0].starts_with(key))
+        }) {
+            println!("{name} {}: {}", row[0], row[1..].join(" / "));
+        }
     }
-    report.write(&args.out)?;
-    files.push(args.out);
     for row in report.errors.iter().flat_map(|e| &e.rows) {
         println!(
             "{name} against its truth, {}: relative RMSE {:.4}, log RMSE {:.4}",
@@ -152,28 +151,4 @@ fn pictures(dir: &Path, name: &str, table: &Path, session: &Path) -> Result<Vec<
         );
     }
     Ok(files)
-}
-
-/// A figure's title as a file name: lower case, words joined by `_`.
-fn file_stem_of(title: &str) -> String {
-    title
-        .split(|c: char| !c.is_ascii_alphanumeric())
-        .filter(|word| !word.is_empty())
-        .map(str::to_ascii_lowercase)
-        .collect::<Vec<_>>()
-        .join("_")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn figure_titles_become_file_names() {
-        assert_eq!(file_stem_of("Render, sphere"), "render_sphere");
-        assert_eq!(
-            file_stem_of("Probe against the adaptive samples"),
-            "probe_against_the_adaptive_samples"
-        );
-    }
 }

@@ -1,11 +1,13 @@
 //! `specula device`: the simulated device behind the driver protocol.
 
+use super::token_args::{TokenArgs, TOKEN_VAR};
 use anyhow::{bail, Context, Result};
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::Instrument;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_session::ideal::NoiselessSimulator;
+use specula_session::inputs::brdf_fingerprint;
 use specula_session::protocol::{FaultSchedule, Server};
 use std::net::{SocketAddr, TcpListener};
 use std::path::PathBuf;
@@ -33,12 +35,12 @@ pub struct ServeArgs {
     /// a model:name fit.
     #[arg(long)]
     pub truth: String,
-    /// Where to listen. Loopback by default; any other address needs --token.
+    /// Where to listen. Loopback by default; any other address needs a token.
     #[arg(long, default_value = "127.0.0.1:7878")]
     pub listen: SocketAddr,
     /// A shared secret every client must send in `hello`.
-    #[arg(long)]
-    pub token: Option<String>,
+    #[command(flatten)]
+    pub token: TokenArgs,
     /// Serve one client on stdin and stdout instead of TCP (for --device exec:...).
     #[arg(long, conflicts_with = "listen")]
     pub stdio: bool,
@@ -55,7 +57,10 @@ pub struct ServeArgs {
     /// corrupt@N, motor@N, N counting requests from 1 over the server's life.
     #[arg(long, default_value = "")]
     pub inject_faults: String,
-    /// Disconnect a client silent for this many seconds.
+    /// Disconnect the controlling client when a request line does not arrive whole within
+    /// this many seconds of the previous reply (0 < SECONDS <= 86400). Newcomers have 10 s
+    /// to authenticate; another client's hello waits up to 10 s for the controlling one to
+    /// leave, then is answered `busy`; a reply not written within 30 s ends the connection.
     #[arg(long, default_value_t = 600.0)]
     pub idle_timeout: f64,
 }
@@ -67,14 +72,15 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 fn serve(args: ServeArgs) -> Result<()> {
-    if !args.stdio && !args.listen.ip().is_loopback() && args.token.is_none() {
+    let token = args.token.resolve()?;
+    if !args.stdio && !args.listen.ip().is_loopback() && token.is_none() {
         bail!(
-            "--listen {}: serving beyond this machine needs --token (and a network you trust: the protocol is not encrypted)",
+            "--listen {}: serving beyond this machine needs a token (--token-file, {TOKEN_VAR} or --token; and a network you trust: the protocol is not encrypted)",
             args.listen
         );
     }
-    if !(args.idle_timeout.is_finite() && args.idle_timeout > 0.0) {
-        bail!("--idle-timeout must be a positive number of seconds");
+    if !(args.idle_timeout.is_finite() && args.idle_timeout > 0.0 && args.idle_timeout <= 86400.0) {
+        bail!("--idle-timeout must be a number of seconds in (0, 86400]");
     }
     let faults: FaultSchedule = args.inject_faults.parse().map_err(anyhow::Error::msg)?;
     let device = match &args.device_model {
@@ -82,6 +88,9 @@ fn serve(args: ServeArgs) -> Result<()> {
         None => Device::utia(),
     };
     let truth = specula_formats::source::load_brdf(&args.truth)?;
+    // The truth's content hash goes in the server's name: a client reconnecting to a server
+    // restarted with another truth (or an edited file of the same name) sees another device.
+    let fingerprint = brdf_fingerprint(truth.as_ref());
     let mut config = SimulatorConfig::new(args.seed, &device);
     if args.ideal {
         config.positioning.sigma_deg = 0.0;
@@ -93,9 +102,13 @@ fn serve(args: ServeArgs) -> Result<()> {
     } else {
         Box::new(simulator)
     };
-    let name = format!("specula device serve: {}", args.truth);
+    let name = format!(
+        "specula device serve: {} (truth sha256 {})",
+        args.truth,
+        &fingerprint[..16]
+    );
     let mut server = Server::new(instrument, name)
-        .with_token(args.token)
+        .with_token(token)
         .with_faults(faults);
     if args.stdio {
         let end = server.serve_connection(std::io::stdin().lock(), std::io::stdout().lock());

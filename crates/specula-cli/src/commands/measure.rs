@@ -1,11 +1,13 @@
 //! `specula measure`: the paper's whole measurement in one command, resumable.
 
 use super::grid_args::GridArgs;
+use super::token_args::TokenArgs;
+use crate::interrupt::stop_on_ctrl_c;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
-use specula_session::engine::{stop_on_ctrl_c, Progress, StageOutcome};
+use specula_session::engine::{Progress, StageOutcome};
 use specula_session::protocol::{ClientSettings, Endpoint};
 use specula_session::workflow::{
     default_session_path, measure, summary_path, HdrChoice, MeasureOutcome, MeasureSettings,
@@ -104,9 +106,9 @@ pub struct Args {
     /// Device model (TOML); default: the paper's UTIA gonioreflectometer.
     #[arg(long)]
     pub device_model: Option<PathBuf>,
-    /// Shared token for `specula device serve --token`.
-    #[arg(long)]
-    pub token: Option<String>,
+    /// Shared token for a server that asks for one (`specula device serve --token-file`).
+    #[command(flatten)]
+    pub token: TokenArgs,
     /// Seconds to wait for a reply from a device before retrying.
     #[arg(long, default_value_t = 120.0)]
     pub reply_timeout: f64,
@@ -154,7 +156,10 @@ impl Args {
                 HdrArg::Predicted => HdrChoice::Predicted,
                 HdrArg::Bracket => HdrChoice::Bracket,
             },
-            method: self.method.clone(),
+            method: self
+                .method
+                .parse()
+                .unwrap_or(specula_reconstruct::Method::LOBE),
             deblur: !self.no_deblur,
             checks: !self.skip_checks,
             tilt_deg: self.tilt,
@@ -256,7 +261,7 @@ fn source(args: &Args) -> Result<Source> {
         client: ClientSettings {
             reply_timeout: Duration::from_secs_f64(args.reply_timeout),
             max_failures: args.max_failures.max(1),
-            token: args.token.clone(),
+            token: args.token.resolve()?.map(|t| t.secret().to_string()),
             ..ClientSettings::default()
         },
         calibration: Box::new(calibration),

@@ -1,6 +1,7 @@
 //! One module per subcommand: its arguments (with the `--help` text) and its `run`.
 
 pub mod analyze;
+pub mod appearance;
 pub mod calibrate;
 pub mod check;
 pub mod compare;
@@ -22,3 +23,4 @@ pub mod render;
 pub mod report;
 pub mod session;
 pub mod tabulate;
+pub mod token_args;

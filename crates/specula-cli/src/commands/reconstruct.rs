@@ -108,7 +108,7 @@ pub fn run(args: Args) -> Result<()> {
 fn session_samples(path: &Path) -> Result<(Vec<Sample>, Option<InstrumentResponse>)> {
     let journal = Journal::open_read_only(path)?;
     let response = journal
-        .meta::<Calibration>("calibration")?
+        .record::<Calibration>()?
         .and_then(|c| c.response)
         .map(|fit| fit.response);
     let plan = journal.plan(STAGE_MAIN)?;

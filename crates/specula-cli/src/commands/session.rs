@@ -1,8 +1,7 @@
 //! `specula session`: what a measurement session's journal holds.
 
 use anyhow::Result;
-use specula_session::journal::{Journal, SessionStatus};
-use specula_session::workflow::{ChecksRecord, FitRecord, MeasureSettings, PlanRecord};
+use specula_session::journal::{SessionRecord, SessionStatus};
 use std::path::PathBuf;
 
 /// Inspect measurement sessions (the SQLite journals of `specula measure`).
@@ -34,17 +33,17 @@ fn hours(seconds: f64) -> String {
 }
 
 fn status(path: &std::path::Path) -> Result<()> {
-    let journal = Journal::open_read_only(path)?;
-    let status: SessionStatus = journal.status()?;
+    let record = SessionRecord::read(path)?;
+    let status: &SessionStatus = &record.status;
     println!(
         "session: {} (schema {})",
         path.display(),
         status.schema_version
     );
-    if let Some(source) = journal.meta::<String>("source")? {
+    if let Some(source) = &record.source {
         println!("measures: {source}");
     }
-    if let Some(settings) = journal.meta::<MeasureSettings>("settings")? {
+    if let Some(settings) = &record.settings {
         println!(
             "settings: seed {}, {} probe samples, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, order {:?}, hdr {:?}{}",
             settings.seed,
@@ -58,17 +57,17 @@ fn status(path: &std::path::Path) -> Result<()> {
             if settings.ideal { ", ideal" } else { "" }
         );
     }
-    if let Some(checks) = journal.meta::<ChecksRecord>("checks")? {
+    if let Some(checks) = &record.checks {
         println!("alignment: {}", checks.alignment);
         println!("orientation: {}", checks.orientation);
     }
-    if let Some(fit) = journal.meta::<FitRecord>("fit")? {
+    if let Some(fit) = &record.fit {
         println!(
             "k-hat: {:.4} ({}), fit error {:.4e}",
             fit.function.k, fit.function.family, fit.error
         );
     }
-    if let Some(plan) = journal.meta::<PlanRecord>("plan")? {
+    if let Some(plan) = &record.plan {
         println!(
             "plan: {} samples, {} measurable, {} beyond the axes' limits, {} occluded",
             plan.total, plan.measurable, plan.limit, plan.occluded

@@ -91,10 +91,11 @@ impl Material {
     /// Reads a material file; errors name the file and the problem on one line.
     pub fn from_toml_file(path: impl AsRef<Path>) -> Result<Material, MaterialError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|error| MaterialError::Io {
-            path: path.to_path_buf(),
-            error,
-        })?;
+        let text =
+            crate::bounded_read::read_toml_text(path).map_err(|error| MaterialError::Io {
+                path: path.to_path_buf(),
+                error,
+            })?;
         parse(&text, &path.display().to_string())
     }
 
@@ -142,6 +143,10 @@ fn check(ok: bool, field: &str, rule: &str, value: impl std::fmt::Debug) -> Resu
     }
 }
 
+/// The largest conductor index (eta and k): measured metals stay below 15 at visible
+/// wavelengths; far beyond it the Fresnel term overflows (eta = 1e300 gives NaN).
+const MAX_CONDUCTOR_INDEX: f64 = 100.0;
+
 /// Roughness below 0.001 (a lobe of ~0.06 degrees) is below what a goniometer resolves and
 /// what the energy checks cover.
 fn check_alpha(field: &str, alpha: f64) -> Result<(), String> {
@@ -171,10 +176,12 @@ impl TryFrom<MaterialFile> for Material {
                 k,
             } => {
                 check_alpha("base.alpha", alpha)?;
-                let eta_ok = eta.iter().all(|&e| e > 0.0 && e.is_finite());
-                check(eta_ok, "base.eta", "positive in every channel", eta)?;
-                let k_ok = k.iter().all(|&v| v >= 0.0 && v.is_finite());
-                check(k_ok, "base.k", "non-negative in every channel", k)?;
+                let eta_ok = eta.iter().all(|&e| e > 0.0 && e <= MAX_CONDUCTOR_INDEX);
+                let rule = format!("in (0, {MAX_CONDUCTOR_INDEX}] in every channel");
+                check(eta_ok, "base.eta", &rule, eta)?;
+                let k_ok = k.iter().all(|&v| (0.0..=MAX_CONDUCTOR_INDEX).contains(&v));
+                let rule = format!("in [0, {MAX_CONDUCTOR_INDEX}] in every channel");
+                check(k_ok, "base.k", &rule, k)?;
                 let conductor = RoughConductor::new(distribution, alpha, eta.into(), k.into());
                 Base::Conductor(conductor)
             }

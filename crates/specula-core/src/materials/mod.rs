@@ -1,4 +1,4 @@
-//! Analytic reference materials (issue 2): rough conductors (polished metals, chrome) and
+//! Analytic reference materials: rough conductors (polished metals, chrome) and
 //! clear-coated paints, with an optional anisotropic scratch lobe (paper section 4.3), their
 //! TOML material files, the paper's presets and a built-in database.
 //!

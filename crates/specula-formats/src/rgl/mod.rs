@@ -23,8 +23,10 @@
 //! At normal incidence the incident azimuth is undefined; it is taken as pi, as Mitsuba does
 //! (see [`azimuth`]). Only isotropic files (`phi_i` with one entry) are supported.
 
+mod ndf;
 mod tensor;
 mod warp;
+pub mod write;
 
 use anyhow::Result;
 use glam::{DVec2, DVec3};
@@ -36,6 +38,7 @@ use tensor::TensorFile;
 use warp::{Grid, GridStack, VndfWarp};
 
 pub use tensor::MAGIC;
+pub use write::{RglResolution, RglTables, RglWriteError};
 
 /// A measured isotropic RGB material of the RGL database, evaluated as its reference loader.
 #[derive(Debug, Clone)]

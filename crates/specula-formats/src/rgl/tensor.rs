@@ -7,7 +7,8 @@
 //! - dtype codes: 1 u8, 2 i8, 3 u16, 4 i16, 5 u32, 6 i32, 7 u64, 8 i64, 9 f16, 10 f32, 11 f64.
 //!
 //! Only the parts Specula needs are decoded: any field is located and bounds-checked, and
-//! `f32` and `u8` fields can be read out.
+//! `f32` and `u8` fields can be read out. [`encode`] writes the same layout, each field's data
+//! aligned to 8 bytes (Mitsuba maps the file and reads the arrays in place).
 
 use std::collections::HashMap;
 
@@ -49,6 +50,24 @@ impl Dtype {
         })
     }
 
+    /// The code of this type in the field table.
+    pub fn code(self) -> u8 {
+        use Dtype::*;
+        match self {
+            U8 => 1,
+            I8 => 2,
+            U16 => 3,
+            I16 => 4,
+            U32 => 5,
+            I32 => 6,
+            U64 => 7,
+            I64 => 8,
+            F16 => 9,
+            F32 => 10,
+            F64 => 11,
+        }
+    }
+
     /// Size of one element in bytes.
     pub fn size_bytes(self) -> usize {
         use Dtype::*;
@@ -68,6 +87,89 @@ pub struct Field {
     pub shape: Vec<usize>,
     data_start: usize,
     data_len: usize,
+}
+
+/// One named array to write: its element type, shape and little-endian bytes.
+#[derive(Debug, Clone)]
+pub struct FieldData {
+    pub name: String,
+    pub dtype: Dtype,
+    pub shape: Vec<usize>,
+    pub bytes: Vec<u8>,
+}
+
+impl FieldData {
+    /// An `f32` array of the given shape (whose product is `values.len()`).
+    pub fn f32(name: &str, shape: &[usize], values: &[f32]) -> Self {
+        debug_assert_eq!(shape.iter().product::<usize>(), values.len());
+        Self {
+            name: name.into(),
+            dtype: Dtype::F32,
+            shape: shape.to_vec(),
+            bytes: values.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        }
+    }
+
+    /// A rank-1 `u32` array.
+    pub fn u32(name: &str, values: &[u32]) -> Self {
+        Self {
+            name: name.into(),
+            dtype: Dtype::U32,
+            shape: vec![values.len()],
+            bytes: values.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        }
+    }
+
+    /// A rank-1 `u8` array.
+    pub fn u8(name: &str, values: &[u8]) -> Self {
+        Self {
+            name: name.into(),
+            dtype: Dtype::U8,
+            shape: vec![values.len()],
+            bytes: values.to_vec(),
+        }
+    }
+}
+
+/// Alignment of every field's data in a written file, bytes.
+const DATA_ALIGNMENT: usize = 8;
+
+/// The bytes of a tensor file (version 1.0) holding `fields` in order.
+pub fn encode(fields: &[FieldData]) -> Vec<u8> {
+    let header_len = MAGIC.len()
+        + 2
+        + 4
+        + fields
+            .iter()
+            .map(|f| 2 + f.name.len() + 2 + 1 + 8 + 8 * f.shape.len())
+            .sum::<usize>();
+    let align = |at: usize| at.div_ceil(DATA_ALIGNMENT) * DATA_ALIGNMENT;
+    let mut offsets = Vec::with_capacity(fields.len());
+    let mut end = align(header_len);
+    for f in fields {
+        offsets.push(end);
+        end = align(end + f.bytes.len());
+    }
+    let mut out = Vec::with_capacity(end);
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&[1, 0]);
+    out.extend_from_slice(&(fields.len() as u32).to_le_bytes());
+    for (f, offset) in fields.iter().zip(&offsets) {
+        out.extend_from_slice(&(f.name.len() as u16).to_le_bytes());
+        out.extend_from_slice(f.name.as_bytes());
+        out.extend_from_slice(&(f.shape.len() as u16).to_le_bytes());
+        out.push(f.dtype.code());
+        out.extend_from_slice(&(*offset as u64).to_le_bytes());
+        for d in &f.shape {
+            out.extend_from_slice(&(*d as u64).to_le_bytes());
+        }
+    }
+    for (f, offset) in fields.iter().zip(&offsets) {
+        out.resize(*offset, 0);
+        out.extend_from_slice(&f.bytes);
+    }
+    out.resize(end, 0);
+    out
 }
 
 /// A parsed tensor file: the field table over the file's bytes.
@@ -285,6 +387,32 @@ mod tests {
             .f32_field("flag", 1)
             .unwrap_err()
             .contains("expected a rank-1 f32"));
+    }
+
+    #[test]
+    fn encoded_files_parse_back_aligned() {
+        let bytes = encode(&[
+            FieldData::u8("flag", &[1, 2, 3]),
+            FieldData::f32("grid", &[2, 3], &[1.0, 2.0, 3.0, 4.0, 5.0, -6.5]),
+            FieldData::u32("version", &[1, 0]),
+        ]);
+        let tf = TensorFile::parse(&bytes).unwrap();
+        assert_eq!(tf.u8_field("flag").unwrap(), &[1, 2, 3]);
+        let (grid, shape) = tf.f32_field("grid", 2).unwrap();
+        assert_eq!(grid, vec![1.0, 2.0, 3.0, 4.0, 5.0, -6.5]);
+        assert_eq!(shape, vec![2, 3]);
+        let version = tf.field("version").unwrap();
+        assert_eq!(
+            (version.dtype, version.shape.clone()),
+            (Dtype::U32, vec![2])
+        );
+        assert!(tf
+            .fields
+            .values()
+            .all(|f| f.data_start % DATA_ALIGNMENT == 0));
+        for code in 1..=11 {
+            assert_eq!(Dtype::from_code(code).unwrap().code(), code);
+        }
     }
 
     #[test]

@@ -52,6 +52,11 @@ impl Grid {
         }
     }
 
+    /// The node values, row-major.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
     fn at(&self, x: usize, y: usize) -> f64 {
         self.values[y * self.width + x]
     }
@@ -213,6 +218,78 @@ impl VndfWarp {
     }
 }
 
+impl MarginalSlice {
+    /// The forward warp of this slice: the point of the unit square (microfacet normal
+    /// coordinates) that [`VndfWarp::invert`] maps to the sample `s`, found by inverting the
+    /// piecewise-quadratic marginal CDF along y, then the conditional one along x.
+    fn sample(&self, width: usize, height: usize, s: DVec2) -> DVec2 {
+        let s = s.clamp(DVec2::ZERO, DVec2::ONE);
+        let (cells_x, cells_y) = ((width - 1) as f64, (height - 1) as f64);
+        let row_total = |y: usize| self.conditional_cdf[y * (width - 1) + width - 2];
+
+        // Row interval: the first whose cumulative marginal reaches s.y.
+        let py = self
+            .marginal_cdf
+            .partition_point(|c| *c < s.y)
+            .min(height - 2);
+        let below = if py > 0 {
+            self.marginal_cdf[py - 1]
+        } else {
+            0.0
+        };
+        let (r0, r1) = (row_total(py), row_total(py + 1));
+        let ty = solve_linear_density(r0, r1, (s.y - below) * cells_y);
+
+        // Column interval along the row blended at ty, then the offset inside it.
+        let cdf = |x: usize| {
+            lerp(
+                self.conditional_cdf[py * (width - 1) + x],
+                self.conditional_cdf[(py + 1) * (width - 1) + x],
+                ty,
+            )
+        };
+        let target = s.x * lerp(r0, r1, ty);
+        let mut px = 0;
+        while px < width - 2 && cdf(px) < target {
+            px += 1;
+        }
+        let left = if px > 0 { cdf(px - 1) } else { 0.0 };
+        let density = |x: usize| {
+            lerp(
+                self.density[py * width + x],
+                self.density[(py + 1) * width + x],
+                ty,
+            )
+        };
+        let tx = solve_linear_density(density(px), density(px + 1), (target - left) * cells_x);
+        DVec2::new((px as f64 + tx) / cells_x, (py as f64 + ty) / cells_y)
+    }
+}
+
+/// The offset `t` in `[0, 1]` at which a density varying linearly from `a` to `b` over a unit
+/// interval has accumulated `mass`: the root of `a t + (b - a) t^2 / 2 = mass`, in the form
+/// that stays accurate when `b - a` is small.
+fn solve_linear_density(a: f64, b: f64, mass: f64) -> f64 {
+    let mass = mass.max(0.0);
+    let half_slope = 0.5 * (b - a);
+    let root = (a * a + 4.0 * half_slope * mass).max(0.0).sqrt();
+    let denominator = a + root;
+    if denominator > 0.0 {
+        (2.0 * mass / denominator).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+impl VndfWarp {
+    /// The forward warp of elevation slice `k` at the sample `s` of the unit square: the
+    /// microfacet normal, in unit coordinates, whose inverse warp ([`Self::invert`] at the
+    /// slice's own elevation) is `s`.
+    pub fn sample_slice(&self, k: usize, s: DVec2) -> DVec2 {
+        self.slices[k].sample(self.width, self.height, s)
+    }
+}
+
 fn lerp(a: f64, b: f64, t: f64) -> f64 {
     a + (b - a) * t
 }
@@ -278,6 +355,26 @@ mod tests {
             VndfWarp::new(vec![0.0], &[Grid::new(2, 2, vec![0.0; 4])]).unwrap_err(),
             0
         );
+    }
+
+    /// The forward warp undoes the inverse: invert(sample(s)) = s on a skewed density.
+    #[test]
+    fn forward_warp_inverts_the_inverse() {
+        let values: Vec<f64> = (0..5 * 4)
+            .map(|i| 0.1 + ((i * 7919) % 13) as f64 + if i % 5 == 0 { 0.0 } else { 2.0 })
+            .collect();
+        let g = Grid::new(5, 4, values);
+        let warp = VndfWarp::new(vec![0.0, 1.0], &[g.clone(), g]).unwrap();
+        for k in 0..2 {
+            for i in 0..=20 {
+                for j in 0..=20 {
+                    let s = DVec2::new(i as f64 / 20.0, j as f64 / 20.0);
+                    let u = warp.sample_slice(k, s);
+                    let back = warp.invert(u, k as f64);
+                    assert!((back - s).length() < 1e-10, "{s} -> {u} -> {back}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -27,3 +27,15 @@ pub const RGL_MATERIALS: [&str; 5] = [
     "paper_white_rgb",
     "satin_rosaline_rgb",
 ];
+
+/// One row of the Mitsuba reference vectors: a direction pair (degrees) and f_r per channel.
+#[derive(serde::Deserialize)]
+pub struct MitsubaVector {
+    pub theta_i: f64,
+    pub phi_i: f64,
+    pub theta_o: f64,
+    pub phi_o: f64,
+    pub r: f64,
+    pub g: f64,
+    pub b: f64,
+}

@@ -8,13 +8,16 @@
 //! [`ClientSettings::backoff_max`]). After [`ClientSettings::max_failures`] failures in a row
 //! the call fails with an error that says what was tried. Errors the device itself reports
 //! (motor fault, limit, ...) are returned at once: what to do about them is the engine's
-//! decision.
+//! decision. A reply outside the protocol's ranges ([`super::validate`]) counts as a failure
+//! too: it is asked again, and if the device keeps answering so the call fails as a device
+//! fault (camera fault for a capture, motor fault for a move) naming the field.
 
 use super::link::{Endpoint, Link, LinkError};
 use super::message::{
     CaptureParams, HelloParams, HelloResult, LightParams, MoveParams, Reply, Request, WireError,
     PROTOCOL_VERSION,
 };
+use super::validate::ReplyRanges;
 use serde::de::DeserializeOwned;
 use serde_json::{json, Value};
 use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
@@ -37,6 +40,9 @@ pub struct ClientSettings {
     pub backoff_max: Duration,
     /// The shared secret `hello` sends, if the server asks for one.
     pub token: Option<String>,
+    /// The device model's ranges replies are checked against (the white level comes from
+    /// the device's `info`).
+    pub ranges: ReplyRanges,
 }
 
 impl Default for ClientSettings {
@@ -48,6 +54,7 @@ impl Default for ClientSettings {
             backoff_initial: Duration::from_millis(250),
             backoff_max: Duration::from_secs(15),
             token: None,
+            ranges: ReplyRanges::default(),
         }
     }
 }
@@ -105,9 +112,7 @@ impl RemoteInstrument {
     /// Opens the link now and checks the server (protocol version, token).
     pub fn connect(endpoint: Endpoint, settings: ClientSettings) -> Result<Self, InstrumentError> {
         let mut client = Self::new(endpoint, settings);
-        client
-            .call("info", Value::Null)
-            .map(|_: InstrumentInfo| ())?;
+        client.info()?;
         Ok(client)
     }
 
@@ -131,22 +136,42 @@ impl RemoteInstrument {
         }
     }
 
-    /// Calls a method, retrying on a fresh link as the settings say.
+    /// Calls a method, retrying on a fresh link as the settings say; `check` says what is
+    /// wrong with a reply outside the protocol's ranges.
     fn call<T: DeserializeOwned>(
         &mut self,
         method: &str,
         params: Value,
+        check: &dyn Fn(&ReplyRanges, &T) -> Result<(), String>,
     ) -> Result<T, InstrumentError> {
         let mut failures = 0u32;
         loop {
             let why = match self.attempt(method, &params) {
                 Ok(value) => {
-                    return serde_json::from_value(value).map_err(|e| {
+                    let reply: T = serde_json::from_value(value).map_err(|e| {
                         InstrumentError::Disconnected(format!(
                             "{}: the reply to {method} is not what the protocol says: {e}",
                             self.endpoint
                         ))
-                    })
+                    })?;
+                    match check(&self.settings.ranges, &reply) {
+                        Ok(()) => return Ok(reply),
+                        Err(problem) => {
+                            failures += 1;
+                            let message = format!("{}: {method} reply: {problem}", self.endpoint);
+                            if failures >= self.settings.max_failures.max(1) {
+                                return Err(bad_reply_error(
+                                    method,
+                                    format!("{message} ({failures} replies in a row)"),
+                                ));
+                            }
+                            self.link = None;
+                            let pause = self.settings.backoff(failures);
+                            self.note("retry", format!("{message}; asking again"));
+                            std::thread::sleep(pause);
+                            continue;
+                        }
+                    }
                 }
                 Err(AttemptError::Device(error)) => return Err(error),
                 Err(AttemptError::Refused(why)) => {
@@ -206,6 +231,11 @@ impl RemoteInstrument {
                     timeout: false,
                     why: format!("the device could not read our request: {}", error.message),
                 },
+                // Another client controls the device: wait for it, as for a lost link.
+                (None, "busy") => AttemptError::Transport {
+                    timeout: false,
+                    why: format!("the device is busy: {}", error.message),
+                },
                 (None, kind) => {
                     AttemptError::Refused(format!("{method}: {kind}: {}", error.message))
                 }
@@ -234,6 +264,12 @@ impl RemoteInstrument {
         self.next_id += 1;
         let reply = self.exchange(&request)?;
         if let Some(error) = reply.error {
+            if error.kind == "busy" {
+                return Err(AttemptError::Transport {
+                    timeout: false,
+                    why: format!("the device is busy: {}", error.message),
+                });
+            }
             return Err(AttemptError::Refused(format!(
                 "refused: {}: {}",
                 error.kind, error.message
@@ -241,6 +277,12 @@ impl RemoteInstrument {
         }
         let hello: HelloResult = serde_json::from_value(reply.result.unwrap_or(Value::Null))
             .map_err(|e| AttemptError::Refused(format!("hello: unexpected reply: {e}")))?;
+        if let Some(before) = self.server.as_deref().filter(|&b| b != hello.server) {
+            return Err(AttemptError::Refused(format!(
+                "reconnected to another device: it was '{before}', it is now '{}'; the measurement stops rather than mix two devices' samples",
+                hello.server
+            )));
+        }
         if self.server.is_some() {
             self.note(
                 "reconnect",
@@ -299,14 +341,27 @@ impl RemoteInstrument {
     }
 }
 
+/// The device fault a reply outside the protocol's ranges stands for.
+fn bad_reply_error(method: &str, message: String) -> InstrumentError {
+    match method {
+        "capture" => InstrumentError::CameraFault(message),
+        "home" | "move_to" => InstrumentError::MotorFault(message),
+        _ => InstrumentError::Disconnected(message),
+    }
+}
+
 impl Instrument for RemoteInstrument {
     fn home(&mut self) -> Result<AxisPositions, InstrumentError> {
-        self.call("home", Value::Null)
+        self.call("home", Value::Null, &ReplyRanges::check_positions)
     }
 
     fn move_to(&mut self, target: &AxisPositions) -> Result<AxisPositions, InstrumentError> {
         let params = MoveParams { target: *target };
-        self.call("move_to", serde_json::to_value(params).expect("serialises"))
+        self.call(
+            "move_to",
+            serde_json::to_value(params).expect("serialises"),
+            &ReplyRanges::check_positions,
+        )
     }
 
     fn set_light(&mut self, level: f64) -> Result<(), InstrumentError> {
@@ -314,6 +369,7 @@ impl Instrument for RemoteInstrument {
         self.call::<Value>(
             "set_light",
             serde_json::to_value(params).expect("serialises"),
+            &|_, _| Ok(()),
         )
         .map(|_| ())
     }
@@ -323,11 +379,16 @@ impl Instrument for RemoteInstrument {
             exposure_s,
             with_pixels,
         };
-        self.call("capture", json!(params))
+        self.call("capture", json!(params), &|ranges, c| {
+            ranges.check_capture(c, exposure_s)
+        })
     }
 
     fn info(&mut self) -> Result<InstrumentInfo, InstrumentError> {
-        self.call("info", Value::Null)
+        let info: InstrumentInfo =
+            self.call("info", Value::Null, &|_, i| ReplyRanges::check_info(i))?;
+        self.settings.ranges.white_level = Some(info.white_level);
+        Ok(info)
     }
 
     fn simulated_clock_s(&self) -> Option<f64> {

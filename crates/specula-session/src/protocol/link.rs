@@ -3,11 +3,14 @@
 //!
 //! A reader thread turns the incoming bytes into lines on a channel, so that waiting for a
 //! reply has a timeout whatever the transport (a pipe has none of its own). Dropping the link
-//! closes it: the socket is shut down, the child is killed and reaped.
+//! closes it: the socket is shut down; an adapter runs in a process group of its own, so the
+//! whole group (`sh -c`, the adapter it started and whatever that forked) is killed and the
+//! shell reaped: a restarted adapter never runs beside the old one.
 
 use super::message::MAX_LINE_BYTES;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{Shutdown, TcpStream, ToSocketAddrs};
+use std::os::unix::process::CommandExt;
 use std::process::{Child, Command, Stdio};
 use std::str::FromStr;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
@@ -19,7 +22,8 @@ use std::time::Duration;
 pub enum Endpoint {
     /// A server speaking the protocol over TCP, `HOST:PORT`.
     Tcp(String),
-    /// A program speaking the protocol on its stdin and stdout, run by `sh -c`.
+    /// A program speaking the protocol on its stdin and stdout, run by `sh -c` in a process
+    /// group of its own.
     Exec(String),
 }
 
@@ -114,6 +118,7 @@ impl Link {
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
+            .process_group(0)
             .spawn()?;
         let stdin = child.stdin.take().expect("stdin is piped");
         let stdout = child.stdout.take().expect("stdout is piped");
@@ -135,6 +140,15 @@ impl Link {
             .map_err(|e| LinkError::Closed(e.to_string()))
     }
 
+    /// The process group of the adapter behind an exec link (its id is the `sh -c` child's
+    /// pid); `None` for TCP.
+    pub fn process_group(&self) -> Option<u32> {
+        match &self.peer {
+            Peer::Process(child) => Some(child.id()),
+            Peer::Socket(_) => None,
+        }
+    }
+
     /// The next line, without its newline.
     pub fn receive(&mut self, timeout: Duration) -> Result<String, LinkError> {
         match self.lines.recv_timeout(timeout) {
@@ -152,12 +166,21 @@ impl Drop for Link {
             Peer::Socket(stream) => {
                 let _ = stream.shutdown(Shutdown::Both);
             }
-            Peer::Process(child) => {
-                let _ = child.kill();
-                let _ = child.wait();
-            }
+            Peer::Process(child) => end_process_group(child),
         }
     }
+}
+
+/// Kills the adapter's whole process group (its leader is the `sh -c` child, so the group's
+/// id is the child's pid) and reaps the leader.
+fn end_process_group(child: &mut Child) {
+    use nix::sys::signal::{killpg, Signal};
+    use nix::unistd::Pid;
+    if let Ok(pid) = i32::try_from(child.id()) {
+        let _ = killpg(Pid::from_raw(pid), Signal::SIGKILL);
+    }
+    let _ = child.kill();
+    let _ = child.wait();
 }
 
 /// Reads lines until the end of the stream, an error or an over-long line; the last message

@@ -7,6 +7,7 @@
 //! - [`link`]: the transports (`tcp://HOST:PORT`, `exec:COMMAND`) with reply timeouts;
 //! - [`client`]: [`RemoteInstrument`], retries with backoff and reconnection;
 //! - [`server`]: [`Server`], any instrument served over a connection;
+//! - [`validate`]: the ranges every reply must respect;
 //! - [`faults`]: faults a server injects on purpose, for rehearsals and tests.
 
 pub mod client;
@@ -14,8 +15,9 @@ pub mod faults;
 pub mod link;
 pub mod message;
 pub mod server;
+pub mod validate;
 
 pub use client::{ClientSettings, RemoteInstrument};
 pub use faults::{Fault, FaultSchedule};
 pub use link::Endpoint;
-pub use server::{ConnectionEnd, Server};
+pub use server::{ConnectionEnd, ServeLimits, Server, Token, TokenError};

@@ -1,6 +1,21 @@
 //! The server side of the driver protocol: any [`Instrument`] served over TCP or over a pair
-//! of streams (a program's stdin and stdout), one connection at a time, as a device can only
-//! do one thing at a time.
+//! of streams (a program's stdin and stdout).
+//!
+//! A device does one thing at a time, so one client controls it: the first to authenticate
+//! (`hello`, with the token when one is set). Over TCP every connection has a thread of its
+//! own, so a client that connects and says nothing never keeps others from being answered:
+//! - a newcomer must authenticate within [`ServeLimits::auth`], or it is disconnected;
+//! - a newcomer that authenticates while another client controls the device waits up to
+//!   [`ServeLimits::control_wait`] for it to disconnect (a client that gave up on a slow
+//!   reply and reconnects finds its old connection closing), then is answered with the
+//!   error kind `busy` and disconnected (Specula's client retries later);
+//! - the controlling client must complete each request line within [`ServeLimits::idle`] of
+//!   the previous reply (a client dripping a byte at a time is cut off too), and every reply
+//!   must be written within [`ServeLimits::write`] (a client that never reads is cut off);
+//! - at most [`ServeLimits::max_connections`] connections are open at once;
+//! - after a failed authentication is answered, its connection holds the server's
+//!   failed-authentication lock for [`ServeLimits::failed_auth_pause`] before closing, so
+//!   failures are answered one per pause at most: guessing the token is slow.
 
 use super::faults::{Fault, FaultSchedule};
 use super::message::{
@@ -11,18 +26,100 @@ use serde::de::DeserializeOwned;
 use serde_json::{json, Value};
 use specula_acquisition::instrument::{Instrument, InstrumentError};
 use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpListener;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::net::{TcpListener, TcpStream};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc;
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
 
-/// Serves one instrument.
-pub struct Server {
+/// A shared secret clients send in `hello`: never empty (an empty token would let a `hello`
+/// without one through).
+#[derive(Clone, PartialEq, Eq)]
+pub struct Token(String);
+
+/// Why a token cannot be used.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TokenError {
+    #[error("the token is empty: give a secret of at least one non-blank character")]
+    Empty,
+}
+
+impl Token {
+    /// A token; surrounding whitespace (a newline at the end of a token file) is removed.
+    pub fn new(secret: &str) -> Result<Token, TokenError> {
+        let secret = secret.trim();
+        if secret.is_empty() {
+            return Err(TokenError::Empty);
+        }
+        Ok(Token(secret.to_string()))
+    }
+
+    /// The secret itself.
+    pub fn secret(&self) -> &str {
+        &self.0
+    }
+}
+
+impl std::fmt::Debug for Token {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Token(..)")
+    }
+}
+
+/// How long a TCP client may take, and how many may be connected.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ServeLimits {
+    /// The controlling client's time to complete a request line after the previous reply.
+    pub idle: Duration,
+    /// A newcomer's time to authenticate.
+    pub auth: Duration,
+    /// How long an authenticated newcomer waits for the controlling client to disconnect.
+    pub control_wait: Duration,
+    /// The time to write one reply.
+    pub write: Duration,
+    /// Connections open at once; more are answered `busy` and closed.
+    pub max_connections: usize,
+    /// How long a failed authentication holds the server's failed-authentication lock after
+    /// its reply (the next failure is answered only after it).
+    pub failed_auth_pause: Duration,
+}
+
+impl Default for ServeLimits {
+    fn default() -> Self {
+        Self {
+            idle: Duration::from_secs(600),
+            auth: Duration::from_secs(10),
+            control_wait: Duration::from_secs(10),
+            write: Duration::from_secs(30),
+            max_connections: 8,
+            failed_auth_pause: Duration::from_secs(1),
+        }
+    }
+}
+
+/// The device and its fault schedule, used by one connection at a time.
+struct Device {
     instrument: Box<dyn Instrument>,
-    name: String,
-    token: Option<String>,
     faults: FaultSchedule,
     /// Requests received over the server's life.
     requests: u64,
+}
+
+/// What every connection shares.
+struct Shared {
+    device: Mutex<Device>,
+    name: String,
+    token: Option<Token>,
+    limits: ServeLimits,
+    /// Who controls the device now (a peer's address), if anyone.
+    controller: Mutex<Option<String>>,
+    /// Held while a failed authentication waits.
+    failed_auth: Mutex<()>,
+}
+
+/// Serves one instrument.
+pub struct Server {
+    shared: Arc<Shared>,
 }
 
 /// How a connection ended.
@@ -32,9 +129,10 @@ pub enum ConnectionEnd {
     ClientClosed,
     /// An injected [`Fault::Drop`].
     Dropped,
-    /// The client failed `hello` (wrong token or protocol version).
+    /// The client failed `hello` (wrong token or protocol version), or another client
+    /// controls the device.
     Refused(String),
-    /// Reading or writing failed (including the idle timeout).
+    /// Reading or writing failed, or the client took too long (a timeout of [`ServeLimits`]).
     Broken(String),
 }
 
@@ -44,85 +142,71 @@ enum Next {
     Close(ConnectionEnd),
 }
 
+/// Locks a mutex even if a thread panicked while holding it (the device state stays usable:
+/// every request is complete or not started).
+fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+    mutex
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
 impl Server {
     /// A server named `name` (reported by `hello`).
     pub fn new(instrument: Box<dyn Instrument>, name: impl Into<String>) -> Self {
         Self {
-            instrument,
-            name: name.into(),
-            token: None,
-            faults: FaultSchedule::new(),
-            requests: 0,
+            shared: Arc::new(Shared {
+                device: Mutex::new(Device {
+                    instrument,
+                    faults: FaultSchedule::new(),
+                    requests: 0,
+                }),
+                name: name.into(),
+                token: None,
+                limits: ServeLimits::default(),
+                controller: Mutex::new(None),
+                failed_auth: Mutex::new(()),
+            }),
         }
     }
 
+    fn shared_mut(&mut self) -> &mut Shared {
+        Arc::get_mut(&mut self.shared).expect("configured before serving")
+    }
+
     /// Requires `hello` with this shared token on every connection.
-    pub fn with_token(mut self, token: Option<String>) -> Self {
-        self.token = token;
+    pub fn with_token(mut self, token: Option<Token>) -> Self {
+        self.shared_mut().token = token;
         self
     }
 
     /// Injects faults (see [`FaultSchedule`]).
     pub fn with_faults(mut self, faults: FaultSchedule) -> Self {
-        self.faults = faults;
+        lock(&self.shared_mut().device).faults = faults;
+        self
+    }
+
+    /// Sets the TCP limits (see [`ServeLimits`]; `idle` is [`Server::serve_tcp`]'s).
+    pub fn with_limits(mut self, limits: ServeLimits) -> Self {
+        self.shared_mut().limits = limits;
         self
     }
 
     /// Requests received so far.
     pub fn requests(&self) -> u64 {
-        self.requests
+        lock(&self.shared.device).requests
     }
 
-    /// Serves one connection until the client closes it, a fault drops it or it breaks.
-    pub fn serve_connection<R: Read, W: Write>(
-        &mut self,
-        reader: R,
-        mut writer: W,
-    ) -> ConnectionEnd {
-        let mut reader = BufReader::new(reader);
-        let mut authorised = self.token.is_none();
-        loop {
-            let mut line = Vec::new();
-            match (&mut reader)
-                .take(MAX_LINE_BYTES + 1)
-                .read_until(b'\n', &mut line)
-            {
-                Ok(0) => return ConnectionEnd::ClientClosed,
-                Ok(_) if line.len() as u64 > MAX_LINE_BYTES => {
-                    return ConnectionEnd::Broken("request line too long".into())
-                }
-                Ok(_) => {}
-                Err(e) => return ConnectionEnd::Broken(e.to_string()),
-            }
-            let text = String::from_utf8_lossy(&line);
-            if text.trim().is_empty() {
-                continue;
-            }
-            self.requests += 1;
-            let fault = self.faults.fault_at(self.requests);
-            match fault {
-                Some(Fault::Drop) => return ConnectionEnd::Dropped,
-                Some(Fault::Slow(delay)) => std::thread::sleep(delay),
-                _ => {}
-            }
-            let (reply, next) = self.answer(text.trim(), &mut authorised, fault);
-            let mut out = match fault {
-                Some(Fault::Corrupt) => b"{\"id\": 1, \"resu\x01 garbled".to_vec(),
-                _ => serde_json::to_vec(&reply).expect("replies always serialise"),
-            };
-            out.push(b'\n');
-            if let Err(e) = writer.write_all(&out).and_then(|()| writer.flush()) {
-                return ConnectionEnd::Broken(e.to_string());
-            }
-            if let Next::Close(end) = next {
-                return end;
-            }
-        }
+    /// Serves one connection on a pair of streams (stdin and stdout) until the client closes
+    /// it, a fault drops it or it breaks. No timeouts: a pipe's other end is our parent.
+    pub fn serve_connection<R: Read, W: Write>(&mut self, reader: R, writer: W) -> ConnectionEnd {
+        let mut connection = Connection::new(&self.shared, "stdio".into());
+        connection.serve(BufReader::new(Untimed(reader)), writer)
     }
 
-    /// Accepts connections on `listener` one after another until `stop` is set (checked
-    /// after each connection; connect once to wake an idle server). A client silent for
-    /// `idle` is disconnected. `log` hears how each connection ended.
+    /// Accepts connections on `listener` until `stop` is set (checked every 20 ms), each in
+    /// a thread of its own, with the limits of [`ServeLimits`] and `idle` for the
+    /// controlling client; on stop, the open connections are shut down too. `log` hears how
+    /// each connection ended.
     pub fn serve_tcp(
         &mut self,
         listener: &TcpListener,
@@ -130,29 +214,302 @@ impl Server {
         idle: Duration,
         log: &mut dyn FnMut(String),
     ) -> std::io::Result<()> {
+        self.shared_mut().limits.idle = idle;
+        listener.set_nonblocking(true)?;
+        let open = Arc::new(OpenConnections::default());
+        let (log_sender, log_lines) = mpsc::channel::<String>();
         while !stop.load(Ordering::SeqCst) {
+            while let Ok(line) = log_lines.try_recv() {
+                log(line);
+            }
             let (stream, peer) = match listener.accept() {
                 Ok(accepted) => accepted,
+                Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                    std::thread::sleep(Duration::from_millis(20));
+                    continue;
+                }
                 Err(e) => {
                     log(format!("accept failed: {e}"));
+                    std::thread::sleep(Duration::from_millis(20));
                     continue;
                 }
             };
-            if stop.load(Ordering::SeqCst) {
-                break;
+            let peer = peer.to_string();
+            if let Err(e) = self.start_connection(stream, peer.clone(), &open, &log_sender) {
+                log(format!("{peer}: cannot serve: {e}"));
             }
-            stream.set_read_timeout(Some(idle))?;
-            stream.set_nodelay(true)?;
-            let writer = stream.try_clone()?;
-            log(format!("{peer}: connected"));
-            let end = self.serve_connection(stream, writer);
-            log(format!("{peer}: {end:?}"));
+        }
+        for stream in lock(&open.streams).values() {
+            let _ = stream.shutdown(std::net::Shutdown::Both);
+        }
+        while let Ok(line) = log_lines.try_recv() {
+            log(line);
         }
         Ok(())
     }
 
+    /// Serves an accepted connection in its own thread, or refuses it when too many are open.
+    fn start_connection(
+        &self,
+        stream: TcpStream,
+        peer: String,
+        open: &Arc<OpenConnections>,
+        log: &mpsc::Sender<String>,
+    ) -> std::io::Result<()> {
+        let limits = self.shared.limits;
+        stream.set_nonblocking(false)?;
+        stream.set_nodelay(true)?;
+        stream.set_write_timeout(Some(limits.write))?;
+        if lock(&open.streams).len() >= limits.max_connections {
+            let error = WireError::new(
+                "busy",
+                format!(
+                    "{} connections are open; try again later",
+                    limits.max_connections
+                ),
+            );
+            write_reply(&mut &stream, &Reply::failed(None, error))?;
+            let _ = log.send(format!("{peer}: refused, too many connections"));
+            return Ok(());
+        }
+        let key = open.next.fetch_add(1, Ordering::SeqCst);
+        lock(&open.streams).insert(key, stream.try_clone()?);
+        let shared = self.shared.clone();
+        let open = open.clone();
+        let log = log.clone();
+        let writer = stream.try_clone()?;
+        std::thread::spawn(move || {
+            let _ = log.send(format!("{peer}: connected"));
+            let mut connection = Connection::new(&shared, peer.clone());
+            let reader = BufReader::new(Timed {
+                stream,
+                until: None,
+            });
+            let end = connection.serve(reader, writer);
+            drop(connection);
+            lock(&open.streams).remove(&key);
+            let _ = log.send(format!("{peer}: {end:?}"));
+        });
+        Ok(())
+    }
+}
+
+/// The TCP connections being served, to count them and to shut them down on stop.
+#[derive(Default)]
+struct OpenConnections {
+    streams: Mutex<std::collections::BTreeMap<u64, TcpStream>>,
+    next: AtomicU64,
+}
+
+/// A byte source whose reads can be given a deadline.
+trait DeadlineRead: Read {
+    /// Reads after `until` fail with [`std::io::ErrorKind::TimedOut`]; `None`: no deadline.
+    fn set_deadline(&mut self, until: Option<Instant>);
+}
+
+/// A stream without timeouts (a pipe, a test's buffer).
+struct Untimed<R>(R);
+
+impl<R: Read> Read for Untimed<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        self.0.read(buf)
+    }
+}
+
+impl<R: Read> DeadlineRead for Untimed<R> {
+    fn set_deadline(&mut self, _: Option<Instant>) {}
+}
+
+/// A TCP stream whose every read is bounded by the time left to a deadline.
+struct Timed {
+    stream: TcpStream,
+    until: Option<Instant>,
+}
+
+impl Read for Timed {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let timeout = match self.until {
+            None => None,
+            Some(until) => {
+                let left = until.saturating_duration_since(Instant::now());
+                if left.is_zero() {
+                    return Err(std::io::Error::new(
+                        std::io::ErrorKind::TimedOut,
+                        "deadline passed",
+                    ));
+                }
+                Some(left)
+            }
+        };
+        self.stream.set_read_timeout(timeout)?;
+        self.stream.read(buf)
+    }
+}
+
+impl DeadlineRead for Timed {
+    fn set_deadline(&mut self, until: Option<Instant>) {
+        self.until = until;
+    }
+}
+
+fn write_reply(writer: &mut impl Write, reply: &Reply) -> std::io::Result<()> {
+    let mut out = serde_json::to_vec(reply).expect("replies always serialise");
+    out.push(b'\n');
+    writer.write_all(&out).and_then(|()| writer.flush())
+}
+
+/// One client's connection.
+struct Connection<'a> {
+    shared: &'a Shared,
+    peer: String,
+    /// Authenticated (and, for requests other than `hello`, in control).
+    authorised: bool,
+    /// This connection controls the device.
+    controls: bool,
+    /// Held after a failed authentication, until the pause after its reply is over.
+    penalty: Option<MutexGuard<'a, ()>>,
+}
+
+impl Drop for Connection<'_> {
+    fn drop(&mut self) {
+        if self.controls {
+            *lock(&self.shared.controller) = None;
+        }
+    }
+}
+
+impl<'a> Connection<'a> {
+    fn new(shared: &'a Shared, peer: String) -> Self {
+        Self {
+            shared,
+            peer,
+            authorised: false,
+            controls: false,
+            penalty: None,
+        }
+    }
+
+    /// The deadline for the next request line: a newcomer's to authenticate, the controlling
+    /// client's idle time.
+    fn deadline(&self) -> Instant {
+        let limits = &self.shared.limits;
+        Instant::now()
+            + if self.authorised {
+                limits.idle
+            } else {
+                limits.auth
+            }
+    }
+
+    fn serve<R: DeadlineRead, W: Write>(
+        &mut self,
+        mut reader: BufReader<R>,
+        mut writer: W,
+    ) -> ConnectionEnd {
+        let mut auth_deadline = Some(self.deadline());
+        loop {
+            let until = auth_deadline.unwrap_or_else(|| self.deadline());
+            reader.get_mut().set_deadline(Some(until));
+            let mut line = Vec::new();
+            match (&mut reader)
+                .take(MAX_LINE_BYTES + 1)
+                .read_until(b'\n', &mut line)
+            {
+                Ok(0) => return ConnectionEnd::ClientClosed,
+                Ok(_) if line.len() as u64 > MAX_LINE_BYTES => {
+                    let message = format!("a request line is longer than {MAX_LINE_BYTES} bytes");
+                    let reply = Reply::failed(None, WireError::new("bad_request", &message));
+                    let _ = write_reply(&mut writer, &reply);
+                    return ConnectionEnd::Broken(message);
+                }
+                Ok(_) => {}
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        std::io::ErrorKind::TimedOut | std::io::ErrorKind::WouldBlock
+                    ) =>
+                {
+                    let what = if self.authorised {
+                        "no complete request within the idle timeout"
+                    } else {
+                        "no hello within the authentication deadline"
+                    };
+                    return ConnectionEnd::Broken(what.into());
+                }
+                Err(e) => return ConnectionEnd::Broken(e.to_string()),
+            }
+            let text = String::from_utf8_lossy(&line);
+            if text.trim().is_empty() {
+                continue;
+            }
+            let (requests, fault) = {
+                let mut device = lock(&self.shared.device);
+                device.requests += 1;
+                (device.requests, device.faults.fault_at(device.requests))
+            };
+            match fault {
+                Some(Fault::Drop) => return ConnectionEnd::Dropped,
+                Some(Fault::Slow(delay)) => std::thread::sleep(delay),
+                _ => {}
+            }
+            let (reply, next) = self.answer(text.trim(), fault, requests);
+            if self.authorised {
+                auth_deadline = None;
+            }
+            let written = match fault {
+                Some(Fault::Corrupt) => writer
+                    .write_all(b"{\"id\": 1, \"resu\x01 garbled\n")
+                    .and_then(|()| writer.flush()),
+                _ => write_reply(&mut writer, &reply),
+            };
+            if let Some(penalty) = self.penalty.take() {
+                std::thread::sleep(self.shared.limits.failed_auth_pause);
+                drop(penalty);
+            }
+            if let Err(e) = written {
+                return ConnectionEnd::Broken(format!("cannot write a reply: {e}"));
+            }
+            if let Next::Close(end) = next {
+                return end;
+            }
+        }
+    }
+
+    /// Takes control of the device, waiting up to [`ServeLimits::control_wait`] for the
+    /// controlling client to disconnect; or says who has it.
+    fn take_control(&mut self) -> Result<(), String> {
+        if self.controls {
+            return Ok(());
+        }
+        let give_up = Instant::now() + self.shared.limits.control_wait;
+        loop {
+            {
+                let mut controller = lock(&self.shared.controller);
+                match controller.as_deref() {
+                    None => {
+                        *controller = Some(self.peer.clone());
+                        self.controls = true;
+                        return Ok(());
+                    }
+                    Some(other) if Instant::now() >= give_up => return Err(other.to_string()),
+                    Some(_) => {}
+                }
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    fn busy(&self, id: Option<u64>, other: &str) -> (Reply, Next) {
+        let message =
+            format!("another client ({other}) controls the device; try again when it disconnects");
+        (
+            Reply::failed(id, WireError::new("busy", message)),
+            Next::Close(ConnectionEnd::Refused(format!("busy: {other} in control"))),
+        )
+    }
+
     /// The reply to one request line, and whether to keep the connection.
-    fn answer(&mut self, line: &str, authorised: &mut bool, fault: Option<Fault>) -> (Reply, Next) {
+    fn answer(&mut self, line: &str, fault: Option<Fault>, requests: u64) -> (Reply, Next) {
         let request: Request = match serde_json::from_str(line) {
             Ok(request) => request,
             Err(e) => {
@@ -162,30 +519,35 @@ impl Server {
         };
         let id = request.id;
         if request.method == "hello" {
-            return self.hello(id, &request.params, authorised);
+            return self.hello(id, &request.params);
         }
-        if !*authorised {
+        if !self.authorised && self.shared.token.is_some() {
             let error = WireError::new("unauthorized", "send hello with the token first");
             return (
                 Reply::failed(Some(id), error),
                 Next::Close(ConnectionEnd::Refused("request before hello".into())),
             );
         }
+        if let Err(other) = self.take_control() {
+            return self.busy(Some(id), &other);
+        }
+        self.authorised = true;
+        let mut device = lock(&self.shared.device);
         let mut reply = if fault == Some(Fault::MotorFault) {
             let error =
-                InstrumentError::MotorFault(format!("injected fault on request {}", self.requests));
+                InstrumentError::MotorFault(format!("injected fault on request {requests}"));
             Reply::failed(Some(id), WireError::from_instrument(&error))
         } else {
-            match self.call(&request.method, request.params) {
+            match call(device.instrument.as_mut(), &request.method, request.params) {
                 Ok(result) => Reply::ok(id, result),
                 Err(error) => Reply::failed(Some(id), error),
             }
         };
-        reply.clock_s = self.instrument.simulated_clock_s();
+        reply.clock_s = device.instrument.simulated_clock_s();
         (reply, Next::Continue)
     }
 
-    fn hello(&mut self, id: u64, params: &Value, authorised: &mut bool) -> (Reply, Next) {
+    fn hello(&mut self, id: u64, params: &Value) -> (Reply, Next) {
         let hello: HelloParams = match parse(params.clone()) {
             Ok(h) => h,
             Err(e) => return (Reply::failed(Some(id), e), Next::Continue),
@@ -200,9 +562,10 @@ impl Server {
                 Next::Close(ConnectionEnd::Refused(message)),
             );
         }
-        if let Some(expected) = &self.token {
+        if let Some(expected) = &self.shared.token {
             let given = hello.token.as_deref().unwrap_or("");
-            if !same_secret(given.as_bytes(), expected.as_bytes()) {
+            if !same_secret(given.as_bytes(), expected.secret().as_bytes()) {
+                self.penalty = Some(lock(&self.shared.failed_auth));
                 return (
                     Reply::failed(
                         Some(id),
@@ -212,50 +575,52 @@ impl Server {
                 );
             }
         }
-        *authorised = true;
+        if let Err(other) = self.take_control() {
+            return self.busy(Some(id), &other);
+        }
+        self.authorised = true;
         let result = HelloResult {
             protocol: PROTOCOL_VERSION,
-            server: self.name.clone(),
+            server: self.shared.name.clone(),
         };
         let mut reply = Reply::ok(id, serde_json::to_value(result).expect("serialises"));
-        reply.clock_s = self.instrument.simulated_clock_s();
+        reply.clock_s = lock(&self.shared.device).instrument.simulated_clock_s();
         (reply, Next::Continue)
     }
+}
 
-    /// Carries a method out on the instrument.
-    fn call(&mut self, method: &str, params: Value) -> Result<Value, WireError> {
-        let device = |e: InstrumentError| WireError::from_instrument(&e);
-        let to_value = |v: Result<Value, serde_json::Error>| v.expect("results serialise");
-        match method {
-            "info" => Ok(to_value(serde_json::to_value(
-                self.instrument.info().map_err(device)?,
-            ))),
-            "home" => Ok(to_value(serde_json::to_value(
-                self.instrument.home().map_err(device)?,
-            ))),
-            "move_to" => {
-                let p: MoveParams = parse(params)?;
-                let read_back = self.instrument.move_to(&p.target).map_err(device)?;
-                Ok(to_value(serde_json::to_value(read_back)))
-            }
-            "set_light" => {
-                let p: LightParams = parse(params)?;
-                self.instrument.set_light(p.level).map_err(device)?;
-                Ok(json!({}))
-            }
-            "capture" => {
-                let p: CaptureParams = parse(params)?;
-                let capture = self
-                    .instrument
-                    .capture(p.exposure_s, p.with_pixels)
-                    .map_err(device)?;
-                Ok(to_value(serde_json::to_value(capture)))
-            }
-            other => Err(WireError::new(
-                "unknown_method",
-                format!("no method '{other}'"),
-            )),
+/// Carries a method out on the instrument.
+fn call(instrument: &mut dyn Instrument, method: &str, params: Value) -> Result<Value, WireError> {
+    let device = |e: InstrumentError| WireError::from_instrument(&e);
+    let to_value = |v: Result<Value, serde_json::Error>| v.expect("results serialise");
+    match method {
+        "info" => Ok(to_value(serde_json::to_value(
+            instrument.info().map_err(device)?,
+        ))),
+        "home" => Ok(to_value(serde_json::to_value(
+            instrument.home().map_err(device)?,
+        ))),
+        "move_to" => {
+            let p: MoveParams = parse(params)?;
+            let read_back = instrument.move_to(&p.target).map_err(device)?;
+            Ok(to_value(serde_json::to_value(read_back)))
         }
+        "set_light" => {
+            let p: LightParams = parse(params)?;
+            instrument.set_light(p.level).map_err(device)?;
+            Ok(json!({}))
+        }
+        "capture" => {
+            let p: CaptureParams = parse(params)?;
+            let capture = instrument
+                .capture(p.exposure_s, p.with_pixels)
+                .map_err(device)?;
+            Ok(to_value(serde_json::to_value(capture)))
+        }
+        other => Err(WireError::new(
+            "unknown_method",
+            format!("no method '{other}'"),
+        )),
     }
 }
 
@@ -352,7 +717,8 @@ mod tests {
 
     #[test]
     fn a_token_is_required_when_set() {
-        let mut server = Server::new(Box::new(Echo), "echo").with_token(Some("s3cret".into()));
+        let mut server =
+            Server::new(Box::new(Echo), "echo").with_token(Some(Token::new("s3cret").unwrap()));
         let (replies, end) = exchange(
             &mut server,
             "{\"id\":1,\"method\":\"home\"}\n{\"id\":2,\"method\":\"home\"}\n",

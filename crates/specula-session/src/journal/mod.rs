@@ -10,7 +10,8 @@
 //!   is written once, in one transaction, and never changes;
 //! - `samples`: every finished sample (the calibrated BRDF value, the read-back positions, the
 //!   device time it took, the wall-clock time, the attempts), keyed by (stage, seq) so that
-//!   SQLite itself refuses a second measurement of the same sample;
+//!   SQLite itself refuses a second measurement of the same sample, with a checksum of the
+//!   row (see `journal_check`) so that a value changed on disk is seen when it is read;
 //! - `captures`: every raw capture of a sample (exposure, light level, raw statistics, time),
 //!   written in the sample's transaction;
 //! - `events`: faults, retries, reconnections, interruptions and resumptions.
@@ -21,9 +22,15 @@
 //! simulated devices, whose samples cost nothing to redo) survives a crash or a `kill -9`
 //! of the process but may lose the last samples to a power cut, and saves a disk flush per
 //! sample.
-//! Only one process may write a session at a time (an advisory lock on `S.sqlite.lock`);
+//! Only one process may write a session at a time (an advisory lock on `S.sqlite.lock` beside
+//! the journal's canonical path, so a symlink to it takes the same lock);
 //! `specula session status` reads it while a measurement runs.
+//!
+//! Damage: every open checks the file (`journal_check`: SQLite's `quick_check`, the
+//! plan numbering, samples and captures belonging to the plan) and refuses an existing empty
+//! file, so a damaged journal is an error that says so, never a silent new session.
 
+use crate::journal_check;
 use rusqlite::{params, Connection, OpenFlags, OptionalExtension, Transaction};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -34,8 +41,15 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
+mod records;
+
+pub use records::{
+    ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder,
+    PlanRecord, Record, SessionRecord, SourceRecord, Stage, VersionRecord,
+};
+
 /// The version of the tables below; a journal of another version is refused.
-pub const SCHEMA_VERSION: i64 = 1;
+pub const SCHEMA_VERSION: i64 = 2;
 
 const SCHEMA: &str = "
 CREATE TABLE IF NOT EXISTS meta (
@@ -77,6 +91,7 @@ CREATE TABLE IF NOT EXISTS samples (
     wall_s              REAL    NOT NULL,
     finished_unix_s     REAL    NOT NULL,
     attempts            INTEGER NOT NULL,
+    checksum            INTEGER NOT NULL,
     PRIMARY KEY (stage, seq),
     FOREIGN KEY (stage, seq) REFERENCES plan (stage, seq)
 );
@@ -145,6 +160,16 @@ pub enum JournalError {
         path: String,
         stage: String,
         seq: u32,
+    },
+    #[error("{path}: the journal is damaged ({problem}); it was changed outside specula or its disk failed: restore it from a copy or measure into a new --session")]
+    Damaged { path: String, problem: String },
+    #[error("{path}: {stage} sample {seq}: {field} is {value:e}, not a finite number; nothing was written")]
+    NotFinite {
+        path: String,
+        stage: String,
+        seq: u32,
+        field: &'static str,
+        value: f64,
     },
 }
 
@@ -257,6 +282,7 @@ impl Journal {
     /// session's lock so that no second process writes it at the same time.
     pub fn open(path: &Path) -> Result<Journal, JournalError> {
         let lock = take_lock(path)?;
+        journal_check::refuse_empty_file(path)?;
         let conn = Connection::open(path).map_err(|e| sql_error(path, e))?;
         let mut journal = Journal {
             conn,
@@ -264,12 +290,14 @@ impl Journal {
             _lock: Some(lock),
         };
         journal.prepare()?;
+        journal_check::check_file(&journal.conn, path)?;
         Ok(journal)
     }
 
     /// Opens an existing session read-only (for `specula session status`), even while
     /// another process measures into it.
     pub fn open_read_only(path: &Path) -> Result<Journal, JournalError> {
+        journal_check::refuse_empty_file(path)?;
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
         let conn = Connection::open_with_flags(path, flags).map_err(|e| sql_error(path, e))?;
         let journal = Journal {
@@ -287,7 +315,10 @@ impl Journal {
                 found: v,
                 expected: SCHEMA_VERSION,
             }),
-            Some(_) => Ok(journal),
+            Some(_) => {
+                journal_check::check_file(&journal.conn, path)?;
+                Ok(journal)
+            }
         }
     }
 
@@ -440,6 +471,24 @@ impl Journal {
         Ok(value)
     }
 
+    /// The typed record `R`, if the journal holds it.
+    pub fn record<R: Record + DeserializeOwned>(&self) -> Result<Option<R>, JournalError> {
+        self.meta(R::KEY)
+    }
+
+    /// Keep the typed record `R` (replacing the one held).
+    pub fn put_record<R: Record>(&self, value: &R) -> Result<(), JournalError> {
+        self.put_meta(R::KEY, value)
+    }
+
+    /// The typed record `R` held, or `value()` kept and returned when there is none.
+    pub fn record_or_insert<R: Record + DeserializeOwned>(
+        &self,
+        value: impl FnOnce() -> R,
+    ) -> Result<R, JournalError> {
+        self.meta_or_insert(R::KEY, value)
+    }
+
     /// Writes a stage's plan in one transaction. If the stage already has a plan (a resumed
     /// session), it must be the same samples; the stored one is kept.
     pub fn set_plan(&mut self, stage: &str, rows: &[PlannedRow]) -> Result<(), JournalError> {
@@ -510,6 +559,15 @@ impl Journal {
     /// Writes a finished sample and its captures in one transaction. A sample already in the
     /// journal is refused ([`JournalError::Duplicate`]) and the journal left as it was.
     pub fn record_sample(&mut self, sample: &SampleRecord) -> Result<(), JournalError> {
+        if let Some((field, value)) = journal_check::non_finite_field(sample) {
+            return Err(JournalError::NotFinite {
+                path: self.name(),
+                stage: sample.stage.clone(),
+                seq: sample.seq,
+                field,
+                value,
+            });
+        }
         let path = self.path.clone();
         let tx = self.conn.transaction().map_err(|e| sql_error(&path, e))?;
         match insert_sample(&tx, sample) {
@@ -535,13 +593,14 @@ impl Journal {
             .prepare(
                 "SELECT seq, r, g, b, rate_r, rate_g, rate_b, sigma_r, sigma_g, sigma_b,
                         lower_bound, turntable_rad, camera_rad, light_azimuth_rad,
-                        light_elevation_rad, device_s, wall_s, finished_unix_s, attempts
+                        light_elevation_rad, device_s, wall_s, finished_unix_s, attempts,
+                        checksum
                  FROM samples WHERE stage = ?1 ORDER BY seq",
             )
             .map_err(|e| self.err(e))?;
         let rows = statement
             .query_map(params![stage], |r| {
-                Ok(SampleRecord {
+                let record = SampleRecord {
                     stage: stage.to_string(),
                     seq: r.get(0)?,
                     value: Rgb::new(r.get(1)?, r.get(2)?, r.get(3)?),
@@ -554,12 +613,22 @@ impl Journal {
                     finished_unix_s: r.get(17)?,
                     attempts: r.get(18)?,
                     captures: Vec::new(),
-                })
+                };
+                Ok((record, r.get::<_, i64>(19)?))
             })
             .map_err(|e| self.err(e))?;
-        rows.map(|row| row.map(|s| (s.seq, s)))
-            .collect::<Result<_, _>>()
-            .map_err(|e| self.err(e))
+        let mut samples = BTreeMap::new();
+        for row in rows {
+            let (record, checksum) = row.map_err(|e| self.err(e))?;
+            journal_check::verify_sample(&record, checksum).map_err(|problem| {
+                JournalError::Damaged {
+                    path: self.name(),
+                    problem,
+                }
+            })?;
+            samples.insert(record.seq, record);
+        }
+        Ok(samples)
     }
 
     /// The captures of one sample, in the order they were taken.
@@ -687,16 +756,21 @@ impl Journal {
 }
 
 fn sql_error(path: &Path, cause: rusqlite::Error) -> JournalError {
-    JournalError::Sqlite {
-        path: path.display().to_string(),
-        cause,
+    let path = path.display().to_string();
+    match journal_check::damage(&cause) {
+        Some(problem) => JournalError::Damaged { path, problem },
+        None => JournalError::Sqlite { path, cause },
     }
 }
 
 /// The lock file beside the journal, locked exclusively for as long as it is open (the OS
 /// releases it when the process dies, however it dies).
 fn take_lock(path: &Path) -> Result<File, JournalError> {
-    let mut lock_path = path.as_os_str().to_owned();
+    let canonical = journal_check::canonical_path(path).map_err(|cause| JournalError::Lock {
+        path: path.display().to_string(),
+        cause,
+    })?;
+    let mut lock_path = canonical.into_os_string();
     lock_path.push(".lock");
     let lock_path = PathBuf::from(lock_path);
     let file = File::options()
@@ -762,9 +836,10 @@ fn insert_sample(tx: &Transaction, s: &SampleRecord) -> rusqlite::Result<()> {
     tx.execute(
         "INSERT INTO samples (stage, seq, r, g, b, rate_r, rate_g, rate_b, sigma_r, sigma_g,
                               sigma_b, lower_bound, turntable_rad, camera_rad, light_azimuth_rad,
-                              light_elevation_rad, device_s, wall_s, finished_unix_s, attempts)
+                              light_elevation_rad, device_s, wall_s, finished_unix_s, attempts,
+                              checksum)
          VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17,
-                 ?18, ?19, ?20)",
+                 ?18, ?19, ?20, ?21)",
         params![
             s.stage,
             s.seq,
@@ -785,7 +860,8 @@ fn insert_sample(tx: &Transaction, s: &SampleRecord) -> rusqlite::Result<()> {
             s.device_s,
             s.wall_s,
             s.finished_unix_s,
-            s.attempts
+            s.attempts,
+            journal_check::sample_checksum(s)
         ],
     )?;
     let mut statement = tx.prepare(

@@ -2,23 +2,29 @@
 //! k-hat of paper 5.2, the plan of 5.3 and the samples measured of it, the device time), the
 //! table reconstructed from its samples, and the error against the truth it simulated.
 
-use super::{
-    errors, generator, peak_fact, probe_figure, provenance_rows, raw_samples_figure, renders,
-    slice_figures, Args, PLACED_SAMPLES,
+use crate::appearance;
+use crate::error::{OrReport, ReportError};
+use crate::figures::{
+    coverage_rows, errors, peak_fact, probe_figure, provenance_rows, raw_samples_figure, renders,
+    slice_figures,
 };
-use anyhow::{Context, Result};
+use crate::{generator, Progress, ReportOptions, PLACED_SAMPLES};
 use specula_acquisition::calibration::response::ResponseFit;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::InstrumentInfo;
+use specula_appearance::aperture::ExtrapolatedCells;
+use specula_appearance::Options;
 use specula_core::merl::CELLS;
 use specula_core::{MerlBrdf, Rgb};
 use specula_formats::BrdfSource;
 use specula_reconstruct::{reconstruct_through, Method, Sample};
-use specula_session::journal::{Journal, SessionStatus, StageStatus};
+use specula_session::journal::{
+    Journal, JournalError, SessionRecord, SessionStatus, SourceRecord, Stage, StageStatus,
+};
 use specula_session::workflow::{
-    measured_samples, probe_samples, simulated_truth, ChecksRecord, DeblurRecord, FitRecord,
-    MeasureSettings, PlanRecord, STAGE_MAIN, STAGE_PROBE,
+    measured_samples, probe_samples, ChecksRecord, DeblurRecord, FitRecord, MeasureSettings,
+    PlanRecord,
 };
 use specula_visual::plot::raw_samples::RawSample;
 use specula_visual::report::{
@@ -29,8 +35,8 @@ use std::path::{Path, PathBuf};
 /// Everything the report reads from a session journal.
 struct Session {
     path: PathBuf,
-    /// What was measured: "simulated: NAME" or "device: ENDPOINT".
-    source: Option<String>,
+    /// What was measured.
+    source: Option<SourceRecord>,
     settings: Option<MeasureSettings>,
     device: Option<Device>,
     instrument: Option<InstrumentInfo>,
@@ -56,59 +62,72 @@ struct Session {
 }
 
 impl Session {
-    fn read(path: &Path) -> Result<Self> {
-        let journal = Journal::open_read_only(path)?;
-        let status = journal.status()?;
+    fn read(path: &Path) -> Result<Self, ReportError> {
+        let journal = Journal::open_read_only(path).or_report()?;
+        let record = SessionRecord::of(&journal).or_report()?;
         let mut predicted_s = 0.0;
         let mut last_unix_s: Option<f64> = None;
         let mut lower_bounds = 0;
         let mut main = Vec::new();
-        for stage in &status.stages {
-            let plan = journal.plan(&stage.stage)?;
+        for stage in &record.status.stages {
+            let plan = journal.plan(&stage.stage).or_report()?;
             predicted_s += plan.iter().map(|row| row.predicted_s).sum::<f64>();
-            let samples = journal.samples(&stage.stage)?;
+            let samples = journal.samples(&stage.stage).or_report()?;
             for sample in samples.values() {
                 last_unix_s = Some(
                     last_unix_s.map_or(sample.finished_unix_s, |t| t.max(sample.finished_unix_s)),
                 );
             }
-            if stage.stage == STAGE_MAIN {
+            if Stage::from_name(&stage.stage) == Some(Stage::Main) {
                 lower_bounds = samples.values().filter(|s| s.lower_bound).count();
                 main = measured_samples(&plan, &samples);
             }
         }
-        let device = journal
-            .meta::<String>("device")?
-            .map(|text| Device::from_toml_str(&text, &path.display().to_string()))
-            .transpose()?;
+        let device = record
+            .device
+            .as_ref()
+            .map(|text| Device::from_toml_str(&text.0, &path.display().to_string()))
+            .transpose()
+            .or_report()?;
         Ok(Session {
             path: path.to_path_buf(),
-            source: journal.meta("source")?,
-            settings: journal.meta("settings")?,
+            source: record.source,
+            settings: record.settings,
             device,
-            instrument: journal.meta("instrument")?,
-            version: journal.meta("specula_version")?,
-            created_unix_s: journal.meta("created_unix_s")?,
-            checks: journal.meta("checks")?,
-            fit: journal.meta("fit")?,
-            plan: journal.meta("plan")?,
+            instrument: record.instrument,
+            version: record.version.map(|v| v.0),
+            created_unix_s: record.created_unix_s,
+            checks: record.checks,
+            fit: record.fit,
+            plan: record.plan,
             predicted_s,
             last_unix_s,
             lower_bounds,
-            probe: probe_samples(&journal)?,
+            probe: probe_samples(&journal).or_report()?,
             probe_phi_h_deg: journal
-                .plan(STAGE_PROBE)?
+                .plan(Stage::Probe.name())
+                .or_report()?
                 .first()
                 .map(|row| row.hd.phi_h.to_degrees()),
             main,
-            response: response_of(&journal)?,
-            status,
+            response: response_of(&journal, record.settings.as_ref()).or_report()?,
+            status: record.status,
         })
     }
 
     /// The name of the truth a simulated session measured.
     fn simulated_truth(&self) -> Option<&str> {
-        simulated_truth(self.source.as_deref()?)
+        self.source.as_ref()?.simulated_truth()
+    }
+
+    /// The angular resolution in theta_h of the session's samples, degrees: its calibrated
+    /// response's, else the device model's nominal one (`None` without a device).
+    fn resolution_deg(&self) -> Option<f64> {
+        match (&self.response, &self.device) {
+            (Some(fit), _) => Some(fit.response.resolution_deg()),
+            (None, Some(device)) => Some(device.response().resolution_deg()),
+            (None, None) => None,
+        }
     }
 
     /// The measured material's name: the simulated truth's, else the journal's file name.
@@ -132,7 +151,7 @@ impl Session {
 
     /// Every planned stage, the main one among them, is wholly measured.
     fn measured_completely(&self) -> bool {
-        stage(&self.status, STAGE_MAIN).is_some()
+        stage(&self.status, Stage::Main).is_some()
             && self.status.stages.iter().all(|s| s.done == s.planned)
     }
 
@@ -241,8 +260,8 @@ impl Session {
                       what the journal holds so far.";
         Some(
             match (
-                stage(&self.status, STAGE_PROBE),
-                stage(&self.status, STAGE_MAIN),
+                stage(&self.status, Stage::Probe),
+                stage(&self.status, Stage::Main),
             ) {
                 (_, Some(main)) => format!(
                     "This session is incomplete: {} of {} planned samples of the main stage are \
@@ -269,7 +288,7 @@ impl Session {
         let mut fact = |label: &str, value: String| facts.push((label.to_string(), value));
         fact("state", self.state());
         if let Some(source) = &self.source {
-            fact("measured", source.clone());
+            fact("measured", source.to_string());
         }
         if let Some(device) = &self.device {
             fact("device model", device.name.clone());
@@ -307,7 +326,7 @@ impl Session {
                 ),
             );
         }
-        if let Some(main) = stage(&self.status, STAGE_MAIN) {
+        if let Some(main) = stage(&self.status, Stage::Main) {
             fact(
                 "captures",
                 format!(
@@ -343,8 +362,8 @@ impl Session {
 }
 
 /// The status of one stage, if it has a plan.
-fn stage<'a>(status: &'a SessionStatus, name: &str) -> Option<&'a StageStatus> {
-    status.stages.iter().find(|s| s.stage == name)
+fn stage(status: &SessionStatus, stage: Stage) -> Option<&StageStatus> {
+    status.stages.iter().find(|s| s.stage == stage.name())
 }
 
 fn settings_text(s: &MeasureSettings) -> String {
@@ -377,12 +396,15 @@ fn utc_text(unix_s: f64) -> String {
 
 /// The truth to compare with: --truth, else the one a simulated session measured.
 fn truth(
-    args: &Args,
+    options: &ReportOptions,
     session: &Session,
     notes: &mut Vec<String>,
-) -> Result<Option<(String, BrdfSource)>> {
-    if let Some(spec) = &args.truth {
-        return Ok(Some((spec.clone(), specula_formats::load_brdf(spec)?)));
+) -> Result<Option<(String, BrdfSource)>, ReportError> {
+    if let Some(spec) = &options.truth {
+        return Ok(Some((
+            spec.clone(),
+            specula_formats::load_brdf(spec).or_report()?,
+        )));
     }
     let Some(name) = session.simulated_truth() else {
         return Ok(None);
@@ -404,11 +426,12 @@ fn truth(
 
 /// The response a session's reconstruction goes through: its calibration's, unless the
 /// session was measured with `--no-deblur`.
-fn response_of(journal: &Journal) -> Result<Option<ResponseFit>> {
-    let deblur = journal
-        .meta::<MeasureSettings>("settings")?
-        .is_none_or(|s| s.deblur);
-    let calibration = journal.meta::<Calibration>("calibration")?;
+fn response_of(
+    journal: &Journal,
+    settings: Option<&MeasureSettings>,
+) -> Result<Option<ResponseFit>, JournalError> {
+    let deblur = settings.is_none_or(|s| s.deblur);
+    let calibration = journal.record::<Calibration>()?;
     Ok(calibration.and_then(|c| c.response).filter(|_| deblur))
 }
 
@@ -418,20 +441,24 @@ struct Shown {
     table: MerlBrdf,
     rows: Vec<(String, usize, usize)>,
     origin: String,
+    /// The cells the reconstruction extrapolated, when known.
+    extrapolated: Option<ExtrapolatedCells>,
 }
 
 fn shown_table(
-    args: &Args,
+    options: &ReportOptions,
     session: &Session,
     name: &str,
     notes: &mut Vec<String>,
-) -> Result<Option<Shown>> {
-    if let Some(path) = &args.table {
-        let table = MerlBrdf::read(path)?;
+    progress: &dyn Progress,
+) -> Result<Option<Shown>, ReportError> {
+    if let Some(path) = &options.table {
+        let table = MerlBrdf::read(path).or_report()?;
         return Ok(Some(Shown {
-            rows: super::coverage_rows(&table, path)?,
+            rows: coverage_rows(&table, path)?,
             table,
             origin: format!("{} (--table)", path.display()),
+            extrapolated: appearance::extrapolated_cells(&path.to_string_lossy())?,
         }));
     }
     if session.main.is_empty() {
@@ -442,15 +469,8 @@ fn shown_table(
         );
         return Ok(None);
     }
-    let method: Method = match &session.settings {
-        Some(s) => s
-            .method
-            .parse()
-            .map_err(anyhow::Error::msg)
-            .with_context(|| session.path.display().to_string())?,
-        None => Method::LOBE,
-    };
-    let spinner = crate::progress::spinner("reconstructing");
+    let method = session.settings.as_ref().map_or(Method::LOBE, |s| s.method);
+    progress.start("reconstructing", None);
     let response = session.response.as_ref().map(|fit| &fit.response);
     let result = reconstruct_through(
         &session.main,
@@ -458,7 +478,7 @@ fn shown_table(
         &format!("{name}, measured"),
         response,
     );
-    spinner.finish_and_clear();
+    progress.finish();
     match result {
         Ok(r) => {
             let mut rows = vec![(
@@ -468,6 +488,7 @@ fn shown_table(
             )];
             rows.extend(provenance_rows(&r.provenance));
             Ok(Some(Shown {
+                extrapolated: appearance::extrapolated_cells_of(&r.provenance),
                 table: r.brdf,
                 rows,
                 origin: format!(
@@ -493,19 +514,22 @@ fn shown_table(
     }
 }
 
-/// The report of the session journal `args.input` (`specula report`, and the demo's).
-pub(crate) fn report(args: &Args) -> Result<Report> {
-    let session = Session::read(&args.input)?;
+/// The report of the session journal `options.input` (`specula report`, and the demo's).
+pub(crate) fn report(
+    options: &ReportOptions,
+    progress: &dyn Progress,
+) -> Result<Report, ReportError> {
+    let session = Session::read(&options.input)?;
     let name = session.material_name();
     let mut notes: Vec<String> = session.progress_note().into_iter().collect();
-    let truth = truth(args, &session, &mut notes)?;
-    let shown = shown_table(args, &session, &name, &mut notes)?;
+    let truth = truth(options, &session, &mut notes)?;
+    let shown = shown_table(options, &session, &name, &mut notes, progress)?;
     notes.extend(session.duration_note());
 
     let mut facts = session.facts();
     let mut coverage = session.coverage_rows();
     let mut report = Report {
-        title: args
+        title: options
             .title
             .clone()
             .unwrap_or_else(|| format!("Session report: {name}")),
@@ -520,11 +544,22 @@ pub(crate) fn report(args: &Args) -> Result<Report> {
         facts.extend(peak_fact(&shown.table));
         coverage.extend(shown.rows.iter().cloned());
         if let Some((label, brdf)) = &truth {
-            report.errors = Some(errors(&shown.table, brdf.as_ref(), label));
+            report.errors = Some(errors(&shown.table, brdf.as_ref(), label, progress));
         }
+        let resolution_deg = session.resolution_deg();
+        report.tables.push(appearance::report_section(
+            truth
+                .as_ref()
+                .map(|(label, brdf)| (label.as_str(), brdf.as_ref())),
+            (&format!("{name}, measured"), &shown.table),
+            Options {
+                extrapolated: shown.extrapolated.clone(),
+                resolution_deg,
+            },
+        ));
         report
             .figures
-            .extend(renders(&shown.table, truth_brdf, args)?);
+            .extend(renders(&shown.table, truth_brdf, options, progress)?);
         report
             .figures
             .extend(slice_figures(&shown.table, truth_brdf)?);
@@ -547,12 +582,12 @@ pub(crate) fn report(args: &Args) -> Result<Report> {
         report.figures.push(raw_samples_figure(
             &raw,
             &format!("{name}: measured samples"),
-            &format!("the main stage of {}", args.input.display()),
+            &format!("the main stage of {}", options.input.display()),
         )?);
     }
     report.material = Some(MaterialSection {
         name,
-        source: args.input.display().to_string(),
+        source: options.input.display().to_string(),
         facts,
     });
     report.coverage = Some(CoverageSection { rows: coverage });

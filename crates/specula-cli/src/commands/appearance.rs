@@ -1,0 +1,144 @@
+//! `specula appearance`: gloss, haze, DOI and multi-angle colour of BRDFs.
+
+use anyhow::Result;
+use specula_appearance::figures::{csv_header, csv_row, text_rows};
+use specula_appearance::{appearance, Appearance, Differences, Options};
+use specula_report::appearance::extrapolated_cells;
+
+/// The appearance figures the coatings industry reads from a glossmeter and a multi-angle
+/// spectrophotometer, computed from the whole BRDF by integrating it over each standard's
+/// apertures.
+///
+///   gloss_20, gloss_60, gloss_85   specular gloss, ISO 2813 / ASTM D523, in GU: the receptor's
+///                                  flux relative to polished black glass (n = 1.567) = 100 GU.
+///
+///   haze                           ASTM E430 narrow-angle haze at 30 deg: 100 R_2 / R_s, the
+///                                  reflectance 2 deg off the specular over the specular's.
+///
+///   doi                            ASTM E430 distinctness of image at 30 deg:
+///                                  100 (R_s - R_0.3) / R_s (100 for a perfect mirror).
+///
+///   haze_20                        haze at 20 deg, ASTM E430 method B / ISO 13803: receptors
+///                                  at 18.1 and 21.9 deg, relative to the gloss standard x 100.
+///
+///   L_g, a_g, b_g                  CIELAB under D65 at the aspecular angles g = 15, 25, 45, 75,
+///                                  110 deg, illumination at 45 deg (ASTM E2194, DIN 6175-2).
+///
+///   flop_index                     2.69 (L*15 - L*110)^1.11 / L*45^0.86 (X-Rite, DuPont).
+///
+/// Colour-space assumption: Specula's BRDFs are RGB. The R, G, B channels are taken to be
+/// linear sRGB (Rec. 709 primaries, D65 white point, IEC 61966-2-1); the reflectance factor
+/// pi f_r converts to XYZ by the sRGB matrix and to CIELAB with the D65 white. No spectral
+/// integration: an instrument's D65 readings of a real pigment would differ.
+///
+/// With --against REF every figure is followed by its difference to REF, and colour by
+/// CIEDE2000 per angle. Warnings (on standard error) say where a figure rests on cells of a
+/// measured table that were extrapolated (from OUT.provenance.npy beside a .binary) or not
+/// measured, and, with --resolution-deg, where it reads the BRDF at a finer angle than the
+/// instrument resolved.
+#[derive(clap::Args)]
+pub struct Args {
+    /// BRDFs: presets, material .toml files, MERL .binary, RGL .bsdf, UTIA .bin, samples
+    /// .csv, or model:name fits.
+    #[arg(required = true)]
+    pub brdfs: Vec<String>,
+    /// A reference BRDF (e.g. electroplated chrome) to give the differences to.
+    #[arg(long)]
+    pub against: Option<String>,
+    /// Write CSV (one row per BRDF, the reference's first) instead of the text table.
+    #[arg(long)]
+    pub csv: bool,
+    /// Angular resolution of the instrument that measured the BRDFs, degrees in (0, 90]:
+    /// for example the angular radius of its light source (1.82 deg on the simulated UTIA
+    /// device). Figures that read the BRDF at a finer angle get a warning.
+    #[arg(long, value_parser = resolution_deg)]
+    pub resolution_deg: Option<f64>,
+}
+
+/// Parses --resolution-deg: degrees in (0, 90].
+fn resolution_deg(text: &str) -> Result<f64, String> {
+    let value: f64 = text
+        .parse()
+        .map_err(|_| format!("not a number of degrees: {text}"))?;
+    if value > 0.0 && value <= 90.0 {
+        Ok(value)
+    } else {
+        Err(format!("must be in (0, 90] degrees, got {value}"))
+    }
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let mut sources: Vec<String> = args.against.iter().cloned().collect();
+    sources.extend(args.brdfs.iter().cloned());
+    let mut figures = Vec::with_capacity(sources.len());
+    let mut names = Vec::with_capacity(sources.len());
+    for spec in &sources {
+        let options = Options {
+            extrapolated: extrapolated_cells(spec)?,
+            resolution_deg: args.resolution_deg,
+        };
+        let brdf = specula_formats::load_brdf(spec)?;
+        names.push(brdf.name());
+        let result = appearance(brdf.as_ref(), &options);
+        for warning in &result.warnings {
+            eprintln!("warning: {spec}: {warning}");
+        }
+        figures.push(result);
+    }
+    let differences: Option<Vec<Differences>> = args
+        .against
+        .as_ref()
+        .map(|_| figures.iter().map(|f| f.against(&figures[0])).collect());
+    if args.csv {
+        let mut out = csv::Writer::from_writer(std::io::stdout().lock());
+        out.write_record(csv_header(differences.is_some()))?;
+        for (k, (spec, f)) in sources.iter().zip(&figures).enumerate() {
+            out.write_record(csv_row(spec, f, differences.as_ref().map(|d| &d[k])))?;
+        }
+        out.flush()?;
+    } else {
+        print!("{}", text_table(&names, &figures, differences.as_deref()));
+    }
+    Ok(())
+}
+
+/// Figures as rows, BRDFs (by name) as columns, aligned.
+fn text_table(
+    sources: &[String],
+    figures: &[Appearance],
+    differences: Option<&[Differences]>,
+) -> String {
+    let refs: Vec<&Appearance> = figures.iter().collect();
+    let rows = text_rows(&refs, differences);
+    let mut header = vec![String::new()];
+    header.extend(sources.iter().cloned());
+    let mut table = vec![header];
+    table.extend(rows);
+    let widths: Vec<usize> = (0..table[0].len())
+        .map(|c| {
+            table
+                .iter()
+                .map(|r| r[c].chars().count())
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let mut text = String::new();
+    for row in &table {
+        let line: Vec<String> = row
+            .iter()
+            .zip(&widths)
+            .enumerate()
+            .map(|(c, (cell, w))| {
+                if c == 0 {
+                    format!("{cell:<w$}")
+                } else {
+                    format!("{cell:>w$}")
+                }
+            })
+            .collect();
+        text.push_str(line.join("  ").trim_end());
+        text.push('\n');
+    }
+    text
+}

@@ -1,0 +1,43 @@
+"""Specula for Python: the Specula crates behind numpy arrays.
+
+Angles are degrees (arguments named ``*_deg``), BRDF values f_r in 1/sr per RGB channel,
+and a MERL table is a ``(90, 90, 180, 3)`` float64 array indexed
+``[theta_h_i, theta_d_i, phi_d_i, channel]`` with NaN where a cell is not measured.
+See ``docs/python.md`` for a tutorial.
+"""
+
+from ._specula import (
+    Brdf,
+    SpeculaError,
+    compare,
+    evaluate,
+    fit_k,
+    load,
+    materials,
+    measure,
+    plan,
+    probe,
+    read_merl,
+    read_provenance,
+    read_session,
+    reconstruct,
+    write_merl,
+)
+
+__all__ = [
+    "Brdf",
+    "SpeculaError",
+    "compare",
+    "evaluate",
+    "fit_k",
+    "load",
+    "materials",
+    "measure",
+    "plan",
+    "probe",
+    "read_merl",
+    "read_provenance",
+    "read_session",
+    "reconstruct",
+    "write_merl",
+]

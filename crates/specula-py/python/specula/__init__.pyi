@@ -1,0 +1,161 @@
+"""Type stubs of the ``specula`` package (the native module ``specula._specula``)."""
+
+import os
+from typing import Any, Mapping, Optional, Sequence, TypedDict, Union
+
+import numpy as np
+import numpy.typing as npt
+
+Path = Union[str, "os.PathLike[str]"]
+FloatArray = npt.NDArray[np.float64]
+ArrayLike = npt.ArrayLike
+
+class SpeculaError(Exception):
+    """A Specula error, with the CLI's one-line message (the file and the problem)."""
+
+class Brdf:
+    """A BRDF: an analytic material, a measured table, a model fit or a reconstruction."""
+
+    @property
+    def name(self) -> str:
+        """The BRDF's short name."""
+    def eval(self, wi: ArrayLike, wo: ArrayLike) -> FloatArray:
+        """f_r (1/sr) at (N, 3) arrays of unit directions; returns (N, 3) R, G, B."""
+    def eval_half_diff(
+        self,
+        theta_h_deg: ArrayLike,
+        theta_d_deg: ArrayLike,
+        phi_d_deg: ArrayLike,
+        phi_h_deg: Optional[ArrayLike] = None,
+    ) -> FloatArray:
+        """f_r (1/sr) at broadcast half-difference angles (degrees); shape + (3,)."""
+    def tabulate(self, phi_h_deg: float = 0.0) -> FloatArray:
+        """The BRDF at the MERL bin centres: a (90, 90, 180, 3) array."""
+
+BrdfLike = Union[Brdf, Path, FloatArray]
+
+class Figures(TypedDict):
+    cells: int
+    relative_rmse: float
+    log_rmse: float
+    slice_mae: float
+
+class Comparison(TypedDict):
+    all: Figures
+    within: Figures
+
+class ProbeDict(TypedDict):
+    theta_h_deg: FloatArray
+    rgb: FloatArray
+
+class KFit(TypedDict):
+    k: float
+    error: float
+    family: str
+    samples: int
+    evaluations: int
+    theta_h_deg: FloatArray
+
+class Samples(TypedDict):
+    theta_h_deg: FloatArray
+    phi_h_deg: FloatArray
+    theta_d_deg: FloatArray
+    phi_d_deg: FloatArray
+    rgb: FloatArray
+
+class Evaluation(TypedDict):
+    name: str
+    k: Optional[float]
+    measured: int
+    within: Figures
+    all: Figures
+    samples: Samples
+
+def read_merl(path: Path) -> FloatArray:
+    """Read a MERL .binary file: (90, 90, 180, 3) f_r in 1/sr, NaN where not measured."""
+
+def write_merl(path: Path, array: FloatArray) -> None:
+    """Write a (90, 90, 180, 3) array as a MERL .binary file (NaN: not measured)."""
+
+def read_provenance(merl_path: Path) -> Optional[npt.NDArray[np.uint8]]:
+    """The OUT.provenance.npy sidecar of a reconstructed table: (90, 90, 180) uint8, or None."""
+
+def load(source: Path) -> Brdf:
+    """Any BRDF the CLI takes: preset, material .toml, MERL, RGL .bsdf, UTIA, model:name fits."""
+
+def materials() -> list[str]:
+    """Names of the built-in material database (presets first), each a source for load()."""
+
+def compare(a: BrdfLike, b: BrdfLike, max_elevation_deg: float = 75.0) -> Comparison:
+    """`specula compare A B`: relative_rmse, log_rmse, slice_mae over all cells and within."""
+
+def probe(
+    brdf: BrdfLike,
+    theta_d_deg: float = 40.0,
+    phi_d_deg: float = 90.0,
+    phi_h_deg: float = 45.0,
+    samples: int = 90,
+) -> ProbeDict:
+    """The probe of paper 5.2: a dense theta_h column at square-root positions."""
+
+def fit_k(probe: Mapping[str, ArrayLike], family: str = "exponential", samples: int = 30) -> KFit:
+    """k-hat of a theta_h sampling function fitted to a probe (paper 5.2)."""
+
+def plan(
+    k: Optional[float] = None,
+    theta_h_deg: Optional[Sequence[float]] = None,
+    family: str = "exponential",
+    theta_h_samples: int = 30,
+    theta_d_step_deg: float = 3.0,
+    phi_d_step_deg: float = 15.0,
+    phi_h_deg: float = 45.0,
+    order: str = "optimized",
+    device: Optional[Path] = None,
+) -> dict[str, Any]:
+    """The paper's plan (5.3) as a dict of arrays in execution order, plus "summary"."""
+
+def reconstruct(samples: Mapping[str, ArrayLike], method: str = "lobe") -> dict[str, Any]:
+    """Sparse samples into the MERL grid: "table", "provenance" (uint8) and lattice facts."""
+
+def evaluate(
+    truth: BrdfLike,
+    method: str = "lobe",
+    k: Optional[float] = None,
+    placement: str = "function",
+    family: str = "exponential",
+    theta_h_samples: int = 30,
+    theta_d_step_deg: float = 3.0,
+    phi_d_step_deg: float = 15.0,
+    phi_h_deg: float = 45.0,
+    max_elevation_deg: float = 75.0,
+    device: Optional[Path] = None,
+) -> Evaluation:
+    """The accuracy harness (`specula evaluate --truth`)."""
+
+def measure(
+    truth: BrdfLike,
+    out: Path,
+    session: Optional[Path] = None,
+    seed: int = 1,
+    ideal: bool = False,
+    point_light: bool = False,
+    probe_samples: int = 90,
+    family: str = "exponential",
+    theta_h_samples: int = 30,
+    theta_d_step_deg: float = 3.0,
+    phi_d_step_deg: float = 15.0,
+    phi_h_deg: float = 45.0,
+    order: str = "optimized",
+    hdr: str = "predicted",
+    method: str = "lobe",
+    checks: bool = True,
+    tilt_deg: float = 0.0,
+    tilt_azimuth_deg: float = 0.0,
+    device: Optional[Path] = None,
+) -> dict[str, Any]:
+    """A simulated measurement (`specula measure --truth`); returns its summary."""
+
+def read_session(path: Path) -> dict[str, Any]:
+    """A session journal read-only: stages, events, fit, probe and the main samples."""
+
+__all__: list[str]

@@ -1,0 +1,218 @@
+//! The plan of paper 5.3 (`specula plan`) as a dict of arrays.
+
+use crate::errors::{invalid, OrRaise};
+use crate::interrupt::{self, Stop};
+use crate::sampling::family;
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use specula_acquisition::device::Device;
+use specula_acquisition::plan::{Plan, PlanSummary};
+use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::Spherical;
+use specula_reconstruct::accuracy::GridPlan;
+use std::path::PathBuf;
+
+/// The options of the paper's grid shared by `plan`, `evaluate` and `measure` (the CLI's
+/// `GridArgs`), checked with the same ranges.
+pub struct Grid {
+    pub family: Family,
+    pub theta_h_samples: usize,
+    pub theta_d_step_deg: f64,
+    pub phi_d_step_deg: f64,
+    pub phi_h_deg: f64,
+}
+
+impl Grid {
+    pub fn new(
+        family_name: &str,
+        theta_h_samples: usize,
+        theta_d_step_deg: f64,
+        phi_d_step_deg: f64,
+        phi_h_deg: f64,
+    ) -> PyResult<Self> {
+        if theta_h_samples < 2 {
+            return Err(invalid("theta_h_samples must be at least 2"));
+        }
+        for (name, step) in [
+            ("theta_d_step_deg", theta_d_step_deg),
+            ("phi_d_step_deg", phi_d_step_deg),
+        ] {
+            if !(step.is_finite() && step > 0.0 && step <= 90.0) {
+                return Err(invalid(format!(
+                    "{name} must be a number of degrees in (0, 90], got {step}"
+                )));
+            }
+        }
+        if !phi_h_deg.is_finite() {
+            return Err(invalid("phi_h_deg must be a number of degrees"));
+        }
+        Ok(Self {
+            family: family(family_name)?,
+            theta_h_samples,
+            theta_d_step_deg,
+            phi_d_step_deg,
+            phi_h_deg,
+        })
+    }
+}
+
+/// The device description at `path`, or the paper's UTIA gonioreflectometer.
+pub fn device(path: Option<PathBuf>) -> PyResult<Device> {
+    match path {
+        Some(path) => Device::load(&path).or_raise(),
+        None => Ok(Device::utia()),
+    }
+}
+
+/// Plan a measurement (paper 5.3, `specula plan`): the grid of theta_h (the sampling
+/// function `family` with `k`, or the explicit `theta_h_deg` positions) x theta_d (0, step,
+/// ... below 90) x phi_d (0, step, ... up to 90) at one phi_h, as positions of `device` (a
+/// device TOML, default the paper's UTIA goniometer), classified `ok`, `limit` or
+/// `occluded`, ordered (`order`: `"optimized"` or `"nested"`) and timed.
+///
+/// Returns a dict of arrays in execution order, one entry per sample, the columns of
+/// `specula plan`'s CSV: `index`, `theta_h_deg`, `phi_h_deg`, `theta_d_deg`, `phi_d_deg`,
+/// `theta_i_deg`, `phi_i_deg`, `theta_o_deg`, `phi_o_deg`, `status` (str), `turntable_deg`,
+/// `camera_deg`, `light_azimuth_deg`, `light_elevation_deg` (NaN when excluded), `time_s`;
+/// and `"summary"`: counts and times (s) of the nested and the optimized order. Ctrl-C
+/// returns at once (the ordering is not stoppable; its result is dropped).
+#[pyfunction]
+#[pyo3(signature = (k = None, theta_h_deg = None, family = "exponential", theta_h_samples = 30,
+    theta_d_step_deg = 3.0, phi_d_step_deg = 15.0, phi_h_deg = 45.0, order = "optimized",
+    device = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn plan<'py>(
+    py: Python<'py>,
+    k: Option<f64>,
+    theta_h_deg: Option<Vec<f64>>,
+    family: &str,
+    theta_h_samples: usize,
+    theta_d_step_deg: f64,
+    phi_d_step_deg: f64,
+    phi_h_deg: f64,
+    order: &str,
+    device: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let grid = Grid::new(
+        family,
+        theta_h_samples,
+        theta_d_step_deg,
+        phi_d_step_deg,
+        phi_h_deg,
+    )?;
+    let theta_h = match (k, theta_h_deg) {
+        (Some(_), Some(_)) => return Err(invalid("give k or theta_h_deg, not both")),
+        (None, None) => return Err(invalid("give k or theta_h_deg")),
+        (Some(k), None) => SamplingFunction::new(grid.family, k)
+            .or_raise()?
+            .positions_deg(grid.theta_h_samples),
+        (None, Some(list)) => {
+            if list.is_empty() || list.iter().any(|t| !(0.0..=90.0).contains(t)) {
+                return Err(invalid("theta_h_deg needs values between 0 and 90 degrees"));
+            }
+            list
+        }
+    };
+    let optimized = match order {
+        "optimized" => true,
+        "nested" => false,
+        other => {
+            return Err(invalid(format!(
+                "order must be 'optimized' or 'nested', got '{other}'"
+            )))
+        }
+    };
+    let device = self::device(device)?;
+    let grid = GridPlan::with_steps(
+        theta_h,
+        grid.theta_d_step_deg,
+        grid.phi_d_step_deg,
+        grid.phi_h_deg,
+    );
+    let (chosen, nested_summary, optimized_summary) =
+        interrupt::run(py, Stop::Abandon, move |_| {
+            let nested = Plan::from_grid(
+                &grid.theta_h_deg,
+                &grid.theta_d_deg,
+                &grid.phi_d_deg,
+                grid.phi_h_deg,
+                &device,
+            );
+            let ordered = specula_acquisition::ordering::order(&nested);
+            let summaries = (nested.summary(&device), ordered.summary(&device));
+            let chosen = if optimized { ordered } else { nested };
+            (chosen, summaries.0, summaries.1)
+        })?;
+    let dict = plan_dict(py, &chosen)?;
+    let summary = PyDict::new(py);
+    summary.set_item("nested", summary_dict(py, &nested_summary)?)?;
+    summary.set_item("optimized", summary_dict(py, &optimized_summary)?)?;
+    dict.set_item("summary", summary)?;
+    Ok(dict)
+}
+
+/// The plan's samples as columns.
+fn plan_dict<'py>(py: Python<'py>, plan: &Plan) -> PyResult<Bound<'py, PyDict>> {
+    let samples = &plan.samples;
+    let column = |f: &dyn Fn(&specula_acquisition::plan::PlannedSample) -> f64| {
+        samples.iter().map(f).collect::<Vec<f64>>().into_pyarray(py)
+    };
+    let dict = PyDict::new(py);
+    let index: Vec<i64> = samples.iter().map(|s| s.index as i64).collect();
+    dict.set_item("index", index.into_pyarray(py))?;
+    dict.set_item("theta_h_deg", column(&|s| s.hd.theta_h.to_degrees()))?;
+    dict.set_item("phi_h_deg", column(&|s| s.hd.phi_h.to_degrees()))?;
+    dict.set_item("theta_d_deg", column(&|s| s.hd.theta_d.to_degrees()))?;
+    dict.set_item("phi_d_deg", column(&|s| s.hd.phi_d.to_degrees()))?;
+    dict.set_item(
+        "theta_i_deg",
+        column(&|s| Spherical::from_vector(s.wi).theta_rad.to_degrees()),
+    )?;
+    dict.set_item(
+        "phi_i_deg",
+        column(&|s| Spherical::from_vector(s.wi).phi_rad.to_degrees()),
+    )?;
+    dict.set_item(
+        "theta_o_deg",
+        column(&|s| Spherical::from_vector(s.wo).theta_rad.to_degrees()),
+    )?;
+    dict.set_item(
+        "phi_o_deg",
+        column(&|s| Spherical::from_vector(s.wo).phi_rad.to_degrees()),
+    )?;
+    let status: Vec<&str> = samples.iter().map(|s| s.status.name()).collect();
+    let numpy = py.import("numpy")?;
+    dict.set_item("status", numpy.call_method1("array", (status,))?)?;
+    for (axis, name) in [
+        "turntable_deg",
+        "camera_deg",
+        "light_azimuth_deg",
+        "light_elevation_deg",
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        dict.set_item(
+            name,
+            column(&|s| s.axes.map_or(f64::NAN, |a| a.to_degrees()[axis])),
+        )?;
+    }
+    dict.set_item("time_s", column(&|s| s.time_s))?;
+    Ok(dict)
+}
+
+/// A plan summary: counts, and the time model's seconds.
+fn summary_dict<'py>(py: Python<'py>, s: &PlanSummary) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("total", s.total)?;
+    dict.set_item("measurable", s.measurable)?;
+    dict.set_item("limit", s.limit)?;
+    dict.set_item("occluded", s.occluded)?;
+    dict.set_item("occluded_by", s.occluded_by.clone())?;
+    dict.set_item("move_s", s.move_s)?;
+    dict.set_item("settle_s", s.settle_s)?;
+    dict.set_item("capture_s", s.capture_s)?;
+    dict.set_item("duration_s", s.duration_s())?;
+    Ok(dict)
+}

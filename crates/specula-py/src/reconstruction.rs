@@ -1,0 +1,229 @@
+//! Reconstruction from sample arrays (`specula reconstruct`) and the accuracy harness
+//! (`specula evaluate`).
+
+use crate::brdf::{brdf_arg, check_elevation, figures_dict};
+use crate::errors::{invalid, one_line, OrRaise};
+use crate::interrupt::{self, Stop};
+use crate::plan::{device, Grid};
+use crate::sampling::{rgb_array, rgb_rows};
+use crate::table::to_array;
+use numpy::ndarray::Array3;
+use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArrayLike1, PyArrayLike2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyMapping};
+use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::sampling::SamplingFunction;
+use specula_core::tabulate::tabulate;
+use specula_core::HalfDiff;
+use specula_reconstruct::accuracy::{
+    evaluate as evaluate_samples, Measurement, PlanSettings, ThetaHPlacement,
+};
+use specula_reconstruct::provenance::{sidecar_path, Provenance};
+use specula_reconstruct::{reconstruct as reconstruct_samples, Method, Sample};
+use std::path::PathBuf;
+
+/// The angle columns of a samples dict, in the order of `HalfDiff::from_degrees`.
+const ANGLES: [&str; 4] = ["theta_h_deg", "phi_h_deg", "theta_d_deg", "phi_d_deg"];
+
+/// Samples as the dict `{"theta_h_deg", "phi_h_deg", "theta_d_deg", "phi_d_deg": (N,),
+/// "rgb": (N, 3)}` (degrees, 1/sr): the columns of a samples CSV.
+pub fn samples_dict<'py>(py: Python<'py>, samples: &[Sample]) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    let angle = |f: fn(&HalfDiff) -> f64| {
+        samples
+            .iter()
+            .map(|s| f(&s.hd).to_degrees())
+            .collect::<Vec<f64>>()
+            .into_pyarray(py)
+    };
+    dict.set_item(ANGLES[0], angle(|hd| hd.theta_h))?;
+    dict.set_item(ANGLES[1], angle(|hd| hd.phi_h))?;
+    dict.set_item(ANGLES[2], angle(|hd| hd.theta_d))?;
+    dict.set_item(ANGLES[3], angle(|hd| hd.phi_d))?;
+    let rgb: Vec<_> = samples.iter().map(|s| s.value).collect();
+    dict.set_item("rgb", rgb_array(py, &rgb))?;
+    Ok(dict)
+}
+
+/// Samples from a mapping with the keys of [`samples_dict`].
+pub fn samples_of(samples: &Bound<'_, PyMapping>) -> PyResult<Vec<Sample>> {
+    let mut angles = Vec::with_capacity(4);
+    for key in ANGLES {
+        let column: PyArrayLike1<'_, f64, AllowTypeChange> = samples.get_item(key)?.extract()?;
+        angles.push(column.as_array().to_vec());
+    }
+    let n = angles[0].len();
+    if angles.iter().any(|a| a.len() != n) {
+        return Err(invalid(format!(
+            "the sample columns {ANGLES:?} must have the same length"
+        )));
+    }
+    let rgb: PyArrayLike2<'_, f64, AllowTypeChange> = samples.get_item("rgb")?.extract()?;
+    let rgb = rgb_rows(&rgb, n)?;
+    Ok((0..n)
+        .map(|i| {
+            let hd = HalfDiff::from_degrees(angles[0][i], angles[1][i], angles[2][i], angles[3][i]);
+            Sample::new(hd, rgb[i])
+        })
+        .collect())
+}
+
+/// Cell origins as a uint8 `(90, 90, 180)` array: 0 measured, 1 interpolated, 2 extrapolated.
+fn provenance_array<'py>(py: Python<'py>, provenance: &Provenance) -> Bound<'py, PyArray3<u8>> {
+    let codes: Vec<u8> = provenance.cells.iter().map(|&c| c as u8).collect();
+    Array3::from_shape_vec((THETA_H_BINS, THETA_D_BINS, PHI_D_BINS), codes)
+        .expect("one origin per cell")
+        .into_pyarray(py)
+}
+
+/// The provenance of a reconstructed MERL file: its `OUT.provenance.npy` sidecar (written by
+/// `specula reconstruct` and `specula measure`) as a uint8 `(90, 90, 180)` array (0 measured,
+/// 1 interpolated, 2 extrapolated), or None when the file has no sidecar.
+#[pyfunction]
+pub fn read_provenance(
+    py: Python<'_>,
+    merl_path: PathBuf,
+) -> PyResult<Option<Bound<'_, PyArray3<u8>>>> {
+    let sidecar = sidecar_path(&merl_path);
+    if !sidecar.exists() {
+        return Ok(None);
+    }
+    let provenance = Provenance::read(&sidecar).or_raise()?;
+    Ok(Some(provenance_array(py, &provenance)))
+}
+
+/// The reconstruction method named `name` (`lobe`, `log` or `linear`).
+fn method(name: &str) -> PyResult<Method> {
+    name.parse().map_err(invalid)
+}
+
+/// Reconstruct a full MERL table from sparse samples (paper 5.3, `specula reconstruct`):
+/// `samples` is a mapping of arrays `theta_h_deg`, `phi_h_deg`, `theta_d_deg`, `phi_d_deg`
+/// (N,) and `rgb` (N, 3) in 1/sr (as `evaluate(...)["samples"]` and `read_session`
+/// return). `method`: `"lobe"` (ours), `"log"` or `"linear"` (the paper's baseline).
+///
+/// Returns `{"table": (90, 90, 180, 3), "provenance": uint8 (90, 90, 180) (0 measured, 1
+/// interpolated, 2 extrapolated), "lattice_shape", "measured_nodes", "filled_nodes",
+/// "lobe"}` (`lobe`: the fitted lobe's `alpha`, `gamma`, `diffuse`, or None).
+#[pyfunction]
+#[pyo3(signature = (samples, method = "lobe"))]
+pub fn reconstruct<'py>(
+    py: Python<'py>,
+    samples: &Bound<'py, PyMapping>,
+    method: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let method = self::method(method)?;
+    let samples = samples_of(samples)?;
+    let r = py
+        .detach(|| reconstruct_samples(&samples, method, "reconstruction"))
+        .or_raise()?;
+    let dict = PyDict::new(py);
+    dict.set_item("provenance", provenance_array(py, &r.provenance))?;
+    dict.set_item("lattice_shape", r.lattice_shape.to_vec())?;
+    dict.set_item("measured_nodes", r.measured_nodes)?;
+    dict.set_item("filled_nodes", r.filled_nodes)?;
+    match r.lobe {
+        Some(lobe) => {
+            let fitted = PyDict::new(py);
+            fitted.set_item("alpha", lobe.shape.alpha)?;
+            fitted.set_item("gamma", lobe.shape.gamma)?;
+            fitted.set_item("diffuse", lobe.diffuse.to_array().to_vec())?;
+            dict.set_item("lobe", fitted)?;
+        }
+        None => dict.set_item("lobe", py.None())?,
+    }
+    dict.set_item("table", to_array(py, r.brdf))?;
+    Ok(dict)
+}
+
+/// The accuracy harness (`specula evaluate --truth`): plan the measurement of a known BRDF
+/// (`truth`: a `Brdf`, a source or a table array) as the paper does (5.3) — theta_h at the
+/// `theta_h_samples` positions of the `family` function with `k` (default: k-hat fitted to
+/// the material's probe), or with `placement="probe"` the least-error placement on the
+/// probe; theta_d and phi_d in steps at `phi_h_deg` — keep the samples `device` reaches,
+/// take them without noise, reconstruct with `method` and compare with the truth tabulated
+/// at the bin centres.
+///
+/// Returns `{"name", "k" (None for the probe placement), "measured", "within", "all",
+/// "samples"}`: the figures as `compare`'s, over the cells within `max_elevation_deg` and
+/// over all, and the simulated samples (a dict for `reconstruct`). Ctrl-C returns at once.
+#[pyfunction]
+#[pyo3(signature = (truth, method = "lobe", k = None, placement = "function",
+    family = "exponential", theta_h_samples = 30, theta_d_step_deg = 3.0,
+    phi_d_step_deg = 15.0, phi_h_deg = 45.0, max_elevation_deg = 75.0, device = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate<'py>(
+    py: Python<'py>,
+    truth: &Bound<'py, PyAny>,
+    method: &str,
+    k: Option<f64>,
+    placement: &str,
+    family: &str,
+    theta_h_samples: usize,
+    theta_d_step_deg: f64,
+    phi_d_step_deg: f64,
+    phi_h_deg: f64,
+    max_elevation_deg: f64,
+    device: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let method = self::method(method)?;
+    check_elevation(max_elevation_deg)?;
+    let grid = Grid::new(
+        family,
+        theta_h_samples,
+        theta_d_step_deg,
+        phi_d_step_deg,
+        phi_h_deg,
+    )?;
+    let placement = match (placement, k) {
+        ("function", Some(k)) => {
+            ThetaHPlacement::Function(SamplingFunction::new(grid.family, k).or_raise()?)
+        }
+        ("function", None) => ThetaHPlacement::FittedFunction(grid.family),
+        ("probe", _) => ThetaHPlacement::Probe,
+        (other, _) => {
+            return Err(invalid(format!(
+                "placement must be 'function' or 'probe', got '{other}'"
+            )))
+        }
+    };
+    let settings = PlanSettings {
+        placement,
+        theta_h_samples: grid.theta_h_samples,
+        theta_d_step_deg: grid.theta_d_step_deg,
+        phi_d_step_deg: grid.phi_d_step_deg,
+        phi_h_deg: grid.phi_h_deg,
+    };
+    let truth = brdf_arg(truth)?;
+    let device = self::device(device)?;
+    let (name, k, samples, accuracy) = interrupt::run(py, Stop::Abandon, move |_| {
+        let name = truth.name();
+        let measurement = Measurement::simulate(truth.as_ref(), &settings, &device)?;
+        let table = tabulate(truth.as_ref(), settings.phi_h_deg.to_radians());
+        let (_, accuracy) =
+            evaluate_samples(&measurement.samples, method, &table, max_elevation_deg).map_err(
+                |e| {
+                    format!(
+                        "{name}: reconstructing {} samples: {}",
+                        measurement.samples.len(),
+                        one_line(&e)
+                    )
+                },
+            )?;
+        Ok::<_, Box<dyn std::error::Error + Send + Sync>>((
+            name,
+            measurement.k,
+            measurement.samples,
+            accuracy,
+        ))
+    })?
+    .or_raise()?;
+    let dict = PyDict::new(py);
+    dict.set_item("name", name)?;
+    dict.set_item("k", k)?;
+    dict.set_item("measured", samples.len())?;
+    dict.set_item("within", figures_dict(py, &accuracy.within)?)?;
+    dict.set_item("all", figures_dict(py, &accuracy.all)?)?;
+    dict.set_item("samples", samples_dict(py, &samples)?)?;
+    Ok(dict)
+}

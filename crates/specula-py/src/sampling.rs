@@ -1,0 +1,114 @@
+//! The probe and the k fit of paper 5.2 (`specula probe`, `specula fit-k`).
+
+use crate::brdf::brdf_arg;
+use crate::errors::{invalid, OrRaise};
+use numpy::ndarray::Array2;
+use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike1, PyArrayLike2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyMapping};
+use specula_core::sampling::Family;
+use specula_core::Rgb;
+use specula_sampling::{fit_k as fit_k_hat, Probe, ProbeSettings};
+
+/// `(N, 3)` rows of R, G, B as an array.
+pub fn rgb_array<'py>(py: Python<'py>, rgb: &[Rgb]) -> Bound<'py, numpy::PyArray2<f64>> {
+    Array2::from_shape_fn((rgb.len(), 3), |(i, c)| rgb[i][c]).into_pyarray(py)
+}
+
+/// `(N, 3)` rows of R, G, B from an array-like of that shape.
+pub fn rgb_rows(rgb: &PyArrayLike2<'_, f64, AllowTypeChange>, rows: usize) -> PyResult<Vec<Rgb>> {
+    let rgb = rgb.as_array();
+    if rgb.shape() != [rows, 3] {
+        return Err(invalid(format!(
+            "rgb must have the shape ({rows}, 3), got {:?}",
+            rgb.shape()
+        )));
+    }
+    Ok(rgb
+        .rows()
+        .into_iter()
+        .map(|r| Rgb::new(r[0], r[1], r[2]))
+        .collect())
+}
+
+/// A probe as the dict `{"theta_h_deg": (N,), "rgb": (N, 3)}`.
+pub fn probe_dict<'py>(py: Python<'py>, probe: &Probe) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("theta_h_deg", probe.theta_h_deg().to_vec().into_pyarray(py))?;
+    dict.set_item("rgb", rgb_array(py, probe.rgb()))?;
+    Ok(dict)
+}
+
+/// The family named by `name` (`exponential`, `power` or `base`).
+pub fn family(name: &str) -> PyResult<Family> {
+    name.parse().map_err(invalid)
+}
+
+/// Take the probe of paper 5.2 (`specula probe`): the dense theta_h column of `brdf` (a
+/// `Brdf`, a source or a table array) at `theta_d_deg`, `phi_d_deg`, `phi_h_deg`, with
+/// `samples` positions `theta_h = t^2 / 90` deg (MERL's square-root mapping); samples the
+/// BRDF does not hold are left out. Returns `{"theta_h_deg": (N,), "rgb": (N, 3)}` (1/sr).
+#[pyfunction]
+#[pyo3(signature = (brdf, theta_d_deg = 40.0, phi_d_deg = 90.0, phi_h_deg = 45.0, samples = 90))]
+pub fn probe<'py>(
+    py: Python<'py>,
+    brdf: &Bound<'py, PyAny>,
+    theta_d_deg: f64,
+    phi_d_deg: f64,
+    phi_h_deg: f64,
+    samples: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let brdf = brdf_arg(brdf)?;
+    let settings = ProbeSettings {
+        theta_d_deg,
+        phi_d_deg,
+        phi_h_deg,
+        samples,
+    };
+    let probe = py
+        .detach(|| Probe::take(brdf.as_ref(), &settings))
+        .or_raise()?;
+    probe_dict(py, &probe)
+}
+
+/// A probe from a mapping with `theta_h_deg` (N,) and `rgb` (N, 3), checked as the CLI
+/// checks a probe file (increasing theta_h in [0, 90], finite non-negative values).
+pub fn probe_of(probe: &Bound<'_, PyMapping>) -> PyResult<Probe> {
+    let theta_h: PyArrayLike1<'_, f64, AllowTypeChange> =
+        probe.get_item("theta_h_deg")?.extract()?;
+    let theta_h = theta_h.as_array().to_vec();
+    let rgb: PyArrayLike2<'_, f64, AllowTypeChange> = probe.get_item("rgb")?.extract()?;
+    let rgb = rgb_rows(&rgb, theta_h.len())?;
+    Probe::new(theta_h, rgb).or_raise()
+}
+
+/// Fit k of a theta_h sampling function to a probe (paper 5.2, `specula fit-k`): `probe` is
+/// a mapping with `theta_h_deg` and `rgb` (as `probe()` returns). The error of a candidate
+/// k re-interpolates the probe through the function's `samples` positions (DESIGN.md); k-hat
+/// minimises it. Returns `{"k", "error", "family", "samples", "evaluations",
+/// "theta_h_deg"}` (the positions of k-hat, degrees, ready for `plan(theta_h_deg=...)`).
+#[pyfunction]
+#[pyo3(signature = (probe, family = "exponential", samples = 30))]
+pub fn fit_k<'py>(
+    py: Python<'py>,
+    probe: &Bound<'py, PyMapping>,
+    family: &str,
+    samples: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let family = self::family(family)?;
+    let probe = probe_of(probe)?;
+    let fit = py
+        .detach(|| fit_k_hat(&probe.column(), family, samples))
+        .or_raise()?;
+    let dict = PyDict::new(py);
+    dict.set_item("k", fit.function.k)?;
+    dict.set_item("error", fit.error)?;
+    dict.set_item("family", family.name())?;
+    dict.set_item("samples", samples)?;
+    dict.set_item("evaluations", fit.evaluations)?;
+    dict.set_item(
+        "theta_h_deg",
+        fit.function.positions_deg(samples).into_pyarray(py),
+    )?;
+    Ok(dict)
+}

@@ -1,0 +1,224 @@
+//! A simulated measurement (`specula measure --truth`) and reading a session journal.
+
+use crate::brdf::brdf_arg;
+use crate::errors::{invalid, OrRaise};
+use crate::interrupt::{self, Stop};
+use crate::plan::{device, Grid};
+use crate::reconstruction::samples_dict;
+use crate::sampling::probe_dict;
+use pyo3::exceptions::PyKeyboardInterrupt;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use specula_reconstruct::Method;
+use specula_sampling::Probe;
+use specula_session::journal::{Journal, SourceRecord};
+use specula_session::workflow::{
+    default_session_path, measure as run_measurement, measured_samples, probe_samples, FitRecord,
+    HdrChoice, MeasureOutcome, MeasureSettings, PlanOrder, Quiet, Source, Summary, STAGE_MAIN,
+    STAGE_PROBE,
+};
+use std::path::PathBuf;
+
+/// Measure a known BRDF on the simulated device (`specula measure --truth`), the paper's
+/// whole workflow: calibration, the alignment and orientation checks (`checks`), the probe
+/// (`probe_samples`), k-hat, the plan (the grid arguments as `plan`'s), the acquisition with
+/// HDR (`hdr`: `"predicted"` or `"bracket"`) and noise (`ideal=True`: none), and the
+/// reconstruction with `method` into the MERL file `out` (with its `.provenance.npy` and
+/// `.summary.txt`). Everything is journaled in `session` (default `OUT.session.sqlite`);
+/// an existing session resumes.
+///
+/// Returns the summary as a dict (`k_hat`, `measured_samples`, `captures`, `device_s`,
+/// ...). Ctrl-C stops after the sample in progress, leaves the journal resumable (call again
+/// with the same arguments) and raises `KeyboardInterrupt`.
+#[pyfunction]
+#[pyo3(signature = (truth, out, session = None, seed = 1, ideal = false, point_light = false,
+    probe_samples = 90, family = "exponential", theta_h_samples = 30, theta_d_step_deg = 3.0,
+    phi_d_step_deg = 15.0, phi_h_deg = 45.0, order = "optimized", hdr = "predicted",
+    method = "lobe", checks = true, tilt_deg = 0.0, tilt_azimuth_deg = 0.0, device = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn measure<'py>(
+    py: Python<'py>,
+    truth: &Bound<'py, PyAny>,
+    out: PathBuf,
+    session: Option<PathBuf>,
+    seed: u64,
+    ideal: bool,
+    point_light: bool,
+    probe_samples: usize,
+    family: &str,
+    theta_h_samples: usize,
+    theta_d_step_deg: f64,
+    phi_d_step_deg: f64,
+    phi_h_deg: f64,
+    order: &str,
+    hdr: &str,
+    method: &str,
+    checks: bool,
+    tilt_deg: f64,
+    tilt_azimuth_deg: f64,
+    device: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let grid = Grid::new(
+        family,
+        theta_h_samples,
+        theta_d_step_deg,
+        phi_d_step_deg,
+        phi_h_deg,
+    )?;
+    if probe_samples < 2 {
+        return Err(invalid("probe_samples must be at least 2"));
+    }
+    if !tilt_deg.is_finite() || !tilt_azimuth_deg.is_finite() {
+        return Err(invalid(
+            "tilt_deg and tilt_azimuth_deg must be numbers of degrees",
+        ));
+    }
+    let method: Method = method
+        .parse()
+        .map_err(|_| invalid(format!("method {method}: expected lobe, log or linear")))?;
+    let settings = MeasureSettings {
+        seed,
+        ideal,
+        point_light,
+        probe_samples,
+        family: grid.family,
+        theta_h_samples: grid.theta_h_samples,
+        theta_d_step_deg: grid.theta_d_step_deg,
+        phi_d_step_deg: grid.phi_d_step_deg,
+        phi_h_deg: grid.phi_h_deg,
+        order: match order {
+            "optimized" => PlanOrder::Optimized,
+            "nested" => PlanOrder::Nested,
+            other => {
+                return Err(invalid(format!(
+                    "order must be 'optimized' or 'nested', got '{other}'"
+                )))
+            }
+        },
+        hdr: match hdr {
+            "predicted" => HdrChoice::Predicted,
+            "bracket" => HdrChoice::Bracket,
+            other => {
+                return Err(invalid(format!(
+                    "hdr must be 'predicted' or 'bracket', got '{other}'"
+                )))
+            }
+        },
+        method,
+        checks,
+        tilt_deg,
+        tilt_azimuth_deg,
+    };
+    let source = Source::Simulated {
+        truth: brdf_arg(truth)?,
+        speedup: None,
+    };
+    let device = self::device(device)?;
+    let session = session.unwrap_or_else(|| default_session_path(&out));
+    let outcome = interrupt::run(py, Stop::Cooperative, move |stop| {
+        run_measurement(source, &device, &settings, &session, &out, stop, &mut Quiet)
+            .map_err(Box::<dyn std::error::Error + Send + Sync>::from)
+    })?
+    .or_raise()?;
+    match outcome {
+        MeasureOutcome::Complete(summary) => summary_dict(py, &summary),
+        MeasureOutcome::Stopped {
+            stage,
+            done,
+            planned,
+        } => Err(PyKeyboardInterrupt::new_err(format!(
+            "stopped: {stage} {done} of {planned} samples measured and journaled; call again to resume"
+        ))),
+    }
+}
+
+/// The summary of a complete measurement (the keys of `OUT.summary.txt`).
+fn summary_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("source", &s.source)?;
+    dict.set_item("session", &s.session)?;
+    dict.set_item("out", &s.out)?;
+    dict.set_item("family", s.family.name())?;
+    dict.set_item("k_hat", s.k_hat)?;
+    dict.set_item("fit_error", s.fit_error)?;
+    dict.set_item("planned_samples", s.plan.total)?;
+    dict.set_item("excluded_limit", s.plan.limit)?;
+    dict.set_item("excluded_occluded", s.plan.occluded)?;
+    dict.set_item("probe_samples", s.probe_samples)?;
+    dict.set_item("measured_samples", s.measured_samples)?;
+    dict.set_item("captures", s.captures)?;
+    dict.set_item("lower_bound_samples", s.lower_bounds)?;
+    dict.set_item("device_s", s.device_s)?;
+    dict.set_item("main_device_s", s.main_device_s)?;
+    dict.set_item("simulated", s.simulated)?;
+    dict.set_item("method", s.method.name())?;
+    let events = PyDict::new(py);
+    for (kind, count) in &s.events {
+        events.set_item(kind, count)?;
+    }
+    dict.set_item("events", events)?;
+    Ok(dict)
+}
+
+/// Read a session journal (`specula measure`'s SQLite file), read-only, as far as the
+/// session got. Returns `{"source", "simulated_truth" (the truth's name, or None for a real
+/// device), "stages": {name: {"planned", "done", "device_s_done", "predicted_s_left",
+/// "captures"}}, "events": {kind: count}, "fit": {"k", "family", "error"} or None, "probe":
+/// {"theta_h_deg", "rgb"} or None, "samples"}` (the main stage's measured samples in plan
+/// order, a dict for `reconstruct`). A file that is not a journal raises `SpeculaError`.
+#[pyfunction]
+pub fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
+    let journal = Journal::open_read_only(&path).or_raise()?;
+    let status = journal.status().or_raise()?;
+    let source: Option<SourceRecord> = journal.record().or_raise()?;
+    let fit: Option<FitRecord> = journal.record().or_raise()?;
+    let has = |stage: &str| status.stages.iter().any(|s| s.stage == stage);
+    let probe = if has(STAGE_PROBE) {
+        let points = probe_samples(&journal).or_raise()?;
+        let (theta_h, rgb) = points.into_iter().unzip();
+        Probe::new(theta_h, rgb).ok()
+    } else {
+        None
+    };
+    let samples = if has(STAGE_MAIN) {
+        let plan = journal.plan(STAGE_MAIN).or_raise()?;
+        measured_samples(&plan, &journal.samples(STAGE_MAIN).or_raise()?)
+    } else {
+        Vec::new()
+    };
+
+    let dict = PyDict::new(py);
+    dict.set_item("source", source.as_ref().map(|s| s.to_string()))?;
+    dict.set_item(
+        "simulated_truth",
+        source.as_ref().and_then(|s| s.simulated_truth()),
+    )?;
+    let stages = PyDict::new(py);
+    for stage in &status.stages {
+        let entry = PyDict::new(py);
+        entry.set_item("planned", stage.planned)?;
+        entry.set_item("done", stage.done)?;
+        entry.set_item("device_s_done", stage.device_s_done)?;
+        entry.set_item("predicted_s_left", stage.predicted_s_left)?;
+        entry.set_item("captures", stage.captures)?;
+        stages.set_item(&stage.stage, entry)?;
+    }
+    dict.set_item("stages", stages)?;
+    dict.set_item("events", status.events.clone())?;
+    match fit {
+        Some(fit) => {
+            let entry = PyDict::new(py);
+            entry.set_item("k", fit.function.k)?;
+            entry.set_item("family", fit.function.family.name())?;
+            entry.set_item("error", fit.error)?;
+            dict.set_item("fit", entry)?;
+        }
+        None => dict.set_item("fit", py.None())?,
+    }
+    match probe {
+        Some(probe) => dict.set_item("probe", probe_dict(py, &probe)?)?,
+        None => dict.set_item("probe", py.None())?,
+    }
+    dict.set_item("samples", samples_dict(py, &samples)?)?;
+    Ok(dict)
+}

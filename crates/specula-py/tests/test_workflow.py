@@ -1,0 +1,128 @@
+"""The paper's workflow through Python, checked against the CLI on the same inputs."""
+
+import numpy as np
+import pytest
+
+import specula
+from conftest import read_csv
+
+SMALL_GRID = ["--theta-h-samples", "8", "--theta-d-step", "15", "--phi-d-step", "30"]
+SMALL = dict(theta_h_samples=8, theta_d_step_deg=15.0, phi_d_step_deg=30.0)
+
+
+def csv_columns(path):
+    rows = read_csv(open(path).read())
+    return {key: [r[key] for r in rows] for key in rows[0]}
+
+
+def test_probe_and_fit_k_match_the_cli(cli, tmp_path):
+    path = tmp_path / "probe.csv"
+    cli("probe", "silver-925", "--out", path)
+    columns = csv_columns(path)
+    probe = specula.probe("silver-925")
+    np.testing.assert_allclose(probe["theta_h_deg"], np.array(columns["theta_h"], float), rtol=1e-12)
+    rgb = np.array([columns[c] for c in "rgb"], float).T
+    np.testing.assert_allclose(probe["rgb"], rgb, rtol=1e-12)
+
+    _, out, _ = cli("fit-k", path)
+    first = dict(item.split("=") for item in out.splitlines()[0].split())
+    fit = specula.fit_k(probe)
+    assert fit["k"] == pytest.approx(float(first["k"]), rel=1e-9)
+    assert fit["error"] == pytest.approx(float(first["error"]), rel=1e-9)
+    positions = out.splitlines()[2].split("=")[1].split(",")
+    np.testing.assert_allclose(fit["theta_h_deg"], np.array(positions, float), atol=1e-6)
+    assert len(fit["theta_h_deg"]) == 30
+
+
+def test_fit_k_rejects_a_decreasing_probe():
+    with pytest.raises(specula.SpeculaError):
+        specula.fit_k({"theta_h_deg": [3.0, 1.0, 2.0], "rgb": np.ones((3, 3))})
+
+
+def test_plan_matches_the_cli(cli, tmp_path):
+    path = tmp_path / "plan.csv"
+    cli("plan", "--k", "4.78", *SMALL_GRID, "--out", path)
+    columns = csv_columns(path)
+    plan = specula.plan(k=4.78, **SMALL)
+    assert list(plan["status"]) == columns["status"]
+    np.testing.assert_array_equal(plan["index"], np.array(columns["index"], int))
+    for ours, theirs in [("theta_h_deg", "theta_h"), ("theta_d_deg", "theta_d"),
+                         ("phi_d_deg", "phi_d"), ("theta_i_deg", "theta_i"),
+                         ("phi_o_deg", "phi_o"), ("time_s", "time_s")]:
+        np.testing.assert_allclose(plan[ours], np.array(columns[theirs], float), atol=1.01e-3)
+    camera = np.array([float(c) if c else np.nan for c in columns["camera_deg"]])
+    np.testing.assert_allclose(plan["camera_deg"], camera, atol=1e-4)
+    summary = plan["summary"]["nested"]
+    assert summary["total"] == 8 * 6 * 4 == len(plan["index"])
+    assert summary["measurable"] == columns["status"].count("ok")
+
+
+def test_reconstruct_matches_the_cli(cli, tmp_path):
+    samples_csv = tmp_path / "samples.csv"
+    cli("evaluate", "--truth", "silver-925", "--k", "4.78", *SMALL_GRID,
+        "--samples-out", samples_csv)
+    columns = csv_columns(samples_csv)
+    samples = {f"{a}_deg": np.array(columns[a], float)
+               for a in ("theta_h", "phi_h", "theta_d", "phi_d")}
+    samples["rgb"] = np.array([columns[c] for c in "rgb"], float).T
+    out = tmp_path / "rec.binary"
+    cli("reconstruct", "--samples", samples_csv, "--method", "linear", "--out", out)
+    result = specula.reconstruct(samples, method="linear")
+    np.testing.assert_array_equal(result["table"], specula.read_merl(out))
+    np.testing.assert_array_equal(result["provenance"], np.load(tmp_path / "rec.provenance.npy"))
+    np.testing.assert_array_equal(specula.read_provenance(out), result["provenance"])
+    assert specula.read_provenance(samples_csv) is None
+    assert result["lobe"] is None
+
+
+def test_evaluate_matches_the_cli_and_reconstructs_its_samples(cli):
+    _, out, _ = cli("evaluate", "--truth", "green-paint", "--method", "log", *SMALL_GRID)
+    row = read_csv("\n".join(out.splitlines()[1:]))[0]
+    got = specula.evaluate("green-paint", method="log", **SMALL)
+    assert got["name"] == row["material"]
+    assert got["k"] == pytest.approx(float(row["k"]), abs=5e-4)
+    assert got["measured"] == int(row["measured"]) == len(got["samples"]["rgb"])
+    for key, figure in [("within", "rel_rmse"), ("within", "log_rmse"), ("all", "rel_rmse")]:
+        column = f"{figure}_{key}"
+        name = "relative_rmse" if figure == "rel_rmse" else figure
+        assert got[key][name] == pytest.approx(float(row[column]), abs=6e-6)
+    # Round trip: the returned samples reconstruct to the same figures.
+    table = specula.reconstruct(got["samples"], method="log")["table"]
+    again = specula.compare(table, specula.load("green-paint").tabulate(45.0))
+    assert again["within"]["relative_rmse"] == pytest.approx(got["within"]["relative_rmse"], rel=1e-12)
+
+
+def test_measure_and_read_session_agree_with_the_cli(cli, tmp_path):
+    out = tmp_path / "m.binary"
+    session = tmp_path / "m.sqlite"
+    summary = specula.measure("silver-925", out, session=session, ideal=True, checks=False,
+                              probe_samples=30, **SMALL)
+    assert summary["measured_samples"] > 0 and summary["k_hat"] > 0
+    journal = specula.read_session(session)
+    assert journal["simulated_truth"] == "silver-925"
+    assert journal["fit"]["k"] == pytest.approx(summary["k_hat"], rel=1e-12)
+    # The probe's samples the device reaches (theta_h up to about 67 deg at theta_d 40).
+    probe_done = journal["stages"]["probe"]["done"]
+    assert 20 <= probe_done == journal["stages"]["probe"]["planned"] <= 30
+    assert len(journal["probe"]["theta_h_deg"]) == probe_done
+    samples = journal["samples"]
+    assert len(samples["rgb"]) == summary["measured_samples"]
+    assert journal["stages"]["main"]["done"] == summary["measured_samples"]
+    # The CLI reconstructs the same journal into the same table.
+    cli_out = tmp_path / "cli.binary"
+    cli("reconstruct", "--session", session, "--out", cli_out)
+    np.testing.assert_array_equal(specula.read_merl(out), specula.read_merl(cli_out))
+    # The samples came out in degrees (radians to degrees and back round the last bit).
+    again = specula.reconstruct(samples)["table"]
+    np.testing.assert_allclose(again, specula.read_merl(cli_out), rtol=1e-9)
+    assert np.array_equal(np.isnan(again), np.isnan(specula.read_merl(cli_out)))
+
+
+def test_read_session_rejects_a_file_that_is_not_a_journal(cli, tmp_path):
+    bad = tmp_path / "bad.sqlite"
+    bad.write_text("not a database")
+    status, _, err = cli("session", "status", bad, check=False)
+    assert status == 1
+    with pytest.raises(specula.SpeculaError) as caught:
+        specula.read_session(bad)
+    assert "error: " + str(caught.value) == err.strip()

@@ -1,0 +1,254 @@
+//! The figures and sections both kinds of report share: the error figures, renders, the
+//! characteristic slice, the probe and the raw samples, the peak and the coverage rows.
+
+use crate::error::{OrReport, ReportError};
+use crate::{Progress, ReportOptions};
+use specula_core::compare::compare;
+use specula_core::merl::{Bin, MerlBrdf, CELLS};
+use specula_core::sampling::SamplingFunction;
+use specula_core::tabulate::tabulate;
+use specula_core::{Brdf, Rgb};
+use specula_reconstruct::provenance::{sidecar_path, Provenance};
+use specula_visual::grid::{self, Tile};
+use specula_visual::plot::probe::{interpolate, plot_probe};
+use specula_visual::plot::raw_samples::{plot_raw_samples, RawSample};
+use specula_visual::plot::slice::{plot_slice, SliceOptions};
+use specula_visual::plot::ThetaHAxis;
+use specula_visual::report::{ErrorRow, ErrorSection, Figure};
+use specula_visual::{Environment, Lighting, LinearImage, RenderSettings, Scene, ShapeKind};
+use std::path::Path;
+use std::sync::Arc;
+
+/// The table's largest value (sum of R, G, B) and where it lies.
+pub(crate) fn peak_fact(table: &MerlBrdf) -> Option<(String, String)> {
+    let mut peak: Option<(usize, Rgb)> = None;
+    for index in 0..CELLS {
+        if let Some(v) = table.cell(index) {
+            if peak.is_none_or(|(_, p)| v.element_sum() > p.element_sum()) {
+                peak = Some((index, v));
+            }
+        }
+    }
+    let (index, v) = peak?;
+    let bin = Bin::from_index(index).centre(0.0);
+    Some((
+        "peak f_r".into(),
+        format!(
+            "R {:.4e}, G {:.4e}, B {:.4e} 1/sr at theta_h {:.3}, theta_d {:.1}, phi_d {:.1} deg",
+            v.x,
+            v.y,
+            v.z,
+            bin.theta_h.to_degrees(),
+            bin.theta_d.to_degrees(),
+            bin.phi_d.to_degrees()
+        ),
+    ))
+}
+
+/// Cells holding a value, and where they come from when the provenance sidecar is there.
+pub(crate) fn coverage_rows(
+    table: &MerlBrdf,
+    path: &Path,
+) -> Result<Vec<(String, usize, usize)>, ReportError> {
+    let mut rows = vec![(
+        "MERL cells holding a value".to_string(),
+        table.measured_count(),
+        CELLS,
+    )];
+    let sidecar = sidecar_path(path);
+    if sidecar.exists() {
+        rows.extend(provenance_rows(&Provenance::read(&sidecar).or_report()?));
+    }
+    Ok(rows)
+}
+
+/// The MERL cells measured directly, interpolated and extrapolated by a reconstruction.
+pub(crate) fn provenance_rows(provenance: &Provenance) -> [(String, usize, usize); 3] {
+    let (measured, interpolated, extrapolated) = provenance.counts();
+    [
+        ("cells measured directly".into(), measured, CELLS),
+        ("cells interpolated".into(), interpolated, CELLS),
+        ("cells extrapolated".into(), extrapolated, CELLS),
+    ]
+}
+
+/// The error figures of the table against the truth, on all cells and within 75 deg.
+pub(crate) fn errors(
+    table: &MerlBrdf,
+    truth: &dyn Brdf,
+    truth_name: &str,
+    progress: &dyn Progress,
+) -> ErrorSection {
+    progress.start("error figures", None);
+    let reference = tabulate(truth, 0.0);
+    let rows = [
+        ("all cells above the surface", 90.0),
+        ("light and camera within 75 deg", 75.0),
+    ]
+    .into_iter()
+    .map(|(set, limit)| {
+        let e = compare(table, &reference, limit);
+        ErrorRow {
+            set: set.to_string(),
+            cells: e.cells,
+            relative_rmse: e.relative_rmse,
+            log_rmse: e.log_rmse,
+            slice_mae: e.slice_mae,
+        }
+    })
+    .collect();
+    progress.finish();
+    ErrorSection {
+        truth: truth_name.to_string(),
+        rows,
+    }
+}
+
+/// Renders on a sphere and on a speedshape in the studio; beside the truth when known.
+pub(crate) fn renders(
+    table: &MerlBrdf,
+    truth: Option<&dyn Brdf>,
+    options: &ReportOptions,
+    progress: &dyn Progress,
+) -> Result<Vec<Figure>, ReportError> {
+    let studio = Lighting::Environment(Arc::new(Environment::studio()));
+    let settings = RenderSettings::square(options.size_px, options.spp);
+    let materials: Vec<&dyn Brdf> = std::iter::once(table as &dyn Brdf).chain(truth).collect();
+    let shapes = [ShapeKind::Sphere, ShapeKind::Speedshape];
+    let pixels = (options.size_px * options.size_px) as u64;
+    progress.start(
+        "rendering",
+        Some(pixels * (materials.len() * shapes.len()) as u64),
+    );
+    let mut figures = Vec::new();
+    for (s, shape) in shapes.into_iter().enumerate() {
+        let scene = Scene::new(shape, studio.clone());
+        let images: Vec<LinearImage> = materials
+            .iter()
+            .enumerate()
+            .map(|(m, brdf)| {
+                let offset = (s * materials.len() + m) as u64 * pixels;
+                specula_visual::render(*brdf, &scene, &settings, &|done| {
+                    progress.set(offset + done)
+                })
+            })
+            .collect();
+        let shape_name = match shape {
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Speedshape => "speedshape",
+        };
+        let labels = match truth {
+            Some(truth) => vec![
+                format!("{} (measured)", table.name()),
+                format!("{} (truth)", truth.name()),
+            ],
+            None => vec![table.name()],
+        };
+        let mut caption = format!(
+            "{} on a {shape_name} in the built-in studio environment, {} x {} pixels, {} samples per pixel.",
+            labels.join(" and "),
+            options.size_px,
+            options.size_px,
+            options.spp
+        );
+        let mut tiles: Vec<Tile> = labels
+            .into_iter()
+            .zip(&images)
+            .map(|(label, image)| Tile {
+                label,
+                image: image.to_display(0.0),
+            })
+            .collect();
+        if images.len() == 2 {
+            let difference = grid::difference(&images[0], &images[1]).or_report()?;
+            caption.push_str(&format!(
+                " Right: the relative difference |A-B|/max(A,B) in false colour (black 0, yellow 100 %), mean {:.1} %.",
+                100.0 * difference.mean_relative
+            ));
+            tiles.push(Tile {
+                label: "difference".into(),
+                image: difference.image,
+            });
+        }
+        figures.push(
+            Figure::new(
+                format!("Render, {shape_name}"),
+                caption,
+                &grid::compose(&tiles).or_report()?,
+            )
+            .or_report()?,
+        );
+    }
+    progress.finish();
+    Ok(figures)
+}
+
+/// The characteristic slice of the table, and of the truth when known (paper Fig. 11).
+pub(crate) fn slice_figures(
+    table: &MerlBrdf,
+    truth: Option<&dyn Brdf>,
+) -> Result<Vec<Figure>, ReportError> {
+    let name = table.name();
+    let mut figures = vec![Figure::new(
+        "Characteristic slice",
+        "f_r (mean of R, G, B) at phi_d = 90 deg over theta_d and theta_h, theta_h on MERL's \
+         square-root axis, log false colour (paper Fig. 11); blue: not measured.",
+        &plot_slice(table, &name, &SliceOptions::default()).or_report()?,
+    )
+    .or_report()?];
+    if let Some(truth) = truth {
+        figures.push(
+            Figure::new(
+                "Characteristic slice of the truth",
+                format!("The same slice of {}.", truth.name()),
+                &plot_slice(truth, &truth.name(), &SliceOptions::default()).or_report()?,
+            )
+            .or_report()?,
+        );
+    }
+    Ok(figures)
+}
+
+/// The probe `(theta_h deg, f)` against the `placed` positions of the fitted sampling
+/// function, valued by interpolating the probe (paper Fig. 13).
+pub(crate) fn probe_figure(
+    probe: &[(f64, Rgb)],
+    function: &SamplingFunction,
+    placed: usize,
+    phi_h_deg: f64,
+    name: &str,
+) -> Result<Figure, ReportError> {
+    let adaptive = interpolate(probe, &function.positions_deg(placed));
+    Figure::new(
+        "Probe against the adaptive samples",
+        format!(
+            "f_r at theta_d = 40, phi_d = 90, phi_h = {phi_h_deg:.1} deg: the square-root probe of \
+             {} samples (solid) and the {placed} positions of the {} sampling function with \
+             k-hat = {:.3} (dashed, values interpolated from the probe); below, theta_h 0 to 2 \
+             deg (paper Fig. 13).",
+            probe.len(),
+            function.family,
+            function.k
+        ),
+        &plot_probe(probe, &adaptive, name).or_report()?,
+    )
+    .or_report()
+}
+
+/// The raw-samples figure (paper Fig. 15) of samples from `origin`.
+pub(crate) fn raw_samples_figure(
+    raw: &[RawSample],
+    title: &str,
+    origin: &str,
+) -> Result<Figure, ReportError> {
+    Figure::new(
+        "Raw samples",
+        format!(
+            "The {} samples of {origin} as characteristic slices, one per phi_d (paper Fig. 15); \
+             blue cells of the plan's grid were not measured.",
+            raw.len()
+        ),
+        &plot_raw_samples(raw, title, ThetaHAxis::Merl).or_report()?,
+    )
+    .or_report()
+}

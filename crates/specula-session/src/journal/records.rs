@@ -1,0 +1,337 @@
+//! The journal's typed records: each value the `meta` table keeps, with its key
+//! ([`Record::KEY`]), the stages of a session ([`Stage`]), and [`SessionRecord`], everything
+//! a journal holds about its session read at once (for `specula session status` and the
+//! report). No other module names a record or a stage by a string.
+
+use super::{Journal, JournalError, SessionStatus};
+use serde::{Deserialize, Serialize};
+use specula_acquisition::calibration::Calibration;
+use specula_acquisition::checks::alignment::AlignmentReport;
+use specula_acquisition::checks::orientation::OrientationReport;
+use specula_acquisition::instrument::InstrumentInfo;
+use specula_core::sampling::{Family, SamplingFunction};
+use specula_reconstruct::Method;
+use std::path::Path;
+
+/// A value the journal keeps under its own key in the `meta` table (JSON); the records read
+/// back are also `DeserializeOwned`.
+pub trait Record: Serialize {
+    /// The record's key in the `meta` table.
+    const KEY: &'static str;
+}
+
+/// A stage of samples of a session, each with its own plan in the journal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Stage {
+    /// The dense theta_h column at the probe's theta_d and phi_d (paper 5.2).
+    Probe,
+    /// The main measurement: the grid of paper 5.3 placed with k-hat.
+    Main,
+}
+
+impl Stage {
+    /// The stages in the order a session measures them.
+    pub const ALL: [Stage; 2] = [Stage::Probe, Stage::Main];
+
+    /// The stage's name in the journal's tables.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Stage::Probe => "probe",
+            Stage::Main => "main",
+        }
+    }
+
+    /// The stage of a name in the journal's tables.
+    pub fn from_name(name: &str) -> Option<Stage> {
+        Stage::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
+impl std::fmt::Display for Stage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// What a session measures, as the journal keeps it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SourceRecord {
+    /// The simulated device with the ground truth of this name.
+    Simulated {
+        /// The truth's name (a preset, .toml, .binary or model:name).
+        truth: String,
+    },
+    /// A device behind the driver protocol at this endpoint.
+    Device {
+        /// The endpoint (tcp://HOST:PORT or exec:COMMAND).
+        endpoint: String,
+    },
+}
+
+impl SourceRecord {
+    /// The name of the truth a simulated session measured; `None` for a real device.
+    pub fn simulated_truth(&self) -> Option<&str> {
+        match self {
+            SourceRecord::Simulated { truth } => Some(truth),
+            SourceRecord::Device { .. } => None,
+        }
+    }
+}
+
+impl std::fmt::Display for SourceRecord {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SourceRecord::Simulated { truth } => write!(f, "simulated: {truth}"),
+            SourceRecord::Device { endpoint } => write!(f, "device: {endpoint}"),
+        }
+    }
+}
+
+impl Record for SourceRecord {
+    const KEY: &'static str = "source";
+}
+
+/// The device model of a session, as its TOML text (`Device::to_toml_string`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct DeviceRecord(pub String);
+
+impl Record for DeviceRecord {
+    const KEY: &'static str = "device";
+}
+
+/// The specula version that started the session.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct VersionRecord(pub String);
+
+impl Record for VersionRecord {
+    const KEY: &'static str = "specula_version";
+}
+
+/// When the journal was created, seconds since the Unix epoch.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct CreatedRecord(pub f64);
+
+impl Record for CreatedRecord {
+    const KEY: &'static str = "created_unix_s";
+}
+
+impl Record for InstrumentInfo {
+    const KEY: &'static str = "instrument";
+}
+
+impl Record for Calibration {
+    const KEY: &'static str = "calibration";
+}
+
+impl Record for AlignmentReport {
+    const KEY: &'static str = "alignment_report";
+}
+
+impl Record for OrientationReport {
+    const KEY: &'static str = "orientation_report";
+}
+
+impl Record for MeasureSettings {
+    const KEY: &'static str = "settings";
+}
+
+impl Record for ChecksRecord {
+    const KEY: &'static str = "checks";
+}
+
+impl Record for FitRecord {
+    const KEY: &'static str = "fit";
+}
+
+impl Record for PlanRecord {
+    const KEY: &'static str = "plan";
+}
+
+/// A reconstruction [`Method`] kept by its name ("lobe", "log", "linear").
+mod method_name {
+    use specula_reconstruct::Method;
+
+    pub(super) fn serialize<S: serde::Serializer>(m: &Method, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(m)
+    }
+
+    pub(super) fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Method, D::Error> {
+        let name = <String as serde::Deserialize>::deserialize(d)?;
+        name.parse().map_err(serde::de::Error::custom)
+    }
+}
+
+/// Execution order of the main plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlanOrder {
+    /// A short path through axis space ([`specula_acquisition::ordering`]).
+    Optimized,
+    /// theta_h, theta_d, phi_d loops, as the paper.
+    Nested,
+}
+
+/// How HDR captures are chosen at each sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HdrChoice {
+    /// Adaptive from a predicted rate.
+    Predicted,
+    /// The device file's fixed bracket at every sample (the paper's way).
+    Bracket,
+}
+
+/// What a measurement is; kept in the journal, and a resumed session must ask the same.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MeasureSettings {
+    pub seed: u64,
+    /// Noise-free camera, exact positioning, exact calibration (simulated devices only).
+    pub ideal: bool,
+    /// The simulated light as a point instead of its disk (which blurs sharp highlights as
+    /// the real device's does).
+    pub point_light: bool,
+    /// Probe samples along theta_h (square-root placement, paper 5.2).
+    pub probe_samples: usize,
+    pub family: Family,
+    pub theta_h_samples: usize,
+    pub theta_d_step_deg: f64,
+    pub phi_d_step_deg: f64,
+    pub phi_h_deg: f64,
+    pub order: PlanOrder,
+    pub hdr: HdrChoice,
+    /// The reconstruction method (kept by its name: lobe, log, linear).
+    #[serde(with = "method_name")]
+    pub method: Method,
+    /// Fit the reconstruction and the probe through the instrument's response when it is
+    /// known (always on the simulator): the BRDF before the blur of the light's disk.
+    #[serde(default = "deblur_by_default")]
+    pub deblur: bool,
+    /// Run the alignment and orientation checks.
+    pub checks: bool,
+    /// The simulated sample's tilt on the turntable, degrees, and its azimuth.
+    pub tilt_deg: f64,
+    pub tilt_azimuth_deg: f64,
+}
+
+impl Default for MeasureSettings {
+    /// The paper's measurement (5.2, 5.3) with our ordering and predicted exposures.
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            ideal: false,
+            point_light: false,
+            probe_samples: 90,
+            family: Family::Exponential,
+            theta_h_samples: 30,
+            theta_d_step_deg: 3.0,
+            phi_d_step_deg: 15.0,
+            phi_h_deg: 45.0,
+            order: PlanOrder::Optimized,
+            hdr: HdrChoice::Predicted,
+            method: Method::LOBE,
+            deblur: true,
+            checks: true,
+            tilt_deg: 0.0,
+            tilt_azimuth_deg: 0.0,
+        }
+    }
+}
+
+/// Deblurring is on for journals written before the setting existed.
+fn deblur_by_default() -> bool {
+    true
+}
+
+/// The checks' results as the journal keeps them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ChecksRecord {
+    pub tilt_deg: Option<f64>,
+    pub tilt_azimuth_deg: Option<f64>,
+    /// What the operator should do about the alignment, or why the check failed.
+    pub alignment: String,
+    pub anisotropic: Option<bool>,
+    /// The phi_h the plan uses, degrees.
+    pub plan_phi_h_deg: f64,
+    /// What the orientation check said.
+    pub orientation: String,
+    /// Device time of the checks, seconds.
+    pub device_s: f64,
+}
+
+/// The fit of k as the journal keeps it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FitRecord {
+    pub function: SamplingFunction,
+    /// The fit error (DESIGN.md), 1/sr.
+    pub error: f64,
+}
+
+/// The main plan's counts as the journal keeps them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PlanRecord {
+    pub total: usize,
+    pub measurable: usize,
+    pub limit: usize,
+    pub occluded: usize,
+    /// The time model's estimate of the paper's way: nested order, fixed bracket, seconds.
+    pub nested_bracket_s: f64,
+    /// The time model's estimate for the plan as ordered (fixed bracket), seconds.
+    pub ordered_bracket_s: f64,
+}
+
+/// Everything a journal holds about its session, read at once.
+#[derive(Debug, Clone)]
+pub struct SessionRecord {
+    /// What was measured.
+    pub source: Option<SourceRecord>,
+    /// The measurement's settings.
+    pub settings: Option<MeasureSettings>,
+    /// The device model, as TOML text.
+    pub device: Option<DeviceRecord>,
+    /// The instrument that measured.
+    pub instrument: Option<InstrumentInfo>,
+    /// The specula version that started the session.
+    pub version: Option<VersionRecord>,
+    /// When the journal was created, seconds since the Unix epoch.
+    pub created_unix_s: Option<f64>,
+    /// The checks' results.
+    pub checks: Option<ChecksRecord>,
+    /// The fit of k (paper 5.2).
+    pub fit: Option<FitRecord>,
+    /// The main plan's counts (paper 5.3).
+    pub plan: Option<PlanRecord>,
+    /// The stages' progress and the events.
+    pub status: SessionStatus,
+}
+
+impl SessionRecord {
+    /// Read the session's records from the journal at `path` (opened read-only).
+    pub fn read(path: &Path) -> Result<Self, JournalError> {
+        Self::of(&Journal::open_read_only(path)?)
+    }
+
+    /// Read the session's records from an open journal.
+    pub fn of(journal: &Journal) -> Result<Self, JournalError> {
+        Ok(SessionRecord {
+            source: journal.record()?,
+            settings: journal.record()?,
+            device: journal.record()?,
+            instrument: journal.record()?,
+            version: journal.record()?,
+            created_unix_s: journal.record::<CreatedRecord>()?.map(|c| c.0),
+            checks: journal.record()?,
+            fit: journal.record()?,
+            plan: journal.record()?,
+            status: journal.status()?,
+        })
+    }
+
+    /// The status of one stage, if it has a plan.
+    pub fn stage(&self, stage: Stage) -> Option<&super::StageStatus> {
+        self.status.stages.iter().find(|s| s.stage == stage.name())
+    }
+}

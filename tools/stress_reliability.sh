@@ -1,0 +1,109 @@
+#!/usr/bin/env bash
+# A bounded rerun of issue 16's stress campaign against `specula` (loopback only, 127.0.0.1;
+# temporary files only; every wait is bounded; about a minute in release). It prints one
+# line per check with its figures and exits 1 if any promise of README's "Reliability"
+# section is broken.
+#
+#   cargo build --release && tools/stress_reliability.sh            # target/release/specula
+#   SPECULA=target/debug/specula KILLS=3 FLIPS=10 tools/stress_reliability.sh
+#
+# Checks: (1) SIGKILL at random points of a measurement, each resumed: the table is
+# byte-identical to an uninterrupted run; (2) a hanging `exec:` adapter after timeouts and
+# restarts: no adapter process left; (3) `device serve` with a silent client connected: another
+# client's hello is answered at once; (4) random byte flips in a finished journal: every
+# `reconstruct --session` either refuses the file or writes the clean table; (5) an edited
+# material on resume and an empty token: refused with exit 1.
+set -u
+SPECULA=${SPECULA:-target/release/specula}
+KILLS=${KILLS:-5}
+FLIPS=${FLIPS:-20}
+[ -x "$SPECULA" ] || { echo "no $SPECULA: build it first (cargo build --release)"; exit 2; }
+work=$(mktemp -d)
+trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
+failed=0
+fail() { echo "FAIL: $*"; failed=1; }
+small=(--skip-checks --probe-samples 30 --theta-h-samples 8 --theta-d-step 15 --phi-d-step 30 --seed 3)
+
+# (1) kills at random points, then resume to the same bytes.
+"$SPECULA" measure --truth silver-925 "${small[@]}" --out "$work/ref.binary" >/dev/null 2>&1 \
+    || fail "reference run"
+identical=0
+for i in $(seq 1 "$KILLS"); do
+    out="$work/kill$i.binary"
+    delay_ms=$(( (RANDOM % 1500) + 50 ))
+    "$SPECULA" measure --truth silver-925 "${small[@]}" --speedup 200 --out "$out" >/dev/null 2>&1 &
+    pid=$!
+    sleep "$(printf '0.%03d' $((delay_ms % 1000)))"; sleep $((delay_ms / 1000))
+    kill -9 "$pid" 2>/dev/null; wait "$pid" 2>/dev/null
+    timeout 120 "$SPECULA" measure --truth silver-925 "${small[@]}" --out "$out" >/dev/null 2>&1 \
+        || fail "resume after kill $i"
+    cmp -s "$out" "$work/ref.binary" && identical=$((identical + 1))
+done
+echo "kills: $identical of $KILLS killed runs resumed to byte-identical tables"
+[ "$identical" -eq "$KILLS" ] || fail "a resumed table differs"
+
+# (2) a hanging adapter: timeouts, restarts, then count what is left.
+marker="300.$$"
+timeout 60 "$SPECULA" measure --device "exec:sleep $marker; true" \
+    --calibration tools/example_adapter_calibration.toml --reply-timeout 1 --max-failures 3 \
+    "${small[@]}" --out "$work/hang.binary" >/dev/null 2>&1
+sleep 0.5
+left=$(pgrep -fc "^sleep $marker\$" || true)
+echo "hanging adapter: $left adapter processes left after 3 restarts (exit of measure: done)"
+[ "$left" -eq 0 ] || fail "orphaned adapters"
+
+# (3) a silent client does not lock out the next one.
+"$SPECULA" device serve --truth silver-925 --listen 127.0.0.1:0 2>"$work/serve.log" &
+server=$!
+for _ in $(seq 50); do grep -q "127.0.0.1:" "$work/serve.log" && break; sleep 0.1; done
+port=$(grep -o '127.0.0.1:[0-9]*' "$work/serve.log" | head -1 | cut -d: -f2)
+exec 3<>"/dev/tcp/127.0.0.1/$port"   # connects and says nothing
+start=$(date +%s%N)
+exec 4<>"/dev/tcp/127.0.0.1/$port"
+echo '{"id":1,"method":"hello","params":{"protocol":1}}' >&4
+reply=""; read -r -t 10 reply <&4
+ms=$(( ($(date +%s%N) - start) / 1000000 ))
+exec 3>&- 4>&-
+kill "$server"; wait "$server" 2>/dev/null
+echo "serve: with a silent client connected, another client's hello answered in $ms ms"
+case "$reply" in *'"result"'*) ;; *) fail "hello not answered: '$reply'";; esac
+
+# (4) byte flips in a finished journal.
+"$SPECULA" measure --truth silver-925 "${small[@]}" --out "$work/j.binary" >/dev/null 2>&1
+"$SPECULA" reconstruct --session "$work/j.session.sqlite" --out "$work/clean.binary" >/dev/null 2>&1 \
+    || fail "reconstruct of the clean journal"
+refused=0; same=0
+size=$(stat -c %s "$work/j.session.sqlite")
+for i in $(seq 1 "$FLIPS"); do
+    cp "$work/j.session.sqlite" "$work/f.sqlite"
+    for _ in $(seq 200); do
+        at=$(( (RANDOM * 32768 + RANDOM) % (size - 100) + 100 ))
+        printf "\\x$(printf %02x $((RANDOM % 256)))" | dd of="$work/f.sqlite" bs=1 seek="$at" conv=notrunc status=none
+    done
+    if "$SPECULA" reconstruct --session "$work/f.sqlite" --out "$work/f.binary" >/dev/null 2>"$work/f.err"; then
+        cmp -s "$work/f.binary" "$work/clean.binary" && same=$((same + 1))
+    else
+        [ "$(wc -l <"$work/f.err")" -eq 1 ] || fail "flip $i: not a one-line error"
+        refused=$((refused + 1))
+    fi
+    rm -f "$work/f.sqlite-wal" "$work/f.sqlite-shm" "$work/f.binary"
+done
+echo "journal: $FLIPS journals with 200 random bytes overwritten: $refused refused, $same read to the clean table, $((FLIPS - refused - same)) read otherwise"
+[ $((refused + same)) -eq "$FLIPS" ] || fail "a damaged journal was read into another table"
+
+# (5) changed inputs and empty tokens.
+mat="$work/mat.toml"
+write_mat() { printf 'name = "mat"\n[base]\nkind = "conductor"\ndistribution = "ggx"\nalpha = %s\neta = [0.15, 0.14, 0.13]\nk = [3.9, 3.2, 2.4]\n' "$1" >"$mat"; }
+write_mat 0.04
+"$SPECULA" measure --truth "$mat" "${small[@]}" --out "$work/m.binary" >/dev/null 2>&1
+write_mat 0.3
+"$SPECULA" measure --truth "$mat" "${small[@]}" --out "$work/m.binary" >/dev/null 2>"$work/m.err"
+rc=$?
+echo "edited material on resume: exit $rc: $(cat "$work/m.err")"
+[ "$rc" -eq 1 ] || fail "an edited material was resumed"
+timeout 10 "$SPECULA" device serve --truth silver-925 --listen 0.0.0.0:0 --token '' >/dev/null 2>"$work/t.err"
+rc=$?
+echo "empty token: exit $rc: $(cat "$work/t.err")"
+[ "$rc" -eq 1 ] || fail "an empty token was accepted"
+
+[ "$failed" -eq 0 ] && echo "all promises kept" || exit 1
