@@ -6,7 +6,7 @@ they are told, a light source, and a 12-bit camera looking at a glossy grey samp
 Gaussian highlight over a diffuse base), without noise. Replace the `FakeDevice` methods with
 calls to your motion controller and camera; keep the rest.
 
-    specula measure --device "exec:python3 tools/example_adapter.py" --out fake.binary
+    specula measure --connect "exec:python3 tools/example_adapter.py" --out fake.binary
 
 Options (for testing Specula's handling of a misbehaving device):
     --token T          require this token in hello

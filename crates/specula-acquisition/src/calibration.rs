@@ -191,10 +191,12 @@ impl Calibration {
             "# Specula camera calibration (specula calibrate): noise model, gains to 1/sr\n\
                       # and the colour matrix to linear sRGB. See README, \"Simulated device, HDR\n\
                       # and calibration\".\n";
-        std::fs::write(path, format!("{header}{text}")).map_err(|e| CalibrationError::File {
-            path: path.display().to_string(),
-            message: format!("cannot write: {e}"),
-        })
+        specula_core::atomic_file::write_bytes(path, format!("{header}{text}").as_bytes()).map_err(
+            |e| CalibrationError::File {
+                path: path.display().to_string(),
+                message: format!("cannot write: {e}"),
+            },
+        )
     }
 
     /// Reads a calibration written by [`Calibration::save`].

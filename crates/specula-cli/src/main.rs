@@ -2,9 +2,12 @@
 //! specular materials. This crate only parses arguments, shows progress and reports errors;
 //! the work lives in the library crates.
 
+#[macro_use]
+mod output;
 mod commands;
 mod interrupt;
 mod progress;
+mod range;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -12,7 +15,9 @@ use std::process::ExitCode;
 /// Measure the BRDF of highly specular materials on a goniometer with few, well-placed samples.
 ///
 /// BRDF arguments accept a MERL .binary file, a material .toml file, a preset name
-/// (silver-925, green-paint, chrome, steel) or a published fit as model:name.
+/// (silver-925, green-paint, chrome, steel) or a published fit as model:name (`specula
+/// materials` lists them). Angles are in degrees everywhere and flag names carry no unit;
+/// each numeric option's range is in its help.
 #[derive(Parser)]
 #[command(name = "specula", version, propagate_version = true)]
 struct Cli {
@@ -25,6 +30,7 @@ enum Command {
     Demo(commands::demo::Args),
     Tabulate(commands::tabulate::Args),
     Info(commands::info::Args),
+    Materials(commands::materials::Args),
     Eval(commands::eval::Args),
     Compare(commands::compare::Args),
     Appearance(commands::appearance::Args),
@@ -52,6 +58,7 @@ fn main() -> ExitCode {
         Command::Demo(args) => commands::demo::run(args),
         Command::Tabulate(args) => commands::tabulate::run(args),
         Command::Info(args) => commands::info::run(args),
+        Command::Materials(args) => commands::materials::run(args),
         Command::Eval(args) => commands::eval::run(args),
         Command::Compare(args) => commands::compare::run(args),
         Command::Appearance(args) => commands::appearance::run(args),
@@ -74,9 +81,173 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(err) if output::is_closed_pipe(&err) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err:#}");
             ExitCode::from(1)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The command line as a whole: every numeric option refuses what lies outside its
+    //! documented range, and one flag name means one thing in every command.
+
+    use super::Cli;
+    use clap::{Arg, Command, CommandFactory, Parser};
+    use std::collections::BTreeMap;
+
+    /// Every leaf command with the words that reach it (`["check", "orientation"]`).
+    fn leaves(cmd: &Command, path: Vec<String>) -> Vec<(Vec<String>, Command)> {
+        if cmd.get_subcommands().next().is_none() {
+            return vec![(path, cmd.clone())];
+        }
+        cmd.get_subcommands()
+            .flat_map(|sub| {
+                let mut path = path.clone();
+                path.push(sub.get_name().to_string());
+                leaves(sub, path)
+            })
+            .collect()
+    }
+
+    /// Every long option of every leaf command: (command words, option).
+    fn options() -> Vec<(Vec<String>, Arg)> {
+        let mut cli = Cli::command();
+        cli.build();
+        leaves(&cli, Vec::new())
+            .into_iter()
+            .flat_map(|(path, cmd)| {
+                cmd.get_arguments()
+                    .filter(|a| a.get_long().is_some_and(|l| l != "help" && l != "version"))
+                    .map(|a| (path.clone(), a.clone()))
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    }
+
+    /// The Rust type an option's values are parsed into (its parser's type name in debug
+    /// builds, which tests are).
+    fn value_type(arg: &Arg) -> String {
+        format!("{:?}", arg.get_value_parser().type_id())
+    }
+
+    fn is_numeric(arg: &Arg) -> bool {
+        arg.get_action().takes_values()
+            && ["f64", "usize", "u32", "u64"].contains(&value_type(arg).as_str())
+    }
+
+    #[test]
+    fn every_numeric_option_refuses_values_outside_its_documented_range() {
+        let mut checked = 0;
+        for (path, arg) in options().into_iter().filter(|(_, a)| is_numeric(a)) {
+            let long = arg.get_long().unwrap();
+            if long == "seed" {
+                // A seed is any whole number the type holds.
+                continue;
+            }
+            let help = arg
+                .get_long_help()
+                .or(arg.get_help())
+                .map(|h| {
+                    h.to_string()
+                        .split_whitespace()
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                })
+                .unwrap_or_default();
+            for bad in ["nan", "inf", "1e300", "-1e300", "99999999999"] {
+                let mut argv = vec!["specula".to_string()];
+                argv.extend(path.iter().cloned());
+                argv.push(format!("--{long}={bad}"));
+                let err = match Cli::try_parse_from(&argv) {
+                    Ok(_) => panic!("{argv:?} was accepted"),
+                    Err(err) => err.to_string(),
+                };
+                let needle = format!("--{long} {bad}: expected ");
+                let words = err
+                    .split_once(&needle)
+                    .map(|(_, words)| words.trim().to_string())
+                    .unwrap_or_else(|| panic!("{argv:?}: not a range error: {err}"));
+                assert_eq!(err.trim().lines().count(), 1, "{argv:?}: {err}");
+                assert!(
+                    help.contains(&format!("Range: {words}")),
+                    "{} --{long}: the help does not give the range '{words}': {help}",
+                    path.join(" ")
+                );
+            }
+            checked += 1;
+        }
+        assert!(checked > 40, "only {checked} numeric options found");
+    }
+
+    /// Options whose default differs between commands on purpose.
+    const DEFAULTS_DIFFER: [(&str, &str); 3] = [
+        (
+            "out",
+            "demo writes a folder, demo-out, by default; the others have no default",
+        ),
+        (
+            "size",
+            "a report's renders are smaller than a picture of its own",
+        ),
+        (
+            "spp",
+            "a report's renders take fewer rays than a picture of its own",
+        ),
+    ];
+
+    #[test]
+    fn one_flag_name_means_one_thing_in_every_command() {
+        let mut seen: BTreeMap<String, Vec<(String, String, Vec<String>)>> = BTreeMap::new();
+        for (path, arg) in options() {
+            let long = arg.get_long().unwrap().to_string();
+            assert!(
+                !long.ends_with("-deg") && !long.ends_with("-sr"),
+                "{} --{long}: flag names carry no unit (README, Conventions)",
+                path.join(" ")
+            );
+            let kind = if arg.get_action().takes_values() {
+                value_type(&arg)
+            } else {
+                "switch".to_string()
+            };
+            let defaults = arg
+                .get_default_values()
+                .iter()
+                .map(|v| v.to_string_lossy().into_owned())
+                .collect();
+            seen.entry(long)
+                .or_default()
+                .push((path.join(" "), kind, defaults));
+        }
+        for (long, uses) in &seen {
+            let (first_cmd, kind, defaults) = &uses[0];
+            for (cmd, other_kind, other_defaults) in uses {
+                assert_eq!(
+                    other_kind, kind,
+                    "--{long} is {kind} in `{first_cmd}` but {other_kind} in `{cmd}`"
+                );
+                if !DEFAULTS_DIFFER.iter().any(|(name, _)| name == long) {
+                    assert_eq!(
+                        other_defaults, defaults,
+                        "--{long} defaults to {defaults:?} in `{first_cmd}` but {other_defaults:?} in `{cmd}`"
+                    );
+                }
+            }
+        }
+        // The spellings the issue found split, now one each.
+        for gone in [
+            "samples",
+            "grid-side-by-side",
+            "device-model",
+            "tilt-deg",
+            "phi-h-deg",
+        ] {
+            assert!(!seen.contains_key(gone), "--{gone} is still a visible flag");
+        }
+        let phi_h = &seen["phi-h"];
+        assert!(phi_h.len() >= 7, "--phi-h in {} commands", phi_h.len());
     }
 }

@@ -12,7 +12,13 @@ fn probe_then_fit_k() {
     let dir = tempfile::tempdir().unwrap();
     let probe = dir.path().join("probe.csv");
     specula()
-        .args(["probe", "abc:chrome-steel", "--samples", "60", "--out"])
+        .args([
+            "probe",
+            "abc:chrome-steel",
+            "--probe-samples",
+            "60",
+            "--out",
+        ])
         .arg(&probe)
         .assert()
         .success()
@@ -49,7 +55,7 @@ fn probe_then_fit_k() {
     specula()
         .arg("fit-k")
         .arg(&probe)
-        .args(["--family", "power", "--samples", "10"])
+        .args(["--family", "power", "--theta-h-samples", "10"])
         .assert()
         .success()
         .stdout(predicate::str::starts_with("k="));

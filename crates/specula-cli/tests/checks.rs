@@ -61,14 +61,7 @@ fn calibrate_stores_a_calibration_that_later_runs_read() {
 fn alignment_finds_the_simulated_tilt() {
     let assert = specula()
         .args(["check", "alignment", "--truth", "silver-925"])
-        .args([
-            "--tilt-deg",
-            "0.25",
-            "--tilt-azimuth-deg",
-            "-60",
-            "--seed",
-            "3",
-        ])
+        .args(["--tilt", "0.25", "--tilt-azimuth-deg", "-60", "--seed", "3"])
         .assert()
         .success();
     let stdout = String::from_utf8_lossy(&assert.get_output().stdout).to_string();
@@ -92,7 +85,7 @@ fn alignment_finds_the_simulated_tilt() {
 fn orientation_flags_scratches_on_the_planned_phi_h() {
     specula()
         .args(["check", "orientation", "--truth", "silver-925"])
-        .args(["--scratch-orientation-deg", "135"])
+        .args(["--scratch-orientation", "135"])
         .assert()
         .success()
         .stdout(predicate::str::contains("anisotropic: yes"))
@@ -118,7 +111,7 @@ fn flare_is_retaken() {
 fn bad_input_is_one_line_and_exit_1() {
     specula()
         .args(["check", "orientation", "--truth", "no-such-material"])
-        .args(["--scratch-orientation-deg", "30"])
+        .args(["--scratch-orientation", "30"])
         .assert()
         .code(1)
         .stderr(predicate::str::contains("no-such-material"))
@@ -133,8 +126,10 @@ fn bad_input_is_one_line_and_exit_1() {
             "2",
         ])
         .assert()
-        .code(1)
-        .stderr(predicate::str::contains("--rotations"));
+        .code(2)
+        .stderr(predicate::str::contains(
+            "--rotations 2: expected a whole number from 3 to 72",
+        ));
     specula()
         .args([
             "calibrate",

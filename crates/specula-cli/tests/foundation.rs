@@ -112,8 +112,10 @@ fn info_and_eval_on_a_table_with_holes() {
         .arg(&path)
         .assert()
         .success()
-        .stdout(predicate::str::contains("missing: 1\n"))
-        .stdout(predicate::str::contains("theta_d=40.5 phi_d=90.5"));
+        .stdout(predicate::str::contains(
+            "measured: 1457999 of 1458000 cells\n",
+        ))
+        .stdout(predicate::str::contains("theta_d 40.5 deg, phi_d 90.5 deg"));
 
     let dirs = dir.path().join("dirs.csv");
     std::fs::write(

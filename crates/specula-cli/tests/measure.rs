@@ -257,7 +257,7 @@ fn the_driver_protocol_over_tcp_and_exec_gives_the_same_bytes() {
     let output = run(&measure_args(
         &out,
         &[
-            "--device",
+            "--connect",
             &device,
             "--calibration",
             &calibration,
@@ -288,7 +288,7 @@ fn the_driver_protocol_over_tcp_and_exec_gives_the_same_bytes() {
     let device = format!("exec:{SPECULA} device serve --truth silver-925 --seed 3 --stdio");
     run(&measure_args(
         &out,
-        &["--device", &device, "--calibration", &calibration],
+        &["--connect", &device, "--calibration", &calibration],
     ));
     let exec = std::fs::read(&out).unwrap();
 
@@ -311,21 +311,26 @@ fn bad_arguments_get_one_line_errors() {
         assert!(stderr.contains(needle), "{needle}: {stderr}");
     };
     fails(
-        &measure_args(&out, &["--device", "tcp://127.0.0.1:9"]),
+        &measure_args(&out, &["--connect", "tcp://127.0.0.1:9"]),
         "--calibration",
     );
     fails(
-        &measure_args(&out, &["--device", "serial:/dev/ttyUSB0"]),
+        &measure_args(&out, &["--connect", "serial:/dev/ttyUSB0"]),
         "tcp://HOST:PORT or exec:COMMAND",
     );
     fails(
         &measure_args(&out, &["--truth", "no-such-material"]),
         "no-such-material",
     );
-    fails(
-        &measure_args(&out, &["--truth", "silver-925", "--method", "magic"]),
-        "--method magic",
-    );
+    let magic = Command::new(SPECULA)
+        .args(measure_args(
+            &out,
+            &["--truth", "silver-925", "--method", "magic"],
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(magic.status.code(), Some(2), "a usage error");
+    assert!(String::from_utf8_lossy(&magic.stderr).contains("magic"));
     let session = dir.path().join("s.sqlite");
     let session_arg = session.display().to_string();
     // A session belongs to one measurement.

@@ -92,14 +92,18 @@ fn bad_input_is_one_line_and_exit_1() {
         .args(["plan", "--k", "4.78", "--theta-d-step", "0", "--out"])
         .arg(&out)
         .assert()
-        .code(1)
-        .stderr(predicate::str::contains("--theta-d-step"));
+        .code(2)
+        .stderr(predicate::str::contains(
+            "--theta-d-step 0: expected degrees from 0.5 to 90",
+        ));
     specula()
         .args(["plan", "--k", "-1", "--out"])
         .arg(&out)
         .assert()
-        .code(1)
-        .stderr(predicate::str::contains("out of range"));
+        .code(2)
+        .stderr(predicate::str::contains(
+            "--k -1: expected a number above 0 and at most 100",
+        ));
     // Neither --k nor --theta-h-list: a usage error.
     specula().args(["plan", "--out"]).arg(&out).assert().code(2);
 }

@@ -320,7 +320,7 @@ fn absurd_inputs_are_refused_in_one_line_before_allocating() {
     let args = measure_args(
         Path::new(&out),
         &[
-            "--device",
+            "--connect",
             "tcp://127.0.0.1:9",
             "--calibration",
             &calibration,

@@ -141,14 +141,14 @@ fn session_and_table_reports_open_in_chromium_with_every_picture() {
         (
             &session,
             &[],
-            6,
-            "renders x 2, slices x 2, probe, raw samples",
+            7,
+            "renders x 2, slices x 3 (measured, truth, difference), probe, raw samples",
         ),
         (
             &table,
             &["--truth", "silver-925"],
-            5,
-            "renders x 2, slices x 1, probe, truth comparison",
+            6,
+            "renders x 2, slices x 3 (measured, truth, difference), probe",
         ),
     ];
     for (input, extra, expected, what) in reports {

@@ -116,13 +116,16 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
             "Render, sphere".into(),
             "Render, speedshape".into(),
             "Characteristic slice of the truth".into(),
+            "Characteristic slice of the difference".into(),
+            "on the same colour scale".into(),
             format!("the square-root probe of {probe_done} samples"),
             format!("The {main_done} samples of the main stage"),
         ],
     );
     assert!(!html.contains("incomplete"));
-    // Renders on two shapes, two slices, the probe and the raw samples.
-    assert_eq!(html.matches("data:image/png;base64,").count(), 6);
+    // Renders on two shapes, three slices (measured, truth, difference), the probe and the
+    // raw samples.
+    assert_eq!(html.matches("data:image/png;base64,").count(), 7);
 
     // The same with the written table given, and another truth.
     let out = dir.path().join("table.html");
@@ -221,8 +224,8 @@ fn files_that_are_not_journals_get_one_line_errors() {
     fails(&dir.path().join("missing.sqlite"), &[], "missing.sqlite");
     fails(
         &empty,
-        &["--samples", "raw.csv"],
-        "--samples is for a .binary input",
+        &["--samples-csv", "raw.csv"],
+        "--samples-csv is for a .binary input",
     );
     assert!(!out.exists());
 }

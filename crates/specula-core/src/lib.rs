@@ -2,6 +2,7 @@
 //! abstraction, the MERL `.binary` table, reference materials, the theta_h sampling functions
 //! and tabulation into the MERL grid. Pure computation: no terminal, network or database.
 
+pub mod atomic_file;
 pub mod bounded_read;
 pub mod brdf;
 pub mod geometry;

@@ -331,12 +331,26 @@ impl MerlBrdf {
         out
     }
 
-    /// Writes the `.binary` file.
+    /// Writes the `.binary` file, atomically ([`crate::atomic_file`]).
     pub fn write(&self, path: &Path) -> Result<(), MerlError> {
-        std::fs::write(path, self.to_bytes()).map_err(|cause| MerlError::Io {
+        crate::atomic_file::write_bytes(path, &self.to_bytes()).map_err(|cause| MerlError::Io {
             path: path.to_path_buf(),
             cause,
         })
+    }
+
+    /// The cell with the largest mean of R, G and B among the measured cells that
+    /// `include` (given a cell index) keeps, and its value.
+    pub fn peak(&self, include: impl Fn(usize) -> bool) -> Option<(usize, Rgb)> {
+        let mut peak: Option<(usize, Rgb)> = None;
+        for index in (0..CELLS).filter(|&i| include(i)) {
+            if let Some(v) = self.cell(index) {
+                if peak.is_none_or(|(_, p)| v.element_sum() > p.element_sum()) {
+                    peak = Some((index, v));
+                }
+            }
+        }
+        peak
     }
 
     /// f_r in 1/sr of a cell, or `None` when it was not measured.

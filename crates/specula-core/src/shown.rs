@@ -14,6 +14,26 @@ pub fn shown(x: f64) -> String {
     format!("{x:e}")
 }
 
+/// A number as people write it: four significant digits without an exponent between 1e-4
+/// and 1e6 (`5.214`, `0.02`, `3`), otherwise in scientific notation (`1.234e-7`); `0` for
+/// zero.
+pub fn plain(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{}", if x == 0.0 { 0.0 } else { x });
+    }
+    let magnitude = x.abs();
+    if !(1e-4..1e6).contains(&magnitude) {
+        return format!("{x:.3e}");
+    }
+    let decimals = (3 - magnitude.log10().floor() as i32).max(0) as usize;
+    let text = format!("{x:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,6 +1,7 @@
 //! Reading BRDFs from everything Specula accepts: MERL tables, material presets and TOML
 //! files, and (as they land) the measured formats and published model fits.
 
+pub mod catalog;
 pub mod convert;
 pub mod fits;
 pub mod input;

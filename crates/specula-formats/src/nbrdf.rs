@@ -10,7 +10,7 @@
 //! `x = [sin th, 0, cos th, sin td cos pd, sin td sin pd, cos td]`.
 //! Source and checks: `shared/data/measured/merl_nbrdf/PROVENANCE.md`.
 
-use crate::input::{file_error, measured_file, read_input};
+use crate::input::{data_file, file_error};
 use anyhow::{anyhow, Result};
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
@@ -69,9 +69,9 @@ impl NbrdfSet {
 
     /// The material names of this set, in the order of its weights file.
     pub fn names(self) -> Result<Vec<String>> {
-        let path = measured_file(self.files().1)?;
-        let text = String::from_utf8(read_input(&path)?)
-            .map_err(|_| file_error(&path, "is not UTF-8 text"))?;
+        let file = data_file(self.files().1)?;
+        let text = std::str::from_utf8(&file.bytes)
+            .map_err(|_| file_error(&file.path, "is not UTF-8 text"))?;
         Ok(text
             .lines()
             .map(str::trim)
@@ -99,18 +99,18 @@ impl Nbrdf {
         let names = set.names()?;
         let row = names.iter().position(|n| n == material).ok_or_else(|| {
             anyhow!(
-                "{}:{material}: no such material among the {} of this set (e.g. {})",
+                "{}:{material}: no such material among the {} of this set{}",
                 set.prefix(),
                 names.len(),
-                names.iter().take(4).cloned().collect::<Vec<_>>().join(", ")
+                crate::catalog::did_you_mean(material, &names)
             )
         })?;
-        let path = measured_file(set.files().0)?;
-        let bytes = read_input(&path)?;
+        let file = data_file(set.files().0)?;
+        let (path, bytes) = (&file.path, &file.bytes);
         let expected = names.len() * WEIGHTS_PER_MATERIAL * 4;
         if bytes.len() != expected {
             return Err(file_error(
-                &path,
+                path,
                 format!(
                     "{} bytes, expected {expected} ({} materials x {WEIGHTS_PER_MATERIAL} f32)",
                     bytes.len(),
@@ -124,7 +124,7 @@ impl Nbrdf {
             .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
             .collect();
         Self::from_weights(format!("{}:{material}", set.prefix()), &weights)
-            .map_err(|problem| file_error(&path, format!("material {material}: {problem}")))
+            .map_err(|problem| file_error(path, format!("material {material}: {problem}")))
     }
 
     /// A network from its 675 weights in the published layout; every weight must be finite.

@@ -165,11 +165,7 @@ impl SampleSet {
 
     /// Writes the CSV file.
     pub fn write(&self, path: &Path) -> Result<()> {
-        let file = std::fs::File::create(path)
-            .map_err(|e| file_error(path, format!("cannot create: {e}")))?;
-        let mut out = std::io::BufWriter::new(file);
-        self.write_to(&mut out)
-            .and_then(|_| out.flush())
+        specula_core::atomic_file::write_with(path, |out| self.write_to(out))
             .map_err(|e| file_error(path, format!("cannot write: {e}")))
     }
 

@@ -45,12 +45,18 @@ pub fn load_brdf(spec: &str) -> Result<BrdfSource> {
     match extension.as_deref() {
         Some("binary") => Ok(Arc::new(MerlBrdf::read(path)?)),
         Some("toml") => Ok(Arc::new(Material::from_toml_file(path)?)),
+        _ if path.is_dir() => {
+            bail!("{spec}: is a directory, not a BRDF file (a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)")
+        }
         _ if path.exists() => {
             bail!("{spec}: unrecognised BRDF file (expected a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)")
         }
         _ => match materials::preset(spec) {
             Some(material) => Ok(Arc::new(material)),
-            None => bail!("{spec}: no such file, preset or model fit"),
+            None => bail!(
+                "{spec}: no such file, preset or model fit (`specula materials` lists them){}",
+                crate::catalog::did_you_mean(spec, &crate::catalog::all_names())
+            ),
         },
     }
 }

@@ -156,7 +156,7 @@ impl UtiaBrdf {
 
     /// Writes the `.bin` file.
     pub fn write(&self, path: &Path) -> Result<()> {
-        std::fs::write(path, self.to_bytes())
+        specula_core::atomic_file::write_bytes(path, &self.to_bytes())
             .map_err(|e| file_error(path, format!("cannot write: {e}")))
     }
 

@@ -50,7 +50,10 @@ fn field_record(bytes: &[u8], wanted: &str) -> (usize, usize) {
 #[test]
 fn bad_rgl_files() {
     let dir = tempfile::tempdir().unwrap();
-    let good = std::fs::read(measured("rgl_bsdf/satin_rosaline_rgb.bsdf")).unwrap();
+    let Some(path) = measured("rgl_bsdf/satin_rosaline_rgb.bsdf") else {
+        return;
+    };
+    let good = std::fs::read(path).unwrap();
     expect_error(
         dir.path(),
         "truncated.bsdf",

@@ -11,7 +11,10 @@ use specula_formats::rgl::RglBsdf;
 #[test]
 fn rgl_reader_matches_mitsuba_measured_plugin() {
     for material in RGL_MATERIALS {
-        let brdf = RglBsdf::read(&measured(&format!("rgl_bsdf/{material}.bsdf"))).unwrap();
+        let Some(path) = measured(&format!("rgl_bsdf/{material}.bsdf")) else {
+            return;
+        };
+        let brdf = RglBsdf::read(&path).unwrap();
         let vectors = test_data(&format!("rgl_mitsuba_{material}.csv"));
         let mut reader = csv::Reader::from_path(&vectors).unwrap();
         let (mut rows, mut compared, mut worst, mut worst_small) = (0, 0, 0.0f64, 0.0f64);

@@ -1,7 +1,7 @@
 //! The UTIA BRDF binary: layout, byte-exact round trips, interpolation and provenance.
 
 use specula_core::{Brdf, HalfDiff, Rgb, Spherical};
-use specula_formats::lafortune::Lafortune;
+use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_formats::utia::{Node, UtiaBrdf, FILE_BYTES, NODES, PHI_STEP_DEG, THETA_STEP_DEG};
 
 /// A table whose node value encodes its indices: `ti + 10 pi + 100 tv + 1000 pv` (+ channel).
@@ -40,7 +40,7 @@ fn file_layout_is_planes_then_theta_i_phi_i_theta_v_phi_v() {
 
 #[test]
 fn bytes_and_files_round_trip_exactly() {
-    let table = UtiaBrdf::tabulate(&Lafortune::by_name("gold-metallic-paint").unwrap());
+    let table = UtiaBrdf::tabulate(&Nbrdf::load(NbrdfSet::Merl100, "gold-metallic-paint").unwrap());
     assert_eq!(table.measured_count(), NODES);
     let bytes = table.to_bytes();
     assert_eq!(UtiaBrdf::from_bytes("x", &bytes).unwrap().to_bytes(), bytes);
@@ -54,7 +54,7 @@ fn bytes_and_files_round_trip_exactly() {
 
 #[test]
 fn tabulated_nodes_hold_the_source_values() {
-    let fit = Lafortune::by_name("white-diffuse-bball").unwrap();
+    let fit = Nbrdf::load(NbrdfSet::Merl100, "white-diffuse-bball").unwrap();
     let table = UtiaBrdf::tabulate(&fit);
     for index in [0, 777, 40_000, NODES - 1] {
         let (wi, wo) = Node::from_index(index).directions();

@@ -17,8 +17,7 @@ use specula_acquisition::device::Device;
 use specula_core::materials::builtin_database;
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
-use specula_formats::fits::{load_fits, FitModel};
-use specula_formats::input::measured_file;
+use specula_formats::fits::{load_model, FitModel};
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_reconstruct::accuracy::{evaluate, Accuracy, Measurement, PlanSettings};
 use specula_reconstruct::Method;
@@ -74,8 +73,8 @@ fn truths(set: &str) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
             .into_iter()
             .map(|m| Arc::new(m) as Arc<dyn Brdf>)
             .collect(),
-        "sgd" => load_fits(&measured_file(FitModel::Sgd.table())?)?,
-        "abc" => load_fits(&measured_file(FitModel::Abc.table())?)?,
+        "sgd" => load_model(FitModel::Sgd)?,
+        "abc" => load_model(FitModel::Abc)?,
         "nbrdf" => NbrdfSet::Merl100
             .names()?
             .iter()

@@ -135,10 +135,27 @@ impl Provenance {
         Ok(Self { cells })
     }
 
+    /// Whether a sample fell in the cell at `index` (in MERL cell order).
+    pub fn is_measured(&self, index: usize) -> bool {
+        self.cells.get(index) == Some(&CellOrigin::Measured)
+    }
+
+    /// The provenance beside a MERL table ([`sidecar_path`]), if there is one.
+    pub fn beside(merl_path: &Path) -> Result<Option<Self>, ProvenanceError> {
+        let sidecar = sidecar_path(merl_path);
+        if sidecar.is_file() {
+            Self::read(&sidecar).map(Some)
+        } else {
+            Ok(None)
+        }
+    }
+
     pub fn write(&self, path: &Path) -> Result<(), ProvenanceError> {
-        std::fs::write(path, self.to_npy()).map_err(|source| ProvenanceError::Io {
-            path: path.to_path_buf(),
-            source,
+        specula_core::atomic_file::write_bytes(path, &self.to_npy()).map_err(|source| {
+            ProvenanceError::Io {
+                path: path.to_path_buf(),
+                source,
+            }
         })
     }
 

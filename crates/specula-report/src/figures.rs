@@ -6,41 +6,42 @@ use crate::{Progress, ReportOptions};
 use specula_core::compare::compare;
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
 use specula_core::sampling::SamplingFunction;
+use specula_core::shown::plain;
 use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, Rgb};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_visual::grid::{self, Tile};
 use specula_visual::plot::probe::{interpolate, plot_probe};
 use specula_visual::plot::raw_samples::{plot_raw_samples, RawSample};
-use specula_visual::plot::slice::{plot_slice, SliceOptions};
+use specula_visual::plot::slice::{plot_slice, plot_slices_against_truth, SliceOptions};
 use specula_visual::plot::ThetaHAxis;
 use specula_visual::report::{ErrorRow, ErrorSection, Figure};
 use specula_visual::{Environment, Lighting, LinearImage, RenderSettings, Scene, ShapeKind};
 use std::path::Path;
 use std::sync::Arc;
 
-/// The table's largest value (sum of R, G, B) and where it lies.
-pub(crate) fn peak_fact(table: &MerlBrdf) -> Option<(String, String)> {
-    let mut peak: Option<(usize, Rgb)> = None;
-    for index in 0..CELLS {
-        if let Some(v) = table.cell(index) {
-            if peak.is_none_or(|(_, p)| v.element_sum() > p.element_sum()) {
-                peak = Some((index, v));
-            }
-        }
-    }
-    let (index, v) = peak?;
+/// The peak among the measured cells (those a sample fell in, when the reconstruction's
+/// provenance is known), saying which cells it was looked for in.
+pub(crate) fn peak_fact(
+    table: &MerlBrdf,
+    provenance: Option<&Provenance>,
+) -> Option<(String, String)> {
+    let (index, v) = table.peak(|i| provenance.is_none_or(|p| p.is_measured(i)))?;
+    let among = match provenance {
+        Some(_) => "among the cells a sample fell in",
+        None => "among the cells holding a value",
+    };
     let bin = Bin::from_index(index).centre(0.0);
     Some((
         "peak f_r".into(),
         format!(
-            "R {:.4e}, G {:.4e}, B {:.4e} 1/sr at theta_h {:.3}, theta_d {:.1}, phi_d {:.1} deg",
-            v.x,
-            v.y,
-            v.z,
-            bin.theta_h.to_degrees(),
-            bin.theta_d.to_degrees(),
-            bin.phi_d.to_degrees()
+            "R {}, G {}, B {} 1/sr at θ_h {} deg, θ_d {} deg, φ_d {} deg, {among}",
+            plain(v.x),
+            plain(v.y),
+            plain(v.z),
+            plain(bin.theta_h.to_degrees()),
+            plain(bin.theta_d.to_degrees()),
+            plain(bin.phi_d.to_degrees())
         ),
     ))
 }
@@ -183,30 +184,48 @@ pub(crate) fn renders(
     Ok(figures)
 }
 
-/// The characteristic slice of the table, and of the truth when known (paper Fig. 11).
+/// The characteristic slice of the table, and of the truth and the difference on one colour
+/// scale when the truth is known (paper Fig. 11).
 pub(crate) fn slice_figures(
     table: &MerlBrdf,
     truth: Option<&dyn Brdf>,
 ) -> Result<Vec<Figure>, ReportError> {
     let name = table.name();
-    let mut figures = vec![Figure::new(
-        "Characteristic slice",
-        "f_r (mean of R, G, B) at phi_d = 90 deg over theta_d and theta_h, theta_h on MERL's \
-         square-root axis, log false colour (paper Fig. 11); blue: not measured.",
-        &plot_slice(table, &name, &SliceOptions::default()).or_report()?,
-    )
-    .or_report()?];
-    if let Some(truth) = truth {
-        figures.push(
-            Figure::new(
-                "Characteristic slice of the truth",
-                format!("The same slice of {}.", truth.name()),
-                &plot_slice(truth, &truth.name(), &SliceOptions::default()).or_report()?,
-            )
-            .or_report()?,
-        );
-    }
-    Ok(figures)
+    let caption = "f_r (mean of R, G, B) at φ_d = 90 deg over θ_d and θ_h, θ_h on MERL's \
+         square-root axis, log false colour (paper Fig. 11); blue: not measured.";
+    let options = SliceOptions::default();
+    let Some(truth) = truth else {
+        return Ok(vec![Figure::new(
+            "Characteristic slice",
+            caption,
+            &plot_slice(table, &name, &options).or_report()?,
+        )
+        .or_report()?]);
+    };
+    let truth_name = truth.name();
+    let [measured, true_slice, difference] =
+        plot_slices_against_truth((table, &name), (truth, &truth_name), &options).or_report()?;
+    Ok(vec![
+        Figure::new(
+            "Characteristic slice",
+            format!("{caption} On one colour scale with the truth's slice and the difference."),
+            &measured,
+        )
+        .or_report()?,
+        Figure::new(
+            "Characteristic slice of the truth",
+            format!("The same slice of {truth_name}, on the same colour scale."),
+            &true_slice,
+        )
+        .or_report()?,
+        Figure::new(
+            "Characteristic slice of the difference",
+            "|measured - truth| on the same slice and the same colour scale: where it is as \
+             bright as the truth, the error there is 100 %.",
+            &difference,
+        )
+        .or_report()?,
+    ])
 }
 
 /// The probe `(theta_h deg, f)` against the `placed` positions of the fitted sampling

@@ -20,6 +20,11 @@ pub use specula_visual::report::Report;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// The largest width and height of a render, pixels.
+pub const MAX_IMAGE_PX: usize = 8192;
+
+pub use specula_visual::render::MAX_SAMPLES_PER_PIXEL;
+
 /// Adaptive samples the paper places along theta_h with the fitted k (section 5.3).
 const PLACED_SAMPLES: usize = 30;
 
@@ -37,9 +42,9 @@ pub struct ReportOptions {
     /// With a session journal: the MERL .binary to show instead of reconstructing the
     /// session's samples.
     pub table: Option<PathBuf>,
-    /// Width and height of each render, pixels, in 8..=4096.
+    /// Width and height of each render, pixels, in 8..=[`MAX_IMAGE_PX`].
     pub size_px: usize,
-    /// Camera rays per pixel of the renders, in 1..=4096.
+    /// Camera rays per pixel of the renders, in 1..=[`MAX_SAMPLES_PER_PIXEL`].
     pub spp: usize,
     /// The report's title (default: the input's material name).
     pub title: Option<String>,
@@ -97,14 +102,16 @@ fn check(options: &ReportOptions) -> Result<Input, ReportError> {
         Some("sqlite") => Input::Session,
         _ => return Err(ReportError::UnknownInput(options.input.clone())),
     };
-    if !(8..=4096).contains(&options.size_px) || !(1..=4096).contains(&options.spp) {
+    if !(8..=MAX_IMAGE_PX).contains(&options.size_px)
+        || !(1..=MAX_SAMPLES_PER_PIXEL).contains(&options.spp)
+    {
         return Err(ReportError::Options(
-            "--size must lie in 8..=4096 and --spp in 1..=4096",
+            "--size must lie in 8..=8192 and --spp in 1..=65536",
         ));
     }
     match input {
         Input::Session if options.samples.is_some() => Err(ReportError::Options(
-            "--samples is for a .binary input: a session journal holds its own samples",
+            "--samples-csv is for a .binary input: a session journal holds its own samples",
         )),
         Input::Table if options.table.is_some() => Err(ReportError::Options(
             "--table is for a session journal input: the .binary input is the table",
@@ -156,9 +163,11 @@ pub fn write_session_pictures(
     let mut files = Vec::new();
     for figure in &report.figures {
         let path = dir.join(format!("{}.png", file_stem_of(&figure.title)));
-        std::fs::write(&path, &figure.png).map_err(|source| ReportError::Write {
-            path: path.clone(),
-            source,
+        specula_core::atomic_file::write_bytes(&path, &figure.png).map_err(|source| {
+            ReportError::Write {
+                path: path.clone(),
+                source,
+            }
         })?;
         files.push(path);
     }
@@ -230,6 +239,7 @@ mod tests {
             "Render, sphere",
             "Render, speedshape",
             "Characteristic slice of the truth",
+            "Characteristic slice of the difference",
             "Probe against the adaptive samples",
             "Raw samples",
         ] {
@@ -237,7 +247,7 @@ mod tests {
         }
         // A table against itself: no error.
         assert!(html.contains("<td class=\"num\">0.0000</td>"));
-        assert_eq!(html.matches("data:image/png;base64,").count(), 6);
+        assert_eq!(html.matches("data:image/png;base64,").count(), 7);
     }
 
     #[test]

@@ -8,6 +8,7 @@ use crate::{generator, Progress, ReportOptions, PLACED_SAMPLES};
 use specula_core::merl::MerlBrdf;
 use specula_core::sampling::Family;
 use specula_core::Brdf;
+use specula_reconstruct::provenance::Provenance;
 use specula_sampling::{Probe, ProbeSettings};
 use specula_visual::plot::raw_samples::{RawSample, SampleGrid};
 use specula_visual::report::{CoverageSection, KHatSection, MaterialSection, Report};
@@ -127,7 +128,8 @@ fn material(table: &MerlBrdf, path: &Path) -> MaterialSection {
         "format".to_string(),
         "MERL .binary (90 x 90 x 180 cells)".to_string(),
     )];
-    facts.extend(peak_fact(table));
+    let provenance = Provenance::beside(path).ok().flatten();
+    facts.extend(peak_fact(table, provenance.as_ref()));
     MaterialSection {
         name: table.name(),
         source: path.display().to_string(),

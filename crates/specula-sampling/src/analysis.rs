@@ -145,8 +145,7 @@ impl DatabaseSummary {
     /// Writes `family,theta_d,mean_error,median_error,materials` (errors in 1/sr).
     pub fn write_csv(&self, path: &Path) -> Result<()> {
         let name = path.display();
-        let mut w =
-            csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
+        let mut w = csv::Writer::from_writer(Vec::new());
         w.write_record([
             "family",
             "theta_d",
@@ -166,15 +165,18 @@ impl DatabaseSummary {
                 .with_context(|| format!("{name}: cannot write"))?;
             }
         }
-        w.flush().with_context(|| format!("{name}: cannot write"))?;
-        Ok(())
+        let bytes = w
+            .into_inner()
+            .with_context(|| format!("{name}: cannot write"))?;
+        specula_core::atomic_file::write_bytes(path, &bytes)
+            .with_context(|| format!("{name}: cannot write"))
     }
 }
 
 /// Writes every material's k and error: `material,family,theta_d,k,error`.
 pub fn write_materials_csv(analyses: &[MaterialAnalysis], path: &Path) -> Result<()> {
     let name = path.display();
-    let mut w = csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
+    let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(["material", "family", "theta_d", "k", "error"])?;
     for a in analyses {
         for (f, family) in Family::ALL.into_iter().enumerate() {
@@ -190,8 +192,11 @@ pub fn write_materials_csv(analyses: &[MaterialAnalysis], path: &Path) -> Result
             }
         }
     }
-    w.flush().with_context(|| format!("{name}: cannot write"))?;
-    Ok(())
+    let bytes = w
+        .into_inner()
+        .with_context(|| format!("{name}: cannot write"))?;
+    specula_core::atomic_file::write_bytes(path, &bytes)
+        .with_context(|| format!("{name}: cannot write"))
 }
 
 /// The median of the values (sorted in place); NaN when empty.

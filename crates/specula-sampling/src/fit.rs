@@ -68,6 +68,10 @@ pub struct KFit {
 pub enum FitError {
     #[error("need at least 2 samples per sampling function, got {0}")]
     TooFewSamples(usize),
+    /// Every value of the column is 0: any k rebuilds it exactly, so k-hat would be made
+    /// up.
+    #[error("every value of the probe is 0 1/sr: there is no peak to fit k to")]
+    ZeroColumn,
 }
 
 /// DESIGN.md's fit error of `function` with `n` samples against the dense column, 1/sr.
@@ -147,8 +151,11 @@ impl Default for FitSearch {
 }
 
 /// Fits k of `family` for `n` samples to the dense `column` with the default search (see
-/// the module documentation).
+/// the module documentation). A column that is 0 everywhere is refused ([`FitError::ZeroColumn`]).
 pub fn fit_k(column: &Column, family: Family, n: usize) -> Result<KFit, FitError> {
+    if column.values().iter().all(|&v| v == 0.0) {
+        return Err(FitError::ZeroColumn);
+    }
     fit_k_with(column, family, n, &FitSearch::default())
 }
 

@@ -140,8 +140,7 @@ impl Probe {
     /// Writes the CSV file (header `theta_h,r,g,b`).
     pub fn write_csv(&self, path: &Path) -> Result<()> {
         let name = path.display();
-        let mut writer =
-            csv::Writer::from_path(path).with_context(|| format!("{name}: cannot create"))?;
+        let mut writer = csv::Writer::from_writer(Vec::new());
         for (&theta_h, v) in self.theta_h_deg.iter().zip(&self.rgb) {
             writer
                 .serialize(ProbeRow {
@@ -152,10 +151,11 @@ impl Probe {
                 })
                 .with_context(|| format!("{name}: cannot write"))?;
         }
-        writer
-            .flush()
+        let bytes = writer
+            .into_inner()
             .with_context(|| format!("{name}: cannot write"))?;
-        Ok(())
+        specula_core::atomic_file::write_bytes(path, &bytes)
+            .with_context(|| format!("{name}: cannot write"))
     }
 
     /// Reads a CSV file written by [`Probe::write_csv`] (or by hand, or by a device).

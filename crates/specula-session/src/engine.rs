@@ -99,16 +99,25 @@ pub struct Progress {
 }
 
 impl Progress {
-    /// Device time left, seconds: the time model's estimate for the samples left, scaled by
-    /// how the finished samples compared with their estimate (the model assumes a fixed
-    /// bracket; predicted exposures take less).
+    /// Device time left, seconds ([`crate::journal::device_s_left`]).
     pub fn eta_device_s(&self) -> f64 {
-        if self.predicted_s_done > 0.0 && self.device_s_done > 0.0 {
-            self.predicted_s_left * self.device_s_done / self.predicted_s_done
-        } else {
-            self.predicted_s_left
-        }
+        crate::journal::device_s_left(
+            self.predicted_s_left,
+            self.device_s_done,
+            self.predicted_s_done,
+        )
     }
+}
+
+/// Whether another try may succeed after `error`: a motor fault (after homing), a timeout or
+/// a camera fault. The acquisition and the checks retry these alike.
+pub fn is_retryable(error: &InstrumentError) -> bool {
+    matches!(
+        error,
+        InstrumentError::MotorFault(_)
+            | InstrumentError::Timeout(_)
+            | InstrumentError::CameraFault(_)
+    )
 }
 
 /// Runs stages of a session on an instrument.
@@ -241,12 +250,7 @@ impl Engine<'_> {
                         "fault",
                         &format!("{stage} sample {} try {attempts}: {error}", row.seq),
                     )?;
-                    let retryable = matches!(
-                        error,
-                        InstrumentError::MotorFault(_)
-                            | InstrumentError::Timeout(_)
-                            | InstrumentError::CameraFault(_)
-                    );
+                    let retryable = is_retryable(&error);
                     let mut error = error;
                     if retryable && attempts < self.settings.max_attempts {
                         match self.recover(matches!(error, InstrumentError::MotorFault(_))) {

@@ -16,7 +16,7 @@
 //! afterwards, so a rerun of the same command resumes where the last one stopped and, with
 //! the same seed, writes byte for byte the same table as an uninterrupted run.
 
-use crate::engine::{Engine, EngineSettings, HdrMode, Progress, StageOutcome};
+use crate::engine::{is_retryable, Engine, EngineSettings, HdrMode, Progress, StageOutcome};
 use crate::ideal::{exact_calibration, NoiselessSimulator};
 use crate::inputs::{
     brdf_fingerprint, check_device, check_inputs, sha256_hex, DeviceIdentity, InputHashes,
@@ -42,9 +42,10 @@ use specula_acquisition::calibration::{
 };
 use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
 use specula_acquisition::checks::orientation::{check_orientation, OrientationSettings};
+use specula_acquisition::checks::CheckError;
 use specula_acquisition::device::Device;
 use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
-use specula_acquisition::instrument::Instrument;
+use specula_acquisition::instrument::{Instrument, InstrumentError, InstrumentInfo};
 use specula_acquisition::ordering::order;
 use specula_acquisition::plan::Plan;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
@@ -74,17 +75,55 @@ pub enum Source {
     },
 }
 
-impl Source {
-    /// What the journal records as the measured thing.
-    fn record(&self) -> SourceRecord {
-        match self {
-            Source::Simulated { truth, .. } => SourceRecord::Simulated {
-                truth: truth.name(),
-            },
-            Source::Remote { endpoint, .. } => SourceRecord::Device {
-                endpoint: endpoint.to_string(),
-            },
-        }
+/// A source whose device has answered: a remote device is reached before the journal is
+/// opened, so that a failed connection leaves no session behind.
+enum Reached {
+    Simulated {
+        truth: Arc<dyn Brdf>,
+        speedup: Option<f64>,
+    },
+    Remote {
+        remote: Box<RemoteInstrument>,
+        calibration: Box<Calibration>,
+    },
+}
+
+impl Reached {
+    fn reach(source: Source, device: &Device, settings: &MeasureSettings) -> Result<Self> {
+        Ok(match source {
+            Source::Simulated { truth, speedup } => Reached::Simulated { truth, speedup },
+            Source::Remote {
+                endpoint,
+                client,
+                calibration,
+            } => {
+                if settings.ideal {
+                    bail!("--ideal is for the simulated device (--truth), not {endpoint}");
+                }
+                let client = ClientSettings {
+                    ranges: ReplyRanges::for_device(device),
+                    ..client
+                };
+                let remote = RemoteInstrument::connect(endpoint.clone(), client)
+                    .with_context(|| format!("{endpoint}: cannot reach the device"))?;
+                Reached::Remote {
+                    remote: Box::new(remote),
+                    calibration,
+                }
+            }
+        })
+    }
+}
+
+/// What the journal records as the measured thing: the simulated truth's name, or the
+/// device's own identity from its info reply (not its address, which may change).
+fn describe(truth: Option<String>, info: &InstrumentInfo) -> SourceRecord {
+    match truth {
+        Some(truth) => SourceRecord::Simulated { truth },
+        None => SourceRecord::Device {
+            model: info.model.clone(),
+            serial: info.serial.clone(),
+        },
     }
 }
 
@@ -249,18 +288,24 @@ pub fn measure(
     observer: &mut dyn Observer,
 ) -> Result<MeasureOutcome> {
     let method = settings.method;
+    let truth = match &source {
+        Source::Simulated { truth, .. } => Some(truth.name()),
+        Source::Remote { .. } => None,
+    };
+    let hashes = input_hashes(&source, device);
+    let reached = Reached::reach(source, device, settings)?;
     let mut journal = Journal::open(session)?;
-    if let Source::Simulated { .. } = source {
+    if truth.is_some() {
         journal.set_durability(Durability::Crash)?;
     }
-    let description = source.record();
-    start_session(&journal, settings, &description, device)?;
-    check_inputs(&journal, &input_hashes(&source, device))?;
-    let mut connected = connect(source, device, settings, &journal, &stop, observer)?;
+    let mut connected = connect(reached, device, settings, &journal, &stop, observer)?;
     let info = connected
         .instrument
         .info()
-        .with_context(|| format!("{description}: cannot describe the device"))?;
+        .context("cannot describe the device")?;
+    let description = describe(truth, &info);
+    start_session(&journal, settings, &description, device)?;
+    check_inputs(&journal, &hashes)?;
     let identity = DeviceIdentity {
         server: connected.server.clone(),
         info: info.clone(),
@@ -375,8 +420,10 @@ pub fn measure(
     )?;
     let text = summary.lines().join("\n") + "\n";
     let path = summary_path(out);
-    std::fs::write(&path, text).with_context(|| format!("{}: cannot write", path.display()))?;
+    specula_core::atomic_file::write_bytes(&path, text.as_bytes())
+        .with_context(|| format!("{}: cannot write", path.display()))?;
     journal.log_event("complete", &format!("wrote {}", out.display()))?;
+    journal.close()?;
     Ok(MeasureOutcome::Complete(Box::new(summary)))
 }
 
@@ -423,7 +470,7 @@ fn differences(stored: &MeasureSettings, asked: &MeasureSettings) -> String {
 
 /// Opens the instrument and finds its calibration (the journal's, once there is one).
 fn connect(
-    source: Source,
+    source: Reached,
     device: &Device,
     settings: &MeasureSettings,
     journal: &Journal,
@@ -431,7 +478,7 @@ fn connect(
     observer: &mut dyn Observer,
 ) -> Result<Connected> {
     match source {
-        Source::Simulated { truth, speedup } => {
+        Reached::Simulated { truth, speedup } => {
             let mut config = SimulatorConfig::new(settings.seed, device);
             if settings.point_light {
                 config.disk_points = 1;
@@ -481,14 +528,10 @@ fn connect(
                 server: None,
             })
         }
-        Source::Remote {
-            endpoint,
-            client,
+        Reached::Remote {
+            remote,
             calibration,
         } => {
-            if settings.ideal {
-                bail!("--ideal is for the simulated device (--truth), not {endpoint}");
-            }
             let calibration = *calibration;
             let stored: Calibration = journal.record_or_insert(|| calibration.clone())?;
             if stored != calibration {
@@ -497,17 +540,12 @@ fn connect(
                     journal.path().display()
                 );
             }
-            let client = ClientSettings {
-                ranges: ReplyRanges::for_device(device),
-                ..client
-            };
-            let remote = RemoteInstrument::connect(endpoint.clone(), client)
-                .with_context(|| format!("{endpoint}: cannot reach the device"))?;
+
             let notes = remote.notes();
             let simulated = remote.simulated_clock_s().is_some();
             let server = remote.server_name().map(str::to_string);
             Ok(Connected {
-                instrument: Box::new(remote),
+                instrument: remote,
                 calibration,
                 link_notes: Some(notes),
                 simulated,
@@ -543,31 +581,31 @@ fn run_checks(
     let started = (clock(instrument), std::time::Instant::now());
     observer.step("alignment check: the highlight at 8 turntable rotations");
     instrument.home().context("homing the device")?;
-    let (tilt_deg, tilt_azimuth_deg, alignment) =
-        match check_alignment(instrument, hdr, &AlignmentSettings::default()) {
-            Ok(report) => {
-                journal.put_record(&report)?;
-                let advice = report.adjustment(device.accuracy_deg);
-                (
-                    Some(report.fit.tilt_deg),
-                    Some(report.fit.azimuth_deg),
-                    advice,
-                )
-            }
-            Err(e) => (None, None, format!("not done: {e}")),
-        };
+    let alignment = with_retries(journal, instrument, hdr, "alignment check", |i, h| {
+        check_alignment(i, h, &AlignmentSettings::default())
+    })?;
+    let (tilt_deg, tilt_azimuth_deg, alignment) = match alignment {
+        Ok(report) => {
+            journal.put_record(&report)?;
+            let advice = report.adjustment(device.accuracy_deg);
+            (
+                Some(report.fit.tilt_deg),
+                Some(report.fit.azimuth_deg),
+                advice,
+            )
+        }
+        Err(e) => (None, None, format!("inconclusive: {e}")),
+    };
     observer.step(&format!("alignment: {alignment}"));
     observer.step("orientation check: rings of phi_h for the scratch lobe");
     let orientation_settings = OrientationSettings {
         planned_phi_h_deg: settings.phi_h_deg,
         ..OrientationSettings::default()
     };
-    let (anisotropic, plan_phi_h_deg, orientation) = match check_orientation(
-        instrument,
-        hdr,
-        device,
-        &orientation_settings,
-    ) {
+    let orientation = with_retries(journal, instrument, hdr, "orientation check", |i, h| {
+        check_orientation(i, h, device, &orientation_settings)
+    })?;
+    let (anisotropic, plan_phi_h_deg, orientation) = match orientation {
         Ok(report) => {
             journal.put_record(&report)?;
             if report.planned_is_clean {
@@ -592,7 +630,7 @@ fn run_checks(
                 (Some(true), chosen, message)
             }
         }
-        Err(e) => (None, settings.phi_h_deg, format!("not done: {e}")),
+        Err(e) => (None, settings.phi_h_deg, format!("inconclusive: {e}")),
     };
     observer.step(&format!("orientation: {orientation}"));
     let device_s = match (started.0, clock(instrument)) {
@@ -610,6 +648,40 @@ fn run_checks(
     };
     journal.put_record(&record)?;
     Ok(record)
+}
+
+/// Runs a check with the acquisition's retries: after a fault that another try may cure
+/// ([`is_retryable`]; the axes homed after a motor fault) the check starts again, up to the
+/// engine's [`EngineSettings::max_attempts`] tries, each fault journaled. A check that still
+/// cannot run is an error (the user may skip the checks); one that ran but found nothing
+/// (no highlight, say) comes back as `Ok(Err(..))`, recorded as inconclusive.
+fn with_retries<T>(
+    journal: &Journal,
+    instrument: &mut dyn Instrument,
+    hdr: &mut HdrCapturer,
+    what: &str,
+    mut check: impl FnMut(&mut dyn Instrument, &mut HdrCapturer) -> Result<T, CheckError>,
+) -> Result<Result<T, CheckError>> {
+    let max_attempts = EngineSettings::default().max_attempts;
+    let mut attempts = 0;
+    loop {
+        attempts += 1;
+        let error = match check(instrument, hdr) {
+            Err(CheckError::Instrument(error)) => error,
+            done => return Ok(done),
+        };
+        journal.log_event("fault", &format!("{what} try {attempts}: {error}"))?;
+        if !is_retryable(&error) || attempts >= max_attempts {
+            bail!("{what} could not run: device: {error} (after {attempts} tries); run the same command to try again, or give --skip-checks to measure without the checks");
+        }
+        hdr.forget_light_level();
+        if matches!(error, InstrumentError::MotorFault(_)) {
+            instrument
+                .home()
+                .with_context(|| format!("{what}: homing the device after a motor fault"))?;
+            journal.log_event("recovered", "homed the axes")?;
+        }
+    }
 }
 
 /// The probe's samples (paper 5.2) as a stage plan: square-root theta_h at theta_d = 40,

@@ -5,7 +5,7 @@
 
 use crate::color::{false_colour, UNMEASURED_BLUE};
 use crate::font;
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{anyhow, bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
 use std::path::Path;
@@ -185,10 +185,7 @@ impl Heatmap {
 
     /// Draws the heatmap and writes it as PNG; errors name the file.
     pub fn write_png(&self, path: &Path) -> Result<()> {
-        let image = self.draw()?;
-        image
-            .save(path)
-            .with_context(|| format!("{}: cannot write the PNG", path.display()))
+        crate::linear_image::save_png(&self.draw()?, path)
     }
 }
 

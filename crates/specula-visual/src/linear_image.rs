@@ -74,8 +74,12 @@ impl LinearImage {
     /// Writes a PNG (tone-mapped at `exposure_ev`) or an EXR (linear), by extension.
     pub fn save(&self, path: &Path, exposure_ev: f64) -> Result<()> {
         match ImageFormat::of_path(path)? {
-            ImageFormat::Png => self.to_display(exposure_ev).save(path),
-            ImageFormat::Exr => self.to_rgb32f().save(path),
+            ImageFormat::Png => return save_png(&self.to_display(exposure_ev), path),
+            ImageFormat::Exr => specula_core::atomic_file::write_with(path, |out| {
+                self.to_rgb32f()
+                    .write_to(out, image::ImageFormat::OpenExr)
+                    .map_err(std::io::Error::other)
+            }),
         }
         .with_context(|| format!("{}: cannot write the image", path.display()))
     }
@@ -105,6 +109,17 @@ impl LinearImage {
             pixels,
         })
     }
+}
+
+/// Writes an 8-bit picture as PNG, atomically ([`specula_core::atomic_file`]); errors name
+/// the file.
+pub fn save_png(image: &RgbImage, path: &Path) -> Result<()> {
+    specula_core::atomic_file::write_with(path, |out| {
+        image
+            .write_to(out, image::ImageFormat::Png)
+            .map_err(std::io::Error::other)
+    })
+    .with_context(|| format!("{}: cannot write the PNG", path.display()))
 }
 
 #[cfg(test)]

@@ -206,7 +206,7 @@ impl Report {
 
     /// Writes the page.
     pub fn write(&self, path: &Path) -> Result<()> {
-        std::fs::write(path, self.to_html())
+        specula_core::atomic_file::write_bytes(path, self.to_html().as_bytes())
             .with_context(|| format!("{}: cannot write the report", path.display()))
     }
 

@@ -85,7 +85,7 @@ impl DatabaseArgs {
 /// For each material, each family (power eq. 2, exponential eq. 3, base-k eq. 4) and each
 /// column theta_d = 0..89 deg of the characteristic slice (phi_d = 90 deg): fit k to that
 /// column (90 square-root-spaced theta_h, as `fit-k`), sample every column of the slice at the
-/// --samples positions of that function, interpolate back linearly and take the mean absolute
+/// --theta-h-samples positions of that function, interpolate back linearly and take the mean absolute
 /// error over the slice (1/sr, mean of RGB). MERL files are read in one pass each, only their
 /// slice kept (the bin centres are the theta_h nodes), in parallel.
 ///
@@ -99,22 +99,20 @@ impl DatabaseArgs {
 pub struct Args {
     #[command(flatten)]
     pub database: DatabaseArgs,
-    /// Number of theta_h samples of the sparse measurement.
-    #[arg(long, default_value_t = 30)]
-    pub samples: usize,
+    /// Number of theta_h samples of the sparse measurement. Range: a whole number from 2 to
+    /// 360.
+    #[arg(long, default_value_t = 30, value_parser = crate::range::THETA_H_SAMPLES)]
+    pub theta_h_samples: usize,
     /// Output folder (created if missing).
     #[arg(long)]
     pub out: PathBuf,
 }
 
 pub fn run(args: Args) -> Result<()> {
-    if args.samples < 2 {
-        bail!("--samples must be at least 2, got {}", args.samples);
-    }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("{}: cannot create the folder", args.out.display()))?;
     let analyses = args.database.map("analysing", THETA_H_NODES, |slice| {
-        Ok(analyze_slice(slice, args.samples))
+        Ok(analyze_slice(slice, args.theta_h_samples))
     })?;
     let summary = DatabaseSummary::of(&analyses);
     summary.write_csv(&args.out.join("analysis.csv"))?;
@@ -122,10 +120,15 @@ pub fn run(args: Args) -> Result<()> {
     let Some(best) = summary.best() else {
         bail!("no material had a measured column");
     };
-    heatmap(&summary, analyses.len(), args.samples, best_cell(&best))
-        .write_png(&args.out.join("analysis.png"))?;
+    heatmap(
+        &summary,
+        analyses.len(),
+        args.theta_h_samples,
+        best_cell(&best),
+    )
+    .write_png(&args.out.join("analysis.png"))?;
 
-    println!(
+    outln!(
         "best: {} at theta_d = {} deg: mean error {:.4e} 1/sr, median {:.4e} 1/sr over {} materials",
         best.family,
         best.theta_d_deg,
@@ -137,7 +140,7 @@ pub fn run(args: Args) -> Result<()> {
         .iter()
         .position(|f| *f == Family::Exponential)
         .expect("listed");
-    println!(
+    outln!(
         "paper's pair: exponential at theta_d = {PROBE_THETA_D_DEG} deg: mean error {:.4e} 1/sr, median {:.4e} 1/sr",
         summary.mean[f][PROBE_THETA_D_DEG], summary.median[f][PROBE_THETA_D_DEG]
     );
@@ -151,10 +154,10 @@ pub fn run(args: Args) -> Result<()> {
                 (0, f64::INFINITY),
                 |b, (j, m)| if m < b.1 { (j, m) } else { b },
             );
-        println!("  {family:<12} best column theta_d = {j:>2} deg: mean error {mean:.4e} 1/sr");
+        outln!("  {family:<12} best column theta_d = {j:>2} deg: mean error {mean:.4e} 1/sr");
     }
-    println!("  (base-k is the exponential family with k_base = e^k_exp: their errors agree to rounding)");
-    println!(
+    outln!("  (base-k is the exponential family with k_base = e^k_exp: their errors agree to rounding)");
+    outln!(
         "wrote analysis.csv, materials.csv and analysis.png to {}",
         args.out.display()
     );

@@ -2,7 +2,7 @@
 //! simulated device, stored for later runs.
 
 use super::check::{load_device, load_truth};
-use anyhow::{bail, Result};
+use anyhow::Result;
 use specula_acquisition::calibration::{calibrate, mount_in_simulator, CalibrationOptions};
 use specula_acquisition::checks::{free_positions, measure_at};
 use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
@@ -29,21 +29,19 @@ pub struct Args {
     /// Where to write the calibration (TOML).
     #[arg(long)]
     pub out: PathBuf,
-    /// Reflectance of the white reference (0.99 for a Spectralon tile).
-    #[arg(long, default_value_t = 0.99)]
+    /// Reflectance of the white reference (0.99 for a Spectralon tile). Range: a fraction
+    /// above 0 and at most 1.
+    #[arg(long, default_value_t = 0.99, value_parser = crate::range::REFLECTANCE)]
     pub white_reflectance: f64,
     /// Seed of the simulated device: its positioning errors and its noise.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Device description TOML (default: the paper's UTIA gonioreflectometer).
-    #[arg(long)]
+    #[arg(long, alias = "device-model")]
     pub device: Option<PathBuf>,
 }
 
 pub fn run(args: Args) -> Result<()> {
-    if !(args.white_reflectance > 0.0 && args.white_reflectance <= 1.0) {
-        bail!("--white-reflectance must be in (0, 1]");
-    }
     let truth = load_truth(&args.truth, None)?;
     let device = load_device(args.device.as_deref())?;
     let config = SimulatorConfig::new(args.seed, &device);
@@ -60,33 +58,35 @@ pub fn run(args: Args) -> Result<()> {
     cal.save(&args.out)?;
 
     let n = &cal.noise;
-    println!(
+    outln!(
         "noise model: black {:.2} DN, dark current {:.3} DN/s, read noise {:.3} DN, gain {:.4} DN/e-",
         n.black_level_dn, n.dark_current_dn_s, n.read_noise_dn, n.gain_dn_per_e
     );
     let g = cal.gain_dn_s_per_sr;
-    println!(
+    outln!(
         "gain to 1/sr: R {:.5e}  G {:.5e}  B {:.5e} DN/s per 1/sr",
-        g[0], g[1], g[2]
+        g[0],
+        g[1],
+        g[2]
     );
-    println!("colour matrix (camera to linear sRGB):");
+    outln!("colour matrix (camera to linear sRGB):");
     for row in cal.colour_matrix {
-        println!("  {:+.4} {:+.4} {:+.4}", row[0], row[1], row[2]);
+        outln!("  {:+.4} {:+.4} {:+.4}", row[0], row[1], row[2]);
     }
-    println!(
+    outln!(
         "ColorChecker fit: {:.4} RMS (linear sRGB reflectance)",
         cal.colour_rms_error
     );
-    println!("written: {}", args.out.display());
+    outln!("written: {}", args.out.display());
 
     // The truth back on the turntable: calibrated values against the truth.
     sim.mount(sample);
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&sim.info()?), cal.noise);
-    println!(
+    outln!(
         "check on {} (theta_d 30, phi_d 90, phi_h 45 deg):",
         args.truth
     );
-    println!("theta_h_deg,measured_r,measured_g,measured_b,truth_r,truth_g,truth_b,ratio_g");
+    outln!("theta_h_deg,measured_r,measured_g,measured_b,truth_r,truth_g,truth_b,ratio_g");
     for theta_h in [0.0, 1.0, 3.0, 10.0, 30.0, 60.0] {
         let hd = HalfDiff::from_degrees(theta_h, 45.0, 30.0, 90.0);
         let (wi, wo) = hd.to_directions();
@@ -98,7 +98,7 @@ pub fn run(args: Args) -> Result<()> {
         let Some(expected) = truth.eval(wi, wo) else {
             continue;
         };
-        println!(
+        outln!(
             "{theta_h},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4}",
             measured.x,
             measured.y,
@@ -109,7 +109,7 @@ pub fn run(args: Args) -> Result<()> {
             measured.y / expected.y
         );
     }
-    println!(
+    outln!(
         "(near the highlight the light's {:.1} deg disk blurs a sharp lobe: ratios below 1 there \
          are the source's size, not the calibration)",
         (device.light.beam.end_radius_m / device.light.distance_m)

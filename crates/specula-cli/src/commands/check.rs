@@ -1,5 +1,7 @@
 //! `specula check`: the paper's practical checks (4.2, 4.3) on the simulated device.
 
+use super::grid_args::PAPER_PHI_H_DEG;
+use crate::range;
 use anyhow::{bail, Context, Result};
 use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
 use specula_acquisition::checks::flare::{
@@ -48,24 +50,28 @@ pub struct Simulated {
     /// a model:name fit.
     #[arg(long)]
     pub truth: String,
-    /// Tilt of the sample's normal from the turntable axis, degrees (misalignment).
-    #[arg(long, default_value_t = 0.0)]
+    /// Tilt of the sample's normal from the turntable axis, degrees (misalignment). Range:
+    /// degrees from 0 to 10.
+    #[arg(long = "tilt", alias = "tilt-deg", default_value_t = 0.0, value_parser = range::TILT_DEG)]
     pub tilt_deg: f64,
-    /// Azimuth towards which the normal leans, degrees (turntable frame).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    /// Azimuth towards which the normal leans, degrees (turntable frame). Range: degrees
+    /// from -360 to 360.
+    #[arg(long = "tilt-azimuth", alias = "tilt-azimuth-deg", default_value_t = 0.0, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub tilt_azimuth_deg: f64,
-    /// Add polishing scratches along this direction, degrees from the sample's x axis (the
-    /// silver-925-scratched lobe: 3 % of the surface, GGX alpha 0.005 along, 0.15 across).
-    /// Needs a preset or a material .toml as --truth; a material that has a lobe keeps its
-    /// weight and roughness and takes this orientation.
-    #[arg(long, allow_negative_numbers = true)]
+    /// Add polishing scratches along this direction, degrees from the sample's x axis.
+    /// Range: degrees from -360 to 360.
+    ///
+    /// The lobe is silver-925-scratched's: 3 % of the surface, GGX alpha 0.005 along, 0.15
+    /// across. Needs a preset or a material .toml as --truth; a material that has a lobe
+    /// keeps its weight and roughness and takes this orientation.
+    #[arg(long = "scratch-orientation", alias = "scratch-orientation-deg", allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub scratch_orientation_deg: Option<f64>,
     /// Seed of the simulated device: its positioning errors and its noise.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Device description TOML (default: the paper's UTIA gonioreflectometer; see
     /// `specula plan --print-device`).
-    #[arg(long)]
+    #[arg(long, alias = "device-model")]
     pub device: Option<PathBuf>,
 }
 
@@ -73,11 +79,12 @@ pub struct Simulated {
 pub struct AlignmentArgs {
     #[command(flatten)]
     pub simulated: Simulated,
-    /// Elevation of the light, degrees; the camera scans around the same angle.
-    #[arg(long, default_value_t = 30.0)]
+    /// Elevation of the light, degrees; the camera scans around the same angle. Range:
+    /// degrees from 5 to 75.
+    #[arg(long = "light-elevation", alias = "light-elevation-deg", default_value_t = 30.0, value_parser = range::LIGHT_ELEVATION_DEG)]
     pub light_elevation_deg: f64,
-    /// Turntable rotations, evenly over a turn (3 or more).
-    #[arg(long, default_value_t = 8)]
+    /// Turntable rotations, evenly over a turn. Range: a whole number from 3 to 72.
+    #[arg(long, default_value_t = 8, value_parser = range::ROTATIONS)]
     pub rotations: usize,
 }
 
@@ -85,11 +92,11 @@ pub struct AlignmentArgs {
 pub struct OrientationArgs {
     #[command(flatten)]
     pub simulated: Simulated,
-    /// The phi_h the plan uses, degrees (45 in the paper).
-    #[arg(long, default_value_t = 45.0)]
+    /// The phi_h the plan uses, degrees (45 in the paper). Range: degrees from -360 to 360.
+    #[arg(long = "phi-h", alias = "phi-h-deg", default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h_deg: f64,
-    /// Step of the phi_h scan over [0, 180), degrees.
-    #[arg(long, default_value_t = 3.0)]
+    /// Step of the phi_h scan over [0, 180), degrees. Range: degrees above 0 and at most 45.
+    #[arg(long = "phi-h-step", alias = "phi-h-step-deg", default_value_t = 3.0, value_parser = range::PHI_H_STEP_DEG)]
     pub phi_h_step_deg: f64,
 }
 
@@ -97,8 +104,9 @@ pub struct OrientationArgs {
 pub struct FlareArgs {
     #[command(flatten)]
     pub simulated: Simulated,
-    /// Radiance factor of the simulated ghost at full light, 1/sr (0 = no flare).
-    #[arg(long, default_value_t = 0.05)]
+    /// Radiance factor of the simulated ghost at full light, 1/sr (0 = no flare). Range:
+    /// 1/sr from 0 to 10.
+    #[arg(long = "flare-strength", alias = "flare-strength-sr", default_value_t = 0.05, value_parser = range::FLARE_STRENGTH_SR)]
     pub flare_strength_sr: f64,
 }
 
@@ -110,9 +118,6 @@ pub(crate) fn load_truth(
     let Some(orientation) = scratch_orientation_deg else {
         return specula_formats::load_brdf(spec);
     };
-    if !orientation.is_finite() {
-        bail!("--scratch-orientation-deg must be a number of degrees");
-    }
     let material = if spec.ends_with(".toml") && Path::new(spec).is_file() {
         Material::from_toml_file(spec)
             .with_context(|| format!("{spec}: cannot read the material"))?
@@ -120,7 +125,7 @@ pub(crate) fn load_truth(
         material
     } else {
         bail!(
-            "{spec}: --scratch-orientation-deg needs an analytic material as --truth (a preset \
+            "{spec}: --scratch-orientation needs an analytic material as --truth (a preset \
              name or a material .toml)"
         );
     };
@@ -147,9 +152,6 @@ pub(crate) fn load_device(path: Option<&Path>) -> Result<Device> {
 
 impl Simulated {
     fn build(&self, flare: Option<LensFlare>) -> Result<(Simulator, HdrCapturer)> {
-        if !(self.tilt_deg.is_finite() && self.tilt_azimuth_deg.is_finite()) {
-            bail!("--tilt-deg and --tilt-azimuth-deg must be numbers of degrees");
-        }
         let truth = load_truth(&self.truth, self.scratch_orientation_deg)?;
         let device = load_device(self.device.as_deref())?;
         let mut config = SimulatorConfig::new(self.seed, &device);
@@ -173,7 +175,7 @@ pub fn run(args: Args) -> Result<()> {
 
 fn print_effort(sim: &Simulator, hdr: &HdrCapturer) {
     let stats = &hdr.stats;
-    println!(
+    outln!(
         "effort: {} HDR measurements, {} captures ({:.2} per measurement, {:.0} % in one or two), \
          {:.1} min of simulated device time",
         stats.samples,
@@ -185,9 +187,6 @@ fn print_effort(sim: &Simulator, hdr: &HdrCapturer) {
 }
 
 fn alignment(args: AlignmentArgs) -> Result<()> {
-    if args.rotations < 3 {
-        bail!("--rotations must be 3 or more");
-    }
     let (mut sim, mut hdr) = args.simulated.build(None)?;
     let settings = AlignmentSettings {
         light_elevation_deg: args.light_elevation_deg,
@@ -197,24 +196,29 @@ fn alignment(args: AlignmentArgs) -> Result<()> {
     let spinner = crate::progress::spinner("alignment");
     let report = check_alignment(&mut sim, &mut hdr, &settings)?;
     spinner.finish_and_clear();
-    println!("turntable_deg,highlight_camera_deg,fwhm_deg");
+    outln!("turntable_deg,highlight_camera_deg,fwhm_deg");
     for peak in &report.peaks {
-        println!(
+        outln!(
             "{:.1},{:.4},{:.3}",
-            peak.turntable_deg, peak.camera_deg, peak.width_deg
+            peak.turntable_deg,
+            peak.camera_deg,
+            peak.width_deg
         );
     }
     let fit = &report.fit;
-    println!(
+    outln!(
         "tilt: {:.3} deg towards azimuth {:.1} deg (fit residual {:.3} deg RMS)",
-        fit.tilt_deg, fit.azimuth_deg, fit.residual_rms_deg
+        fit.tilt_deg,
+        fit.azimuth_deg,
+        fit.residual_rms_deg
     );
     let truth = &args.simulated;
-    println!(
+    outln!(
         "simulated truth: {:.3} deg towards azimuth {:.1} deg",
-        truth.tilt_deg, truth.tilt_azimuth_deg
+        truth.tilt_deg,
+        truth.tilt_azimuth_deg
     );
-    println!(
+    outln!(
         "adjustment: {}",
         report.adjustment(sim.device().accuracy_deg)
     );
@@ -223,9 +227,6 @@ fn alignment(args: AlignmentArgs) -> Result<()> {
 }
 
 fn orientation(args: OrientationArgs) -> Result<()> {
-    if !(args.phi_h_step_deg > 0.0 && args.phi_h_step_deg <= 45.0) {
-        bail!("--phi-h-step-deg must be in (0, 45]");
-    }
     let (mut sim, mut hdr) = args.simulated.build(None)?;
     let settings = OrientationSettings {
         phi_h_step_deg: args.phi_h_step_deg,
@@ -236,34 +237,34 @@ fn orientation(args: OrientationArgs) -> Result<()> {
     let spinner = crate::progress::spinner("orientation");
     let report = check_orientation(&mut sim, &mut hdr, &device, &settings)?;
     spinner.finish_and_clear();
-    println!("phi_h_deg,excess,contaminated");
+    outln!("phi_h_deg,excess,contaminated");
     for ((phi, excess), bad) in report
         .phi_h_deg
         .iter()
         .zip(&report.excess)
         .zip(&report.contaminated)
     {
-        println!("{phi:.1},{excess:.4},{bad}");
+        outln!("{phi:.1},{excess:.4},{bad}");
     }
-    println!(
+    outln!(
         "threshold: excess above {:.3} counts as the scratch lobe",
         report.threshold
     );
     if report.anisotropic {
-        println!(
+        outln!(
             "anisotropic: yes; recommended phi_h = {:.1} deg (the middle of the longest clean arc)",
             report.recommended_phi_h_deg
         );
     } else {
-        println!(
+        outln!(
             "anisotropic: no lobe found; keep phi_h = {:.1} deg",
             report.planned_phi_h_deg
         );
     }
     if report.planned_is_clean {
-        println!("planned phi_h = {:.1} deg: clean", report.planned_phi_h_deg);
+        outln!("planned phi_h = {:.1} deg: clean", report.planned_phi_h_deg);
     } else {
-        println!(
+        outln!(
             "planned phi_h = {:.1} deg: CONTAMINATED; turn the sample by {:+.1} deg on its holder \
              (or plan at phi_h = {:.1} deg)",
             report.planned_phi_h_deg,
@@ -276,9 +277,6 @@ fn orientation(args: OrientationArgs) -> Result<()> {
 }
 
 fn flare(args: FlareArgs) -> Result<()> {
-    if !(args.flare_strength_sr.is_finite() && args.flare_strength_sr >= 0.0) {
-        bail!("--flare-strength-sr must be zero or positive");
-    }
     let flare = (args.flare_strength_sr > 0.0).then(|| LensFlare {
         strength_sr: args.flare_strength_sr,
         ..LensFlare::default()
@@ -296,13 +294,13 @@ fn flare(args: FlareArgs) -> Result<()> {
         &FlareSettings::default(),
     )?;
     spinner.finish_and_clear();
-    println!("samples: {} reachable of {}", report.samples, samples.len());
-    println!("clean at the first position: {}", report.clean_first);
-    println!(
+    outln!("samples: {} reachable of {}", report.samples, samples.len());
+    outln!("clean at the first position: {}", report.clean_first);
+    outln!(
         "flagged, retaken at another arm position: {}",
         report.retaken
     );
-    println!("flagged everywhere, excluded: {}", report.excluded);
+    outln!("flagged everywhere, excluded: {}", report.excluded);
     let worst_retake = outcomes
         .iter()
         .flatten()
@@ -312,11 +310,12 @@ fn flare(args: FlareArgs) -> Result<()> {
         })
         .max()
         .unwrap_or(0);
-    println!("most retakes for one sample: {worst_retake}");
-    println!(
+    outln!("most retakes for one sample: {worst_retake}");
+    outln!(
         "simulated truth: a ghost in the region at {} of the {} free arm \
          positions (harmless where the sample outshines it)",
-        truth.ghosted, truth.positions
+        truth.ghosted,
+        truth.positions
     );
     print_effort(&sim, &hdr);
     Ok(())

@@ -5,7 +5,7 @@ use specula_core::compare::compare;
 use specula_core::tabulate::tabulate;
 
 /// Compare BRDF A against the reference B over the MERL grid (both are tabulated at the
-/// bin centres first; MERL files are used as they are).
+/// bin centres first, at phi_h = 45 deg as `tabulate`; MERL files are used as they are).
 ///
 /// Figures, over the cells measured in both (averaged over R, G, B):
 ///
@@ -27,19 +27,24 @@ pub struct Args {
     /// The reference BRDF.
     pub b: String,
     /// Largest elevation (degrees from the normal) of light and camera for the second set.
-    #[arg(long, default_value_t = 75.0)]
+    /// Range: degrees above 0 and at most 90.
+    #[arg(long, default_value_t = 75.0, value_parser = crate::range::ELEVATION_DEG)]
     pub max_elevation: f64,
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let a = tabulate(specula_formats::load_brdf(&args.a)?.as_ref(), 0.0);
-    let b = tabulate(specula_formats::load_brdf(&args.b)?.as_ref(), 0.0);
-    println!("set,cells,relative_rmse,log_rmse,slice_mae");
+    let phi_h_rad = super::grid_args::PAPER_PHI_H_DEG.to_radians();
+    let a = tabulate(specula_formats::load_brdf(&args.a)?.as_ref(), phi_h_rad);
+    let b = tabulate(specula_formats::load_brdf(&args.b)?.as_ref(), phi_h_rad);
+    outln!("set,cells,relative_rmse,log_rmse,slice_mae");
     for (label, limit) in [("all", 90.0), ("within", args.max_elevation)] {
         let e = compare(&a, &b, limit);
-        println!(
+        outln!(
             "{label},{},{:.6},{:.6},{:.6e}",
-            e.cells, e.relative_rmse, e.log_rmse, e.slice_mae
+            e.cells,
+            e.relative_rmse,
+            e.log_rmse,
+            e.slice_mae
         );
     }
     Ok(())

@@ -1,6 +1,7 @@
 //! `specula convert`: a BRDF from one measured format into another.
 
-use crate::progress;
+use super::grid_args::PAPER_PHI_H_DEG;
+use crate::{progress, range};
 use anyhow::Result;
 use specula_formats::convert::{convert, ConvertOptions, CsvGrid};
 use specula_formats::rgl::write::{ELEVATIONS_RANGE, NDF_SIZE_RANGE, SAMPLE_SIZE_RANGE};
@@ -39,9 +40,11 @@ pub struct Args {
     /// The file to write; .binary (MERL), .bin (UTIA), .bsdf (RGL) or .csv (samples).
     pub output: PathBuf,
     /// Azimuth of the half vector (degrees) at which MERL cells and MERL-grid samples are
-    /// taken. Matters only for anisotropic sources (UTIA files); 45 is the paper's choice
-    /// (section 4.3), away from the scratch directions.
-    #[arg(long, default_value_t = 45.0)]
+    /// taken. Range: degrees from -360 to 360.
+    ///
+    /// Matters only for anisotropic sources (UTIA files); 45 is the paper's choice (section
+    /// 4.3), away from the scratch directions.
+    #[arg(long = "phi-h", alias = "phi-h-deg", default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h_deg: f64,
     /// Where to sample a continuous source (RGL file, fit, preset) written as CSV: `merl`,
     /// the 1,458,000 MERL bin centres, or `utia`, the 82,944 UTIA nodes.
@@ -93,7 +96,7 @@ pub fn run(args: Args) -> Result<()> {
     } else {
         String::new()
     };
-    println!(
+    outln!(
         "{}: {} ({}), {} measured{holes}",
         args.output.display(),
         done.target.label(),

@@ -26,25 +26,31 @@ const MATERIALS: [&str; 2] = ["silver-925", "green-paint"];
 /// duration, the error against the truth and every picture) and each of its pictures as a
 /// PNG: render_sphere.png and render_speedshape.png (the measured and the true material in a
 /// studio, with their difference, Fig. 16), characteristic_slice.png and
-/// characteristic_slice_of_the_truth.png (Fig. 11), probe_against_the_adaptive_samples.png
+/// characteristic_slice_of_the_truth.png and characteristic_slice_of_the_difference.png (Fig.
+/// 11, on one colour scale), probe_against_the_adaptive_samples.png
 /// (Fig. 13) and raw_samples.png (the measured samples per phi_d, Fig. 15).
 ///
 /// A rerun resumes the sessions (and is quick once they are complete); Ctrl-C stops after
-/// the sample in progress.
+/// the sample in progress. Another --seed is another measurement: it goes to OUT/seed-N/.
 #[derive(clap::Args)]
 pub struct Args {
     /// Folder for the outputs.
     #[arg(long, default_value = "demo-out")]
     pub out: PathBuf,
-    /// Seed of the simulated device.
+    /// Seed of the simulated device (seeds other than 1 write to OUT/seed-N/).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
 
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("{}: cannot create the folder", args.out.display()))?;
+    let out = if args.seed == 1 {
+        args.out.clone()
+    } else {
+        args.out.join(format!("seed-{}", args.seed))
+    };
+    std::fs::create_dir_all(&out)
+        .with_context(|| format!("{}: cannot create the folder", out.display()))?;
     let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
     let settings = MeasureSettings {
         seed: args.seed,
@@ -52,7 +58,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let mut written = Vec::new();
     for name in MATERIALS {
-        let dir = args.out.join(name);
+        let dir = out.join(name);
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
         let truth = specula_formats::source::load_brdf(name)?;
@@ -81,7 +87,7 @@ pub fn run(args: Args) -> Result<()> {
                 done,
                 planned,
             } => {
-                println!("stopped in {name}'s {stage} stage ({done} of {planned}); run `specula demo` again to resume");
+                outln!("stopped in {name}'s {stage} stage ({done} of {planned}); run `specula demo` again to resume");
                 return Ok(());
             }
         };
@@ -92,7 +98,7 @@ pub fn run(args: Args) -> Result<()> {
                 .find(|l| l.starts_with(key))
                 .unwrap_or_default()
         };
-        println!(
+        outln!(
             "{name}: {}, {}, {}, {}",
             pick("k_hat="),
             pick("measured_samples="),
@@ -103,15 +109,15 @@ pub fn run(args: Args) -> Result<()> {
         files.extend(pictures(&dir, name, &table, &session)?);
         written.push((name, files));
     }
-    println!(
+    outln!(
         "\ndemo finished in {:.0} s; everything is in {}:",
         started.elapsed().as_secs_f64(),
-        args.out.display()
+        out.display()
     );
     for (name, files) in written {
-        println!("{name}:");
+        outln!("{name}:");
         for file in files {
-            println!("  {}", file.display());
+            outln!("  {}", file.display());
         }
     }
     Ok(())
@@ -141,13 +147,15 @@ fn pictures(dir: &Path, name: &str, table: &Path, session: &Path) -> Result<Vec<
                 .iter()
                 .any(|key| r[0].starts_with(key))
         }) {
-            println!("{name} {}: {}", row[0], row[1..].join(" / "));
+            outln!("{name} {}: {}", row[0], row[1..].join(" / "));
         }
     }
     for row in report.errors.iter().flat_map(|e| &e.rows) {
-        println!(
+        outln!(
             "{name} against its truth, {}: relative RMSE {:.4}, log RMSE {:.4}",
-            row.set, row.relative_rmse, row.log_rmse
+            row.set,
+            row.relative_rmse,
+            row.log_rmse
         );
     }
     Ok(files)

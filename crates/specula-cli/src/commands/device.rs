@@ -24,7 +24,7 @@ pub struct Args {
 #[derive(clap::Subcommand)]
 pub enum DeviceCommand {
     /// Serve the simulated device over the driver protocol, so that `specula measure
-    /// --device tcp://HOST:PORT` (or a client of your own) can drive it. One client at a
+    /// --connect tcp://HOST:PORT` (or a client of your own) can drive it. One client at a
     /// time; runs until stopped with Ctrl-C.
     Serve(ServeArgs),
 }
@@ -41,7 +41,7 @@ pub struct ServeArgs {
     /// A shared secret every client must send in `hello`.
     #[command(flatten)]
     pub token: TokenArgs,
-    /// Serve one client on stdin and stdout instead of TCP (for --device exec:...).
+    /// Serve one client on stdin and stdout instead of TCP (for --connect exec:...).
     #[arg(long, conflicts_with = "listen")]
     pub stdio: bool,
     /// Seed of the simulated device: its positioning errors and its noise.
@@ -50,18 +50,20 @@ pub struct ServeArgs {
     /// Noise-free camera and exact positioning.
     #[arg(long)]
     pub ideal: bool,
-    /// Device model (TOML); default: the paper's UTIA gonioreflectometer.
-    #[arg(long)]
-    pub device_model: Option<PathBuf>,
+    /// Device description (TOML; see `specula plan --print-device`); default: the paper's
+    /// UTIA gonioreflectometer.
+    #[arg(long, alias = "device-model")]
+    pub device: Option<PathBuf>,
     /// Misbehave on purpose, to rehearse faults: comma-separated drop@N, slow@N=SECONDS,
     /// corrupt@N, motor@N, N counting requests from 1 over the server's life.
     #[arg(long, default_value = "")]
     pub inject_faults: String,
     /// Disconnect the controlling client when a request line does not arrive whole within
-    /// this many seconds of the previous reply (0 < SECONDS <= 86400). Newcomers have 10 s
-    /// to authenticate; another client's hello waits up to 10 s for the controlling one to
-    /// leave, then is answered `busy`; a reply not written within 30 s ends the connection.
-    #[arg(long, default_value_t = 600.0)]
+    /// this many seconds of the previous reply. Range: seconds above 0 and at most 86400.
+    /// Newcomers have 10 s to authenticate; another client's hello waits up to 10 s for the
+    /// controlling one to leave, then is answered `busy`; a reply not written within 30 s
+    /// ends the connection.
+    #[arg(long, default_value_t = 600.0, value_parser = crate::range::TIMEOUT_S)]
     pub idle_timeout: f64,
 }
 
@@ -79,11 +81,8 @@ fn serve(args: ServeArgs) -> Result<()> {
             args.listen
         );
     }
-    if !(args.idle_timeout.is_finite() && args.idle_timeout > 0.0 && args.idle_timeout <= 86400.0) {
-        bail!("--idle-timeout must be a number of seconds in (0, 86400]");
-    }
     let faults: FaultSchedule = args.inject_faults.parse().map_err(anyhow::Error::msg)?;
-    let device = match &args.device_model {
+    let device = match &args.device {
         Some(path) => Device::load(path)?,
         None => Device::utia(),
     };
@@ -112,7 +111,7 @@ fn serve(args: ServeArgs) -> Result<()> {
         .with_faults(faults);
     if args.stdio {
         let end = server.serve_connection(std::io::stdin().lock(), std::io::stdout().lock());
-        eprintln!("specula device serve: {end:?}");
+        eprintln!("specula device serve: {end}");
         return Ok(());
     }
     let listener = TcpListener::bind(args.listen)

@@ -8,8 +8,7 @@ use specula_core::materials::builtin_database;
 use specula_core::sampling::SamplingFunction;
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
-use specula_formats::fits::{load_fits, FitModel};
-use specula_formats::input::measured_file;
+use specula_formats::fits::{load_model, FitModel};
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_formats::samples_csv::{Sample as SampleRow, SampleSet};
 use specula_reconstruct::accuracy::{
@@ -57,7 +56,8 @@ pub struct Args {
     #[arg(long, default_value = "lobe")]
     pub method: Method,
     /// k of the theta_h sampling function; default: k-hat fitted to each material's probe.
-    #[arg(long)]
+    /// Range: a number above 0 and at most 100.
+    #[arg(long, value_parser = crate::range::SAMPLING_K)]
     pub k: Option<f64>,
     /// How theta_h positions are placed: `function` (the sampling function, paper 5.2) or
     /// `probe` (the least-error placement on the material's probe).
@@ -70,8 +70,8 @@ pub struct Args {
     #[arg(long)]
     pub device: Option<PathBuf>,
     /// Largest elevation (degrees from the normal) of light and camera for the "within"
-    /// figures.
-    #[arg(long, default_value_t = 75.0)]
+    /// figures. Range: degrees above 0 and at most 90.
+    #[arg(long, default_value_t = 75.0, value_parser = crate::range::ELEVATION_DEG)]
     pub max_elevation: f64,
     /// Also write the simulated samples (CSV, the input of `specula reconstruct`); one
     /// --truth only.
@@ -96,7 +96,7 @@ impl MerlFits {
                 } else {
                     FitModel::Abc
                 };
-                load_fits(&measured_file(model.table())?)
+                load_model(model)
             }
             MerlFits::Nbrdf => NbrdfSet::Merl100
                 .names()?
@@ -154,9 +154,6 @@ pub fn run(args: Args) -> Result<()> {
 
 fn check_args(args: &Args) -> Result<()> {
     args.grid.check()?;
-    if !(args.max_elevation > 0.0 && args.max_elevation <= 90.0) {
-        bail!("--max-elevation must be in (0, 90] degrees");
-    }
     if let Some(k) = args.k {
         SamplingFunction::new(args.grid.family, k)?;
     }
@@ -211,7 +208,7 @@ fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
 }
 
 fn print_rows(args: &Args, rows: &[Row]) {
-    println!(
+    outln!(
         "# method {}, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, phi_h {} deg; within = light and camera <= {} deg",
         args.method,
         args.grid.theta_h_samples,
@@ -224,7 +221,7 @@ fn print_rows(args: &Args, rows: &[Row]) {
         args.grid.phi_h,
         args.max_elevation
     );
-    println!("material,k,measured,rel_rmse_within,log_rmse_within,slice_mae_within,rel_rmse_all,log_rmse_all,slice_mae_all");
+    outln!("material,k,measured,rel_rmse_within,log_rmse_within,slice_mae_within,rel_rmse_all,log_rmse_all,slice_mae_all");
     for row in rows {
         let k = row.k.map_or(String::new(), |k| format!("{k:.3}"));
         print_figures(&row.name, &k, row.measured as f64, &row.accuracy);
@@ -246,7 +243,7 @@ fn print_rows(args: &Args, rows: &[Row]) {
 }
 
 fn print_figures(name: &str, k: &str, measured: f64, a: &Accuracy) {
-    println!(
+    outln!(
         "{name},{k},{measured:.0},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e}",
         a.within.relative_rmse,
         a.within.log_rmse,

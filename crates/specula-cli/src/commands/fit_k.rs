@@ -1,7 +1,8 @@
 //! `specula fit-k`: k-hat of a theta_h sampling function fitted to a probe (paper 5.2).
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use specula_core::sampling::Family;
+use specula_formats::convert::FileFormat;
 use specula_sampling::fit::fit_k;
 use specula_sampling::probe::Probe;
 use std::path::PathBuf;
@@ -9,7 +10,7 @@ use std::path::PathBuf;
 /// Fit k of a theta_h sampling function to a probe (paper 5.2), and print k-hat and the fit
 /// error as the first line: `k=<value> error=<value>`.
 ///
-/// The error of a candidate k: take the --samples positions of the function, give each the
+/// The error of a candidate k: take the --theta-h-samples positions of the function, give each the
 /// probe's value there (linear interpolation in theta_h), interpolate those back linearly at
 /// the probe's positions and average the absolute difference from the probe, on the mean of
 /// R, G and B (1/sr). k-hat minimises it: a coarse scan of log k, a fine scan around its
@@ -17,7 +18,7 @@ use std::path::PathBuf;
 /// minima; see the README). The second line repeats the family and counts; the third lists
 /// the theta_h positions of k-hat in degrees, ready for `specula plan --theta-h-list`.
 ///
-/// Example: specula fit-k silver.csv --family exponential --samples 30
+/// Example: specula fit-k silver.csv --family exponential --theta-h-samples 30
 #[derive(clap::Args)]
 pub struct Args {
     /// The probe: a CSV file with the header theta_h,r,g,b (from `specula probe` or a device).
@@ -26,28 +27,43 @@ pub struct Args {
     /// k = 2 is MERL's square root) or base (eq. 4).
     #[arg(long, default_value = "exponential")]
     pub family: Family,
-    /// Number of theta_h samples the measurement will take.
-    #[arg(long, default_value_t = 30)]
-    pub samples: usize,
+    /// Number of theta_h samples the measurement will take. Range: a whole number from 2 to
+    /// 360.
+    #[arg(long, default_value_t = 30, value_parser = crate::range::THETA_H_SAMPLES)]
+    pub theta_h_samples: usize,
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if let Some(format) = FileFormat::detect(&args.probe)? {
+        if format != FileFormat::SamplesCsv {
+            bail!(
+                "{}: fit-k wants a probe CSV (header theta_h,r,g,b, from `specula probe`), not a {} file; `specula probe {}` takes the probe of a BRDF",
+                args.probe.display(),
+                format.label(),
+                args.probe.display()
+            );
+        }
+    }
     let probe = Probe::read_csv(&args.probe)?;
-    let fit = fit_k(&probe.column(), args.family, args.samples)?;
-    println!("k={} error={:e}", fit.function.k, fit.error);
-    println!(
+    let fit = fit_k(&probe.column(), args.family, args.theta_h_samples)?;
+    outln!(
+        "k={} error={}",
+        crate::output::plain(fit.function.k),
+        crate::output::plain(fit.error)
+    );
+    outln!(
         "family={} samples={} probe_samples={} evaluations={}",
         args.family,
-        args.samples,
+        args.theta_h_samples,
         probe.len(),
         fit.evaluations
     );
     let positions: Vec<String> = fit
         .function
-        .positions_deg(args.samples)
+        .positions_deg(args.theta_h_samples)
         .iter()
         .map(|x| format!("{x:.6}"))
         .collect();
-    println!("theta_h_deg={}", positions.join(","));
+    outln!("theta_h_deg={}", positions.join(","));
     Ok(())
 }

@@ -2,48 +2,56 @@
 //! function, theta_d and phi_d in even steps, at one phi_h. Shared by `plan`, `measure` and
 //! `evaluate`.
 
+use crate::range;
 use anyhow::{bail, Result};
 use specula_core::sampling::Family;
+
+/// The largest grid a plan may hold (the paper's: 6300 samples).
+pub const MAX_GRID_SAMPLES: usize = 1_000_000;
+
+/// phi_h of the paper (section 4.3): 45 deg, away from the scratch directions. The default
+/// of every command's `--phi-h`.
+pub const PAPER_PHI_H_DEG: f64 = 45.0;
 
 #[derive(clap::Args, Clone, Debug)]
 pub struct GridArgs {
     /// Sampling function family: exponential (paper eq. 3), power (eq. 2) or base (eq. 4).
     #[arg(long, default_value = "exponential")]
     pub family: Family,
-    /// Number of theta_h positions of the sampling function (paper: 30).
-    #[arg(long, default_value_t = 30)]
+    /// Number of theta_h positions of the sampling function (paper: 30). Range: a whole
+    /// number from 2 to 360.
+    #[arg(long, default_value_t = 30, value_parser = range::THETA_H_SAMPLES)]
     pub theta_h_samples: usize,
-    /// Step of theta_d in degrees (0, step, ... below 90).
-    #[arg(long, default_value_t = 3.0)]
+    /// Step of theta_d in degrees (0, step, ... below 90). Range: degrees from 0.5 to 90.
+    #[arg(long, default_value_t = 3.0, value_parser = range::GRID_STEP_DEG)]
     pub theta_d_step: f64,
-    /// Step of phi_d in degrees (0, step, ... up to 90).
-    #[arg(long, default_value_t = 15.0)]
+    /// Step of phi_d in degrees (0, step, ... up to 90). Range: degrees from 0.5 to 90.
+    #[arg(long, default_value_t = 15.0, value_parser = range::GRID_STEP_DEG)]
     pub phi_d_step: f64,
     /// phi_h in degrees: the sample's orientation, chosen to avoid anisotropic scratches
-    /// (paper 4.3). It only turns the turntable; reachability does not depend on it.
-    /// `measure` takes the orientation check's recommendation instead when the check finds
-    /// a scratch lobe here.
-    #[arg(long, default_value_t = 45.0, allow_negative_numbers = true)]
+    /// (paper 4.3). Range: degrees from -360 to 360.
+    ///
+    /// It only turns the turntable; reachability does not depend on it. `measure` takes the
+    /// orientation check's recommendation instead when the check finds a scratch lobe here.
+    #[arg(long, default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
 }
 
 impl GridArgs {
-    /// Rejects what the parser lets through: fewer than 2 theta_h, a step outside
-    /// (0, 90] degrees, a phi_h that is not a number.
+    /// Rejects a grid too large to plan: the ranges of the single options are checked as
+    /// they are parsed ([`crate::range`]); their product is checked here.
     pub fn check(&self) -> Result<()> {
-        if self.theta_h_samples < 2 {
-            bail!("--theta-h-samples must be at least 2");
-        }
-        for (flag, step) in [
-            ("--theta-d-step", self.theta_d_step),
-            ("--phi-d-step", self.phi_d_step),
-        ] {
-            if !(step.is_finite() && step > 0.0 && step <= 90.0) {
-                bail!("{flag} must be a number of degrees in (0, 90], got {step}");
-            }
-        }
-        if !self.phi_h.is_finite() {
-            bail!("--phi-h must be a number of degrees");
+        let theta_d = (90.0 / self.theta_d_step).ceil() as usize;
+        let phi_d = (90.0 / self.phi_d_step).floor() as usize + 1;
+        let samples = self.theta_h_samples * theta_d * phi_d;
+        if samples > MAX_GRID_SAMPLES {
+            bail!(
+                "--theta-h-samples {} x --theta-d-step {} x --phi-d-step {}: a grid of {samples} samples ({} x {theta_d} x {phi_d}); at most {MAX_GRID_SAMPLES}: take fewer theta_h samples or larger steps",
+                self.theta_h_samples,
+                self.theta_d_step,
+                self.phi_d_step,
+                self.theta_h_samples,
+            );
         }
         Ok(())
     }

@@ -1,62 +1,195 @@
-//! `specula info`: what a MERL file holds.
+//! `specula info`: what a BRDF source holds.
 
+use crate::output::plain;
 use anyhow::Result;
 use specula_core::merl::{theta_h_centre_deg, Bin, MerlBrdf, CELLS};
-use std::path::PathBuf;
+use specula_core::tabulate::tabulate;
+use specula_core::Rgb;
+use specula_formats::convert::Loaded;
+use specula_formats::samples_csv::SampleSet;
+use specula_formats::utia::{self, UtiaBrdf};
+use specula_reconstruct::provenance::{sidecar_path, Provenance};
+use std::path::Path;
 
-/// Describe a MERL .binary file: its dimensions, how many cells are measured and missing,
-/// the per-channel minimum, maximum and mean of f_r (1/sr) over the measured cells, and
-/// where the peak (the largest channel mean) lies.
+/// Describe any BRDF source Specula loads: its format, its grid, how many cells (nodes,
+/// samples) hold a measured value, the per-channel minimum, maximum and mean of f_r (1/sr)
+/// over them, and the peak (the largest mean of R, G and B) among them, saying which cells
+/// it was looked for in.
+///
+/// A MERL table written by `specula reconstruct` or `measure` has a provenance sidecar
+/// (OUT.provenance.npy): its peak is the peak among the cells a sample fell in, not among
+/// the interpolated or extrapolated ones. A continuous source (a preset, a material .toml,
+/// a model:name fit, an RGL .bsdf) is evaluated at the MERL bin centres at phi_h = 45 deg.
+///
+/// Example: specula info chrome.binary; specula info sgd:chrome-steel
 #[derive(clap::Args)]
 pub struct Args {
-    /// The MERL .binary file.
-    pub file: PathBuf,
+    /// The BRDF: a MERL .binary, UTIA .bin, RGL .bsdf or samples .csv file, a material
+    /// .toml, a preset name or a model:name fit.
+    pub brdf: String,
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let table = MerlBrdf::read(&args.file)?;
-    let measured = table.measured_count();
-    println!("file: {}", args.file.display());
-    println!("dimensions: 90 x 90 x 180 (theta_h x theta_d x phi_d)");
-    println!("measured: {measured}");
-    println!("missing: {}", CELLS - measured);
-    if measured == 0 {
-        return Ok(());
-    }
-    let mut min = [f64::INFINITY; 3];
-    let mut max = [f64::NEG_INFINITY; 3];
-    let mut sum = [0.0; 3];
-    let mut peak = (f64::NEG_INFINITY, 0);
-    for index in 0..CELLS {
-        let Some(v) = table.cell(index) else { continue };
-        for c in 0..3 {
-            min[c] = min[c].min(v[c]);
-            max[c] = max[c].max(v[c]);
-            sum[c] += v[c];
+    let loaded = Loaded::resolve(&args.brdf)?;
+    outln!("source: {}", args.brdf);
+    match loaded {
+        Loaded::Merl(table) => {
+            outln!("format: MERL .binary");
+            let sidecar = sidecar_path(Path::new(&args.brdf));
+            let provenance = Provenance::beside(Path::new(&args.brdf))?;
+            let origin = match &provenance {
+                Some(_) => format!(
+                    "the cells a sample fell in, per {} (interpolated and extrapolated cells left out)",
+                    sidecar.display()
+                ),
+                None => "the cells the file holds a value for".to_string(),
+            };
+            describe_merl(&table, provenance.as_ref(), &origin);
         }
-        let mean = v.element_sum() / 3.0;
-        if mean > peak.0 {
-            peak = (mean, index);
+        Loaded::Utia(table) => describe_utia(&table),
+        Loaded::Samples(set) => describe_samples(&set),
+        Loaded::Rgl(bsdf) => {
+            outln!("format: RGL .bsdf (a tabulated, interpolated BRDF)");
+            evaluated(&*bsdf);
+        }
+        Loaded::Other(brdf) => {
+            outln!("format: {} (a continuous BRDF)", brdf.name());
+            evaluated(brdf.as_ref());
         }
     }
-    for (c, name) in ["red", "green", "blue"].iter().enumerate() {
-        println!(
-            "{name}: min={:.6e} max={:.6e} mean={:.6e} (1/sr)",
-            min[c],
-            max[c],
-            sum[c] / measured as f64
+    Ok(())
+}
+
+/// A continuous source, evaluated at the MERL bin centres.
+fn evaluated(brdf: &dyn specula_core::Brdf) {
+    let phi_h_rad = super::grid_args::PAPER_PHI_H_DEG.to_radians();
+    let table = tabulate(brdf, phi_h_rad);
+    describe_merl(
+        &table,
+        None,
+        "the MERL bin centres it is evaluated at (phi_h 45 deg)",
+    );
+}
+
+/// Minimum, maximum and mean per channel over `values`, and the index of the peak.
+struct Stats {
+    count: usize,
+    min: Rgb,
+    max: Rgb,
+    sum: Rgb,
+    peak: Option<(f64, usize)>,
+}
+
+impl Stats {
+    fn of(values: impl Iterator<Item = (usize, Rgb)>) -> Self {
+        let mut stats = Stats {
+            count: 0,
+            min: Rgb::splat(f64::INFINITY),
+            max: Rgb::splat(f64::NEG_INFINITY),
+            sum: Rgb::ZERO,
+            peak: None,
+        };
+        for (index, v) in values {
+            stats.count += 1;
+            stats.min = stats.min.min(v);
+            stats.max = stats.max.max(v);
+            stats.sum += v;
+            let mean = v.element_sum() / 3.0;
+            if stats.peak.is_none_or(|(best, _)| mean > best) {
+                stats.peak = Some((mean, index));
+            }
+        }
+        stats
+    }
+
+    fn print(&self) {
+        if self.count == 0 {
+            return;
+        }
+        let mean = self.sum / self.count as f64;
+        for (c, name) in ["red", "green", "blue"].iter().enumerate() {
+            outln!(
+                "{name}: min {} max {} mean {} (1/sr)",
+                plain(self.min[c]),
+                plain(self.max[c]),
+                plain(mean[c])
+            );
+        }
+    }
+}
+
+fn describe_merl(table: &MerlBrdf, provenance: Option<&Provenance>, among: &str) {
+    outln!("grid: 90 theta_h x 90 theta_d x 180 phi_d cells (MERL)");
+    let chosen = |index: usize| provenance.is_none_or(|p| p.is_measured(index));
+    let stats = Stats::of(
+        (0..CELLS)
+            .filter(|&i| chosen(i))
+            .filter_map(|i| table.cell(i).map(|v| (i, v))),
+    );
+    outln!("measured: {} of {CELLS} cells", table.measured_count());
+    if let Some(p) = provenance {
+        let (measured, interpolated, extrapolated) = p.counts();
+        outln!("provenance: {measured} cells measured, {interpolated} interpolated, {extrapolated} extrapolated");
+    }
+    stats.print();
+    if let Some((value, index)) = stats.peak {
+        let bin = Bin::from_index(index);
+        outln!(
+            "peak: {} 1/sr (mean of R, G, B) at theta_h {} deg, theta_d {} deg, phi_d {} deg (bin {}, {}, {}), among {among}",
+            plain(value),
+            plain(theta_h_centre_deg(bin.theta_h_i)),
+            bin.theta_d_i as f64 + 0.5,
+            bin.phi_d_i as f64 + 0.5,
+            bin.theta_h_i,
+            bin.theta_d_i,
+            bin.phi_d_i
         );
     }
-    let bin = Bin::from_index(peak.1);
-    println!(
-        "peak: {:.6e} 1/sr (channel mean) at theta_h={:.4} theta_d={:.1} phi_d={:.1} deg (bin {}, {}, {})",
-        peak.0,
-        theta_h_centre_deg(bin.theta_h_i),
-        bin.theta_d_i as f64 + 0.5,
-        bin.phi_d_i as f64 + 0.5,
-        bin.theta_h_i,
-        bin.theta_d_i,
-        bin.phi_d_i
+}
+
+fn describe_utia(table: &UtiaBrdf) {
+    outln!("format: UTIA .bin");
+    outln!(
+        "grid: {} x {} light directions x {} x {} camera directions (elevation 0 to 75 deg by 15, azimuth by 7.5)",
+        utia::THETA_COUNT, utia::PHI_COUNT, utia::THETA_COUNT, utia::PHI_COUNT
     );
-    Ok(())
+    outln!(
+        "measured: {} of {} nodes",
+        table.measured_count(),
+        utia::NODES
+    );
+    let stats = Stats::of((0..utia::NODES).filter_map(|i| table.node(i).map(|v| (i, v))));
+    stats.print();
+    if let Some((value, index)) = stats.peak {
+        let n = utia::Node::from_index(index);
+        outln!(
+            "peak: {} 1/sr (mean of R, G, B) at light theta {} phi {} deg, camera theta {} phi {} deg, among the measured nodes",
+            plain(value),
+            15 * n.theta_i,
+            7.5 * n.phi_i as f64,
+            15 * n.theta_v,
+            7.5 * n.phi_v as f64
+        );
+    }
+}
+
+fn describe_samples(set: &SampleSet) {
+    outln!("format: samples .csv");
+    outln!("grid: scattered samples (theta_h, phi_h, theta_d, phi_d)");
+    let samples = set.samples();
+    outln!("measured: {} samples", samples.len());
+    let stats = Stats::of(samples.iter().enumerate().map(|(i, s)| (i, s.value)));
+    stats.print();
+    if let Some((value, index)) = stats.peak {
+        let a = samples[index].angles;
+        outln!(
+            "peak: {} 1/sr (mean of R, G, B) at theta_h {} deg, phi_h {} deg, theta_d {} deg, phi_d {} deg (row {}), among the samples",
+            plain(value),
+            plain(a.theta_h.to_degrees()),
+            plain(a.phi_h.to_degrees()),
+            plain(a.theta_d.to_degrees()),
+            plain(a.phi_d.to_degrees()),
+            index + 2
+        );
+    }
 }

@@ -1,8 +1,10 @@
 //! `specula measure`: the paper's whole measurement in one command, resumable.
 
 use super::grid_args::GridArgs;
+use super::plan::Order;
 use super::token_args::TokenArgs;
 use crate::interrupt::stop_on_ctrl_c;
+use crate::range;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
@@ -34,14 +36,14 @@ use std::time::Duration;
 ///
 /// Example (simulated): specula measure --truth silver-925 --out silver.binary
 ///
-/// Example (a device served over TCP): specula measure --device tcp://127.0.0.1:7878
+/// Example (a device served over TCP): specula measure --connect tcp://127.0.0.1:7878
 /// --calibration cam.toml --out sample.binary
 ///
-/// Example (an adapter program): specula measure --device "exec:python3
+/// Example (an adapter program): specula measure --connect "exec:python3
 /// tools/example_adapter.py" --calibration tools/example_adapter_calibration.toml --out
 /// fake.binary
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("source").required(true).args(["truth", "device"])))]
+#[command(group(clap::ArgGroup::new("source").required(true).args(["truth", "connect"])))]
 pub struct Args {
     /// Measure the simulated device with this ground truth: a preset (silver-925,
     /// green-paint, ...), a material .toml, a MERL .binary or a model:name fit.
@@ -50,7 +52,7 @@ pub struct Args {
     /// Measure a device through the driver protocol (docs/driver-protocol.md):
     /// tcp://HOST:PORT or exec:COMMAND.
     #[arg(long)]
-    pub device: Option<String>,
+    pub connect: Option<String>,
     /// The camera calibration of a real device (TOML from `specula calibrate`). The
     /// simulated device is calibrated at the start of a session.
     #[arg(long)]
@@ -70,57 +72,55 @@ pub struct Args {
     /// sampling and reconstruction from the device's optics.
     #[arg(long)]
     pub point_light: bool,
-    /// Probe samples along theta_h (square-root placement, paper 5.2).
-    #[arg(long, default_value_t = 90)]
+    /// Probe samples along theta_h (square-root placement, paper 5.2). Range: a whole number
+    /// from 2 to 10000.
+    #[arg(long, default_value_t = 90, value_parser = range::PROBE_SAMPLES)]
     pub probe_samples: usize,
     #[command(flatten)]
     pub grid: GridArgs,
     /// Order of the samples: optimized (a short path through axis space) or nested
     /// (theta_h, theta_d, phi_d loops, as the paper).
-    #[arg(long, value_enum, default_value_t = OrderArg::Optimized)]
-    pub order: OrderArg,
+    #[arg(long, value_enum, default_value_t = Order::Optimized)]
+    pub order: Order,
     /// HDR at each sample: predicted (adaptive from the probe and the previous sample, one or
     /// two captures) or bracket (the device file's fixed bracket, the paper's way).
     #[arg(long, value_enum, default_value_t = HdrArg::Predicted)]
     pub hdr: HdrArg,
     /// Reconstruction method: lobe, log or linear (see `specula reconstruct --help`).
     #[arg(long, default_value = "lobe")]
-    pub method: String,
+    pub method: specula_reconstruct::Method,
     /// Skip the alignment and orientation checks.
     #[arg(long)]
     pub skip_checks: bool,
     /// Tilt of the simulated sample on the turntable, degrees (a misalignment for the
-    /// alignment check to find).
-    #[arg(long, default_value_t = 0.0)]
+    /// alignment check to find). Range: degrees from 0 to 10.
+    #[arg(long, default_value_t = 0.0, value_parser = range::TILT_DEG, alias = "tilt-deg")]
     pub tilt: f64,
-    /// Azimuth of that tilt, degrees.
-    #[arg(long, default_value_t = 0.0)]
+    /// Azimuth of that tilt, degrees. Range: degrees from -360 to 360.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG, alias = "tilt-azimuth-deg")]
     pub tilt_azimuth: f64,
-    /// Device model (TOML); default: the paper's UTIA gonioreflectometer.
-    #[arg(long)]
-    pub device_model: Option<PathBuf>,
+    /// Device description (TOML; see `specula plan --print-device`); default: the paper's
+    /// UTIA gonioreflectometer. The device to talk to is --connect.
+    #[arg(long, alias = "device-model")]
+    pub device: Option<PathBuf>,
     /// Shared token for a server that asks for one (`specula device serve --token-file`).
     #[command(flatten)]
     pub token: TokenArgs,
-    /// Seconds to wait for a reply from a device before retrying.
-    #[arg(long, default_value_t = 120.0)]
+    /// Seconds to wait for a reply from a device before retrying. Range: seconds above 0
+    /// and at most 86400.
+    #[arg(long, default_value_t = 120.0, value_parser = range::TIMEOUT_S)]
     pub reply_timeout: f64,
-    /// Failures in a row on one request before giving up.
-    #[arg(long, default_value_t = 5)]
-    pub max_failures: u32,
+    /// Failures in a row on one request before giving up. Range: a whole number from 1 to
+    /// 100.
+    #[arg(long, default_value_t = 5, value_parser = range::FAILURES)]
+    pub max_failures: usize,
     /// Run the simulated device in real time divided by this factor (a rehearsal: 60 shows
-    /// an hour's measurement in a minute).
-    #[arg(long)]
+    /// an hour's measurement in a minute). Range: a factor above 0 and at most 1000000.
+    #[arg(long, value_parser = range::SPEEDUP)]
     pub speedup: Option<f64>,
     /// The MERL .binary to write.
     #[arg(long)]
     pub out: PathBuf,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum OrderArg {
-    Optimized,
-    Nested,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -142,41 +142,29 @@ impl Args {
             phi_d_step_deg: self.grid.phi_d_step,
             phi_h_deg: self.grid.phi_h,
             order: match self.order {
-                OrderArg::Optimized => PlanOrder::Optimized,
-                OrderArg::Nested => PlanOrder::Nested,
+                Order::Optimized => PlanOrder::Optimized,
+                Order::Nested => PlanOrder::Nested,
             },
             hdr: match self.hdr {
                 HdrArg::Predicted => HdrChoice::Predicted,
                 HdrArg::Bracket => HdrChoice::Bracket,
             },
-            method: self
-                .method
-                .parse()
-                .unwrap_or(specula_reconstruct::Method::LOBE),
+            method: self.method,
             checks: !self.skip_checks,
             tilt_deg: self.tilt,
             tilt_azimuth_deg: self.tilt_azimuth,
         }
     }
 
+    /// What the parser cannot check alone (each option's range it checks itself).
     fn check(&self) -> Result<()> {
-        if self.probe_samples < 2 {
-            bail!("--probe-samples must be at least 2");
-        }
+        super::require_merl_out(&self.out)?;
         self.grid.check()?;
-        if !self.tilt.is_finite() || !self.tilt_azimuth.is_finite() {
-            bail!("--tilt and --tilt-azimuth must be numbers of degrees");
-        }
-        if !(self.reply_timeout.is_finite() && self.reply_timeout > 0.0) {
-            bail!("--reply-timeout must be a positive number of seconds");
-        }
-        if let Some(s) = self.speedup {
-            if !(s.is_finite() && s > 0.0) {
-                bail!("--speedup must be positive");
+        if let Some(path) = &self.device {
+            let text = path.to_string_lossy();
+            if text.starts_with("tcp://") || text.starts_with("exec:") {
+                bail!("--device {text}: --device is the device description (TOML); to measure a device through the driver protocol give --connect {text}");
             }
-        }
-        if self.method.parse::<specula_reconstruct::Method>().is_err() {
-            bail!("--method {}: expected lobe, log or linear", self.method);
         }
         Ok(())
     }
@@ -184,7 +172,7 @@ impl Args {
 
 pub fn run(args: Args) -> Result<()> {
     args.check()?;
-    let device = match &args.device_model {
+    let device = match &args.device {
         Some(path) => Device::load(path)?,
         None => Device::utia(),
     };
@@ -194,7 +182,7 @@ pub fn run(args: Args) -> Result<()> {
         .clone()
         .unwrap_or_else(|| default_session_path(&args.out));
     let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
-    println!("session: {}", session.display());
+    outln!("session: {}", session.display());
     let mut observer = Bars::default();
     let outcome = measure(
         source,
@@ -209,9 +197,9 @@ pub fn run(args: Args) -> Result<()> {
     match outcome {
         MeasureOutcome::Complete(summary) => {
             for line in summary.lines() {
-                println!("{line}");
+                outln!("{line}");
             }
-            println!(
+            outln!(
                 "wrote {} and {}",
                 args.out.display(),
                 summary_path(&args.out).display()
@@ -222,7 +210,7 @@ pub fn run(args: Args) -> Result<()> {
             done,
             planned,
         } => {
-            println!(
+            outln!(
                 "stopped: {stage} {done} of {planned} samples measured and journaled in {}; run the same command to resume",
                 session.display()
             );
@@ -242,7 +230,10 @@ fn source(args: &Args) -> Result<Source> {
             speedup: args.speedup,
         });
     }
-    let spec = args.device.as_deref().context("give --truth or --device")?;
+    let spec = args
+        .connect
+        .as_deref()
+        .context("give --truth or --connect")?;
     let endpoint: Endpoint = spec.parse().map_err(anyhow::Error::msg)?;
     let path = args.calibration.as_ref().with_context(|| {
         format!("{endpoint}: a real device needs --calibration FILE (its camera calibration, from `specula calibrate`)")
@@ -252,7 +243,7 @@ fn source(args: &Args) -> Result<Source> {
         endpoint,
         client: ClientSettings {
             reply_timeout: Duration::from_secs_f64(args.reply_timeout),
-            max_failures: args.max_failures.max(1),
+            max_failures: u32::try_from(args.max_failures).unwrap_or(u32::MAX),
             token: args.token.resolve()?.map(|t| t.secret().to_string()),
             ..ClientSettings::default()
         },
@@ -276,7 +267,7 @@ impl Bars {
 }
 
 /// `1h 23m`, `4m 05s` or `12s`.
-fn duration_text(seconds: f64) -> String {
+pub(crate) fn duration_text(seconds: f64) -> String {
     let s = seconds.max(0.0).round() as u64;
     match (s / 3600, (s / 60) % 60, s % 60) {
         (0, 0, s) => format!("{s}s"),

@@ -1,12 +1,12 @@
 //! `specula placement`: the paper's theta_h placement against ours and the oracle.
 
 use super::analyze::DatabaseArgs;
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use specula_sampling::column::Interpolation;
 use specula_sampling::placement_study::{study_slice, summarize, MaterialPlacement, Method};
 use specula_sampling::slice::DENSE_NODES;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Compare ways of placing n theta_h samples over a database: how well each rebuilds the
 /// characteristic slice (phi_d = 90 deg, all theta_d) from one set of theta_h positions.
@@ -30,9 +30,10 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     pub database: DatabaseArgs,
-    /// Number of theta_h samples of the sparse measurement.
-    #[arg(long, default_value_t = 30)]
-    pub samples: usize,
+    /// Number of theta_h samples of the sparse measurement. Range: a whole number from 2 to
+    /// 360.
+    #[arg(long, default_value_t = 30, value_parser = crate::range::THETA_H_SAMPLES)]
+    pub theta_h_samples: usize,
     /// Also print the table for interpolation in the log domain (ln f), which doubles the time.
     #[arg(long)]
     pub log: bool,
@@ -43,9 +44,6 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    if args.samples < 2 {
-        bail!("--samples must be at least 2, got {}", args.samples);
-    }
     let domains: &[Interpolation] = if args.log {
         &Interpolation::ALL
     } else {
@@ -54,23 +52,23 @@ pub fn run(args: Args) -> Result<()> {
     let rows = args.database.map("placing", DENSE_NODES, |slice| {
         domains
             .iter()
-            .map(|&domain| study_slice(slice, args.samples, domain))
+            .map(|&domain| study_slice(slice, args.theta_h_samples, domain))
             .collect::<Result<Vec<_>>>()
     })?;
     let materials = rows.len();
     for (d, domain) in domains.iter().enumerate() {
         let per_domain: Vec<MaterialPlacement> = rows.iter().map(|r| r[d].clone()).collect();
         let table = summarize(&per_domain);
-        println!(
+        outln!(
             "\n{} theta_h samples, {} interpolation, {materials} materials ({} rebuilt exactly by the oracle, left out of the ratios):\n",
-            args.samples,
+            args.theta_h_samples,
             domain.name(),
             table[0].exact_materials
         );
-        println!("| placement | mean error (1/sr) | ratio of means to oracle | geometric mean ratio | median ratio | worst ratio |");
-        println!("|---|---|---|---|---|---|");
+        outln!("| placement | mean error (1/sr) | ratio of means to oracle | geometric mean ratio | median ratio | worst ratio |");
+        outln!("|---|---|---|---|---|---|");
         for row in table {
-            println!(
+            outln!(
                 "| {} | {:.4e} | {:.2} | {:.2} | {:.2} | {:.2} |",
                 row.method.label(),
                 row.mean_error,
@@ -83,20 +81,26 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(path) = &args.out {
         write_csv(path, domains, &rows)?;
-        println!("\nwrote {}", path.display());
+        outln!("\nwrote {}", path.display());
     }
     Ok(())
 }
 
 fn write_csv(
-    path: &PathBuf,
+    path: &Path,
     domains: &[Interpolation],
     rows: &[Vec<MaterialPlacement>],
 ) -> Result<()> {
     let name = path.display();
-    let mut out = std::io::BufWriter::new(
-        std::fs::File::create(path).with_context(|| format!("{name}: cannot create"))?,
-    );
+    specula_core::atomic_file::write_with(path, |out| write_rows(out, domains, rows))
+        .with_context(|| format!("{name}: cannot write"))
+}
+
+fn write_rows(
+    out: &mut impl Write,
+    domains: &[Interpolation],
+    rows: &[Vec<MaterialPlacement>],
+) -> std::io::Result<()> {
     let methods: Vec<&str> = Method::ALL.iter().map(|m| m.key()).collect();
     writeln!(out, "material,k_hat,domain,{}", methods.join(","))?;
     for per_domain in rows {
@@ -112,7 +116,5 @@ fn write_csv(
             )?;
         }
     }
-    out.flush()
-        .with_context(|| format!("{name}: cannot write"))?;
     Ok(())
 }

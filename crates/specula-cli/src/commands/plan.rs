@@ -7,8 +7,6 @@ use specula_acquisition::device::Device;
 use specula_acquisition::ordering::{order, transition_time_s};
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::sampling::SamplingFunction;
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::PathBuf;
 
 /// Plan a measurement: turn a theta_h x theta_d x phi_d grid (paper 5.3) into goniometer
@@ -36,12 +34,12 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct Args {
     /// k of the theta_h sampling function: the material's fitted k-hat (the paper: green
-    /// paint 5.64, silver 925 4.78).
-    #[arg(long, allow_negative_numbers = true, required_unless_present_any = ["theta_h_list", "print_device"])]
+    /// paint 5.64, silver 925 4.78). Range: a number above 0 and at most 100.
+    #[arg(long, allow_negative_numbers = true, required_unless_present_any = ["theta_h_list", "print_device"], value_parser = crate::range::SAMPLING_K)]
     pub k: Option<f64>,
-    /// Explicit theta_h positions in degrees, comma-separated, instead of --k
-    /// (e.g. from adaptive placement).
-    #[arg(long, value_delimiter = ',', conflicts_with = "k")]
+    /// Explicit theta_h positions in degrees, comma-separated, instead of --k (e.g. from
+    /// adaptive placement). Range: degrees from 0 to 90.
+    #[arg(long, value_delimiter = ',', conflicts_with = "k", value_parser = crate::range::THETA_H_DEG)]
     pub theta_h_list: Option<Vec<f64>>,
     #[command(flatten)]
     pub grid: GridArgs,
@@ -74,8 +72,8 @@ pub fn run(args: Args) -> Result<()> {
     };
     if args.print_device {
         match &args.device {
-            Some(_) => print!("{}", device.to_toml_string()),
-            None => print!("{}", specula_acquisition::device::UTIA_TOML),
+            Some(_) => out!("{}", device.to_toml_string()),
+            None => out!("{}", specula_acquisition::device::UTIA_TOML),
         }
         return Ok(());
     }
@@ -94,13 +92,13 @@ pub fn run(args: Args) -> Result<()> {
         Order::Optimized => &optimized,
         Order::Nested => &nested,
     };
-    let file = File::create(&out).with_context(|| format!("cannot create {}", out.display()))?;
-    chosen
-        .write_csv(BufWriter::new(file))
-        .with_context(|| format!("cannot write {}", out.display()))?;
+    specula_core::atomic_file::write_with(&out, |file| {
+        chosen.write_csv(file).map_err(std::io::Error::other)
+    })
+    .with_context(|| format!("{}: cannot write", out.display()))?;
 
-    println!("device: {}", device.name);
-    println!(
+    outln!("device: {}", device.name);
+    outln!(
         "grid: {} theta_h x {} theta_d x {} phi_d at phi_h = {} deg",
         theta_h.len(),
         theta_d.len(),
@@ -108,7 +106,7 @@ pub fn run(args: Args) -> Result<()> {
         args.grid.phi_h
     );
     print_summary(&nested.summary(&device), &optimized.summary(&device));
-    println!(
+    outln!(
         "motion (moves + settling): nested {:.2} h, optimized {:.2} h ({:.0}% less)",
         transition_time_s(&nested) / 3600.0,
         transition_time_s(&optimized) / 3600.0,
@@ -118,15 +116,15 @@ pub fn run(args: Args) -> Result<()> {
         Order::Optimized => "optimized",
         Order::Nested => "nested",
     };
-    println!("wrote {} ({label} order)", out.display());
+    outln!("wrote {} ({label} order)", out.display());
     Ok(())
 }
 
 /// theta_h positions: the explicit list, or the sampling function's.
 fn theta_h_positions(args: &Args) -> Result<Vec<f64>> {
     if let Some(list) = &args.theta_h_list {
-        if list.is_empty() || list.iter().any(|t| !(0.0..=90.0).contains(t)) {
-            bail!("--theta-h-list needs values between 0 and 90 degrees");
+        if list.is_empty() {
+            bail!("--theta-h-list needs at least one value");
         }
         return Ok(list.clone());
     }
@@ -151,20 +149,20 @@ fn steps_deg(step: f64, include_90: bool) -> Vec<f64> {
 }
 
 fn print_summary(nested: &PlanSummary, optimized: &PlanSummary) {
-    println!("samples: {}", nested.total);
-    println!("measurable: {}", nested.measurable);
-    println!(
+    outln!("samples: {}", nested.total);
+    outln!("measurable: {}", nested.measurable);
+    outln!(
         "excluded: {} (limit {}, occluded {})",
         nested.limit + nested.occluded,
         nested.limit,
         nested.occluded
     );
     for (reason, count) in &nested.occluded_by {
-        println!("  occluded, {reason}: {count}");
+        outln!("  occluded, {reason}: {count}");
     }
-    println!("time           moves   settle  captures     total");
+    outln!("time           moves   settle  captures     total");
     for (label, s) in [("nested", nested), ("optimized", optimized)] {
-        println!(
+        outln!(
             "{label:<10} {:>8.2} h {:>6.2} h {:>7.2} h {:>7.2} h",
             s.move_s / 3600.0,
             s.settle_s / 3600.0,

@@ -1,6 +1,8 @@
 //! `specula plot`: the paper's figures as PNG pictures (Fig. 11, 13, 15 and the analysis of
 //! section 5.1).
 
+use super::grid_args::PAPER_PHI_H_DEG;
+use crate::range;
 use anyhow::{bail, Context, Result};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::Rgb;
@@ -46,11 +48,12 @@ pub struct SliceArgs {
     /// theta_h axis: merl (square root, MERL's bins) or linear.
     #[arg(long, default_value = "merl")]
     pub axis: ThetaHAxis,
-    /// The fixed phi_d, degrees.
-    #[arg(long, default_value_t = 90.0)]
+    /// The fixed phi_d, degrees (90: the characteristic slice). Range: degrees from 0 to 180.
+    #[arg(long, default_value_t = 90.0, value_parser = range::PHI_D_DEG)]
     pub phi_d: f64,
-    /// Azimuth of the half vector, degrees (matters only for anisotropic materials).
-    #[arg(long, default_value_t = 0.0)]
+    /// Azimuth of the half vector, degrees (matters only for anisotropic materials; 45 is
+    /// the paper's choice). Range: degrees from -360 to 360.
+    #[arg(long, default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
 }
 
@@ -77,7 +80,7 @@ pub struct SamplesArgs {
 /// its colour, over the full range and over 0 to 2 deg.
 ///
 /// The adaptive positions come from --adaptive (a CSV with a theta_h column, and r,g,b
-/// columns if measured there), --positions, or --k with --family and --samples; by default
+/// columns if measured there), --positions, or --k with --family and --theta-h-samples; by default
 /// k-hat is fitted to the probe (exponential family, 30 samples, as the paper). Where no
 /// values are given, the probe is interpolated linearly at the positions.
 #[derive(clap::Args)]
@@ -90,18 +93,20 @@ pub struct ProbeArgs {
     /// A CSV of the adaptive samples: a theta_h column (degrees) and optionally r,g,b (1/sr).
     #[arg(long, conflicts_with_all = ["positions", "k"])]
     pub adaptive: Option<PathBuf>,
-    /// The adaptive theta_h positions in degrees, comma-separated.
-    #[arg(long, value_delimiter = ',', conflicts_with = "k")]
+    /// The adaptive theta_h positions in degrees, comma-separated. Range: degrees from 0 to
+    /// 90.
+    #[arg(long, value_delimiter = ',', conflicts_with = "k", value_parser = range::THETA_H_DEG)]
     pub positions: Option<Vec<f64>>,
     /// k of the sampling function that places the adaptive samples (default: fitted).
-    #[arg(long)]
+    /// Range: a number above 0 and at most 100.
+    #[arg(long, value_parser = range::SAMPLING_K)]
     pub k: Option<f64>,
     /// Family of the sampling function: exponential, power or base.
     #[arg(long, default_value = "exponential")]
     pub family: Family,
-    /// Number of adaptive samples.
-    #[arg(long, default_value_t = 30)]
-    pub samples: usize,
+    /// Number of adaptive theta_h samples. Range: a whole number from 2 to 360.
+    #[arg(long, default_value_t = 30, value_parser = range::THETA_H_SAMPLES)]
+    pub theta_h_samples: usize,
 }
 
 /// The database analysis as a heatmap: one row per sampling family, one column per theta_d
@@ -134,10 +139,8 @@ pub fn run(args: Args) -> Result<()> {
     {
         bail!("{}: plots are written as .png", out.display());
     }
-    image
-        .save(&out)
-        .with_context(|| format!("{}: cannot write the PNG", out.display()))?;
-    println!("wrote {}", out.display());
+    specula_visual::linear_image::save_png(&image, &out)?;
+    outln!("wrote {}", out.display());
     Ok(())
 }
 
@@ -169,23 +172,21 @@ fn probe(args: ProbeArgs) -> Result<RgbImage> {
         (Some(path), _, _) => read_adaptive(path, &points)?,
         (None, Some(positions), _) => {
             let mut positions = positions.clone();
-            if positions
-                .iter()
-                .any(|p| !p.is_finite() || !(0.0..=90.0).contains(p))
-            {
-                bail!("--positions: every theta_h must lie in [0, 90] deg");
-            }
             positions.sort_by(f64::total_cmp);
             interpolate(&points, &positions)
         }
         (None, None, Some(k)) => {
             let function = SamplingFunction::new(args.family, k)?;
-            interpolate(&points, &function.positions_deg(args.samples))
+            interpolate(&points, &function.positions_deg(args.theta_h_samples))
         }
         (None, None, None) => {
-            let fit = specula_sampling::fit_k(&probe.column(), args.family, args.samples)?;
-            println!("k={} error={:e}", fit.function.k, fit.error);
-            interpolate(&points, &fit.function.positions_deg(args.samples))
+            let fit = specula_sampling::fit_k(&probe.column(), args.family, args.theta_h_samples)?;
+            outln!(
+                "k={} error={}",
+                crate::output::plain(fit.function.k),
+                crate::output::plain(fit.error)
+            );
+            interpolate(&points, &fit.function.positions_deg(args.theta_h_samples))
         }
     };
     plot_probe(&points, &adaptive, &stem(&args.probe))
@@ -356,7 +357,7 @@ mod tests {
             positions: None,
             k: None,
             family: Family::Exponential,
-            samples: 30,
+            theta_h_samples: 30,
         }
     }
 
@@ -439,11 +440,6 @@ mod tests {
         };
         let err = run_to(Plot::Probe(args)).unwrap_err();
         assert!(format!("{err:#}").contains("no theta_h column"), "{err:#}");
-        let args = ProbeArgs {
-            positions: Some(vec![1.0, 95.0]),
-            ..probe_args(probe_csv(d), d.join("x.png"))
-        };
-        assert!(format!("{:#}", run_to(Plot::Probe(args)).unwrap_err()).contains("[0, 90]"));
         let slice = SliceArgs {
             brdf: "chrome".into(),
             out: d.join("slice.jpg"),

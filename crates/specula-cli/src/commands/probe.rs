@@ -1,5 +1,7 @@
 //! `specula probe`: the dense theta_h column of paper 5.2 from any BRDF.
 
+use super::grid_args::PAPER_PHI_H_DEG;
+use crate::range;
 use anyhow::Result;
 use specula_sampling::probe::{Probe, ProbeSettings};
 use std::path::PathBuf;
@@ -20,18 +22,21 @@ pub struct Args {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit
     /// (e.g. sgd:chrome-steel).
     pub brdf: String,
-    /// theta_d of the column, degrees.
-    #[arg(long, default_value_t = 40.0)]
+    /// theta_d of the column, degrees. Range: degrees from 0 to 89.5.
+    #[arg(long, default_value_t = 40.0, value_parser = range::THETA_D_DEG)]
     pub theta_d: f64,
-    /// phi_d of the column, degrees (90: the characteristic slice of paper 5.1).
-    #[arg(long, default_value_t = 90.0)]
+    /// phi_d of the column, degrees (90: the characteristic slice of paper 5.1). Range:
+    /// degrees from 0 to 180.
+    #[arg(long, default_value_t = 90.0, value_parser = range::PHI_D_DEG)]
     pub phi_d: f64,
     /// phi_h, degrees: the sample's orientation (chosen to avoid scratches, paper 4.3).
-    #[arg(long, default_value_t = 45.0)]
+    /// Range: degrees from -360 to 360.
+    #[arg(long, default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
-    /// Number of theta_h samples (the paper uses up to 90).
-    #[arg(long, default_value_t = 90)]
-    pub samples: usize,
+    /// Number of theta_h samples of the probe (the paper uses up to 90). Range: a whole
+    /// number from 2 to 10000.
+    #[arg(long, default_value_t = 90, value_parser = range::PROBE_SAMPLES)]
+    pub probe_samples: usize,
     /// Where to write the probe (CSV).
     #[arg(long)]
     pub out: PathBuf,
@@ -43,7 +48,7 @@ pub fn run(args: Args) -> Result<()> {
         theta_d_deg: args.theta_d,
         phi_d_deg: args.phi_d,
         phi_h_deg: args.phi_h,
-        samples: args.samples,
+        samples: args.probe_samples,
     };
     let probe = Probe::take(brdf.as_ref(), &settings)?;
     probe.write_csv(&args.out)?;
@@ -52,7 +57,7 @@ pub fn run(args: Args) -> Result<()> {
         (0.0, f64::NEG_INFINITY),
         |best, (&x, &v)| if v > best.1 { (x, v) } else { best },
     );
-    println!(
+    outln!(
         "wrote {} samples of {} to {} (theta_d {} deg, phi_d {} deg, phi_h {} deg); peak {:.4e} 1/sr (mean of RGB) at theta_h {:.4} deg",
         probe.len(),
         brdf.name(),

@@ -1,9 +1,8 @@
 //! `specula render`: pictures of materials on a sphere or a speedshape (paper Fig. 16, 17).
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use specula_visual::grid::{self, Tile};
 use specula_visual::linear_image::ImageFormat;
-use specula_visual::render::MAX_SAMPLES_PER_PIXEL;
 use specula_visual::{Environment, Lighting, RenderSettings, Scene, ShapeKind};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -21,7 +20,7 @@ use std::time::Instant;
 /// The output type follows the extension: .png is tone-mapped (ACES filmic, sRGB), .exr keeps
 /// the linear radiance.
 ///
-/// Several BRDFs with --grid give one labelled picture of all of them under the same light;
+/// Several BRDFs with --side-by-side give one labelled picture of all of them under the same light;
 /// with exactly two, a third tile shows their relative difference |A-B|/max(A,B) in false
 /// colour (black 0, yellow 100 percent) and its mean is printed.
 ///
@@ -31,7 +30,7 @@ use std::time::Instant;
 ///
 ///   specula render silver-925 --shape speedshape --light point --out s.png
 ///
-///   specula render silver-925 chrome --grid --out compare.png
+///   specula render silver-925 chrome --side-by-side --out compare.png
 #[derive(clap::Args)]
 pub struct Args {
     /// The BRDFs: preset names, material .toml files, MERL .binary files or model:name fits.
@@ -52,18 +51,20 @@ pub struct Args {
     /// instead of an environment.
     #[arg(long, value_enum)]
     pub light: Option<LightKind>,
-    /// Camera rays per pixel.
-    #[arg(long, default_value_t = 64)]
+    /// Camera rays per pixel. Range: a whole number from 1 to 65536.
+    #[arg(long, default_value_t = 64, value_parser = crate::range::SAMPLES_PER_PIXEL)]
     pub spp: usize,
-    /// Width and height of the picture (of each tile with --grid), pixels.
-    #[arg(long, default_value_t = 512)]
+    /// Width and height of the picture (of each tile with --side-by-side), pixels. Range: a
+    /// whole number from 8 to 8192.
+    #[arg(long, default_value_t = 512, value_parser = crate::range::IMAGE_PX)]
     pub size: usize,
-    /// Exposure of the PNG in stops (+1 doubles the brightness). Ignored for .exr.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    /// Exposure of the PNG in stops (+1 doubles the brightness). Ignored for .exr. Range:
+    /// stops from -20 to 20.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = crate::range::EXPOSURE_STOPS)]
     pub exposure: f64,
     /// Put several BRDFs side by side in one labelled picture (PNG only).
     #[arg(long)]
-    pub grid: bool,
+    pub side_by_side: bool,
     /// Seed of the random numbers (equal seeds give equal pictures).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -77,25 +78,16 @@ pub enum LightKind {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    if !(8..=8192).contains(&args.size) {
-        bail!("--size {}: give between 8 and 8192 pixels", args.size);
-    }
-    if !(1..=MAX_SAMPLES_PER_PIXEL).contains(&args.spp) {
-        bail!(
-            "--spp {}: give between 1 and {MAX_SAMPLES_PER_PIXEL}",
-            args.spp
-        );
-    }
     let format = ImageFormat::of_path(&args.out)?;
-    if args.brdfs.len() > 1 && !args.grid {
+    if args.brdfs.len() > 1 && !args.side_by_side {
         bail!(
-            "{} BRDFs given: add --grid to show them side by side",
+            "{} BRDFs given: add --side-by-side to show them side by side",
             args.brdfs.len()
         );
     }
-    if args.grid && format != ImageFormat::Png {
+    if args.side_by_side && format != ImageFormat::Png {
         bail!(
-            "{}: a --grid picture is written as .png",
+            "{}: a --side-by-side picture is written as .png",
             args.out.display()
         );
     }
@@ -138,37 +130,56 @@ pub fn run(args: Args) -> Result<()> {
         renders.push(image);
     }
     bar.finish_and_clear();
-    if !args.grid {
+    if !args.side_by_side {
         renders[0].save(&args.out, args.exposure)?;
-        println!("wrote {}", args.out.display());
+        outln!("wrote {}", args.out.display());
         return Ok(());
     }
-    let mut tiles: Vec<Tile> = brdfs
+    let labels = tile_labels(&args.brdfs);
+    let mut tiles: Vec<Tile> = labels
         .iter()
         .zip(&renders)
-        .map(|(brdf, image)| Tile {
-            label: brdf.name(),
+        .map(|(label, image)| Tile {
+            label: label.clone(),
             image: image.to_display(args.exposure),
         })
         .collect();
     if renders.len() == 2 {
         let diff = grid::difference(&renders[0], &renders[1])?;
-        println!(
-            "mean relative difference {:.4} ({} vs {})",
+        outln!(
+            "mean relative difference {:.4} ({} against {})",
             diff.mean_relative,
-            brdfs[0].name(),
-            brdfs[1].name()
+            labels[0],
+            labels[1]
         );
         tiles.push(Tile {
-            label: "rel. difference 0-100 %".into(),
+            label: "|A-B| / max(A,B), 0-100 %".into(),
             image: diff.image,
         });
     }
-    grid::compose(&tiles)?
-        .save(&args.out)
-        .with_context(|| format!("{}: cannot write the image", args.out.display()))?;
-    println!("wrote {}", args.out.display());
+    specula_visual::linear_image::save_png(&grid::compose(&tiles)?, &args.out)?;
+    outln!("wrote {}", args.out.display());
     Ok(())
+}
+
+/// A tile's label: the source as the user named it (a file by its file name, so that a
+/// measured table and its truth read apart), with its role A or B when two are compared.
+fn tile_labels(specs: &[String]) -> Vec<String> {
+    let names = specs.iter().map(|spec| {
+        let path = std::path::Path::new(spec);
+        match path.file_name() {
+            Some(name) if path.is_file() => name.to_string_lossy().into_owned(),
+            _ => spec.clone(),
+        }
+    });
+    if specs.len() == 2 {
+        names
+            .zip(["A", "B"])
+            .map(|(name, role)| format!("{role}: {name}"))
+            .collect()
+    } else {
+        names.collect()
+    }
 }
 
 #[cfg(test)]
@@ -185,7 +196,7 @@ mod tests {
             spp: 2,
             size: 16,
             exposure: 0.0,
-            grid: false,
+            side_by_side: false,
             seed: 1,
         }
     }
@@ -206,7 +217,7 @@ mod tests {
         assert_eq!(specula_visual::LinearImage::load(&exr).unwrap().width, 16);
         let grid = dir.path().join("g.png");
         run(Args {
-            grid: true,
+            side_by_side: true,
             env: Some("constant:0.5".into()),
             ..args(&["chrome", "green-paint"], grid.clone())
         })
@@ -216,13 +227,23 @@ mod tests {
     }
 
     #[test]
+    fn tiles_are_labelled_by_source_and_role() {
+        let dir = tempfile::tempdir().unwrap();
+        let table = dir.path().join("A.binary");
+        std::fs::write(&table, b"x").unwrap();
+        let specs = [table.display().to_string(), "green-paint".to_string()];
+        assert_eq!(tile_labels(&specs), ["A: A.binary", "B: green-paint"]);
+        assert_eq!(tile_labels(&specs[1..]), ["green-paint"]);
+    }
+
+    #[test]
     fn bad_requests_are_refused_with_a_reason() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("a.png");
         let message = |a: Args| format!("{:#}", run(a).unwrap_err());
-        assert!(message(args(&["chrome", "steel"], out.clone())).contains("--grid"));
+        assert!(message(args(&["chrome", "steel"], out.clone())).contains("--side-by-side"));
         assert!(message(Args {
-            grid: true,
+            side_by_side: true,
             ..args(&["chrome"], dir.path().join("a.exr"))
         })
         .contains(".png"));
@@ -233,11 +254,6 @@ mod tests {
             ..args(&["chrome"], out.clone())
         })
         .contains("choose one"));
-        assert!(message(Args {
-            spp: 0,
-            ..args(&["chrome"], out.clone())
-        })
-        .contains("--spp"));
         assert!(message(Args {
             env: Some("/no/such.exr".into()),
             ..args(&["chrome"], out.clone())

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 /// figures and the renders beside the truth with their difference.
 ///
 /// INPUT is a MERL .binary (for instance from `specula reconstruct`; its provenance sidecar
-/// OUT.provenance.npy is used when present; --samples adds the raw samples, Fig. 15) or a
+/// OUT.provenance.npy is used when present; --samples-csv adds the raw samples, Fig. 15) or a
 /// session journal (.sqlite, from `specula measure` or `specula demo`). From a journal the
 /// report shows k-hat and the probe as measured, the samples measured of each stage's plan,
 /// the duration (device time: the simulated clock on the simulator) against the time
@@ -34,17 +34,17 @@ pub struct Args {
     pub truth: Option<String>,
     /// The raw samples of the measurement (CSV theta_h,phi_h,theta_d,phi_d,r,g,b); with a
     /// .binary input only (a journal holds its samples).
-    #[arg(long)]
+    #[arg(long = "samples-csv")]
     pub samples: Option<PathBuf>,
     /// With a session journal: the MERL .binary to show instead of reconstructing the
     /// session's samples.
     #[arg(long)]
     pub table: Option<PathBuf>,
-    /// Width and height of each render, pixels (8 to 4096).
-    #[arg(long, default_value_t = 320)]
+    /// Width and height of each render, pixels. Range: a whole number from 8 to 8192.
+    #[arg(long, default_value_t = 320, value_parser = crate::range::IMAGE_PX)]
     pub size: usize,
-    /// Camera rays per pixel of the renders (1 to 4096).
-    #[arg(long, default_value_t = 32)]
+    /// Camera rays per pixel of the renders. Range: a whole number from 1 to 65536.
+    #[arg(long, default_value_t = 32, value_parser = crate::range::SAMPLES_PER_PIXEL)]
     pub spp: usize,
     /// The report's title (default: the input's material name).
     #[arg(long)]
@@ -62,6 +62,6 @@ pub fn run(args: Args) -> Result<()> {
         title: args.title,
     };
     write_report(&options, &args.out, &crate::progress::Terminal::default())?;
-    println!("wrote {}", args.out.display());
+    outln!("wrote {}", args.out.display());
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! `specula session`: what a measurement session's journal holds.
 
+use super::measure::duration_text;
 use anyhow::Result;
 use specula_session::journal::{SessionRecord, SessionStatus};
 use std::path::PathBuf;
@@ -14,8 +15,9 @@ pub struct Args {
 #[derive(clap::Subcommand)]
 pub enum SessionCommand {
     /// Progress of a session: samples measured and left per stage, captures, the device time
-    /// spent and the time model's estimate of what is left, faults and resumptions. Safe to
-    /// run while the measurement goes on.
+    /// spent and the estimate of what is left (the progress bar's: the time model scaled by
+    /// how the finished samples compared with it), faults and resumptions. Safe to run while
+    /// the measurement goes on.
     Status {
         /// The session journal (.sqlite).
         session: PathBuf,
@@ -28,24 +30,20 @@ pub fn run(args: Args) -> Result<()> {
     }
 }
 
-fn hours(seconds: f64) -> String {
-    format!("{:.2} h", seconds / 3600.0)
-}
-
 fn status(path: &std::path::Path) -> Result<()> {
     let record = SessionRecord::read(path)?;
     let status: &SessionStatus = &record.status;
-    println!(
+    outln!(
         "session: {} (schema {})",
         path.display(),
         status.schema_version
     );
     if let Some(source) = &record.source {
-        println!("measures: {source}");
+        outln!("measures: {source}");
     }
     if let Some(settings) = &record.settings {
-        println!(
-            "settings: seed {}, {} probe samples, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, order {:?}, hdr {:?}{}",
+        outln!(
+            "settings: seed {}, {} probe samples, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, order {}, hdr {}{}",
             settings.seed,
             settings.probe_samples,
             settings.theta_h_samples,
@@ -58,33 +56,38 @@ fn status(path: &std::path::Path) -> Result<()> {
         );
     }
     if let Some(checks) = &record.checks {
-        println!("alignment: {}", checks.alignment);
-        println!("orientation: {}", checks.orientation);
+        outln!("alignment: {}", checks.alignment);
+        outln!("orientation: {}", checks.orientation);
     }
     if let Some(fit) = &record.fit {
-        println!(
-            "k-hat: {:.4} ({}), fit error {:.4e}",
-            fit.function.k, fit.function.family, fit.error
+        outln!(
+            "k-hat: {} ({}), fit error {} 1/sr",
+            crate::output::plain(fit.function.k),
+            fit.function.family,
+            crate::output::plain(fit.error)
         );
     }
     if let Some(plan) = &record.plan {
-        println!(
+        outln!(
             "plan: {} samples, {} measurable, {} beyond the axes' limits, {} occluded",
-            plan.total, plan.measurable, plan.limit, plan.occluded
+            plan.total,
+            plan.measurable,
+            plan.limit,
+            plan.occluded
         );
     }
     let mut complete = !status.stages.is_empty();
     for stage in &status.stages {
         let percent = 100.0 * stage.done as f64 / stage.planned.max(1) as f64;
-        println!(
-            "{}: {} of {} samples ({percent:.1} %), {} captures; device time {} spent, about {} left (time model); wall time {}",
+        outln!(
+            "{}: {} of {} samples ({percent:.1} %), {} captures; device time {} spent, about {} left; wall time {}",
             stage.stage,
             stage.done,
             stage.planned,
             stage.captures,
-            hours(stage.device_s_done),
-            hours(stage.predicted_s_left),
-            hours(stage.wall_s_done)
+            duration_text(stage.device_s_done),
+            duration_text(stage.eta_device_s()),
+            duration_text(stage.wall_s_done)
         );
         complete &= stage.done == stage.planned;
     }
@@ -94,13 +97,13 @@ fn status(path: &std::path::Path) -> Result<()> {
             .iter()
             .map(|(k, n)| format!("{k} {n}"))
             .collect();
-        println!("events: {}", counts.join(", "));
+        outln!("events: {}", counts.join(", "));
         for (_, kind, message) in &status.recent_events {
-            println!("  {kind}: {message}");
+            outln!("  {kind}: {message}");
         }
     }
     let finished = status.events.contains_key("complete");
-    println!(
+    outln!(
         "state: {}",
         match (finished, complete) {
             (true, _) => "complete",

@@ -1,5 +1,7 @@
 //! `specula tabulate`: any BRDF into a MERL `.binary` table at the bin centres.
 
+use super::grid_args::PAPER_PHI_H_DEG;
+use crate::range;
 use anyhow::Result;
 use std::path::PathBuf;
 
@@ -9,8 +11,9 @@ use std::path::PathBuf;
 pub struct Args {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit.
     pub brdf: String,
-    /// Azimuth of the half vector in degrees (matters only for anisotropic materials).
-    #[arg(long, default_value_t = 0.0)]
+    /// Azimuth of the half vector in degrees (matters only for anisotropic materials; 45 is
+    /// the paper's choice, section 4.3). Range: degrees from -360 to 360.
+    #[arg(long, default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
     /// The MERL .binary file to write.
     #[arg(long)]
@@ -18,12 +21,13 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    super::require_merl_out(&args.out)?;
     let brdf = specula_formats::load_brdf(&args.brdf)?;
     let spinner = crate::progress::spinner("tabulating");
     let table = specula_core::tabulate::tabulate(brdf.as_ref(), args.phi_h.to_radians());
     spinner.finish_and_clear();
     table.write(&args.out)?;
-    println!(
+    outln!(
         "wrote {} ({} of {} cells measured)",
         args.out.display(),
         table.measured_count(),

@@ -7,7 +7,7 @@
 pub mod abc;
 pub mod sgd;
 
-use crate::input::{file_error, measured_file, read_input};
+use crate::input::{data_file, file_error, read_input};
 use crate::source::BrdfSource;
 use anyhow::{anyhow, Result};
 use specula_core::Rgb;
@@ -63,8 +63,18 @@ impl FitModel {
 
 /// Every material of a fits table (SGD or ABC, told apart by its columns), as BRDFs.
 pub fn load_fits(path: &Path) -> Result<Vec<BrdfSource>> {
-    let bytes = read_input(path)?;
-    let mut reader = csv::Reader::from_reader(bytes.as_slice());
+    parse_fits(path, &read_input(path)?)
+}
+
+/// Every material of a model's table (built in: [`crate::input::data_file`]).
+pub fn load_model(model: FitModel) -> Result<Vec<BrdfSource>> {
+    let file = data_file(model.table())?;
+    parse_fits(&file.path, &file.bytes)
+}
+
+/// The fits of a table's bytes; errors name `path`.
+fn parse_fits(path: &Path, bytes: &[u8]) -> Result<Vec<BrdfSource>> {
+    let mut reader = csv::Reader::from_reader(bytes);
     let headers = reader
         .headers()
         .map_err(|e| file_error(path, format!("cannot read the header: {e}")))?
@@ -97,14 +107,15 @@ pub fn load_fits(path: &Path) -> Result<Vec<BrdfSource>> {
 
 /// The fit of one material from the model's table in the measured data directory.
 pub fn load_fit(model: FitModel, material: &str) -> Result<BrdfSource> {
-    let path = measured_file(model.table())?;
-    let all = load_fits(&path)?;
+    let all = load_model(model)?;
     let count = all.len();
     let wanted = format!("{}:{material}", model.prefix());
+    let names: Vec<String> = all.iter().map(|f| f.name()).collect();
     all.into_iter().find(|f| f.name() == wanted).ok_or_else(|| {
         anyhow!(
-            "{wanted}: no such material among the {count} of {}",
-            path.display()
+            "{wanted}: no such material among the {count} {} fits{}",
+            model.prefix(),
+            crate::catalog::did_you_mean(&wanted, &names)
         )
     })
 }
@@ -231,7 +242,7 @@ mod tests {
             Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/merl_fits_reference.csv");
         let mut tables = std::collections::HashMap::new();
         for model in [FitModel::Sgd, FitModel::Abc] {
-            let fits = load_fits(&measured_file(model.table()).unwrap()).unwrap();
+            let fits = load_model(model).unwrap();
             assert_eq!(fits.len(), 100);
             for f in fits {
                 tables.insert(f.name(), f);

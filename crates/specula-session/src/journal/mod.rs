@@ -245,9 +245,34 @@ pub struct StageStatus {
     pub device_s_done: f64,
     /// The time model's estimate for the samples left, seconds.
     pub predicted_s_left: f64,
+    /// The time model's estimate for the finished samples, seconds.
+    pub predicted_s_done: f64,
     /// Wall-clock time of the finished samples, seconds.
     pub wall_s_done: f64,
     pub captures: usize,
+}
+
+impl StageStatus {
+    /// Device time left, seconds, as the progress bar estimates it
+    /// ([`device_s_left`]).
+    pub fn eta_device_s(&self) -> f64 {
+        device_s_left(
+            self.predicted_s_left,
+            self.device_s_done,
+            self.predicted_s_done,
+        )
+    }
+}
+
+/// Device time left, seconds: the time model's estimate for the samples left, scaled by how
+/// the finished samples compared with their estimate (the model assumes a fixed bracket;
+/// predicted exposures take less).
+pub fn device_s_left(predicted_s_left: f64, device_s_done: f64, predicted_s_done: f64) -> f64 {
+    if predicted_s_done > 0.0 && device_s_done > 0.0 {
+        predicted_s_left * device_s_done / predicted_s_done
+    } else {
+        predicted_s_left
+    }
 }
 
 /// What `specula session status` shows.
@@ -266,7 +291,7 @@ pub struct Journal {
     conn: Connection,
     path: PathBuf,
     /// Held while this process may write the session.
-    _lock: Option<File>,
+    lock: Option<File>,
 }
 
 /// Seconds since the Unix epoch, now.
@@ -287,7 +312,7 @@ impl Journal {
         let mut journal = Journal {
             conn,
             path: path.to_path_buf(),
-            _lock: Some(lock),
+            lock: Some(lock),
         };
         journal.prepare()?;
         journal_check::check_file(&journal.conn, path)?;
@@ -303,7 +328,7 @@ impl Journal {
         let journal = Journal {
             conn,
             path: path.to_path_buf(),
-            _lock: None,
+            lock: None,
         };
         let version = journal.schema_version()?;
         match version {
@@ -324,6 +349,25 @@ impl Journal {
 
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Closes a finished session: the journal goes back to one file (rollback mode, so that
+    /// later readers leave no `-wal` or `-shm` file beside it) and the lock file is removed
+    /// while still held. A resumed run opens it in WAL mode again.
+    pub fn close(self) -> Result<(), JournalError> {
+        self.conn
+            .pragma_update(None, "journal_mode", "DELETE")
+            .map_err(|e| self.err(e))?;
+        if self.lock.is_some() {
+            // A process waiting on the removed file sees that it is gone ([`take_lock`]).
+            lock_path(&self.path)
+                .and_then(std::fs::remove_file)
+                .map_err(|cause| JournalError::Lock {
+                    path: self.name(),
+                    cause,
+                })?;
+        }
+        Ok(())
     }
 
     /// Sets what a committed sample survives (default [`Durability::PowerCut`]).
@@ -708,14 +752,15 @@ impl Journal {
     }
 
     fn stage_status(&self, stage: &str) -> Result<StageStatus, JournalError> {
-        let (planned, predicted_s_left): (i64, f64) = self
+        let (planned, predicted_s_left, predicted_s_done): (i64, f64, f64) = self
             .conn
             .query_row(
-                "SELECT count(*), coalesce(sum(CASE WHEN s.seq IS NULL THEN p.predicted_s END), 0)
+                "SELECT count(*), coalesce(sum(CASE WHEN s.seq IS NULL THEN p.predicted_s END), 0),
+                        coalesce(sum(CASE WHEN s.seq IS NOT NULL THEN p.predicted_s END), 0)
                  FROM plan p LEFT JOIN samples s ON s.stage = p.stage AND s.seq = p.seq
                  WHERE p.stage = ?1",
                 params![stage],
-                |r| Ok((r.get(0)?, r.get(1)?)),
+                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
             )
             .map_err(|e| self.err(e))?;
         let (done, device_s_done, wall_s_done): (i64, f64, f64) = self
@@ -741,6 +786,7 @@ impl Journal {
             done: done as usize,
             device_s_done,
             predicted_s_left,
+            predicted_s_done,
             wall_s_done,
             captures: captures as usize,
         })
@@ -765,28 +811,31 @@ fn sql_error(path: &Path, cause: rusqlite::Error) -> JournalError {
 
 /// The lock file beside the journal, locked exclusively for as long as it is open (the OS
 /// releases it when the process dies, however it dies).
+/// A lock taken on a file that [`Journal::close`] removed meanwhile is no lock: the file is
+/// opened again until the locked file is the one at the path.
 fn take_lock(path: &Path) -> Result<File, JournalError> {
-    let canonical = journal_check::canonical_path(path).map_err(|cause| JournalError::Lock {
+    let lock_path = lock_path(path).map_err(|cause| JournalError::Lock {
         path: path.display().to_string(),
         cause,
     })?;
-    let mut lock_path = canonical.into_os_string();
-    lock_path.push(".lock");
-    let lock_path = PathBuf::from(lock_path);
-    let file = File::options()
-        .create(true)
-        .truncate(false)
-        .write(true)
-        .open(&lock_path)
-        .map_err(|cause| JournalError::Lock {
-            path: path.display().to_string(),
-            cause,
-        })?;
+    let open = || {
+        File::options()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&lock_path)
+            .map_err(|cause| JournalError::Lock {
+                path: path.display().to_string(),
+                cause,
+            })
+    };
+    let mut file = open()?;
     // A few tries: a child process forked by another thread of this process holds a copy
     // of a just-closed lock until it execs (the descriptor is close-on-exec).
     for _ in 0..LOCK_TRIES {
         match file.try_lock() {
-            Ok(()) => return Ok(file),
+            Ok(()) if is_at_path(&file, &lock_path) => return Ok(file),
+            Ok(()) => file = open()?,
             Err(std::fs::TryLockError::WouldBlock) => std::thread::sleep(LOCK_PAUSE),
             Err(std::fs::TryLockError::Error(cause)) => {
                 return Err(JournalError::Lock {
@@ -800,6 +849,31 @@ fn take_lock(path: &Path) -> Result<File, JournalError> {
         path: path.display().to_string(),
         lock: lock_path.display().to_string(),
     })
+}
+
+/// `S.sqlite.lock` beside the journal `S.sqlite`, named after its canonical path (so that
+/// two spellings of one journal take one lock).
+fn lock_path(path: &Path) -> std::io::Result<PathBuf> {
+    let mut lock_path = journal_check::canonical_path(path)?.into_os_string();
+    lock_path.push(".lock");
+    Ok(PathBuf::from(lock_path))
+}
+
+/// Whether the open `file` is still the file at `path` (not removed or replaced).
+fn is_at_path(file: &File, path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (file.metadata(), std::fs::metadata(path)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = file;
+        path.exists()
+    }
 }
 
 const LOCK_TRIES: usize = 10;

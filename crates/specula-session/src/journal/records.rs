@@ -62,10 +62,13 @@ pub enum SourceRecord {
         /// The truth's name (a preset, .toml, .binary or model:name).
         truth: String,
     },
-    /// A device behind the driver protocol at this endpoint.
+    /// A device behind the driver protocol, known by the identity of its info reply (not its
+    /// address, which may change between runs).
     Device {
-        /// The endpoint (tcp://HOST:PORT or exec:COMMAND).
-        endpoint: String,
+        /// The device's model, from its info reply.
+        model: String,
+        /// The device's serial number, from its info reply.
+        serial: String,
     },
 }
 
@@ -83,7 +86,9 @@ impl std::fmt::Display for SourceRecord {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             SourceRecord::Simulated { truth } => write!(f, "simulated: {truth}"),
-            SourceRecord::Device { endpoint } => write!(f, "device: {endpoint}"),
+            SourceRecord::Device { model, serial } => {
+                write!(f, "device: {model} (serial {serial})")
+            }
         }
     }
 }
@@ -183,6 +188,26 @@ pub enum HdrChoice {
     Predicted,
     /// The device file's fixed bracket at every sample (the paper's way).
     Bracket,
+}
+
+impl std::fmt::Display for PlanOrder {
+    /// The name of `--order`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Optimized => "optimized",
+            Self::Nested => "nested",
+        })
+    }
+}
+
+impl std::fmt::Display for HdrChoice {
+    /// The name of `--hdr`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Predicted => "predicted",
+            Self::Bracket => "bracket",
+        })
+    }
 }
 
 /// What a measurement is; kept in the journal, and a resumed session must ask the same.

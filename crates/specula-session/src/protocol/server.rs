@@ -136,6 +136,17 @@ pub enum ConnectionEnd {
     Broken(String),
 }
 
+impl std::fmt::Display for ConnectionEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::ClientClosed => write!(f, "the client closed the connection"),
+            Self::Dropped => write!(f, "connection dropped (an injected fault)"),
+            Self::Refused(why) => write!(f, "client refused: {why}"),
+            Self::Broken(why) => write!(f, "connection broken: {why}"),
+        }
+    }
+}
+
 /// What to do after a request.
 enum Next {
     Continue,
@@ -288,7 +299,7 @@ impl Server {
             let end = connection.serve(reader, writer);
             drop(connection);
             lock(&open.streams).remove(&key);
-            let _ = log.send(format!("{peer}: {end:?}"));
+            let _ = log.send(format!("{peer}: {end}"));
         });
         Ok(())
     }

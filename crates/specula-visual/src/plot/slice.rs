@@ -66,6 +66,62 @@ pub fn plot_slice(brdf: &dyn Brdf, title: &str, options: &SliceOptions) -> Resul
     let Some(scale) = LogScale::of(values.iter().flatten().flatten().copied()) else {
         bail!("{title}: the slice has no positive value to show");
     };
+    draw_slice(
+        &values,
+        scale,
+        title,
+        "f_r, mean of R, G, B [1/sr]",
+        options,
+    )
+}
+
+/// The slices of a measured BRDF and of its truth on one colour scale (the scale of both
+/// together), and the slice of their absolute difference |measured - truth| on the same
+/// scale, so that the three compare by eye: where the difference is as bright as the truth,
+/// the error is 100 %. Cells either leaves unmeasured are unmeasured in the difference.
+pub fn plot_slices_against_truth(
+    measured: (&dyn Brdf, &str),
+    truth: (&dyn Brdf, &str),
+    options: &SliceOptions,
+) -> Result<[RgbImage; 3]> {
+    let a = slice_values(measured.0, options);
+    let b = slice_values(truth.0, options);
+    let difference: Vec<Vec<Option<f64>>> = a
+        .iter()
+        .zip(&b)
+        .map(|(ra, rb)| {
+            ra.iter()
+                .zip(rb)
+                .map(|(x, y)| Some((x.as_ref()? - y.as_ref()?).abs()))
+                .collect()
+        })
+        .collect();
+    let all = a.iter().chain(&b).flatten().flatten().copied();
+    let Some(scale) = LogScale::of(all) else {
+        bail!("{}: the slices have no positive value to show", measured.1);
+    };
+    let label = "f_r, mean of R, G, B [1/sr]";
+    Ok([
+        draw_slice(&a, scale, measured.1, label, options)?,
+        draw_slice(&b, scale, truth.1, label, options)?,
+        draw_slice(
+            &difference,
+            scale,
+            &format!("|{} - {}|", measured.1, truth.1),
+            "|difference| of f_r [1/sr]",
+            options,
+        )?,
+    ])
+}
+
+/// A slice's values drawn on `scale`.
+fn draw_slice(
+    values: &[Vec<Option<f64>>],
+    scale: LogScale,
+    title: &str,
+    scale_label: &str,
+    options: &SliceOptions,
+) -> Result<RgbImage> {
     draw(760, 600, |root| {
         let (left, right) = root.split_horizontally(630);
         let mut chart = ChartBuilder::on(&left)
@@ -98,7 +154,7 @@ pub fn plot_slice(brdf: &dyn Brdf, title: &str, options: &SliceOptions) -> Resul
                 })
             }))
             .map_err(plot_error)?;
-        draw_colour_bar(&right, scale, "f_r, mean of R, G, B [1/sr]")
+        draw_colour_bar(&right, scale, scale_label)
     })
 }
 
