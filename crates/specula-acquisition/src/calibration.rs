@@ -21,6 +21,7 @@
 //! ([`Calibration::brdf`]). `specula calibrate` stores the result as TOML for later runs.
 
 pub mod colorchecker;
+pub mod response;
 
 use crate::hdr::{HdrCapturer, HdrSettings, HdrValue, NoiseModel};
 use crate::instrument::{Capture, Instrument, InstrumentError};
@@ -148,6 +149,10 @@ pub struct Calibration {
     /// The colour reference used.
     pub colour_reference: String,
     pub noise: NoiseModel,
+    /// The instrument's response measured with the reference mirror
+    /// ([`response::measure_response`]); absent in files made before it was measured.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub response: Option<response::ResponseFit>,
 }
 
 impl Calibration {
@@ -310,8 +315,69 @@ impl Calibration {
             "noise.dark_current_dn_s",
             "zero or positive",
             dark,
-        )
+        )?;
+        match &self.response {
+            Some(fit) => validate_response(fit, &rule),
+            None => Ok(()),
+        }
     }
+}
+
+/// The response's first value outside its range (see [`Calibration::validate`]): angles in
+/// [0, 90) degrees, the emission profile zero or positive, the footprint zero or positive,
+/// the distances positive, the fit residual zero or positive.
+fn validate_response(
+    fit: &response::ResponseFit,
+    rule: &dyn Fn(bool, &str, &str, f64) -> Result<(), String>,
+) -> Result<(), String> {
+    let r = &fit.response;
+    let angle = |v: f64| (0.0..90.0).contains(&v);
+    let at_least_zero = |v: f64| v.is_finite() && v >= 0.0;
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    rule(
+        angle(r.light.radius_deg),
+        "response.response.light.radius_deg",
+        "in [0, 90)",
+        r.light.radius_deg,
+    )?;
+    for (i, &e) in r.light.emission.iter().enumerate() {
+        rule(
+            at_least_zero(e),
+            &format!("response.response.light.emission[{i}]"),
+            "zero or positive",
+            e,
+        )?;
+    }
+    rule(
+        angle(r.camera_aperture_deg),
+        "response.response.camera_aperture_deg",
+        "in [0, 90)",
+        r.camera_aperture_deg,
+    )?;
+    rule(
+        at_least_zero(r.footprint_radius_m),
+        "response.response.footprint_radius_m",
+        "zero or positive",
+        r.footprint_radius_m,
+    )?;
+    rule(
+        positive(r.light_distance_m),
+        "response.response.light_distance_m",
+        "positive and finite",
+        r.light_distance_m,
+    )?;
+    rule(
+        positive(r.camera_distance_m),
+        "response.response.camera_distance_m",
+        "positive and finite",
+        r.camera_distance_m,
+    )?;
+    rule(
+        at_least_zero(fit.rms_relative),
+        "response.rms_relative",
+        "zero or positive",
+        fit.rms_relative,
+    )
 }
 
 /// The 3 x 3 matrix `C` minimising `sum |C camera_p - reference_p|^2`, by SVD least squares.
@@ -494,6 +560,7 @@ pub fn calibrate<I: Instrument>(
                            linear sRGB D65"
             .into(),
         noise,
+        response: None,
     })
 }
 

@@ -6,6 +6,7 @@
 //! file; the kinematics, occlusion and timing modules convert to radians where they compute.
 
 use crate::kinematics::AxisPositions;
+use crate::response::{InstrumentResponse, LightProfile};
 use crate::timing::CaptureBracket;
 use serde::{Deserialize, Serialize};
 use specula_core::shown::shown;
@@ -100,6 +101,10 @@ pub struct CameraArm {
     pub distance_m: f64,
     /// The view cone from the measured area to the lens.
     pub view: Cone,
+    /// Radius of the lens's entrance pupil, metres: the camera's angular spread seen from
+    /// the sample ([`crate::response`]); 0 for a pinhole.
+    #[serde(default)]
+    pub aperture_radius_m: f64,
     /// The camera axis; its range bounds theta_v (75 deg for UTIA, paper 5.3).
     pub axis: Axis,
     /// Lens, body and arm.
@@ -113,8 +118,13 @@ pub struct CameraArm {
 pub struct LightArm {
     /// Light's exit aperture to sample, metres (1.1 m for UTIA).
     pub distance_m: f64,
-    /// The beam cone from the sample to the light's exit aperture.
+    /// The beam cone from the sample to the light's exit aperture; the aperture is the
+    /// emitting disk ([`crate::response`]).
     pub beam: Cone,
+    /// Relative radiance of the exit aperture at evenly spaced radii from its centre to its
+    /// edge, linear in between; empty (the default) for a uniform disk.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub emission_profile: Vec<f64>,
     pub azimuth: Axis,
     pub elevation: Axis,
     /// Light head and arm.
@@ -177,6 +187,25 @@ impl Device {
     /// The description as TOML (without the comments of the default file).
     pub fn to_toml_string(&self) -> String {
         toml::to_string_pretty(self).expect("a device always serialises")
+    }
+
+    /// What one capture integrates on this device (see [`crate::response`]): the light's
+    /// exit aperture and emission profile, the camera's pupil, the measured area.
+    pub fn response(&self) -> InstrumentResponse {
+        InstrumentResponse {
+            light: LightProfile {
+                radius_deg: (self.light.beam.end_radius_m / self.light.distance_m)
+                    .atan()
+                    .to_degrees(),
+                emission: self.light.emission_profile.clone(),
+            },
+            camera_aperture_deg: (self.camera.aperture_radius_m / self.camera.distance_m)
+                .atan()
+                .to_degrees(),
+            footprint_radius_m: self.camera.view.sample_radius_m,
+            light_distance_m: self.light.distance_m,
+            camera_distance_m: self.camera.distance_m,
+        }
     }
 
     /// The park position as axis angles.
@@ -271,6 +300,15 @@ impl Device {
             return Err("light.elevation must stay within [-90, 90] degrees".into());
         }
         positive(self.camera.distance_m, "camera.distance_m")?;
+        non_negative(self.camera.aperture_radius_m, "camera.aperture_radius_m")?;
+        let emission = &self.light.emission_profile;
+        if emission.iter().any(|e| !(e.is_finite() && *e >= 0.0))
+            || (!emission.is_empty() && emission.iter().all(|e| *e == 0.0))
+        {
+            return Err(
+                "light.emission_profile must hold non-negative numbers, not all zero".into(),
+            );
+        }
         positive(self.light.distance_m, "light.distance_m")?;
         for (name, cone) in [
             ("camera.view", &self.camera.view),

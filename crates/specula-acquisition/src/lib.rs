@@ -10,5 +10,6 @@ pub mod kinematics;
 pub mod occlusion;
 pub mod ordering;
 pub mod plan;
+pub mod response;
 pub mod simulator;
 pub mod timing;

@@ -23,7 +23,8 @@ use std::path::PathBuf;
 /// whole workflow: calibration, the alignment and orientation checks (`checks`), the probe
 /// (`probe_samples`), k-hat, the plan (the grid arguments as `plan`'s), the acquisition with
 /// HDR (`hdr`: `"predicted"` or `"bracket"`) and noise (`ideal=True`: none), and the
-/// reconstruction with `method` into the MERL file `out` (with its `.provenance.npy` and
+/// reconstruction with `method` (through the instrument's measured response unless
+/// `deblur=False`) into the MERL file `out` (with its `.provenance.npy` and
 /// `.summary.txt`). Everything is journaled in `session` (default `OUT.session.sqlite`);
 /// an existing session resumes.
 ///
@@ -34,7 +35,7 @@ use std::path::PathBuf;
 #[pyo3(signature = (truth, out, session = None, seed = 1, ideal = false, point_light = false,
     probe_samples = 90, family = "exponential", theta_h_samples = 30, theta_d_step_deg = 3.0,
     phi_d_step_deg = 15.0, phi_h_deg = 45.0, order = "optimized", hdr = "predicted",
-    method = "lobe", checks = true, tilt_deg = 0.0, tilt_azimuth_deg = 0.0, device = None))]
+    method = "lobe", deblur = true, checks = true, tilt_deg = 0.0, tilt_azimuth_deg = 0.0, device = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn measure<'py>(
     py: Python<'py>,
@@ -53,6 +54,7 @@ pub fn measure<'py>(
     order: &str,
     hdr: &str,
     method: &str,
+    deblur: bool,
     checks: bool,
     tilt_deg: f64,
     tilt_azimuth_deg: f64,
@@ -77,6 +79,7 @@ pub fn measure<'py>(
         .parse()
         .map_err(|_| invalid(format!("method {method}: expected lobe, log or linear")))?;
     let settings = MeasureSettings {
+        deblur,
         seed,
         ideal,
         point_light,

@@ -9,6 +9,7 @@
 
 pub mod accuracy;
 pub mod axis;
+pub mod deblur;
 pub mod domain;
 pub mod extrapolate;
 pub mod grid;
@@ -21,5 +22,5 @@ pub mod reconstruct;
 pub mod sample;
 
 pub use method::Method;
-pub use reconstruct::{reconstruct, ReconstructError, Reconstruction};
+pub use reconstruct::{reconstruct, reconstruct_through, ReconstructError, Reconstruction};
 pub use sample::Sample;

@@ -5,11 +5,12 @@
 use crate::extrapolate::fill_missing;
 use crate::grid::{extrapolated_cells, interpolate_to_merl};
 use crate::lattice::Lattice;
-use crate::lobe::{Geometry, Lobe, LobeOnGrid};
+use crate::lobe::{Geometry, Lobe, LobeOnGrid, BLUR_THETA_H_DEG};
 use crate::method::Method;
 use crate::provenance::Provenance;
 use crate::sample::Sample;
 use rayon::prelude::*;
+use specula_acquisition::response::{CaptureNode, InstrumentResponse};
 use specula_core::merl::MerlBrdf;
 use specula_core::{HalfDiff, Rgb};
 
@@ -29,11 +30,24 @@ pub struct Reconstruction {
     pub provenance: Provenance,
     /// The fitted lobe of the `lobe` method.
     pub lobe: Option<Lobe>,
+    /// The instrument's resolution in theta_h (degrees) when the lobe was fitted through its
+    /// response; `None` without one.
+    pub resolution_deg: Option<f64>,
     /// Lattice nodes along theta_h, theta_d, phi_d.
     pub lattice_shape: [usize; 3],
     /// Lattice nodes measured and extrapolated.
     pub measured_nodes: usize,
     pub filled_nodes: usize,
+}
+
+/// The lobe as a capture at `hd` measures it: through the nodes near the peak, where the fit
+/// used them ([`crate::lobe::BLUR_THETA_H_DEG`]), else the lobe itself.
+fn measured_lobe(lobe: &Lobe, nodes: &[CaptureNode], hd: HalfDiff) -> Rgb {
+    if hd.theta_h.to_degrees() < BLUR_THETA_H_DEG {
+        lobe.measured(nodes, hd)
+    } else {
+        lobe.eval(&Geometry::of(hd))
+    }
 }
 
 /// The sample with phi_d folded into `[0, pi)` by reciprocity (paper 3: phi_d and
@@ -49,25 +63,45 @@ fn reciprocal_canonical(sample: &Sample) -> Sample {
     Sample::new(HalfDiff { phi_d, ..sample.hd }, sample.value)
 }
 
+/// Quadrature nodes of the response for the fit through the instrument: enough for lobes
+/// down to alpha 0.005 under a 1.8-degree disk.
+pub const FIT_RESPONSE_NODES: usize = 256;
+
 /// Reconstructs the full MERL table named `name` from the samples with a method.
 pub fn reconstruct(
     samples: &[Sample],
     method: Method,
     name: &str,
 ) -> Result<Reconstruction, ReconstructError> {
+    reconstruct_through(samples, method, name, None)
+}
+
+/// Reconstructs the table from samples measured through an instrument `response`: the
+/// `lobe` method fits its lobe through the response (the forward model, see
+/// [`crate::lobe`]) and the lattice holds the samples' log ratio to the lobe *as measured*,
+/// so the table is the lobe before the blur times the measured residual. The other methods,
+/// which have no model of the BRDF, ignore the response. `None`: as [`reconstruct`].
+pub fn reconstruct_through(
+    samples: &[Sample],
+    method: Method,
+    name: &str,
+    response: Option<&InstrumentResponse>,
+) -> Result<Reconstruction, ReconstructError> {
     if samples.is_empty() {
         return Err(ReconstructError::NoSamples);
     }
     let canonical: Vec<Sample> = samples.iter().map(reciprocal_canonical).collect();
+    let through = response.filter(|r| method.domain.uses_lobe() && !r.is_point());
+    let nodes = through.map_or_else(Vec::new, |r| r.capture_nodes(FIT_RESPONSE_NODES));
     let lobe = if method.domain.uses_lobe() {
-        Some(Lobe::fit(&canonical).ok_or(ReconstructError::NoLobe)?)
+        Some(Lobe::fit_through(&canonical, &nodes).ok_or(ReconstructError::NoLobe)?)
     } else {
         None
     };
     let domain_values: Vec<[f64; 3]> = canonical
         .par_iter()
         .map(|s| {
-            let model = lobe.map_or(Rgb::ZERO, |l| l.eval(&Geometry::of(s.hd)));
+            let model = lobe.map_or(Rgb::ZERO, |l| measured_lobe(&l, &nodes, s.hd));
             std::array::from_fn(|c| method.domain.forward(s.value[c], model[c]))
         })
         .collect();
@@ -89,6 +123,7 @@ pub fn reconstruct(
         brdf,
         provenance: Provenance::new(samples, &extrapolated_cells(&lattice)),
         lobe,
+        resolution_deg: through.map(InstrumentResponse::resolution_deg),
         lattice_shape: lattice.shape(),
         measured_nodes,
         filled_nodes: lattice.status.len() - measured_nodes,

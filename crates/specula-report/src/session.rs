@@ -9,21 +9,23 @@ use crate::figures::{
     slice_figures,
 };
 use crate::{generator, Progress, ReportOptions, PLACED_SAMPLES};
+use specula_acquisition::calibration::response::ResponseFit;
+use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::InstrumentInfo;
-use specula_acquisition::simulator::optics::LightDisk;
 use specula_appearance::aperture::ExtrapolatedCells;
 use specula_appearance::Options;
 use specula_core::merl::CELLS;
 use specula_core::{MerlBrdf, Rgb};
 use specula_formats::BrdfSource;
 use specula_reconstruct::provenance::Provenance;
-use specula_reconstruct::{reconstruct, Method, Sample};
+use specula_reconstruct::{reconstruct_through, Method, Sample};
 use specula_session::journal::{
-    Journal, SessionRecord, SessionStatus, SourceRecord, Stage, StageStatus,
+    Journal, JournalError, SessionRecord, SessionStatus, SourceRecord, Stage, StageStatus,
 };
 use specula_session::workflow::{
-    measured_samples, probe_samples, ChecksRecord, FitRecord, MeasureSettings, PlanRecord,
+    measured_samples, probe_samples, ChecksRecord, DeblurRecord, FitRecord, MeasureSettings,
+    PlanRecord,
 };
 use specula_visual::plot::raw_samples::RawSample;
 use specula_visual::report::{
@@ -56,6 +58,8 @@ struct Session {
     probe_phi_h_deg: Option<f64>,
     /// The main stage's measured samples, in plan order.
     main: Vec<Sample>,
+    /// The instrument's response of the session's calibration, if the session deblurs.
+    response: Option<ResponseFit>,
 }
 
 impl Session {
@@ -86,6 +90,7 @@ impl Session {
             .map(|text| Device::from_toml_str(&text.0, &path.display().to_string()))
             .transpose()
             .or_report()?;
+        let response = response_of(&journal, record.settings.as_ref()).or_report()?;
         Ok(Session {
             path: path.to_path_buf(),
             source: record.source,
@@ -107,6 +112,7 @@ impl Session {
                 .first()
                 .map(|row| row.hd.phi_h.to_degrees()),
             main,
+            response,
             status: record.status,
         })
     }
@@ -114,6 +120,16 @@ impl Session {
     /// The name of the truth a simulated session measured.
     fn simulated_truth(&self) -> Option<&str> {
         self.source.as_ref()?.simulated_truth()
+    }
+
+    /// The angular resolution in theta_h of the session's samples, degrees: its calibrated
+    /// response's, else the device model's nominal one (`None` without a device).
+    fn resolution_deg(&self) -> Option<f64> {
+        match (&self.response, &self.device) {
+            (Some(fit), _) => Some(fit.response.resolution_deg()),
+            (None, Some(device)) => Some(device.response().resolution_deg()),
+            (None, None) => None,
+        }
     }
 
     /// The measured material's name: the simulated truth's, else the journal's file name.
@@ -285,6 +301,20 @@ impl Session {
         if let Some(s) = &self.settings {
             fact("settings", settings_text(s));
         }
+        if let Some(fit) = &self.response {
+            fact(
+                "instrument response",
+                format!(
+                    "light disk of {:.3} deg angular radius (measured with the {}; fit residual {:.3} of the peak), camera pupil {:.3} deg, measured area {:.1} mm across: resolution {:.3} deg in theta_h",
+                    fit.response.light.radius_deg,
+                    fit.reference,
+                    fit.rms_relative,
+                    fit.response.camera_aperture_deg,
+                    2e3 * fit.response.footprint_radius_m,
+                    fit.response.resolution_deg()
+                ),
+            );
+        }
         if let Some(checks) = &self.checks {
             fact("alignment", checks.alignment.clone());
             fact("orientation", checks.orientation.clone());
@@ -396,14 +426,25 @@ fn truth(
     }
 }
 
-/// Why a sharp material's error is large on the simulated device (README, Pictures and
-/// reports, gives the figures of the demo's green paint).
-const LIGHT_DISK_NOTE: &str = "About the error figures: the simulated light is a disk (1.8 deg \
-     across on the default device, as on the real one), not a point, so a highlight sharper \
-     than the disk is measured blurred. The relative RMSE is dominated by the specular peak and \
-     counts that blur together with the error of sampling and reconstruction; a measurement \
-     with --point-light separates the two (for the demo's green paint the relative RMSE within \
-     75 deg falls from 0.88 to 0.044).";
+/// Why a sharp material's error is large when the session was measured with `--no-deblur`
+/// (README, Pictures and reports, gives the figures of the demo's green paint).
+const LIGHT_DISK_NOTE: &str = "About the error figures: this session was measured with \
+     --no-deblur, and the simulated light is a disk (1.8 deg across on the default device, as on \
+     the real one), not a point, so a highlight sharper than the disk is measured blurred. The \
+     relative RMSE is dominated by the specular peak and counts that blur together with the \
+     error of sampling and reconstruction (for the demo's green paint the relative RMSE within \
+     75 deg is 0.88 without deblurring and 0.11 with it).";
+
+/// The response a session's reconstruction goes through: its calibration's, unless the
+/// session was measured with `--no-deblur`.
+fn response_of(
+    journal: &Journal,
+    settings: Option<&MeasureSettings>,
+) -> Result<Option<ResponseFit>, JournalError> {
+    let deblur = settings.is_none_or(|s| s.deblur);
+    let calibration = journal.record::<Calibration>()?;
+    Ok(calibration.and_then(|c| c.response).filter(|_| deblur))
+}
 
 /// The table shown: --table, or the main stage's samples reconstructed with the session's
 /// method (as `specula reconstruct --session`); with its coverage rows and where it is from.
@@ -443,7 +484,13 @@ fn shown_table(
     }
     let method = session.settings.as_ref().map_or(Method::LOBE, |s| s.method);
     progress.start("reconstructing", None);
-    let result = reconstruct(&session.main, method, &format!("{name}, measured"));
+    let response = session.response.as_ref().map(|fit| &fit.response);
+    let result = reconstruct_through(
+        &session.main,
+        method,
+        &format!("{name}, measured"),
+        response,
+    );
     progress.finish();
     match result {
         Ok(r) => {
@@ -459,8 +506,15 @@ fn shown_table(
                 provenance: Some(r.provenance),
                 rows,
                 origin: format!(
-                    "reconstructed from the {} main samples with the {method} method",
-                    session.main.len()
+                    "reconstructed from the {} main samples with the {method} method{}",
+                    session.main.len(),
+                    match (&session.response, r.resolution_deg) {
+                        (Some(fit), Some(_)) => format!(
+                            ", fitted through the instrument's response: {}",
+                            DeblurRecord::new(fit, r.lobe.as_ref()).describe()
+                        ),
+                        _ => ", not deblurred (as measured, blurred by the light's disk)".into(),
+                    }
                 ),
             }))
         }
@@ -506,16 +560,15 @@ pub(crate) fn report(
         if let Some((label, brdf)) = &truth {
             report.errors = Some(errors(&shown.table, brdf.as_ref(), label, progress));
             let disk_light = session.simulated_truth().is_some()
-                && session.settings.as_ref().is_some_and(|s| !s.point_light);
+                && session
+                    .settings
+                    .as_ref()
+                    .is_some_and(|s| !s.point_light && !s.deblur);
             if disk_light {
                 notes.push(LIGHT_DISK_NOTE.into());
             }
         }
-        let resolution_deg = session.device.as_ref().map(|d| {
-            LightDisk::new(d.light.beam.end_radius_m, d.light.distance_m, 1)
-                .half_angle_rad
-                .to_degrees()
-        });
+        let resolution_deg = session.resolution_deg();
         report.tables.push(appearance::report_section(
             truth
                 .as_ref()

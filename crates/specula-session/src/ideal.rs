@@ -84,7 +84,7 @@ impl Instrument for NoiselessSimulator {
 }
 
 /// The calibration that inverts a simulated camera exactly: its channel gains and the
-/// inverse of its colour crosstalk.
+/// inverse of its colour crosstalk (the response is not measured).
 pub fn exact_calibration(camera: &CameraModel, device: &str) -> Calibration {
     let gain = camera.responsivity_e_s.map(|r| r * camera.gain_dn_per_e);
     let crosstalk = glam::DMat3::from_cols_array_2d(&camera.crosstalk).transpose();
@@ -98,6 +98,7 @@ pub fn exact_calibration(camera: &CameraModel, device: &str) -> Calibration {
         colour_rms_error: 0.0,
         colour_reference: "exact (the simulated camera's own crosstalk)".into(),
         noise: camera.noise_model(),
+        response: None,
     }
 }
 

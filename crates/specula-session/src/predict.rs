@@ -144,6 +144,7 @@ mod tests {
                 read_noise_dn: 2.0,
                 white_level_dn: 4095.0,
             },
+            response: None,
         }
     }
 

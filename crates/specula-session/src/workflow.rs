@@ -37,6 +37,8 @@ use crate::predict::{Predictor, ProbeModel};
 use crate::protocol::validate::ReplyRanges;
 use crate::protocol::{ClientSettings, Endpoint, RemoteInstrument};
 use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+use specula_acquisition::calibration::response::{measure_response, ResponseFit, ResponseOptions};
 use specula_acquisition::calibration::{
     calibrate, mount_in_simulator, Calibration, CalibrationOptions,
 };
@@ -48,12 +50,14 @@ use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
 use specula_acquisition::instrument::{Instrument, InstrumentError, InstrumentInfo};
 use specula_acquisition::ordering::order;
 use specula_acquisition::plan::Plan;
+use specula_acquisition::response::InstrumentResponse;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, HalfDiff, Rgb};
+use specula_reconstruct::deblur::deblur_samples;
 use specula_reconstruct::provenance::sidecar_path;
-use specula_reconstruct::{reconstruct, Method, Sample};
+use specula_reconstruct::{reconstruct_through, Method, Sample};
 use specula_sampling::{fit_k, Probe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -169,6 +173,8 @@ pub struct Summary {
     /// True when the device time is a simulated clock.
     pub simulated: bool,
     pub method: Method,
+    /// The instrument's response the reconstruction went through, if any.
+    pub deblur: Option<DeblurRecord>,
     /// Events in the journal by kind (faults, retries, resumptions).
     pub events: Vec<(String, usize)>,
 }
@@ -221,8 +227,79 @@ impl Summary {
             hours(self.plan.nested_bracket_s)
         ));
         lines.push(format!("method={}", self.method));
+        match &self.deblur {
+            Some(d) => lines.extend(d.lines()),
+            None => lines.push("deblurred=false".into()),
+        }
         for (kind, count) in &self.events {
             lines.push(format!("events_{kind}={count}"));
+        }
+        lines
+    }
+}
+
+/// What the fit through the instrument's response found, for the summary and the report.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DeblurRecord {
+    /// The light's angular radius of the response, degrees.
+    pub light_radius_deg: f64,
+    /// How it was known ("exact (the simulator's own response)" or the reference measured).
+    pub measured_with: String,
+    /// The instrument's resolution in theta_h, degrees.
+    pub resolution_deg: f64,
+    /// The fitted lobe's half width at half maximum in theta_h, degrees.
+    pub peak_half_width_deg: Option<f64>,
+}
+
+impl DeblurRecord {
+    /// Of a response and the lobe fitted through it.
+    pub fn new(fit: &ResponseFit, lobe: Option<&specula_reconstruct::lobe::Lobe>) -> Self {
+        Self {
+            light_radius_deg: fit.response.light.radius_deg,
+            measured_with: fit.reference.clone(),
+            resolution_deg: fit.response.resolution_deg(),
+            peak_half_width_deg: lobe.map(|l| l.shape.half_width_deg()),
+        }
+    }
+
+    /// True when the peak is at least as wide as the instrument resolves.
+    pub fn resolved(&self) -> bool {
+        self.peak_half_width_deg
+            .is_some_and(|w| w >= self.resolution_deg)
+    }
+
+    /// One sentence: the resolution and whether the peak is resolved.
+    pub fn describe(&self) -> String {
+        let resolution = format!("resolution {:.3} deg in theta_h", self.resolution_deg);
+        match self.peak_half_width_deg {
+            Some(w) if self.resolved() => {
+                format!("{resolution}; the peak's half width {w:.3} deg is resolved")
+            }
+            Some(w) => format!(
+                "{resolution}; the peak's half width {w:.3} deg is narrower than that: a bound, not a measurement"
+            ),
+            None => resolution,
+        }
+    }
+
+    /// The summary's lines.
+    pub fn lines(&self) -> Vec<String> {
+        let mut lines = vec![
+            "deblurred=true".to_string(),
+            format!("response_light_radius_deg={:.4}", self.light_radius_deg),
+            format!("response_measured_with={}", self.measured_with),
+            format!("resolution_deg={:.4}", self.resolution_deg),
+        ];
+        if let Some(w) = self.peak_half_width_deg {
+            lines.push(format!("peak_half_width_deg={w:.4}"));
+            lines.push(if self.resolved() {
+                "peak_resolved=true".into()
+            } else {
+                format!(
+                    "peak_resolved=false (the peak is narrower than the instrument's resolution of {:.2} deg: its width is a bound, not a measurement)",
+                    self.resolution_deg
+                )
+            });
         }
         lines
     }
@@ -313,6 +390,8 @@ pub fn measure(
     check_device(&journal, &identity)?;
     journal.put_record(&info)?;
     let calibration = connected.calibration.clone();
+    let response_fit = calibration.response.clone().filter(|_| settings.deblur);
+    let response = response_fit.as_ref().map(|r| r.response.clone());
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
 
     let checks = if settings.checks {
@@ -359,7 +438,7 @@ pub fn measure(
     let fit = match engine.journal.record::<FitRecord>()? {
         Some(stored) => stored,
         None => {
-            let fit = fit_probe(&probe, settings)
+            let fit = fit_probe(&probe, settings, response.as_ref(), phi_h_deg)
                 .map_err(anyhow::Error::msg)
                 .context("fitting k to the probe")?;
             engine.journal.put_record(&fit)?;
@@ -397,7 +476,12 @@ pub fn measure(
     let name = out
         .file_stem()
         .map_or_else(|| "measured".into(), |s| s.to_string_lossy().into_owned());
-    let result = reconstruct(&samples, method, &name).context("reconstructing the samples")?;
+    let result = reconstruct_through(&samples, method, &name, response.as_ref())
+        .context("reconstructing the samples")?;
+    let deblur = response_fit
+        .as_ref()
+        .filter(|_| result.resolution_deg.is_some())
+        .map(|fit| DeblurRecord::new(fit, result.lobe.as_ref()));
     result
         .brdf
         .write(out)
@@ -417,6 +501,7 @@ pub fn measure(
         plan,
         connected.simulated,
         settings,
+        deblur,
     )?;
     let text = summary.lines().join("\n") + "\n";
     let path = summary_path(out);
@@ -481,7 +566,8 @@ fn connect(
         Reached::Simulated { truth, speedup } => {
             let mut config = SimulatorConfig::new(settings.seed, device);
             if settings.point_light {
-                config.disk_points = 1;
+                config.response =
+                    InstrumentResponse::point(device.light.distance_m, device.camera.distance_m);
             }
             let tilt = if settings.ideal {
                 config.positioning.sigma_deg = 0.0;
@@ -490,21 +576,30 @@ fn connect(
                 Tilt::new(settings.tilt_deg, settings.tilt_azimuth_deg)
             };
             let sample = MountedSample::new(truth.name(), truth, tilt);
+            let true_response = config.response.clone();
             let mut simulator = Simulator::new(device.clone(), sample.clone(), config);
             let calibration = match journal.record::<Calibration>()? {
                 Some(stored) => stored,
                 None => {
                     let calibration = if settings.ideal {
                         let model = simulator.info()?.model;
-                        exact_calibration(&simulator.config().camera, &model)
+                        let mut c = exact_calibration(&simulator.config().camera, &model);
+                        c.response = Some(ResponseFit::exact(true_response));
+                        c
                     } else {
                         observer.step("calibrating: white reference and ColorChecker");
-                        let c = calibrate(
+                        let mut c = calibrate(
                             &mut simulator,
                             mount_in_simulator,
                             &CalibrationOptions::default(),
                         )
                         .context("calibrating the simulated device")?;
+                        c.response = Some(if settings.point_light {
+                            ResponseFit::exact(true_response)
+                        } else {
+                            observer.step("calibrating: the response, a mirror across the light");
+                            simulated_response(&mut simulator, &c, device)?
+                        });
                         simulator.mount(sample);
                         c
                     };
@@ -553,6 +648,29 @@ fn connect(
             })
         }
     }
+}
+
+/// The response measured on the simulator with the reference mirror
+/// ([`measure_response`]).
+pub fn simulated_response(
+    simulator: &mut Simulator,
+    calibration: &Calibration,
+    device: &Device,
+) -> Result<ResponseFit> {
+    let info = simulator.info()?;
+    let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
+    measure_response(
+        simulator,
+        |sim, mirror| {
+            sim.mount(MountedSample::new(mirror.name(), mirror, Tilt::default()));
+            Ok(())
+        },
+        &mut hdr,
+        calibration,
+        &device.response(),
+        &ResponseOptions::default(),
+    )
+    .context("measuring the instrument's response")
 }
 
 fn hdr_mode(settings: &MeasureSettings, device: &Device) -> HdrMode {
@@ -724,8 +842,18 @@ pub fn probe_samples(journal: &Journal) -> Result<Vec<(f64, Rgb)>> {
     Ok(probe)
 }
 
-/// k-hat of the settings' family for the probe (paper 5.2).
-fn fit_probe(probe: &[(f64, Rgb)], settings: &MeasureSettings) -> Result<FitRecord, String> {
+/// k-hat of the settings' family for the probe (paper 5.2), deblurred first when the
+/// response is known ([`deblur_samples`]), so that k adapts to the material.
+fn fit_probe(
+    probe: &[(f64, Rgb)],
+    settings: &MeasureSettings,
+    response: Option<&InstrumentResponse>,
+    phi_h_deg: f64,
+) -> Result<FitRecord, String> {
+    let probe = match response.filter(|r| !r.is_point()) {
+        Some(response) => deblurred_probe(probe, response, phi_h_deg),
+        None => probe.to_vec(),
+    };
     let (theta_h, values): (Vec<f64>, Vec<Rgb>) = probe.iter().copied().unzip();
     let probe = Probe::new(theta_h, values).map_err(|e| e.to_string())?;
     let fit = fit_k(&probe.column(), settings.family, settings.theta_h_samples)
@@ -734,6 +862,26 @@ fn fit_probe(probe: &[(f64, Rgb)], settings: &MeasureSettings) -> Result<FitReco
         function: fit.function,
         error: fit.error,
     })
+}
+
+/// The probe's `(theta_h_deg, f)` before the instrument's blur (at theta_d = 40, phi_d =
+/// 90 deg, the probe's column); the measured probe where no lobe fits.
+pub fn deblurred_probe(
+    probe: &[(f64, Rgb)],
+    response: &InstrumentResponse,
+    phi_h_deg: f64,
+) -> Vec<(f64, Rgb)> {
+    let samples: Vec<Sample> = probe
+        .iter()
+        .map(|&(h, v)| Sample::new(HalfDiff::from_degrees(h, phi_h_deg, 40.0, 90.0), v))
+        .collect();
+    match deblur_samples(&samples, response) {
+        Some((sharp, _)) => sharp
+            .iter()
+            .map(|s| (s.hd.theta_h.to_degrees(), s.value))
+            .collect(),
+        None => probe.to_vec(),
+    }
 }
 
 /// `0, step, 2 step, ...` below `end` (or up to it when `inclusive`), degrees.
@@ -840,6 +988,7 @@ fn summarise(
     plan: PlanRecord,
     simulated: bool,
     settings: &MeasureSettings,
+    deblur: Option<DeblurRecord>,
 ) -> Result<Summary> {
     let status = journal.status()?;
     let stage = |stage: Stage| {
@@ -874,6 +1023,7 @@ fn summarise(
         main_device_s: main.device_s_done,
         simulated,
         method: settings.method,
+        deblur,
         events: status.events.into_iter().collect(),
     })
 }

@@ -117,6 +117,7 @@ fn calibration_file_round_trip_and_errors() {
         colour_rms_error: 0.001,
         colour_reference: "test".into(),
         noise: crate::simulator::camera::CameraModel::default().noise_model(),
+        response: None,
     };
     cal.save(&path).unwrap();
     assert_eq!(Calibration::load(&path).unwrap(), cal);
@@ -135,4 +136,62 @@ fn calibration_file_round_trip_and_errors() {
         missing.contains("none.toml") && missing.contains("cannot read"),
         "{missing}"
     );
+}
+
+/// Calibrates a simulated device with a light disk of `radius_m` at 1.1 m and measures its
+/// response with the reference mirror.
+fn measured_response(seed: u64, radius_m: f64, emission: Vec<f64>) -> (f64, response::ResponseFit) {
+    let mut device = Device::utia();
+    device.light.beam.end_radius_m = radius_m;
+    device.light.emission_profile = emission;
+    let truth = device.response().light.radius_deg;
+    let config = SimulatorConfig::new(seed, &device);
+    let white = Arc::new(DiffuseTarget::white(0.99));
+    let mut sim = Simulator::new(
+        device.clone(),
+        MountedSample::new("white", white, Tilt::default()),
+        config,
+    );
+    let cal = calibrate(&mut sim, mount_in_simulator, &CalibrationOptions::default()).unwrap();
+    let info = sim.info().unwrap();
+    let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), cal.noise);
+    // The fit starts from the device file's radius: give it a wrong one (1.5x).
+    let prior = device.response().with_light_radius_deg(1.5 * truth);
+    let fit = response::measure_response(
+        &mut sim,
+        |s, mirror| {
+            s.mount(MountedSample::new(mirror.name(), mirror, Tilt::default()));
+            Ok(())
+        },
+        &mut hdr,
+        &cal,
+        &prior,
+        &response::ResponseOptions::default(),
+    )
+    .unwrap();
+    (truth, fit)
+}
+
+#[test]
+fn the_mirror_scan_recovers_the_light_disk() {
+    // The target: the fitted radius within 2 % of the true disk, with the
+    // simulator's noise and positioning error, for the UTIA disk and a smaller one, and for
+    // a disk whose emission falls towards its edge (the profile is known from the device
+    // file, the radius is not).
+    for (seed, radius_m, emission) in [
+        (3, 0.035, vec![]),
+        (4, 0.02, vec![]),
+        (5, 0.035, vec![1.0, 0.9, 0.5]),
+    ] {
+        let (truth, fit) = measured_response(seed, radius_m, emission);
+        let fitted = fit.response.light.radius_deg;
+        assert!(
+            (fitted / truth - 1.0).abs() < 0.02,
+            "radius {radius_m}: fitted {fitted} deg, true {truth} deg"
+        );
+        // A wrong shape (a radius off by 10 %) leaves a residual of about a third of the peak
+        // at the edges; noise and the simulator's quadrature leave under a tenth.
+        assert!(fit.rms_relative < 0.1, "residual {}", fit.rms_relative);
+        assert_eq!(fit.scan.len(), 141);
+    }
 }

@@ -3,8 +3,9 @@
 //!
 //! A capture is computed at the *actual* geometry (the commanded axes plus their repeatable
 //! positioning error, [`sample::PositioningError`], and the sample's tilt,
-//! [`sample::Tilt`]): the radiance factor `f_r cos(theta_i)` averaged over the light's disk
-//! ([`optics::LightDisk`]), times the light level, plus the lens flare's ghost where it falls
+//! [`sample::Tilt`]): the radiance factor `f_r cos(theta_i)` integrated over the instrument's
+//! response (the light's disk, the camera's pupil and the measured area,
+//! [`crate::response`]), times the light level, plus the lens flare's ghost where it falls
 //! into the region of interest ([`optics::LensFlare`]), seen by a 12-bit camera with noise,
 //! saturation and colour crosstalk ([`camera::CameraModel`]). An arm in the camera's view or
 //! in the light's beam ([`crate::occlusion`]) makes the capture dark; a move into a
@@ -29,10 +30,11 @@ use crate::device::Device;
 use crate::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
 use crate::kinematics::{AxisPositions, AXIS_NAMES, CAMERA_AXIS};
 use crate::occlusion::{blockage, Blockage};
+use crate::response::{CaptureNode, InstrumentResponse};
 use crate::timing::TimeModel;
 use camera::CameraModel;
 use glam::DVec3;
-use optics::{Ghost, LensFlare, LightDisk};
+use optics::{Ghost, LensFlare};
 use sample::{MountedSample, PositioningError};
 use std::collections::HashMap;
 
@@ -47,8 +49,11 @@ pub struct SimulatorConfig {
     pub light_levels: Vec<f64>,
     /// Shortest and longest exposure, seconds.
     pub exposure_range_s: (f64, f64),
-    /// Points averaged over the light's disk (1 makes a point source).
-    pub disk_points: usize,
+    /// What a capture integrates (the device's own, [`Device::response`], by default).
+    pub response: InstrumentResponse,
+    /// Quadrature nodes of the response per capture: enough to integrate a mirror
+    /// (alpha 0.001) over the disk smoothly.
+    pub response_nodes: usize,
     pub positioning: PositioningError,
     /// The lens flare, if any.
     pub flare: Option<LensFlare>,
@@ -63,7 +68,8 @@ impl SimulatorConfig {
             camera: CameraModel::default(),
             light_levels: vec![1.0, 0.1, 0.01],
             exposure_range_s: (2e-5, 8.0),
-            disk_points: 96,
+            response: device.response(),
+            response_nodes: 4096,
             positioning: PositioningError {
                 sigma_deg: device.accuracy_deg,
             },
@@ -77,7 +83,7 @@ pub struct Simulator {
     device: Device,
     time: TimeModel,
     config: SimulatorConfig,
-    disk: LightDisk,
+    nodes: Vec<CaptureNode>,
     sample: MountedSample,
     commanded: AxisPositions,
     light_level: f64,
@@ -93,17 +99,13 @@ pub struct Simulator {
 impl Simulator {
     /// A device with `sample` mounted, parked, the light at full power.
     pub fn new(device: Device, sample: MountedSample, config: SimulatorConfig) -> Self {
-        let disk = LightDisk::new(
-            device.light.beam.end_radius_m,
-            device.light.distance_m,
-            config.disk_points,
-        );
+        let nodes = config.response.capture_nodes(config.response_nodes);
         Self {
             time: TimeModel::from_device(&device),
             commanded: device.park_axes(),
             device,
             config,
-            disk,
+            nodes,
             sample,
             light_level: 1.0,
             clock_s: 0.0,
@@ -148,8 +150,8 @@ impl Simulator {
     }
 
     /// The noise-free radiance factor in the region of interest at full light for a command,
-    /// 1/sr, without flare: the disk average of `f_r cos(theta_i)` at the actual geometry;
-    /// zero when an arm blocks the view or the beam.
+    /// 1/sr, without flare: `f_r cos(theta_i)` at the actual geometry integrated over the
+    /// response; zero when an arm blocks the view or the beam.
     pub fn scene_radiance(&self, commanded: &AxisPositions) -> DVec3 {
         let actual = self.actual_axes(commanded);
         if blockage(&self.device, &actual).is_some() {
@@ -157,10 +159,9 @@ impl Simulator {
         }
         let to_turntable =
             |lab: DVec3| specula_core::geometry::rotate_z(lab, -actual.turntable_rad);
+        let wi = to_turntable(actual.light_direction());
         let wo = to_turntable(actual.camera_direction());
-        self.disk.average(actual.light_direction(), |light_lab| {
-            self.sample.reflected(to_turntable(light_lab), wo)
-        })
+        InstrumentResponse::integrate(&self.nodes, wi, wo, |a, b| self.sample.reflected(a, b))
     }
 
     /// The noise-free black-subtracted raw rate of each channel at full light, DN/s: what an

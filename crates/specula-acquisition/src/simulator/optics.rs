@@ -1,10 +1,5 @@
-//! The simulated optics: the light source's finite disk and the lens flare (paper 4.1, 4.3).
-//!
-//! **The light's disk.** The LED's exit aperture (radius `beam.end_radius_m`, 35 mm at
-//! 1.1 m for UTIA: a half-angle of 1.8 deg) is no point: a mirror-like sample reflects the
-//! whole disk, so every measured value is the BRDF averaged over the directions of the disk
-//! (paper Fig. 9: the emitting area matters). [`LightDisk`] places equal-area points over the
-//! disk (a sunflower pattern) and averages over them.
+//! The simulated optics: the lens flare (paper 4.3). The light's finite disk is part of the
+//! instrument's response ([`crate::response`]).
 //!
 //! **Lens flare.** Internal reflections in the lens make a ghost of the light: for the
 //! paper's lens "merely a bright red spot" (4.3). The model is phenomenological: the ghost
@@ -20,71 +15,6 @@
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
-
-/// Equal-area points over the light's disk, as unit offsets in the disk's plane.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LightDisk {
-    /// Angular radius of the disk seen from the sample, radians.
-    pub half_angle_rad: f64,
-    /// Points of the unit disk (sunflower pattern).
-    points: Vec<DVec2>,
-}
-
-impl LightDisk {
-    /// A disk of `radius_m` at `distance_m`, sampled with `count` points (at least 1; 1 gives
-    /// a point source).
-    pub fn new(radius_m: f64, distance_m: f64, count: usize) -> Self {
-        let count = count.max(1);
-        let golden_angle = PI * (3.0 - 5f64.sqrt());
-        let spiral: Vec<DVec2> = (0..count)
-            .map(|k| {
-                let r = ((k as f64 + 0.5) / count as f64).sqrt();
-                let a = k as f64 * golden_angle;
-                DVec2::new(r * a.cos(), r * a.sin())
-            })
-            .collect();
-        // The spiral's centroid is off the centre by about 0.5 / count of the radius; shift
-        // it back so that the disk has no bias towards one side.
-        let centroid = spiral.iter().sum::<DVec2>() / count as f64;
-        let points = spiral.into_iter().map(|p| p - centroid).collect();
-        Self {
-            half_angle_rad: (radius_m / distance_m).atan(),
-            points,
-        }
-    }
-
-    /// The directions from the sample to the points of the disk centred on `centre` (unit).
-    pub fn directions(&self, centre: DVec3) -> impl Iterator<Item = DVec3> + '_ {
-        let (u, v) = orthonormal_basis(centre);
-        let tan = self.half_angle_rad.tan();
-        self.points
-            .iter()
-            .map(move |p| (centre + tan * (p.x * u + p.y * v)).normalize())
-    }
-
-    /// The mean of `f` over the disk centred on `centre`.
-    pub fn average(&self, centre: DVec3, mut f: impl FnMut(DVec3) -> DVec3) -> DVec3 {
-        let sum: DVec3 = self.directions(centre).map(&mut f).sum();
-        sum / self.points.len() as f64
-    }
-
-    /// Number of points.
-    pub fn len(&self) -> usize {
-        self.points.len()
-    }
-
-    /// Always false: a disk has at least one point.
-    pub fn is_empty(&self) -> bool {
-        self.points.is_empty()
-    }
-}
-
-/// Two unit vectors orthogonal to `n` and to each other.
-fn orthonormal_basis(n: DVec3) -> (DVec3, DVec3) {
-    let helper = if n.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
-    let u = n.cross(helper).normalize();
-    (u, n.cross(u))
-}
 
 /// The lens flare's ghost (see the module documentation).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -186,34 +116,6 @@ fn wrap_pi(angle: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn disk_average_of_a_linear_function_is_its_centre_value() {
-        // The sunflower points are equal-area and centred: the mean direction is the centre
-        // (up to the disk's curvature), and every point lies within the half-angle (plus the
-        // centring shift).
-        let disk = LightDisk::new(0.035, 1.1, 96);
-        let centre = DVec3::new(0.3, -0.2, 0.9).normalize();
-        let mean = disk.average(centre, |w| w);
-        assert!(mean.normalize().angle_between(centre) < 1e-4 * disk.half_angle_rad);
-        for w in disk.directions(centre) {
-            assert!(w.angle_between(centre) <= 1.01 * disk.half_angle_rad);
-        }
-    }
-
-    #[test]
-    fn disk_average_of_the_squared_angle_matches_a_uniform_disk() {
-        // For a uniform disk of angular radius a, E[angle^2] = a^2 / 2.
-        let disk = LightDisk::new(0.035, 1.1, 400);
-        let centre = DVec3::Z;
-        let mean = disk.average(centre, |w| DVec3::splat(w.angle_between(centre).powi(2)));
-        let a = disk.half_angle_rad;
-        assert!(
-            (mean.x / (a * a / 2.0) - 1.0).abs() < 0.01,
-            "{}",
-            mean.x / (a * a / 2.0)
-        );
-    }
 
     #[test]
     fn ghost_turns_away_with_the_image() {

@@ -10,6 +10,7 @@ use specula_acquisition::instrument::Instrument;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::HalfDiff;
+use specula_session::workflow::simulated_response;
 use std::path::PathBuf;
 
 /// Calibrate the simulated device's camera and store the result (TOML) for later runs.
@@ -53,7 +54,10 @@ pub fn run(args: Args) -> Result<()> {
         ..CalibrationOptions::default()
     };
     let spinner = crate::progress::spinner("calibrating");
-    let cal = calibrate(&mut sim, mount_in_simulator, &options)?;
+    let mut cal = calibrate(&mut sim, mount_in_simulator, &options)?;
+    spinner.set_message("calibrating: the response, a mirror across the light");
+    let fit = simulated_response(&mut sim, &cal, &device)?;
+    cal.response = Some(fit);
     spinner.finish_and_clear();
     cal.save(&args.out)?;
 
@@ -77,6 +81,17 @@ pub fn run(args: Args) -> Result<()> {
         "ColorChecker fit: {:.4} RMS (linear sRGB reflectance)",
         cal.colour_rms_error
     );
+    if let Some(fit) = &cal.response {
+        outln!(
+            "response ({}): light radius {:.4} deg (device file {:.4} deg), scan centre {:+.4} deg, fit residual {:.4} of the peak; resolution {:.3} deg in theta_h",
+            fit.reference,
+            fit.response.light.radius_deg,
+            device.response().light.radius_deg,
+            fit.centre_offset_deg,
+            fit.rms_relative,
+            fit.response.resolution_deg()
+        );
+    }
     outln!("written: {}", args.out.display());
 
     // The truth back on the turntable: calibrated values against the truth.

@@ -89,6 +89,13 @@ pub struct Args {
     /// Reconstruction method: lobe, log or linear (see `specula reconstruct --help`).
     #[arg(long, default_value = "lobe")]
     pub method: specula_reconstruct::Method,
+    /// Do not fit through the instrument's response: the BRDF as measured, blurred by the
+    /// light's disk (the result before deblurring, for comparison). By default the lobe and
+    /// the probe are fitted through the response whenever it is known (always on the
+    /// simulator, which measures it with a reference mirror; a real device's from its
+    /// --calibration file).
+    #[arg(long)]
+    pub no_deblur: bool,
     /// Skip the alignment and orientation checks.
     #[arg(long)]
     pub skip_checks: bool,
@@ -150,6 +157,7 @@ impl Args {
                 HdrArg::Bracket => HdrChoice::Bracket,
             },
             method: self.method,
+            deblur: !self.no_deblur,
             checks: !self.skip_checks,
             tilt_deg: self.tilt,
             tilt_azimuth_deg: self.tilt_azimuth,

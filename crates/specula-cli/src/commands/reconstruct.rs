@@ -1,9 +1,11 @@
 //! `specula reconstruct`: measured samples into a full MERL table with its provenance.
 
 use anyhow::{bail, Context, Result};
+use specula_acquisition::calibration::Calibration;
+use specula_acquisition::response::InstrumentResponse;
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::provenance::sidecar_path;
-use specula_reconstruct::{reconstruct, Method, Sample};
+use specula_reconstruct::{reconstruct_through, Method, Sample};
 use specula_session::journal::Journal;
 use specula_session::workflow::{measured_samples, STAGE_MAIN};
 use std::path::{Path, PathBuf};
@@ -42,6 +44,10 @@ pub struct Args {
     /// Reconstruction method: lobe, log or linear (the paper's baseline).
     #[arg(long, default_value = "lobe")]
     pub method: Method,
+    /// With --session: do not fit the lobe through the instrument's response that the
+    /// session's calibration holds (the BRDF as measured, blurred by the light's disk).
+    #[arg(long, requires = "session")]
+    pub no_deblur: bool,
     /// The MERL .binary file to write.
     #[arg(long)]
     pub out: PathBuf,
@@ -55,9 +61,12 @@ const MOSTLY_EXTRAPOLATED: f64 = 0.9;
 
 pub fn run(args: Args) -> Result<()> {
     super::require_merl_out(&args.out)?;
-    let (input, samples) = match (&args.samples, &args.session) {
-        (Some(path), _) => (path, read_samples(path)?),
-        (None, Some(path)) => (path, session_samples(path)?),
+    let (input, samples, response) = match (&args.samples, &args.session) {
+        (Some(path), _) => (path, read_samples(path)?, None),
+        (None, Some(path)) => {
+            let (samples, response) = session_samples(path)?;
+            (path, samples, response.filter(|_| !args.no_deblur))
+        }
         (None, None) => bail!("give --samples-csv or --session"),
     };
     let name = args.out.file_stem().map_or_else(
@@ -65,7 +74,7 @@ pub fn run(args: Args) -> Result<()> {
         |s| s.to_string_lossy().into_owned(),
     );
     let spinner = crate::progress::spinner("reconstructing");
-    let result = reconstruct(&samples, args.method, &name);
+    let result = reconstruct_through(&samples, args.method, &name, response.as_ref());
     spinner.finish_and_clear();
     let r = result.with_context(|| input.display().to_string())?;
     r.brdf.write(&args.out)?;
@@ -82,6 +91,19 @@ pub fn run(args: Args) -> Result<()> {
             lobe.diffuse.x,
             lobe.diffuse.y,
             lobe.diffuse.z
+        );
+    }
+    if let Some(resolution) = r.resolution_deg {
+        let width = r.lobe.map(|l| l.shape.half_width_deg());
+        outln!(
+            "fitted through the instrument's response: resolution {resolution:.3} deg in theta_h; {}",
+            match width {
+                Some(w) if w < resolution => format!(
+                    "the peak's half width {w:.3} deg is below it: a bound, not a measurement"
+                ),
+                Some(w) => format!("the peak's half width {w:.3} deg is resolved"),
+                None => "no lobe".into(),
+            }
         );
     }
     outln!("cells: {measured} measured, {interpolated} interpolated, {extrapolated} extrapolated");
@@ -102,9 +124,14 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// The measured samples of a session's main stage, in plan order.
-fn session_samples(path: &Path) -> Result<Vec<Sample>> {
+/// The measured samples of a session's main stage, in plan order, and the instrument's
+/// response its calibration holds.
+fn session_samples(path: &Path) -> Result<(Vec<Sample>, Option<InstrumentResponse>)> {
     let journal = Journal::open_read_only(path)?;
+    let response = journal
+        .record::<Calibration>()?
+        .and_then(|c| c.response)
+        .map(|fit| fit.response);
     let plan = journal.plan(STAGE_MAIN)?;
     let samples = measured_samples(&plan, &journal.samples(STAGE_MAIN)?);
     if samples.is_empty() {
@@ -113,7 +140,7 @@ fn session_samples(path: &Path) -> Result<Vec<Sample>> {
             path.display()
         );
     }
-    Ok(samples)
+    Ok((samples, response))
 }
 
 /// The samples of a CSV file.

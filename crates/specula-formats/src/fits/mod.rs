@@ -164,18 +164,6 @@ mod tests {
     use super::*;
     use specula_core::HalfDiff;
 
-    /// Whether the published fit tables of `../shared` are here; prints why a test skips.
-    fn tables_present() -> bool {
-        let present = measured_file(FitModel::Sgd.table()).is_ok();
-        if !present {
-            eprintln!(
-                "skipped: the SGD/ABC tables are not in {}",
-                crate::input::measured_data_dir().display()
-            );
-        }
-        present
-    }
-
     fn green_at(spec: &str, theta_h_rad: f64, theta_d_rad: f64) -> f64 {
         let (model, name) = spec.split_once(':').unwrap();
         let brdf = load_fit(FitModel::from_prefix(model).unwrap(), name).unwrap();
@@ -187,9 +175,6 @@ mod tests {
     /// to the digits printed there.
     #[test]
     fn provenance_check_values() {
-        if !tables_present() {
-            return;
-        }
         let (peak, off) = ((0.0, 0.2), (0.261799388, 0.5));
         // (fit, point, printed value, one unit of its last printed digit: the document
         // rounds 0.24549 to 0.246, i.e. it rounded twice)
@@ -235,9 +220,6 @@ mod tests {
     /// the PROVENANCE.md formulas, for every material of both tables.
     #[test]
     fn matches_the_python_reference() {
-        if !tables_present() {
-            return;
-        }
         let reference =
             Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/merl_fits_reference.csv");
         let mut tables = std::collections::HashMap::new();
@@ -298,9 +280,6 @@ mod tests {
         std::fs::write(&path, "a,b\n1,2\n").unwrap();
         let err = load_fits(&path).err().unwrap().to_string();
         assert!(err.contains("not an SGD or ABC"), "{err}");
-        if !tables_present() {
-            return;
-        }
         let err = load_fit(FitModel::Sgd, "unobtainium")
             .err()
             .unwrap()

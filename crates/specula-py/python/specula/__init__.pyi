@@ -148,6 +148,7 @@ def measure(
     order: str = "optimized",
     hdr: str = "predicted",
     method: str = "lobe",
+    deblur: bool = True,
     checks: bool = True,
     tilt_deg: float = 0.0,
     tilt_azimuth_deg: float = 0.0,

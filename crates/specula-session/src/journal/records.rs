@@ -231,6 +231,10 @@ pub struct MeasureSettings {
     /// The reconstruction method (kept by its name: lobe, log, linear).
     #[serde(with = "method_name")]
     pub method: Method,
+    /// Fit the reconstruction and the probe through the instrument's response when it is
+    /// known (always on the simulator): the BRDF before the blur of the light's disk.
+    #[serde(default = "deblur_by_default")]
+    pub deblur: bool,
     /// Run the alignment and orientation checks.
     pub checks: bool,
     /// The simulated sample's tilt on the turntable, degrees, and its azimuth.
@@ -254,11 +258,17 @@ impl Default for MeasureSettings {
             order: PlanOrder::Optimized,
             hdr: HdrChoice::Predicted,
             method: Method::LOBE,
+            deblur: true,
             checks: true,
             tilt_deg: 0.0,
             tilt_azimuth_deg: 0.0,
         }
     }
+}
+
+/// Deblurring is on for journals written before the setting existed.
+fn deblur_by_default() -> bool {
+    true
 }
 
 /// The checks' results as the journal keeps them.

@@ -1,0 +1,73 @@
+//! Samples before the instrument's blur: the lobe fitted through the response
+//! ([`Lobe::fit_through`]) times each sample's measured ratio to that lobe as measured, the
+//! same correction the `lobe` method's lattice carries ([`crate::domain`]). The probe is
+//! deblurred this way before k is fitted to it, so that the sampling adapts to the material
+//! and not to the light's disk.
+
+use crate::domain::Domain;
+use crate::lobe::Lobe;
+use crate::reconstruct::FIT_RESPONSE_NODES;
+use crate::sample::Sample;
+use specula_acquisition::response::InstrumentResponse;
+use specula_core::Rgb;
+
+/// The samples as the material would give them without the blur, with the lobe fitted
+/// through the response; `None` when no sample lies above the surface.
+pub fn deblur_samples(
+    samples: &[Sample],
+    response: &InstrumentResponse,
+) -> Option<(Vec<Sample>, Lobe)> {
+    let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
+    let lobe = Lobe::fit_through(samples, &nodes)?;
+    let domain = Domain::LobeResidual;
+    let deblurred = samples
+        .iter()
+        .map(|s| {
+            let measured = lobe.measured(&nodes, s.hd);
+            let sharp = lobe.eval(&crate::lobe::Geometry::of(s.hd));
+            let value: [f64; 3] = std::array::from_fn(|c| {
+                domain.inverse(domain.forward(s.value[c], measured[c]), sharp[c])
+            });
+            Sample::new(s.hd, Rgb::from_array(value))
+        })
+        .collect();
+    Some((deblurred, lobe))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lobe::{Geometry, Shape};
+    use specula_acquisition::device::Device;
+    use specula_core::HalfDiff;
+
+    #[test]
+    fn a_blurred_probe_comes_back_sharp() {
+        // A probe column (theta_d 40, phi_d 90) of a GGX lobe alpha 0.01 measured through the
+        // UTIA response (2048 nodes): deblurred, its peak is within 15 % of the truth's, while
+        // the blurred peak is under a third of it.
+        let response = Device::utia().response();
+        let world = response.capture_nodes(2048);
+        let truth = Lobe {
+            shape: Shape {
+                alpha: 0.01,
+                gamma: 2.0,
+            },
+            diffuse: Rgb::splat(0.0),
+            specular: Rgb::splat(0.9),
+            grazing: Rgb::splat(0.1),
+        };
+        let samples: Vec<Sample> = (0..60)
+            .map(|k| {
+                let h = (k as f64 * 1.5).powi(2) / 90.0;
+                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 90.0);
+                Sample::new(hd, truth.measured(&world, hd))
+            })
+            .collect();
+        let (sharp, _) = deblur_samples(&samples, &response).unwrap();
+        let peak_truth = truth.eval(&Geometry::of(samples[0].hd)).y;
+        assert!(samples[0].value.y < peak_truth / 3.0);
+        let ratio = sharp[0].value.y / peak_truth;
+        assert!((ratio - 1.0).abs() < 0.15, "deblurred peak ratio {ratio}");
+    }
+}
