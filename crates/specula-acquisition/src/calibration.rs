@@ -323,12 +323,16 @@ impl Calibration {
     }
 }
 
+/// One range check of [`Calibration::validate`]: whether the value is in range, the field's
+/// name, the range in words and the value; an error names the field.
+type RangeRule<'a> = dyn Fn(bool, &str, &str, f64) -> Result<(), String> + 'a;
+
 /// The response's first value outside its range (see [`Calibration::validate`]): angles in
 /// [0, 90) degrees, the emission profile zero or positive, the footprint zero or positive,
 /// the distances positive, the fit residual zero or positive.
 fn validate_response(
     fit: &response::ResponseFit,
-    rule: &dyn Fn(bool, &str, &str, f64) -> Result<(), String>,
+    rule: &RangeRule<'_>,
 ) -> Result<(), String> {
     let r = &fit.response;
     let angle = |v: f64| (0.0..90.0).contains(&v);
