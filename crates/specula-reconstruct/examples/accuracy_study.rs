@@ -3,33 +3,49 @@
 //! over sets of ground-truth materials, each measured without noise on the UTIA device model.
 //!
 //!     cargo run --release -p specula-reconstruct --example accuracy_study -- \
-//!         [--set builtin] [--set sgd] [--set abc] [--set nbrdf] [--every N] [--plan HxDxP]...
+//!         [--set rgl] [--set nbrdf-rgl] [--set builtin] [--set sgd] [--set abc] [--set nbrdf]
+//!         [--every N] [--plan HxDxP]...
 //!
-//! Configurations: `paper` (the paper's pipeline), `paper-plan+lobe` (the same samples,
-//! reconstructed by the `lobe` method) and, for each `--plan HxDxP`, `lobe-HxDxP`: H theta_h
-//! positions (exponential function, k-hat), theta_d step D and phi_d step P degrees, `lobe`.
-//! Sets default to builtin, sgd and abc.
+//! Configurations: `paper` (the paper's pipeline), `paper-plan+lobe` and `paper-plan+log`
+//! (the same samples, reconstructed by the `lobe` and `log` methods) and, for each
+//! `--plan HxDxP`, `lobe-HxDxP`: H theta_h positions (exponential function, k-hat), theta_d
+//! step D and phi_d step P degrees, `lobe`. Sets: `rgl` (the real RGL measurements in the
+//! measured data directory's `rgl_bsdf/`), `nbrdf-rgl` (their 51 neural fits), `builtin`,
+//! `sgd`, `abc`, `nbrdf` (the MERL-100 fits); default builtin, sgd and abc.
 //!
 //! Prints one CSV row per material and configuration, then the mean of each configuration
-//! per set and over all sets, and the ratio of each mean to the paper pipeline's.
+//! per set and over all sets with the ratio of each mean to the paper pipeline's, then the
+//! median over each set's materials of the per-material ratio to the paper pipeline's.
 
 use specula_acquisition::device::Device;
 use specula_core::materials::builtin_database;
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
 use specula_formats::fits::{load_model, FitModel};
+use specula_formats::input::measured_data_dir;
+use specula_formats::load_brdfs;
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
+use specula_sampling::analysis::median;
 use specula_reconstruct::accuracy::{evaluate, Accuracy, Measurement, PlanSettings};
+use specula_reconstruct::prior::PriorBasis;
+use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-/// A plan and a method.
+/// A reconstruction: a [`Method`] or the `prior` method.
+#[derive(Clone, Copy)]
+enum Recon {
+    Method(Method),
+    Prior,
+}
+
+/// A plan and a reconstruction.
 #[derive(Clone)]
 struct Config {
     name: String,
     plan: PlanSettings,
-    method: Method,
+    method: Recon,
 }
 
 /// The paper's pipeline, our method on its samples, and our method on each smaller plan.
@@ -39,12 +55,22 @@ fn configs(plans: &[String]) -> anyhow::Result<Vec<Config>> {
         Config {
             name: "paper".into(),
             plan: paper,
-            method: Method::LINEAR,
+            method: Recon::Method(Method::LINEAR),
         },
         Config {
             name: "paper-plan+lobe".into(),
             plan: paper,
-            method: Method::LOBE,
+            method: Recon::Method(Method::LOBE),
+        },
+        Config {
+            name: "paper-plan+log".into(),
+            plan: paper,
+            method: Recon::Method(Method::LOG),
+        },
+        Config {
+            name: "paper-plan+prior".into(),
+            plan: paper,
+            method: Recon::Prior,
         },
     ];
     for spec in plans {
@@ -61,7 +87,12 @@ fn configs(plans: &[String]) -> anyhow::Result<Vec<Config>> {
         out.push(Config {
             name: format!("lobe-{spec}"),
             plan,
-            method: Method::LOBE,
+            method: Recon::Method(Method::LOBE),
+        });
+        out.push(Config {
+            name: format!("prior-{spec}"),
+            plan,
+            method: Recon::Prior,
         });
     }
     Ok(out)
@@ -69,19 +100,24 @@ fn configs(plans: &[String]) -> anyhow::Result<Vec<Config>> {
 
 fn truths(set: &str) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
     Ok(match set {
+        "rgl" => load_brdfs(&measured_data_dir().join("rgl_bsdf").to_string_lossy())?,
+        "nbrdf-rgl" => nbrdf_set(NbrdfSet::RglIsotropic)?,
         "builtin" => builtin_database()
             .into_iter()
             .map(|m| Arc::new(m) as Arc<dyn Brdf>)
             .collect(),
         "sgd" => load_model(FitModel::Sgd)?,
         "abc" => load_model(FitModel::Abc)?,
-        "nbrdf" => NbrdfSet::Merl100
-            .names()?
-            .iter()
-            .map(|n| Ok(Arc::new(Nbrdf::load(NbrdfSet::Merl100, n)?) as Arc<dyn Brdf>))
-            .collect::<anyhow::Result<_>>()?,
-        other => anyhow::bail!("unknown set {other} (builtin, sgd, abc, nbrdf)"),
+        "nbrdf" => nbrdf_set(NbrdfSet::Merl100)?,
+        other => anyhow::bail!("unknown set {other} (rgl, nbrdf-rgl, builtin, sgd, abc, nbrdf)"),
     })
+}
+
+fn nbrdf_set(set: NbrdfSet) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
+    set.names()?
+        .iter()
+        .map(|n| Ok(Arc::new(Nbrdf::load(set, n)?) as Arc<dyn Brdf>))
+        .collect()
 }
 
 #[derive(Default, Clone, Copy)]
@@ -151,17 +187,33 @@ fn main() -> anyhow::Result<()> {
     }
     let device = Device::utia();
     let configs = configs(&plans)?;
+    let basis = PriorBasis::merl()?;
     let mut sums: BTreeMap<(String, String), Sums> = BTreeMap::new();
+    // Per set and configuration, each material's ratios to the paper pipeline's figures.
+    let mut ratios: BTreeMap<(String, String), Vec<[f64; 4]>> = BTreeMap::new();
     println!(
         "set,material,config,k,measured,rel_within,log_within,mae_within,rel_all,log_all,mae_all"
     );
     for set in &sets {
         for truth in truths(set)?.iter().step_by(every) {
             let table = tabulate(truth.as_ref(), PlanSettings::paper().phi_h_deg.to_radians());
+            let mut paper_figures = None;
             for config in &configs {
                 let m = Measurement::simulate(truth.as_ref(), &config.plan, &device)?;
-                let (_, a) = evaluate(&m.samples, config.method, &table, 75.0)?;
+                let a = match config.method {
+                    Recon::Method(method) => evaluate(&m.samples, method, &table, 75.0)?.1,
+                    Recon::Prior => {
+                        let (r, trust) = reconstruct_with_prior(&m.samples, &basis, "prior")?;
+                        eprintln!("{}: {trust:?}", truth.name());
+                        Accuracy::of(&r.brdf, &table, 75.0)
+                    }
+                };
                 let f = figures(&a);
+                let paper = *paper_figures.get_or_insert(f);
+                ratios
+                    .entry((set.clone(), config.name.clone()))
+                    .or_default()
+                    .push([0, 1, 3, 4].map(|i| f[i] / paper[i]));
                 println!(
                     "{set},{},{},{},{},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e}",
                     truth.name(),
@@ -191,6 +243,21 @@ fn main() -> anyhow::Result<()> {
             "{set},{config},{},{measured:.0},{},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e},{:.3},{:.3},{:.3},{:.3}",
             s.n, s.max_measured, f[0], f[1], f[2], f[3], f[4], f[5],
             f[0] / paper[0], f[1] / paper[1], f[3] / paper[3], f[4] / paper[4]
+        );
+    }
+    println!("\nset,config,materials,median_ratio_rel_within,median_ratio_log_within,median_ratio_rel_all,median_ratio_log_all,max_ratio_rel_within,max_ratio_log_within");
+    for ((set, config), per_material) in &ratios {
+        let column = |i: usize| per_material.iter().map(|r| r[i]).collect::<Vec<f64>>();
+        let max = |i: usize| column(i).into_iter().fold(0.0, f64::max);
+        println!(
+            "{set},{config},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3}",
+            per_material.len(),
+            median(&mut column(0)),
+            median(&mut column(1)),
+            median(&mut column(2)),
+            median(&mut column(3)),
+            max(0),
+            max(1)
         );
     }
     Ok(())

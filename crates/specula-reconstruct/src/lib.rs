@@ -17,6 +17,8 @@ pub mod kernel;
 pub mod lattice;
 pub mod lobe;
 pub mod method;
+pub mod prior;
+pub mod prior_reconstruct;
 pub mod provenance;
 pub mod reconstruct;
 pub mod sample;
