@@ -9,6 +9,7 @@
 
 pub mod accuracy;
 pub mod axis;
+pub mod budget;
 pub mod deblur;
 pub mod domain;
 pub mod extrapolate;

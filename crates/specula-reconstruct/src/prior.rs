@@ -243,9 +243,10 @@ impl PriorBasis {
                 to_mapped(value[channel], *w) - stencil.apply(&self.mean)
             });
             let rhs = design.transpose() * target;
-            cholesky
-                .as_ref()
-                .map_or_else(|| vec![0.0; k], |ch| ch.solve(&rhs).iter().copied().collect())
+            cholesky.as_ref().map_or_else(
+                || vec![0.0; k],
+                |ch| ch.solve(&rhs).iter().copied().collect(),
+            )
         });
         self.field_of(coefficients)
     }
@@ -416,7 +417,10 @@ mod tests {
         let want = truth.eval_half_diff(on_node).unwrap();
         let got = fit.eval(on_node);
         for c in 0..3 {
-            assert!((got[c] - want[c]).abs() < 1e-3 * want[c] + 1e-6, "{got:?} vs {want:?}");
+            assert!(
+                (got[c] - want[c]).abs() < 1e-3 * want[c] + 1e-6,
+                "{got:?} vs {want:?}"
+            );
         }
         // Too few vectors for the components asked.
         assert!(matches!(

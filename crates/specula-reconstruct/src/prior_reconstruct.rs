@@ -5,9 +5,12 @@
 //! Model, per channel: `ln(m + eps) = (1 - w) ln(lobe + eps) + w ln(prior + eps)`, with the
 //! prior fitted to the samples by ridge regression of noise variance `s2`. The lattice holds
 //! `ln((f + eps) / (m + eps))` as the `lobe` method's does ([`crate::domain`]), interpolated
-//! by monotone cubics; nodes no sample reached get residual 0, the model itself (the prior
-//! fills what the device cannot reach, not a copy of the nearest node), and their cells are
-//! marked [`crate::provenance::CellOrigin::Prior`].
+//! by monotone cubics. Nodes no sample reached continue the nearest measured residual
+//! ([`crate::extrapolate`]) over the model, so the model's shape, not a copy of the nearest
+//! measured value, carries what the device cannot reach; where the prior has a weight there,
+//! those cells are marked [`crate::provenance::CellOrigin::Prior`]. (Residual 0 there, the
+//! model alone, was measured worse on the RGL files: the residual of the last measured node
+//! is the better guess of the level.)
 //!
 //! **Trust** (`w`, `s2`) by cross-validation on the samples: the lattice's odd theta_d rows
 //! are predicted from the even ones (a prior fitted to the even rows' samples only, the
@@ -17,6 +20,7 @@
 //! predicts held-out samples worse than the lobe, keeps `w` near 0.
 
 use crate::domain::{Domain, LOG_OFFSET};
+use crate::extrapolate::fill_missing;
 use crate::grid::{extrapolated_cells, interpolate_to_merl};
 use crate::kernel::Kernel;
 use crate::lattice::{sample_coordinates, Lattice, NodeStatus};
@@ -72,18 +76,27 @@ impl Model<'_> {
 }
 
 /// Reconstructs the full MERL table named `name` with the `prior` method (see the module
-/// documentation), and the trust it chose.
+/// documentation), and the trust it used: the one given as `(prior weight, noise
+/// variance)`, else the one the samples choose ([`choose_trust`]).
 pub fn reconstruct_with_prior(
     samples: &[Sample],
     basis: &PriorBasis,
     name: &str,
+    given: Option<(f64, f64)>,
 ) -> Result<(Reconstruction, Trust), ReconstructError> {
     if samples.is_empty() {
         return Err(ReconstructError::NoSamples);
     }
     let canonical: Vec<Sample> = samples.iter().map(reciprocal_canonical).collect();
     let lobe = Lobe::fit(&canonical).ok_or(ReconstructError::NoLobe)?;
-    let trust = choose_trust(&canonical, &lobe, basis);
+    let trust = match given {
+        Some((prior_weight, noise_variance)) => Trust {
+            prior_weight,
+            noise_variance,
+            held_out: [f64::NAN; 2],
+        },
+        None => choose_trust(&canonical, &lobe, basis),
+    };
     let prior = basis.fit(&canonical, trust.noise_variance);
     let model = Model {
         lobe: &lobe,
@@ -100,8 +113,9 @@ pub fn reconstruct_with_prior(
         .collect();
     let mut lattice = Lattice::of_samples(samples, &residuals);
     let (measured_nodes, _, _) = lattice.status_counts();
-    fill_from_model(&mut lattice);
+    fill_missing(&mut lattice);
     let planes = interpolate_to_merl(&lattice, Kernel::MonotoneCubic);
+    let extrapolated = extrapolated_cells(&lattice);
     let lobe_on_grid = LobeOnGrid::new(lobe);
     let prior_on_grid = prior.on_merl_grid();
     let brdf = MerlBrdf::from_fn(name, |index| {
@@ -114,7 +128,11 @@ pub fn reconstruct_with_prior(
     });
     let reconstruction = Reconstruction {
         brdf,
-        provenance: Provenance::with_prior(samples, &extrapolated_cells(&lattice)),
+        provenance: if trust.prior_weight > 0.0 {
+            Provenance::with_prior(samples, &extrapolated)
+        } else {
+            Provenance::new(samples, &extrapolated)
+        },
         lobe: Some(lobe),
         resolution_deg: None,
         lattice_shape: lattice.shape(),
@@ -122,18 +140,6 @@ pub fn reconstruct_with_prior(
         filled_nodes: lattice.status.len() - measured_nodes,
     };
     Ok((reconstruction, trust))
-}
-
-/// Residual 0 (the model itself) at every node no sample reached.
-fn fill_from_model(lattice: &mut Lattice) {
-    for node in 0..lattice.status.len() {
-        if lattice.status[node] == NodeStatus::Missing {
-            for plane in &mut lattice.values {
-                plane[node] = 0.0;
-            }
-            lattice.status[node] = NodeStatus::Filled;
-        }
-    }
 }
 
 /// A measured lattice node: its angles and the mean measured value.
@@ -287,9 +293,8 @@ pub fn choose_trust(samples: &[Sample], lobe: &Lobe, basis: &PriorBasis) -> Trus
                 }
             }
             let held_out = sums.figures();
-            let better = best.is_none_or(|b| {
-                held_out[0] * held_out[1] < b.held_out[0] * b.held_out[1] - 1e-15
-            });
+            let better = best
+                .is_none_or(|b| held_out[0] * held_out[1] < b.held_out[0] * b.held_out[1] - 1e-15);
             if better {
                 best = Some(Trust {
                     prior_weight,
@@ -316,4 +321,67 @@ fn predict(model: &Model, h: &HeldOut) -> Rgb {
         let rb = domain.forward(b.0[c], b.1[c]);
         domain.inverse(ra + h.t * (rb - ra), m[c])
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accuracy::{measure, within_elevation};
+    use crate::provenance::CellOrigin;
+    use glam::DVec3;
+    use specula_core::materials::preset;
+    use specula_core::Brdf;
+    use std::sync::Arc;
+
+    /// A Lambertian surface: the near-diffuse material a specular prior must not spike.
+    struct Lambertian;
+
+    impl Brdf for Lambertian {
+        fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+            Some(if wi.z > 0.0 && wo.z > 0.0 {
+                Rgb::new(0.2, 0.3, 0.4) / std::f64::consts::PI
+            } else {
+                Rgb::ZERO
+            })
+        }
+        fn name(&self) -> String {
+            "lambertian".into()
+        }
+    }
+
+    fn samples_of(truth: &dyn Brdf) -> Vec<Sample> {
+        let mut configurations = Vec::new();
+        for h in [0.0, 0.5, 2.0, 5.0, 10.0, 20.0, 35.0, 55.0] {
+            for d in (0..90).step_by(5) {
+                for p in [0.0, 30.0, 60.0, 90.0] {
+                    let hd = HalfDiff::from_degrees(h, 45.0, d as f64, p);
+                    if within_elevation(hd, 75.0) {
+                        configurations.push(hd);
+                    }
+                }
+            }
+        }
+        measure(truth, &configurations)
+    }
+
+    #[test]
+    fn a_diffuse_material_does_not_trust_a_specular_prior() {
+        let training: Vec<Arc<dyn Brdf>> = ["chrome", "silver-925", "steel"]
+            .iter()
+            .map(|n| Arc::new(preset(n).unwrap()) as Arc<dyn Brdf>)
+            .collect();
+        let basis = PriorBasis::derive(&training, 4).unwrap();
+        let samples = samples_of(&Lambertian);
+        let (chosen, trust) = reconstruct_with_prior(&samples, &basis, "t", None).unwrap();
+        assert_eq!(trust.prior_weight, 0.0, "{trust:?}");
+        // No prior weight: the unreached cells are extrapolated, none from the prior.
+        assert_eq!(chosen.provenance.prior_count(), 0);
+        let expected = Lambertian.eval_half_diff(HalfDiff::from_degrees(0.0, 0.0, 1.0, 0.0));
+        let at_peak = chosen.brdf.cell(0).unwrap();
+        assert!((at_peak - expected.unwrap()).abs().max_element() < 1e-3, "{at_peak:?}");
+        // The prior forced on it: the peak the specular basis brings, and cells marked.
+        let (forced, _) = reconstruct_with_prior(&samples, &basis, "t", Some((1.0, 1.0))).unwrap();
+        assert!(forced.provenance.prior_count() > 0);
+        assert!(forced.provenance.cells.contains(&CellOrigin::Prior));
+    }
 }

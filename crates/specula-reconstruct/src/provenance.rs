@@ -257,7 +257,10 @@ mod tests {
             )
         );
         let prior = Provenance::with_prior(&samples, &extrapolated);
-        assert_eq!((prior.counts(), prior.prior_count()), ((2, CELLS - 3, 1), 1));
+        assert_eq!(
+            (prior.counts(), prior.prior_count()),
+            ((2, CELLS - 3, 1), 1)
+        );
         assert_eq!(prior.cells[CELLS - 1], CellOrigin::Prior);
         assert_eq!(Provenance::from_npy(&prior.to_npy()).unwrap(), prior);
         let mut bad = bytes.clone();
