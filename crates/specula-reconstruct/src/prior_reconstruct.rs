@@ -378,7 +378,10 @@ mod tests {
         assert_eq!(chosen.provenance.prior_count(), 0);
         let expected = Lambertian.eval_half_diff(HalfDiff::from_degrees(0.0, 0.0, 1.0, 0.0));
         let at_peak = chosen.brdf.cell(0).unwrap();
-        assert!((at_peak - expected.unwrap()).abs().max_element() < 1e-3, "{at_peak:?}");
+        assert!(
+            (at_peak - expected.unwrap()).abs().max_element() < 1e-3,
+            "{at_peak:?}"
+        );
         // The prior forced on it: the peak the specular basis brings, and cells marked.
         let (forced, _) = reconstruct_with_prior(&samples, &basis, "t", Some((1.0, 1.0))).unwrap();
         assert!(forced.provenance.prior_count() > 0);
