@@ -163,7 +163,9 @@ fn a_folder_of_measured_files_is_each_of_its_brdfs() {
     assert_eq!(one.len(), 1);
     let empty = std::env::temp_dir().join(format!("specula-empty-{}", std::process::id()));
     std::fs::create_dir_all(&empty).unwrap();
-    let error = specula_formats::load_brdfs(&empty.to_string_lossy()).unwrap_err();
+    let Err(error) = specula_formats::load_brdfs(&empty.to_string_lossy()) else {
+        panic!("an empty folder gave BRDFs");
+    };
     assert!(error.to_string().contains("holds no BRDF file"), "{error}");
     std::fs::remove_dir(&empty).unwrap();
 }

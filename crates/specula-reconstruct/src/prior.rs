@@ -17,7 +17,7 @@
 //! **Training** ([`PriorBasis::merl`]): the 100 MERL materials as fitted by three published
 //! models (neural `nbrdf:`, Bagher 2012 `sgd:`, Löw 2012 `abc:`), each channel one training
 //! vector. No RGL material is in it, so the RGL files and their `nbrdf-rgl:` fits are test
-//! data. The basis is derived at first use (a few seconds) and kept for the process.
+//! data. The basis is derived at first use and kept for the process.
 
 use crate::sample::{fold_phi_d_rad, Sample};
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
