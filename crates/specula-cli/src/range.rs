@@ -5,6 +5,8 @@
 
 use clap::builder::TypedValueParser;
 use clap::error::ErrorKind;
+use specula_formats::rgl::write::{ELEVATIONS_RANGE, NDF_SIZE_RANGE, SAMPLE_SIZE_RANGE};
+use std::ops::RangeInclusive;
 
 /// A real number between two finite bounds, in a unit: degrees, seconds, stops, ...
 #[derive(Clone, Copy, Debug)]
@@ -68,6 +70,11 @@ impl Count {
     /// Counts from `min` to `max`, both included.
     pub const fn from_to(min: usize, max: usize) -> Self {
         Self { min, max }
+    }
+
+    /// The counts of a library's inclusive range (`specula_formats::rgl::write`'s bounds).
+    pub const fn of(range: RangeInclusive<usize>) -> Self {
+        Self::from_to(*range.start(), *range.end())
     }
 
     /// The range in words, as `--help` and the error say it.
@@ -166,6 +173,12 @@ pub const IMAGE_PX: Count = Count::from_to(8, specula_report::MAX_IMAGE_PX);
 /// Camera rays per pixel.
 pub const SAMPLES_PER_PIXEL: Count =
     Count::from_to(1, specula_visual::render::MAX_SAMPLES_PER_PIXEL);
+/// Incident elevations of an RGL file written by `convert`.
+pub const RGL_ELEVATIONS: Count = Count::of(ELEVATIONS_RANGE);
+/// Nodes per axis of an RGL file's microfacet tables.
+pub const RGL_NDF_SIZE: Count = Count::of(NDF_SIZE_RANGE);
+/// Samples per axis of an RGL file's RGB grid.
+pub const RGL_SAMPLE_SIZE: Count = Count::of(SAMPLE_SIZE_RANGE);
 
 #[cfg(test)]
 mod tests {
