@@ -50,8 +50,8 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = Grid::Merl)]
     pub grid: Grid,
     /// RGL output: incident elevations (slices), evenly spaced in cos(theta_i) from the
-    /// normal to 89.9 deg. Each adds ndf-size^2 + 4 sample-size^2 floats to the file. Range:
-    /// a whole number from 2 to 90.
+    /// normal to 89.9 deg. Each adds ndf-size^2 + 4 sample-size^2 floats to the file. Range: a
+    /// whole number from 2 to 90.
     #[arg(long, default_value_t = RglResolution::DEFAULT.elevations, value_parser = range::RGL_ELEVATIONS)]
     pub rgl_elevations: usize,
     /// RGL output: nodes per axis of the microfacet distribution and of the visible-normal
@@ -59,8 +59,8 @@ pub struct Args {
     #[arg(long, default_value_t = RglResolution::DEFAULT.ndf_size, value_parser = range::RGL_NDF_SIZE)]
     pub rgl_ndf_size: usize,
     /// RGL output: samples per axis of each elevation's RGB grid (the RGL database uses 32;
-    /// finer resolves sharp highlights over a diffuse base better). Range: a whole number
-    /// from 4 to 256.
+    /// finer resolves sharp highlights over a diffuse base better). Range: a whole number from
+    /// 4 to 256.
     #[arg(long, default_value_t = RglResolution::DEFAULT.sample_size, value_parser = range::RGL_SAMPLE_SIZE)]
     pub rgl_sample_size: usize,
 }
