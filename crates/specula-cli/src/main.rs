@@ -135,7 +135,11 @@ mod tests {
 
     fn is_numeric(arg: &Arg) -> bool {
         arg.get_action().takes_values()
-            && ["f64", "usize", "u32", "u64"].contains(&value_type(arg).as_str())
+            && [
+                "f32", "f64", "u8", "u16", "u32", "u64", "usize", "i8", "i16", "i32", "i64",
+                "isize",
+            ]
+            .contains(&value_type(arg).as_str())
     }
 
     #[test]

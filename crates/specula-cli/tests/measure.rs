@@ -3,9 +3,11 @@
 //! driver protocol over TCP (loopback) and a child process to the same bytes as the
 //! simulator in process. Small plans keep these quick; the paper-size run is in the README.
 
+mod serve;
+
+use serve::serve;
 use specula_session::journal::Journal;
 use specula_session::workflow::{STAGE_MAIN, STAGE_PROBE};
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -194,39 +196,6 @@ fn ctrl_c_finishes_the_sample_then_stops_resumably() {
     assert_eq!(std::fs::read(&out).unwrap(), expected);
 }
 
-/// `specula device serve` on 127.0.0.1 with a free port; returns the child and the port.
-fn serve(extra: &[&str]) -> (Child, u16) {
-    let mut child = Command::new(SPECULA)
-        .args([
-            "device",
-            "serve",
-            "--truth",
-            "silver-925",
-            "--seed",
-            "3",
-            "--listen",
-            "127.0.0.1:0",
-        ])
-        .args(extra)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    let first = lines
-        .next()
-        .expect("the server says where it listens")
-        .unwrap();
-    let port = first
-        .rsplit_once("127.0.0.1:")
-        .and_then(|(_, rest)| rest.split_whitespace().next())
-        .and_then(|p| p.parse().ok())
-        .unwrap_or_else(|| panic!("no port in '{first}'"));
-    // Keep draining the server's log so that it never blocks on a full pipe.
-    std::thread::spawn(move || lines.for_each(drop));
-    (child, port)
-}
-
 /// The calibration `specula calibrate` measures on the simulated device with seed 3: the
 /// one the in-process run measures for itself.
 fn calibration(dir: &Path) -> PathBuf {
@@ -251,7 +220,7 @@ fn the_driver_protocol_over_tcp_and_exec_gives_the_same_bytes() {
     let calibration = calibration.display().to_string();
 
     // TCP, with a dropped connection and a motor fault on the way.
-    let (mut server, port) = serve(&["--inject-faults", "drop@30,motor@61"]);
+    let (mut server, port) = serve(&["--seed", "3", "--inject-faults", "drop@30,motor@61"], &[]);
     let out = dir.path().join("tcp.binary");
     let device = format!("tcp://127.0.0.1:{port}");
     let output = run(&measure_args(

@@ -3,6 +3,9 @@
 //! absurd inputs refused by one line before anything is allocated, and a resume with an
 //! edited material refused. Servers listen on 127.0.0.1 only; every wait is bounded.
 
+mod serve;
+
+use serve::serve;
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
@@ -41,38 +44,6 @@ fn one_line_error(args: &[&str], needles: &[&str]) {
     for needle in needles {
         assert!(stderr.contains(needle), "{needle}: {stderr}");
     }
-}
-
-/// `device serve` on 127.0.0.1 with a free port and the given extra arguments and
-/// environment; returns the child and the port.
-fn serve(extra: &[&str], env: &[(&str, &str)]) -> (Child, u16) {
-    let mut child = Command::new(SPECULA)
-        .args([
-            "device",
-            "serve",
-            "--truth",
-            "silver-925",
-            "--listen",
-            "127.0.0.1:0",
-        ])
-        .args(extra)
-        .envs(env.iter().copied())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    let first = lines
-        .next()
-        .expect("the server says where it listens")
-        .unwrap();
-    let port = first
-        .rsplit_once("127.0.0.1:")
-        .and_then(|(_, rest)| rest.split_whitespace().next())
-        .and_then(|p| p.parse().ok())
-        .unwrap_or_else(|| panic!("no port in '{first}'"));
-    std::thread::spawn(move || lines.for_each(drop));
-    (child, port)
 }
 
 /// The reply to a `hello` with `token` (10 s at most).

@@ -462,3 +462,51 @@ fn a_finished_run_leaves_only_its_journal() {
     );
     assert!(status.contains("state: complete"), "{status}");
 }
+
+/// Runs `specula demo ARGS` until a line of its progress starts with `until` (then kills it)
+/// or it ends; returns the progress read.
+fn demo_until(args: &[&str], until: &str) -> String {
+    use std::io::BufRead;
+    let mut child = Command::new(SPECULA)
+        .arg("demo")
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut progress = String::new();
+    let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
+    for line in lines.by_ref() {
+        let line = line.unwrap();
+        progress.push_str(&line);
+        progress.push('\n');
+        if line.starts_with(until) {
+            let _ = child.kill();
+            break;
+        }
+    }
+    child.wait().unwrap();
+    progress
+}
+
+#[test]
+fn another_seed_after_a_first_demo_is_another_measurement() {
+    // The first demo's silver-925 session exists (journal with its probe) when the second
+    // starts; `demo --seed 2` once refused it with "use another --session", an option demo
+    // does not have. Each run is stopped once it has its probe, to keep the test short.
+    let dir = tempfile::tempdir().unwrap();
+    let out = text(dir.path());
+    let first = demo_until(&["--out", &out], "probe:");
+    assert!(
+        first.contains("probe:"),
+        "the first demo did not reach its probe: {first}"
+    );
+    let journal = |d: &Path| d.join("silver-925").join("silver-925.session.sqlite");
+    assert!(journal(dir.path()).exists(), "{first}");
+    let second = demo_until(&["--out", &out, "--seed", "2"], "probe:");
+    assert!(
+        second.contains("probe:") && !second.contains("error"),
+        "demo --seed 2 after a first demo: {second}"
+    );
+    assert!(journal(&dir.path().join("seed-2")).exists(), "{second}");
+}

@@ -102,11 +102,13 @@ fn check(options: &ReportOptions) -> Result<Input, ReportError> {
         Some("sqlite") => Input::Session,
         _ => return Err(ReportError::UnknownInput(options.input.clone())),
     };
+    // The message below spells the bounds out in words.
+    const _: () = assert!(MAX_IMAGE_PX == 8192 && MAX_SAMPLES_PER_PIXEL == 65536);
     if !(8..=MAX_IMAGE_PX).contains(&options.size_px)
         || !(1..=MAX_SAMPLES_PER_PIXEL).contains(&options.spp)
     {
         return Err(ReportError::Options(
-            "--size must lie in 8..=8192 and --spp in 1..=65536",
+            "--size must be a whole number of pixels from 8 to 8192 and --spp one from 1 to 65536",
         ));
     }
     match input {

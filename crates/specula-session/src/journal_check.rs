@@ -140,26 +140,7 @@ pub(crate) fn sample_checksum(s: &SampleRecord) -> i64 {
     hash.update(s.stage.as_bytes());
     hash.update([0]);
     hash.update(s.seq.to_le_bytes());
-    let a = s.readback;
-    let values = [
-        s.value.x,
-        s.value.y,
-        s.value.z,
-        s.rate_dn_s[0],
-        s.rate_dn_s[1],
-        s.rate_dn_s[2],
-        s.sigma_dn_s[0],
-        s.sigma_dn_s[1],
-        s.sigma_dn_s[2],
-        a.turntable_rad,
-        a.camera_rad,
-        a.light_azimuth_rad,
-        a.light_elevation_rad,
-        s.device_s,
-        s.wall_s,
-        s.finished_unix_s,
-    ];
-    for v in values {
+    for v in s.reals() {
         // + 0.0 turns -0.0 into 0.0: SQLite stores a whole REAL as an integer, losing the
         // sign of a zero.
         hash.update((v + 0.0).to_bits().to_le_bytes());

@@ -1,6 +1,7 @@
 //! Side-by-side pictures: renders of several materials under the same light in one labelled
 //! image, and a false-colour difference image of two (paper Fig. 16, 17 compare materials so).
 
+use crate::canvas::Canvas;
 use crate::color::{false_colour, luminance};
 use crate::font;
 use crate::linear_image::LinearImage;
@@ -102,7 +103,7 @@ pub fn compose(tiles: &[Tile]) -> Result<RgbImage> {
     }
     font::ensure_registered();
     {
-        let root = BitMapBackend::with_buffer(out.as_mut(), (width, height)).into_drawing_area();
+        let root = Canvas::with_buffer(out.as_mut(), (width, height)).into_drawing_area();
         let style = TextStyle::from((font::FAMILY, font_px).into_font())
             .color(&RGBColor(235, 235, 235))
             .pos(plotters::style::text_anchor::Pos::new(

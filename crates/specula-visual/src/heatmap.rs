@@ -3,6 +3,7 @@
 //! value in blue, and optionally one cell outlined (e.g. the best of the grid).
 //! Used for the database analysis of paper 5.1 (families x theta_d columns).
 
+use crate::canvas::Canvas;
 use crate::color::{false_colour, UNMEASURED_BLUE};
 use crate::font;
 use anyhow::{anyhow, bail, Result};
@@ -82,8 +83,7 @@ impl Heatmap {
         let mut out = RgbImage::from_pixel(WIDTH, height, image::Rgb([255, 255, 255]));
         font::ensure_registered();
         {
-            let root =
-                BitMapBackend::with_buffer(out.as_mut(), (WIDTH, height)).into_drawing_area();
+            let root = Canvas::with_buffer(out.as_mut(), (WIDTH, height)).into_drawing_area();
             self.draw_on(&root)
                 .map_err(|e| anyhow!("cannot draw the heatmap: {e}"))?;
             root.present()
@@ -166,11 +166,7 @@ impl Heatmap {
             .label_style((font::FAMILY, 13))
             .axis_desc_style((font::FAMILY, 14))
             .y_label_formatter(&|v: &f64| {
-                if log {
-                    format!("{:.2e}", 10f64.powf(*v))
-                } else {
-                    format!("{v:.3e}")
-                }
+                crate::plot::value_label(if log { 10f64.powf(*v) } else { *v })
             })
             .draw()?;
         let steps = 200;

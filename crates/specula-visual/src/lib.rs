@@ -3,6 +3,7 @@
 //! samples (Fig. 13), side-by-side grids, and a self-contained HTML report.
 
 pub mod camera;
+pub mod canvas;
 pub mod color;
 pub mod distribution;
 pub mod environment;

@@ -1,5 +1,6 @@
 //! `specula analyze`: the database analysis of paper 5.1.
 
+use crate::output::plain;
 use crate::progress;
 use anyhow::{bail, Context, Result};
 use specula_core::materials::database::builtin_database;
@@ -129,11 +130,11 @@ pub fn run(args: Args) -> Result<()> {
     .write_png(&args.out.join("analysis.png"))?;
 
     outln!(
-        "best: {} at theta_d = {} deg: mean error {:.4e} 1/sr, median {:.4e} 1/sr over {} materials",
+        "best: {} at theta_d = {} deg: mean error {} 1/sr, median {} 1/sr over {} materials",
         best.family,
         best.theta_d_deg,
-        best.mean,
-        best.median,
+        plain(best.mean),
+        plain(best.median),
         analyses.len()
     );
     let f = Family::ALL
@@ -141,8 +142,9 @@ pub fn run(args: Args) -> Result<()> {
         .position(|f| *f == Family::Exponential)
         .expect("listed");
     outln!(
-        "paper's pair: exponential at theta_d = {PROBE_THETA_D_DEG} deg: mean error {:.4e} 1/sr, median {:.4e} 1/sr",
-        summary.mean[f][PROBE_THETA_D_DEG], summary.median[f][PROBE_THETA_D_DEG]
+        "paper's pair: exponential at theta_d = {PROBE_THETA_D_DEG} deg: mean error {} 1/sr, median {} 1/sr",
+        plain(summary.mean[f][PROBE_THETA_D_DEG]),
+        plain(summary.median[f][PROBE_THETA_D_DEG])
     );
     for (f, family) in Family::ALL.iter().enumerate() {
         let (j, mean) = summary.mean[f]
@@ -154,7 +156,10 @@ pub fn run(args: Args) -> Result<()> {
                 (0, f64::INFINITY),
                 |b, (j, m)| if m < b.1 { (j, m) } else { b },
             );
-        outln!("  {family:<12} best column theta_d = {j:>2} deg: mean error {mean:.4e} 1/sr");
+        outln!(
+            "  {family:<12} best column theta_d = {j:>2} deg: mean error {} 1/sr",
+            plain(mean)
+        );
     }
     outln!("  (base-k is the exponential family with k_base = e^k_exp: their errors agree to rounding)");
     outln!(

@@ -1,6 +1,7 @@
 //! `specula probe`: the dense theta_h column of paper 5.2 from any BRDF.
 
 use super::grid_args::PAPER_PHI_H_DEG;
+use crate::output::plain;
 use crate::range;
 use anyhow::Result;
 use specula_sampling::probe::{Probe, ProbeSettings};
@@ -58,15 +59,15 @@ pub fn run(args: Args) -> Result<()> {
         |best, (&x, &v)| if v > best.1 { (x, v) } else { best },
     );
     outln!(
-        "wrote {} samples of {} to {} (theta_d {} deg, phi_d {} deg, phi_h {} deg); peak {:.4e} 1/sr (mean of RGB) at theta_h {:.4} deg",
+        "wrote {} samples of {} to {} (theta_d {} deg, phi_d {} deg, phi_h {} deg); peak {} 1/sr (mean of RGB) at theta_h {} deg",
         probe.len(),
         brdf.name(),
         args.out.display(),
         args.theta_d,
         args.phi_d,
         args.phi_h,
-        peak,
-        peak_at
+        plain(peak),
+        plain(peak_at)
     );
     Ok(())
 }

@@ -235,6 +235,71 @@ pub struct SampleRecord {
     pub captures: Vec<CaptureRecord>,
 }
 
+/// The columns of a sample's real-valued fields, in the order of [`SampleRecord::reals`]:
+/// the one list the journal's INSERT, SELECT and checksum follow.
+const SAMPLE_REAL_COLUMNS: [&str; 16] = [
+    "r",
+    "g",
+    "b",
+    "rate_r",
+    "rate_g",
+    "rate_b",
+    "sigma_r",
+    "sigma_g",
+    "sigma_b",
+    "turntable_rad",
+    "camera_rad",
+    "light_azimuth_rad",
+    "light_elevation_rad",
+    "device_s",
+    "wall_s",
+    "finished_unix_s",
+];
+
+impl SampleRecord {
+    /// The real-valued fields, in the order of [`SAMPLE_REAL_COLUMNS`].
+    pub(crate) fn reals(&self) -> [f64; 16] {
+        let (v, a) = (self.value, self.readback);
+        [
+            v.x,
+            v.y,
+            v.z,
+            self.rate_dn_s[0],
+            self.rate_dn_s[1],
+            self.rate_dn_s[2],
+            self.sigma_dn_s[0],
+            self.sigma_dn_s[1],
+            self.sigma_dn_s[2],
+            a.turntable_rad,
+            a.camera_rad,
+            a.light_azimuth_rad,
+            a.light_elevation_rad,
+            self.device_s,
+            self.wall_s,
+            self.finished_unix_s,
+        ]
+    }
+
+    /// A sample without captures from its key, its [`SampleRecord::reals`], its lower-bound
+    /// flag and its tries.
+    fn from_reals(stage: &str, seq: u32, r: [f64; 16], lower_bound: bool, attempts: u32) -> Self {
+        Self {
+            stage: stage.to_string(),
+            seq,
+            value: Rgb::new(r[0], r[1], r[2]),
+            rate_dn_s: [r[3], r[4], r[5]],
+            sigma_dn_s: [r[6], r[7], r[8]],
+            lower_bound,
+            readback: AxisPositions::new(r[9], r[10], r[11], r[12]),
+            device_s: r[13],
+            wall_s: r[14],
+            finished_unix_s: r[15],
+            attempts,
+            captures: Vec::new(),
+        }
+    }
+}
+
 /// Progress of one stage.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StageStatus {
@@ -634,30 +699,20 @@ impl Journal {
     pub fn samples(&self, stage: &str) -> Result<BTreeMap<u32, SampleRecord>, JournalError> {
         let mut statement = self
             .conn
-            .prepare(
-                "SELECT seq, r, g, b, rate_r, rate_g, rate_b, sigma_r, sigma_g, sigma_b,
-                        lower_bound, turntable_rad, camera_rad, light_azimuth_rad,
-                        light_elevation_rad, device_s, wall_s, finished_unix_s, attempts,
-                        checksum
-                 FROM samples WHERE stage = ?1 ORDER BY seq",
-            )
+            .prepare(&format!(
+                "SELECT seq, {}, lower_bound, attempts, checksum
+                     FROM samples WHERE stage = ?1 ORDER BY seq",
+                SAMPLE_REAL_COLUMNS.join(", ")
+            ))
             .map_err(|e| self.err(e))?;
         let rows = statement
             .query_map(params![stage], |r| {
-                let record = SampleRecord {
-                    stage: stage.to_string(),
-                    seq: r.get(0)?,
-                    value: Rgb::new(r.get(1)?, r.get(2)?, r.get(3)?),
-                    rate_dn_s: [r.get(4)?, r.get(5)?, r.get(6)?],
-                    sigma_dn_s: [r.get(7)?, r.get(8)?, r.get(9)?],
-                    lower_bound: r.get(10)?,
-                    readback: AxisPositions::new(r.get(11)?, r.get(12)?, r.get(13)?, r.get(14)?),
-                    device_s: r.get(15)?,
-                    wall_s: r.get(16)?,
-                    finished_unix_s: r.get(17)?,
-                    attempts: r.get(18)?,
-                    captures: Vec::new(),
-                };
+                let mut reals = [0.0; 16];
+                for (i, value) in reals.iter_mut().enumerate() {
+                    *value = r.get(1 + i)?;
+                }
+                let record =
+                    SampleRecord::from_reals(stage, r.get(0)?, reals, r.get(17)?, r.get(18)?);
                 Ok((record, r.get::<_, i64>(19)?))
             })
             .map_err(|e| self.err(e))?;
@@ -906,38 +961,24 @@ fn insert_plan(tx: &Transaction, stage: &str, rows: &[PlannedRow]) -> rusqlite::
 }
 
 fn insert_sample(tx: &Transaction, s: &SampleRecord) -> rusqlite::Result<()> {
-    let a = s.readback;
-    tx.execute(
-        "INSERT INTO samples (stage, seq, r, g, b, rate_r, rate_g, rate_b, sigma_r, sigma_g,
-                              sigma_b, lower_bound, turntable_rad, camera_rad, light_azimuth_rad,
-                              light_elevation_rad, device_s, wall_s, finished_unix_s, attempts,
-                              checksum)
-         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17,
-                 ?18, ?19, ?20, ?21)",
-        params![
-            s.stage,
-            s.seq,
-            s.value.x,
-            s.value.y,
-            s.value.z,
-            s.rate_dn_s[0],
-            s.rate_dn_s[1],
-            s.rate_dn_s[2],
-            s.sigma_dn_s[0],
-            s.sigma_dn_s[1],
-            s.sigma_dn_s[2],
-            s.lower_bound,
-            a.turntable_rad,
-            a.camera_rad,
-            a.light_azimuth_rad,
-            a.light_elevation_rad,
-            s.device_s,
-            s.wall_s,
-            s.finished_unix_s,
-            s.attempts,
-            journal_check::sample_checksum(s)
-        ],
-    )?;
+    use rusqlite::types::Value;
+    let sql = format!(
+        "INSERT INTO samples (stage, seq, {}, lower_bound, attempts, checksum)
+         VALUES ({})",
+        SAMPLE_REAL_COLUMNS.join(", "),
+        (1..=SAMPLE_REAL_COLUMNS.len() + 5)
+            .map(|i| format!("?{i}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let mut values = vec![Value::from(s.stage.clone()), Value::from(s.seq)];
+    values.extend(s.reals().map(Value::from));
+    values.extend([
+        Value::from(s.lower_bound),
+        Value::from(s.attempts),
+        Value::from(journal_check::sample_checksum(s)),
+    ]);
+    tx.execute(&sql, rusqlite::params_from_iter(values))?;
     let mut statement = tx.prepare(
         "INSERT INTO captures (stage, seq, exposure_s, light_level, mean_r, mean_g, mean_b,
                                saturated_r, saturated_g, saturated_b, pixel_count, used, unix_s)

@@ -11,10 +11,12 @@ pub mod probe;
 pub mod raw_samples;
 pub mod slice;
 
+use crate::canvas::Canvas;
 use crate::color::false_colour;
 use crate::font;
 use anyhow::{anyhow, Result};
 use image::RgbImage;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -32,12 +34,12 @@ pub(crate) fn plot_error(e: impl std::fmt::Display) -> anyhow::Error {
 pub(crate) fn draw(
     width: u32,
     height: u32,
-    paint: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Result<()>,
+    paint: impl FnOnce(&DrawingArea<Canvas<'_>, Shift>) -> Result<()>,
 ) -> Result<RgbImage> {
     font::ensure_registered();
     let mut buffer = vec![255u8; (width * height * 3) as usize];
     {
-        let root = BitMapBackend::with_buffer(&mut buffer, (width, height)).into_drawing_area();
+        let root = Canvas::with_buffer(&mut buffer, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
         paint(&root)?;
         root.present().map_err(plot_error)?;
@@ -88,10 +90,86 @@ impl ThetaHAxis {
     /// The axis description.
     pub(crate) fn description(self) -> &'static str {
         match self {
-            ThetaHAxis::Merl => "theta_h [deg] (MERL square-root axis)",
-            ThetaHAxis::Linear => "theta_h [deg]",
+            ThetaHAxis::Merl => "θ_h [°] (MERL square-root axis)",
+            ThetaHAxis::Linear => "θ_h [°]",
         }
     }
+
+    /// The axis coordinates of its ticks, at round angles: on the square-root axis 0, 1, 2,
+    /// 5, 10, 20, 40, 60 and 90 deg, so that the labels read as whole degrees.
+    pub(crate) fn ticks(self) -> Vec<f64> {
+        let degrees: &[f64] = match self {
+            ThetaHAxis::Merl => &[0.0, 1.0, 2.0, 5.0, 10.0, 20.0, 40.0, 60.0, 90.0],
+            ThetaHAxis::Linear => &[0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0],
+        };
+        degrees.iter().map(|&d| self.coordinate(d)).collect()
+    }
+}
+
+/// A theta_h axis over its coordinates 0 to 90 ([`ThetaHAxis::coordinate`]), ticked at
+/// round angles ([`ThetaHAxis::ticks`]) rather than at round coordinates.
+pub(crate) struct ThetaHCoord {
+    axis: ThetaHAxis,
+    coordinates: RangedCoordf64,
+}
+
+impl ThetaHCoord {
+    pub(crate) fn new(axis: ThetaHAxis) -> Self {
+        Self {
+            axis,
+            coordinates: (0.0..90.0).into(),
+        }
+    }
+}
+
+impl Ranged for ThetaHCoord {
+    type FormatOption = plotters::coord::ranged1d::DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        self.coordinates.map(value, limit)
+    }
+
+    fn key_points<Hint: plotters::coord::ranged1d::KeyPointHint>(&self, _hint: Hint) -> Vec<f64> {
+        self.axis.ticks()
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.coordinates.range()
+    }
+}
+
+/// The axis description of theta_d.
+pub(crate) const THETA_D_DESCRIPTION: &str = "θ_d [°]";
+/// The axis description of f_r.
+pub(crate) const F_R_DESCRIPTION: &str = "f_r [1/sr]";
+
+/// Ticks of a logarithmic axis from `lo` to `hi` (both above 0): every power of ten over more
+/// than four decades (every second or third over more than ten), 1, 2 and 5 times them over
+/// two to four, and every whole multiple 1 to 9 below that, so that even a panel spanning
+/// less than a decade has several labelled ticks.
+pub(crate) fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let decades = (hi / lo).log10();
+    let mantissas: &[f64] = if decades > 4.0 {
+        &[1.0]
+    } else if decades > 1.5 {
+        &[1.0, 2.0, 5.0]
+    } else {
+        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+    };
+    let every = (decades / 10.0).ceil().max(1.0) as i32;
+    let (first, last) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    (first..=last)
+        .filter(|e| e.rem_euclid(every) == 0)
+        .flat_map(|e| mantissas.iter().map(move |m| m * 10f64.powi(e)))
+        .filter(|v| (lo..=hi).contains(v))
+        .collect()
+}
+
+/// A tick label for a value: as people write it (`100`, `0.002`, `1e-7`).
+pub(crate) fn value_label(value: f64) -> String {
+    // Ticks are round numbers; the rounding keeps 3 * 10^-3 from showing as 0.0030000000004.
+    specula_core::shown::shown(specula_core::shown::plain(value).parse().unwrap_or(value))
 }
 
 /// A tick label for an angle: no decimals for whole degrees, one otherwise.
@@ -154,7 +232,7 @@ pub(crate) fn unmeasured_colour() -> RGBColor {
 
 /// Draws a vertical colour bar for `scale` with power-of-ten ticks and a description.
 pub(crate) fn draw_colour_bar(
-    area: &DrawingArea<BitMapBackend<'_>, Shift>,
+    area: &DrawingArea<Canvas<'_>, Shift>,
     scale: LogScale,
     description: &str,
 ) -> Result<()> {
@@ -170,7 +248,7 @@ pub(crate) fn draw_colour_bar(
         .disable_mesh()
         .disable_x_axis()
         .y_desc(description)
-        .y_label_formatter(&|v| format!("1e{}", v.round() as i64))
+        .y_label_formatter(&|v| value_label(10f64.powi(v.round() as i32)))
         .y_labels(((scale.max_log10 - scale.min_log10).ceil() as usize + 1).min(10))
         .label_style((font::FAMILY, LABEL_PX))
         .axis_desc_style((font::FAMILY, AXIS_DESC_PX))
@@ -204,6 +282,36 @@ mod tests {
         assert_eq!(angle_label(0.5), "0.5");
         assert_eq!(angle_label(20.0), "20");
         assert!("linear".parse::<ThetaHAxis>().is_ok() && "log".parse::<ThetaHAxis>().is_err());
+    }
+
+    #[test]
+    fn theta_h_ticks_read_as_round_degrees() {
+        for axis in [ThetaHAxis::Merl, ThetaHAxis::Linear] {
+            let labels: Vec<String> = axis
+                .ticks()
+                .into_iter()
+                .map(|c| angle_label(axis.theta_h_deg(c)))
+                .collect();
+            assert!(labels.iter().all(|l| !l.contains('.')), "{labels:?}");
+            assert_eq!(labels.last().map(String::as_str), Some("90"));
+        }
+    }
+
+    #[test]
+    fn log_ticks_label_even_a_narrow_panel() {
+        // The probe's 0 to 2 deg panel of silver-925: about 40 to 170 1/sr.
+        let narrow = log_ticks(40.0, 170.0);
+        assert!(narrow.len() >= 3, "{narrow:?}");
+        assert_eq!(narrow.first(), Some(&40.0));
+        let wide = log_ticks(1e-3, 200.0);
+        assert_eq!(
+            wide.iter().map(|&v| value_label(v)).collect::<Vec<_>>(),
+            ["0.001", "0.01", "0.1", "1", "10", "100"]
+        );
+        let ratio = |t: &[f64]| t.windows(2).all(|w| w[1] > w[0]);
+        assert!(ratio(&narrow) && ratio(&wide));
+        assert!(log_ticks(1e-12, 1e6).len() <= 10);
+        assert_eq!(value_label(3.0 * 10f64.powi(-3)), "0.003");
     }
 
     #[test]

@@ -4,7 +4,11 @@
 //! over the 0 to 2 deg around the specular peak. Each channel is drawn in its colour, on a
 //! logarithmic f_r axis.
 
-use super::{draw, plot_error, AXIS_DESC_PX, LABEL_PX, TITLE_PX};
+use super::Canvas;
+use super::{
+    angle_label, draw, log_ticks, plot_error, value_label, ThetaHAxis, AXIS_DESC_PX,
+    F_R_DESCRIPTION, LABEL_PX, TITLE_PX,
+};
 use crate::font;
 use anyhow::{bail, Result};
 use image::RgbImage;
@@ -75,7 +79,7 @@ pub fn plot_probe(probe: &[(f64, Rgb)], adaptive: &[(f64, Rgb)], title: &str) ->
         )?;
         panel(
             &bottom,
-            "detail: theta_h 0 to 2 deg",
+            "detail: θ_h 0° to 2°",
             probe,
             adaptive,
             DETAIL_MAX_DEG,
@@ -84,7 +88,7 @@ pub fn plot_probe(probe: &[(f64, Rgb)], adaptive: &[(f64, Rgb)], title: &str) ->
 }
 
 fn panel(
-    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    area: &DrawingArea<Canvas<'_>, plotters::coord::Shift>,
     caption: &str,
     probe: &[(f64, Rgb)],
     adaptive: &[(f64, Rgb)],
@@ -122,13 +126,17 @@ fn panel(
         .margin(14)
         .x_label_area_size(44)
         .y_label_area_size(70)
-        .build_cartesian_2d(0.0..max_deg, (lo..hi).log_scale())
+        .build_cartesian_2d(
+            0.0..max_deg,
+            (lo..hi).log_scale().with_key_points(log_ticks(lo, hi)),
+        )
         .map_err(plot_error)?;
     chart
         .configure_mesh()
-        .x_desc("theta_h [deg]")
-        .y_desc("f_r [1/sr]")
-        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .x_desc(ThetaHAxis::Linear.description())
+        .y_desc(F_R_DESCRIPTION)
+        .x_label_formatter(&|t| angle_label(*t))
+        .y_label_formatter(&|v| value_label(*v))
         .label_style((font::FAMILY, LABEL_PX))
         .axis_desc_style((font::FAMILY, AXIS_DESC_PX))
         .light_line_style(RGBColor(235, 235, 235))

@@ -5,7 +5,7 @@
 
 use super::{
     angle_label, draw, draw_colour_bar, plot_error, unmeasured_colour, LogScale, ThetaHAxis,
-    AXIS_DESC_PX, LABEL_PX, TITLE_PX,
+    ThetaHCoord, AXIS_DESC_PX, LABEL_PX, THETA_D_DESCRIPTION, TITLE_PX,
 };
 use crate::font;
 use anyhow::{bail, Result};
@@ -199,20 +199,20 @@ pub fn plot_raw_samples(samples: &[RawSample], title: &str, axis: ThetaHAxis) ->
         for ((phi_d, cells), area) in grid.panels.iter().zip(&areas) {
             let mut chart = ChartBuilder::on(area)
                 .caption(
-                    format!("phi_d = {} deg", angle_label(*phi_d)),
+                    format!("φ_d = {}°", angle_label(*phi_d)),
                     (font::FAMILY, LABEL_PX + 2.0),
                 )
                 .margin(6)
                 .x_label_area_size(38)
                 .y_label_area_size(44)
-                .build_cartesian_2d(0.0..90.0, 0.0..90.0)
+                .build_cartesian_2d(0.0..90.0, ThetaHCoord::new(axis))
                 .map_err(plot_error)?;
             chart
                 .configure_mesh()
                 .disable_mesh()
-                .x_desc("theta_d [deg]")
+                .x_desc(THETA_D_DESCRIPTION)
                 .x_label_formatter(&|d| angle_label(*d))
-                .y_desc("theta_h [deg]")
+                .y_desc(axis.description())
                 .x_labels(4)
                 .y_label_formatter(&|c| angle_label(axis.theta_h_deg(*c)))
                 .label_style((font::FAMILY, LABEL_PX - 2.0))

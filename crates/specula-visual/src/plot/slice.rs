@@ -3,7 +3,7 @@
 
 use super::{
     angle_label, draw, draw_colour_bar, plot_error, unmeasured_colour, LogScale, ThetaHAxis,
-    AXIS_DESC_PX, LABEL_PX, TITLE_PX,
+    ThetaHCoord, AXIS_DESC_PX, LABEL_PX, THETA_D_DESCRIPTION, TITLE_PX,
 };
 use crate::font;
 use anyhow::{bail, Result};
@@ -126,18 +126,18 @@ fn draw_slice(
         let (left, right) = root.split_horizontally(630);
         let mut chart = ChartBuilder::on(&left)
             .caption(
-                format!("{title}: phi_d = {} deg", angle_label(options.phi_d_deg)),
+                format!("{title}: φ_d = {}°", angle_label(options.phi_d_deg)),
                 (font::FAMILY, TITLE_PX),
             )
             .margin(12)
             .x_label_area_size(44)
             .y_label_area_size(56)
-            .build_cartesian_2d(0.0..THETA_D_BINS as f64, 0.0..THETA_H_BINS as f64)
+            .build_cartesian_2d(0.0..THETA_D_BINS as f64, ThetaHCoord::new(options.axis))
             .map_err(plot_error)?;
         chart
             .configure_mesh()
             .disable_mesh()
-            .x_desc("theta_d [deg]")
+            .x_desc(THETA_D_DESCRIPTION)
             .x_label_formatter(&|d| angle_label(*d))
             .y_desc(options.axis.description())
             .y_label_formatter(&|c| angle_label(options.axis.theta_h_deg(*c)))
