@@ -32,14 +32,13 @@ import os
 import subprocess
 import sys
 
-import numpy as np
 import mitsuba as mi
 
 mi.set_variant("scalar_rgb")
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from rgl_vectors import DATA as MEASURED, direction, near_mirror_pair  # noqa: E402
-from rgl_export_check import MAX_ELEVATION_DEG, uniform_pair  # noqa: E402
+from rgl_vectors import DATA as MEASURED  # noqa: E402
+from rgl_export_check import write_vectors  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "crates", "specula-formats", "tests", "data")
@@ -50,28 +49,6 @@ CASES = {
     "green-paint": ("green-paint", "coat"),
     "cc_ibiza_sunset_conductor": (os.path.join(RGL, "cc_ibiza_sunset_rgb.bsdf"), "conductor"),
 }
-
-
-def write_vectors(case, xml, seed):
-    scene = mi.load_file(xml)
-    bsdf = scene.shapes()[0].bsdf()
-    ctx = mi.BSDFContext()
-    rng = np.random.default_rng(seed)
-    pairs = [uniform_pair(rng) for _ in range(1400)] + [
-        near_mirror_pair(rng, 1.5, 5.0, MAX_ELEVATION_DEG) for _ in range(700)
-    ]
-    rows = []
-    for ti, pi_, to, po in pairs:
-        wi, wo = direction(ti, pi_), direction(to, po)
-        si = mi.SurfaceInteraction3f()
-        si.wi = mi.Vector3f(*wi)
-        value = np.array(bsdf.eval(ctx, si, mi.Vector3f(*wo)), dtype=np.float64) / wo[2]
-        rows.append(f"{ti!r},{pi_!r},{to!r},{po!r},{value[0]:.9g},{value[1]:.9g},{value[2]:.9g}")
-    target = os.path.join(OUT, f"fit_export_mitsuba_{case}.csv")
-    with open(target, "w") as f:
-        f.write("theta_i,phi_i,theta_o,phi_o,r,g,b\n")
-        f.write("\n".join(rows) + "\n")
-    print(f"wrote {os.path.relpath(target, ROOT)}: {len(rows)} direction pairs", file=sys.stderr)
 
 
 def main():
@@ -85,7 +62,8 @@ def main():
             [args.specula, "fit", source, "--model", model, "--out", toml, "--mitsuba", xml],
             check=True,
         )
-        write_vectors(case, xml, 280 + k)
+        bsdf = mi.load_file(xml).shapes()[0].bsdf()
+        write_vectors(bsdf, os.path.join(OUT, f"fit_export_mitsuba_{case}.csv"), 280 + k)
     return 0
 
 
