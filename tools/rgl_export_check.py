@@ -64,8 +64,8 @@ def uniform_pair(rng):
     return pick() + pick()
 
 
-def write_vectors(name, path, seed):
-    bsdf = mi.load_dict({"type": "measured", "filename": path})
+def write_vectors(bsdf, target, seed):
+    """Evaluates the Mitsuba `bsdf` at the 2100 seeded direction pairs into the CSV `target`."""
     ctx = mi.BSDFContext()
     rng = np.random.default_rng(seed)
     pairs = [uniform_pair(rng) for _ in range(1400)] + [near_mirror_pair(rng, 1.5, 5.0, MAX_ELEVATION_DEG) for _ in range(700)]
@@ -76,7 +76,6 @@ def write_vectors(name, path, seed):
         si.wi = mi.Vector3f(*wi)
         value = np.array(bsdf.eval(ctx, si, mi.Vector3f(*wo)), dtype=np.float64) / wo[2]
         rows.append(f"{ti!r},{pi_!r},{to!r},{po!r},{value[0]:.9g},{value[1]:.9g},{value[2]:.9g}")
-    target = os.path.join(VECTORS, f"rgl_export_mitsuba_{name}.csv")
     with open(target, "w") as f:
         f.write("theta_i,phi_i,theta_o,phi_o,r,g,b\n")
         f.write("\n".join(rows) + "\n")
@@ -118,7 +117,8 @@ def main():
         for k, (name, source) in enumerate(MATERIALS.items()):
             path = os.path.join(tmp, f"{name}.bsdf")
             subprocess.run([args.specula, "convert", source, path], check=True)
-            write_vectors(name, path, 180 + k)
+            bsdf = mi.load_dict({"type": "measured", "filename": path})
+            write_vectors(bsdf, os.path.join(VECTORS, f"rgl_export_mitsuba_{name}.csv"), 180 + k)
             if not args.no_render:
                 for lighting in ("point", "constant"):
                     render(name, path, lighting, args.size)

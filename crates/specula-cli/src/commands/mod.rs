@@ -10,6 +10,7 @@ pub mod demo;
 pub mod device;
 pub mod eval;
 pub mod evaluate;
+pub mod fit;
 pub mod fit_k;
 pub mod grid_args;
 pub mod info;

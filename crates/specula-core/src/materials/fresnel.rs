@@ -44,6 +44,20 @@ pub fn conductor_rgb(cos_theta_i: f64, eta: Rgb, k: Rgb) -> Rgb {
     )
 }
 
+/// The complex index `(eta, k)` of a conductor from its normal-incidence reflectance `r` in
+/// `[0, 1)` and its edge tint `g` in `[0, 1]` (Gulbrandsen 2014, "Artist Friendly Metallic
+/// Fresnel", JCGT 3(4), eq. 3-4):
+/// `eta = g (1 - r) / (1 + r) + (1 - g) (1 + sqrt r) / (1 - sqrt r)`,
+/// `k = sqrt((r (eta + 1)^2 - (eta - 1)^2) / (1 - r))`. [`conductor`] of the result at normal
+/// incidence is `r`; `g` shapes the curve towards grazing. A well-conditioned
+/// parameterisation for fitting, where `eta` and `k` themselves are nearly degenerate.
+pub fn conductor_index_from_reflectivity(r: f64, g: f64) -> (f64, f64) {
+    let sqrt_r = r.sqrt();
+    let eta = g * (1.0 - r) / (1.0 + r) + (1.0 - g) * (1.0 + sqrt_r) / (1.0 - sqrt_r);
+    let k_sq = (r * (eta + 1.0).powi(2) - (eta - 1.0).powi(2)) / (1.0 - r);
+    (eta, k_sq.max(0.0).sqrt())
+}
+
 /// Unpolarised reflectance of a dielectric interface with real relative index `eta`
 /// (transmitted over incident medium, e.g. 1.5 for air to lacquer, 1/1.5 from inside the
 /// lacquer) at `cos_theta_i` in `[0, 1]`. Beyond the critical angle it is 1.
@@ -79,6 +93,19 @@ pub fn dielectric_diffuse_reflectance(eta: f64) -> f64 {
 mod tests {
     use super::*;
     use num_complex::Complex64;
+
+    #[test]
+    fn reflectivity_parameters_give_their_normal_reflectance() {
+        for r in [0.02, 0.3, 0.6, 0.95, 0.99] {
+            for g in [0.0, 0.3, 0.7, 1.0] {
+                let (eta, k) = conductor_index_from_reflectivity(r, g);
+                assert!(
+                    (conductor(1.0, eta, k) - r).abs() < 1e-9,
+                    "{r} {g}: {eta} {k}"
+                );
+            }
+        }
+    }
 
     /// The reflectance from the complex Fresnel amplitudes (module documentation).
     fn conductor_by_amplitudes(cos_i: f64, eta: f64, k: f64) -> f64 {

@@ -27,7 +27,7 @@ pub enum Base {
 
 impl Base {
     /// f_r in 1/sr from the cosines of an isotropic configuration.
-    fn eval_cosines(&self, c: IsotropicCosines) -> Rgb {
+    pub fn eval_cosines(&self, c: IsotropicCosines) -> Rgb {
         match self {
             Base::Conductor(conductor) => conductor.eval_cosines(c),
             Base::ClearCoat(coat) => coat.eval_cosines(c),
