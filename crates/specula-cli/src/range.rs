@@ -5,6 +5,7 @@
 
 use clap::builder::TypedValueParser;
 use clap::error::ErrorKind;
+use specula_formats::rgl::write as rgl;
 
 /// A real number between two finite bounds, in a unit: degrees, seconds, stops, ...
 #[derive(Clone, Copy, Debug)]
@@ -150,6 +151,8 @@ pub const FLARE_STRENGTH_SR: Real = Real::from_to(0.0, 10.0, "1/sr");
 pub const TIMEOUT_S: Real = Real::above(0.0, 86_400.0, "seconds");
 /// How much faster than real time a rehearsal runs.
 pub const SPEEDUP: Real = Real::above(0.0, 1e6, "a factor");
+/// An instrument's angular resolution, e.g. the angular radius of its light source.
+pub const RESOLUTION_DEG: Real = Real::above(0.0, 90.0, "degrees");
 /// Exposure of a tone-mapped picture.
 pub const EXPOSURE_STOPS: Real = Real::from_to(-20.0, 20.0, "stops");
 
@@ -166,6 +169,17 @@ pub const IMAGE_PX: Count = Count::from_to(8, specula_report::MAX_IMAGE_PX);
 /// Camera rays per pixel.
 pub const SAMPLES_PER_PIXEL: Count =
     Count::from_to(1, specula_visual::render::MAX_SAMPLES_PER_PIXEL);
+/// Incident elevations of a written RGL file.
+pub const RGL_ELEVATIONS: Count =
+    Count::from_to(*rgl::ELEVATIONS_RANGE.start(), *rgl::ELEVATIONS_RANGE.end());
+/// Nodes per axis of a written RGL file's microfacet distribution.
+pub const RGL_NDF_SIZE: Count =
+    Count::from_to(*rgl::NDF_SIZE_RANGE.start(), *rgl::NDF_SIZE_RANGE.end());
+/// Samples per axis of a written RGL file's RGB grid.
+pub const RGL_SAMPLE_SIZE: Count = Count::from_to(
+    *rgl::SAMPLE_SIZE_RANGE.start(),
+    *rgl::SAMPLE_SIZE_RANGE.end(),
+);
 
 #[cfg(test)]
 mod tests {

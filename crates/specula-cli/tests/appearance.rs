@@ -78,7 +78,7 @@ fn extrapolated_cells_and_the_instrument_resolution_are_warned_about() {
     };
     provenance.write(&sidecar_path(&table)).unwrap();
     let table = table.to_string_lossy().to_string();
-    let (_, stderr) = run(&["appearance", &table, "--resolution-deg", "1.82"]);
+    let (_, stderr) = run(&["appearance", &table, "--resolution", "1.82"]);
     assert!(
         stderr.contains("gloss_20: 100.0 % of its flux comes from extrapolated cells"),
         "{stderr}"
@@ -98,7 +98,7 @@ fn extrapolated_cells_and_the_instrument_resolution_are_warned_about() {
 #[test]
 fn bad_input_is_one_line_or_a_usage_error() {
     specula()
-        .args(["appearance", "green-paint", "--resolution-deg", "0"])
+        .args(["appearance", "green-paint", "--resolution", "0"])
         .assert()
         .code(2);
     specula().args(["appearance"]).assert().code(2);

@@ -174,3 +174,43 @@ fn compare_a_table_with_itself_gives_zero() {
         "no such",
     );
 }
+
+/// `evaluate --truth FOLDER` takes every measured file in the folder and summarises the real
+/// truths apart from the others, real first.
+#[test]
+fn evaluate_takes_a_folder_of_real_measurements() {
+    let folder =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/measured/rgl_bsdf");
+    if !folder.is_dir() {
+        eprintln!(
+            "skipped: {} is absent (the shared data beside the clone as ../shared)",
+            folder.display()
+        );
+        return;
+    }
+    let out = specula()
+        .args(["evaluate", "--truth"])
+        .arg(&folder)
+        .args([
+            "--truth",
+            "silver-925",
+            "--theta-h-samples",
+            "6",
+            "--theta-d-step",
+            "10",
+            "--phi-d-step",
+            "45",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let summaries: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("# real,") || l.starts_with("# given,"))
+        .collect();
+    assert_eq!(summaries.len(), 4, "{stdout}");
+    assert!(summaries[0].starts_with("# real,median,5,"), "{stdout}");
+    assert!(summaries[2].starts_with("# given,median,1,"), "{stdout}");
+    assert!(stdout.contains("\npaper_white_rgb,"), "{stdout}");
+}

@@ -12,4 +12,4 @@ pub mod samples_csv;
 pub mod source;
 pub mod utia;
 
-pub use source::{load_brdf, BrdfSource};
+pub use source::{load_brdf, load_brdfs, BrdfSource};

@@ -20,6 +20,41 @@ use std::sync::Arc;
 /// A loaded BRDF behind a shared pointer, so that parallel work can hold it.
 pub type BrdfSource = Arc<dyn Brdf>;
 
+/// Resolves a BRDF source string, or a folder to every BRDF file in it, in name order
+/// (files of a recognised format: [`crate::convert::FileFormat::detect`], MERL `.binary`,
+/// material `.toml`); other files (README, checksums) are passed over.
+pub fn load_brdfs(spec: &str) -> Result<Vec<BrdfSource>> {
+    let folder = Path::new(spec);
+    if !folder.is_dir() {
+        return Ok(vec![load_brdf(spec)?]);
+    }
+    let mut paths: Vec<_> = std::fs::read_dir(folder)
+        .map_err(|e| anyhow::anyhow!("{spec}: cannot list the folder: {e}"))?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.is_file())
+        .collect();
+    paths.sort();
+    let mut out = Vec::new();
+    for path in paths {
+        if is_brdf_file(&path)? {
+            out.push(load_brdf(&path.to_string_lossy())?);
+        }
+    }
+    if out.is_empty() {
+        bail!("{spec}: the folder holds no BRDF file (a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)");
+    }
+    Ok(out)
+}
+
+/// Whether [`load_brdf`] reads the file as a BRDF.
+fn is_brdf_file(path: &Path) -> Result<bool> {
+    let extension = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    Ok(crate::convert::FileFormat::detect(path)?.is_some()
+        || matches!(extension.as_deref(), Some("binary" | "toml")))
+}
+
 /// Resolves a BRDF source string (see the module documentation).
 pub fn load_brdf(spec: &str) -> Result<BrdfSource> {
     if let Some((model, name)) = spec.split_once(':') {

@@ -147,3 +147,25 @@ fn lafortune_normalisation_matches_the_unnormalised_form() {
         .to_string();
     assert!(err.contains("unobtainium") && err.contains("100"), "{err}");
 }
+
+/// A folder of measured files is every BRDF in it, in name order; the README, provenance and
+/// checksum files beside them are passed over.
+#[test]
+fn a_folder_of_measured_files_is_each_of_its_brdfs() {
+    let Some(first) = measured(&format!("rgl_bsdf/{}.bsdf", common::RGL_MATERIALS[0])) else {
+        return;
+    };
+    let folder = first.parent().unwrap();
+    let brdfs = specula_formats::load_brdfs(&folder.to_string_lossy()).unwrap();
+    let names: Vec<String> = brdfs.iter().map(|b| b.name()).collect();
+    assert_eq!(names, common::RGL_MATERIALS.map(String::from));
+    let one = specula_formats::load_brdfs(&first.to_string_lossy()).unwrap();
+    assert_eq!(one.len(), 1);
+    let empty = std::env::temp_dir().join(format!("specula-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&empty).unwrap();
+    let Err(error) = specula_formats::load_brdfs(&empty.to_string_lossy()) else {
+        panic!("an empty folder gave BRDFs");
+    };
+    assert!(error.to_string().contains("holds no BRDF file"), "{error}");
+    std::fs::remove_dir(&empty).unwrap();
+}

@@ -27,8 +27,9 @@ def test_probe_and_fit_k_match_the_cli(cli, tmp_path):
     _, out, _ = cli("fit-k", path)
     first = dict(item.split("=") for item in out.splitlines()[0].split())
     fit = specula.fit_k(probe)
-    assert fit["k"] == pytest.approx(float(first["k"]), rel=1e-9)
-    assert fit["error"] == pytest.approx(float(first["error"]), rel=1e-9)
+    # The CLI prints plain numbers to 4 significant digits.
+    assert fit["k"] == pytest.approx(float(first["k"]), rel=1e-3)
+    assert fit["error"] == pytest.approx(float(first["error"]), rel=1e-3)
     positions = out.splitlines()[2].split("=")[1].split(",")
     np.testing.assert_allclose(fit["theta_h_deg"], np.array(positions, float), atol=1e-6)
     assert len(fit["theta_h_deg"]) == 30
@@ -66,7 +67,7 @@ def test_reconstruct_matches_the_cli(cli, tmp_path):
                for a in ("theta_h", "phi_h", "theta_d", "phi_d")}
     samples["rgb"] = np.array([columns[c] for c in "rgb"], float).T
     out = tmp_path / "rec.binary"
-    cli("reconstruct", "--samples", samples_csv, "--method", "linear", "--out", out)
+    cli("reconstruct", "--samples-csv", samples_csv, "--method", "linear", "--out", out)
     result = specula.reconstruct(samples, method="linear")
     np.testing.assert_array_equal(result["table"], specula.read_merl(out))
     np.testing.assert_array_equal(result["provenance"], np.load(tmp_path / "rec.provenance.npy"))
@@ -112,10 +113,13 @@ def test_measure_and_read_session_agree_with_the_cli(cli, tmp_path):
     cli_out = tmp_path / "cli.binary"
     cli("reconstruct", "--session", session, "--out", cli_out)
     np.testing.assert_array_equal(specula.read_merl(out), specula.read_merl(cli_out))
-    # The samples came out in degrees (radians to degrees and back round the last bit).
+    # The samples came out in degrees (radians to degrees and back round the last bit); the
+    # samples alone carry no instrument response, so they match the CLI without deblurring.
+    blurred = tmp_path / "blurred.binary"
+    cli("reconstruct", "--session", session, "--no-deblur", "--out", blurred)
     again = specula.reconstruct(samples)["table"]
-    np.testing.assert_allclose(again, specula.read_merl(cli_out), rtol=1e-9)
-    assert np.array_equal(np.isnan(again), np.isnan(specula.read_merl(cli_out)))
+    np.testing.assert_allclose(again, specula.read_merl(blurred), rtol=1e-9)
+    assert np.array_equal(np.isnan(again), np.isnan(specula.read_merl(blurred)))
 
 
 def test_read_session_rejects_a_file_that_is_not_a_journal(cli, tmp_path):

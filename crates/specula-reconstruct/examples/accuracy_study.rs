@@ -3,54 +3,136 @@
 //! over sets of ground-truth materials, each measured without noise on the UTIA device model.
 //!
 //!     cargo run --release -p specula-reconstruct --example accuracy_study -- \
-//!         [--set builtin] [--set sgd] [--set abc] [--set nbrdf] [--every N] [--plan HxDxP]...
+//!         [--set rgl] [--set nbrdf-rgl] [--set builtin] [--set sgd] [--set abc] [--set nbrdf]
+//!         [--every N] [--plan HxDxP]... [--trust W,S2]...
 //!
-//! Configurations: `paper` (the paper's pipeline), `paper-plan+lobe` (the same samples,
-//! reconstructed by the `lobe` method) and, for each `--plan HxDxP`, `lobe-HxDxP`: H theta_h
-//! positions (exponential function, k-hat), theta_d step D and phi_d step P degrees, `lobe`.
-//! Sets default to builtin, sgd and abc.
+//! Configurations: `paper` (the paper's pipeline), `paper-plan+lobe` and `paper-plan+log`
+//! (the same samples, reconstructed by the `lobe` and `log` methods) and, for each
+//! `--plan HxDxP`, `lobe-HxDxP`: H theta_h positions (exponential function, k-hat), theta_d
+//! step D and phi_d step P degrees (D may be `STEP:GRAZING_STEP@FROM`, graded theta_d
+//! positions, `specula_reconstruct::budget`), `lobe`, and `prior-HxDxP`, the `prior` method
+//! (`specula_reconstruct::prior_reconstruct`) on the same plan; `paper-plan+prior` on the
+//! paper's samples, and for each `--trust W,S2` the same with the prior weight W and noise
+//! variance S2 given instead of chosen by cross-validation. Sets: `rgl` (the real RGL measurements in the
+//! measured data directory's `rgl_bsdf/`), `nbrdf-rgl` (their 51 neural fits), `builtin`,
+//! `sgd`, `abc`, `nbrdf` (the MERL-100 fits); default builtin, sgd and abc.
 //!
 //! Prints one CSV row per material and configuration, then the mean of each configuration
-//! per set and over all sets, and the ratio of each mean to the paper pipeline's.
+//! per set and over all sets with the ratio of each mean to the paper pipeline's, then the
+//! median over each set's materials of the per-material ratio to the paper pipeline's.
 
 use specula_acquisition::device::Device;
 use specula_core::materials::builtin_database;
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
 use specula_formats::fits::{load_model, FitModel};
+use specula_formats::input::measured_data_dir;
+use specula_formats::load_brdfs;
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
-use specula_reconstruct::accuracy::{evaluate, Accuracy, Measurement, PlanSettings};
+use specula_reconstruct::accuracy::{
+    evaluate, measure, reached_by, Accuracy, Measurement, PlanSettings,
+};
+use specula_reconstruct::budget::graded_theta_d_deg;
+use specula_reconstruct::prior::PriorBasis;
+use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
+use specula_reconstruct::Sample;
+use specula_sampling::analysis::median;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-/// A plan and a method.
+/// A reconstruction: a [`Method`] or the `prior` method (its trust chosen by the samples,
+/// or given as prior weight and noise variance).
+#[derive(Clone, Copy)]
+enum Recon {
+    Method(Method),
+    Prior(Option<(f64, f64)>),
+}
+
+/// A plan and a reconstruction.
 #[derive(Clone)]
 struct Config {
     name: String,
     plan: PlanSettings,
-    method: Method,
+    /// theta_d from `(step, grazing step, grazing from)` degrees instead of the plan's step.
+    graded: Option<(f64, f64, f64)>,
+    method: Recon,
+}
+
+impl Config {
+    /// The material measured on this configuration's plan.
+    fn measure(
+        &self,
+        truth: &dyn Brdf,
+        device: &Device,
+    ) -> anyhow::Result<(usize, Vec<Sample>, Option<f64>)> {
+        let Some((step, grazing_step, from)) = self.graded else {
+            let m = Measurement::simulate(truth, &self.plan, device)?;
+            return Ok((m.samples.len(), m.samples, m.k));
+        };
+        let (mut grid, k) = self.plan.grid(truth)?;
+        grid.theta_d_deg = graded_theta_d_deg(step, grazing_step, from);
+        let samples = measure(truth, &reached_by(&grid, device));
+        Ok((samples.len(), samples, k))
+    }
 }
 
 /// The paper's pipeline, our method on its samples, and our method on each smaller plan.
-fn configs(plans: &[String]) -> anyhow::Result<Vec<Config>> {
+fn configs(plans: &[String], trusts: &[(f64, f64)]) -> anyhow::Result<Vec<Config>> {
     let paper = PlanSettings::paper();
     let mut out = vec![
         Config {
             name: "paper".into(),
             plan: paper,
-            method: Method::LINEAR,
+            graded: None,
+            method: Recon::Method(Method::LINEAR),
         },
         Config {
             name: "paper-plan+lobe".into(),
             plan: paper,
-            method: Method::LOBE,
+            graded: None,
+            method: Recon::Method(Method::LOBE),
+        },
+        Config {
+            name: "paper-plan+log".into(),
+            plan: paper,
+            graded: None,
+            method: Recon::Method(Method::LOG),
+        },
+        Config {
+            name: "paper-plan+prior".into(),
+            plan: paper,
+            graded: None,
+            method: Recon::Prior(None),
         },
     ];
+    for &(w, s2) in trusts {
+        out.push(Config {
+            name: format!("paper-plan+prior-w{w}-s{s2}"),
+            plan: paper,
+            graded: None,
+            method: Recon::Prior(Some((w, s2))),
+        });
+    }
     for spec in plans {
-        let parts: Vec<f64> = spec.split('x').filter_map(|v| v.parse().ok()).collect();
-        let [theta_h, theta_d, phi_d] = parts[..] else {
-            anyhow::bail!("--plan {spec}: expected HxDxP, e.g. 24x4x22.5");
+        let parts: Vec<&str> = spec.split('x').collect();
+        let number = |v: &str| v.parse::<f64>().ok();
+        let (Some(theta_h), Some(phi_d), Some(theta_d_spec)) = (
+            parts.first().and_then(|v| number(v)),
+            parts.get(2).and_then(|v| number(v)),
+            parts.get(1),
+        ) else {
+            anyhow::bail!("--plan {spec}: expected HxDxP, e.g. 24x4x22.5 or 16x3:1.5@60x30");
+        };
+        // D is a step, or `STEP:GRAZING_STEP@FROM`.
+        let graded = theta_d_spec.split_once(':').and_then(|(step, rest)| {
+            let (grazing, from) = rest.split_once('@')?;
+            Some((number(step)?, number(grazing)?, number(from)?))
+        });
+        let theta_d = match graded {
+            Some((step, _, _)) => step,
+            None => number(theta_d_spec)
+                .ok_or_else(|| anyhow::anyhow!("--plan {spec}: bad theta_d step"))?,
         };
         let plan = PlanSettings {
             theta_h_samples: theta_h as usize,
@@ -61,7 +143,14 @@ fn configs(plans: &[String]) -> anyhow::Result<Vec<Config>> {
         out.push(Config {
             name: format!("lobe-{spec}"),
             plan,
-            method: Method::LOBE,
+            graded,
+            method: Recon::Method(Method::LOBE),
+        });
+        out.push(Config {
+            name: format!("prior-{spec}"),
+            plan,
+            graded,
+            method: Recon::Prior(None),
         });
     }
     Ok(out)
@@ -69,19 +158,24 @@ fn configs(plans: &[String]) -> anyhow::Result<Vec<Config>> {
 
 fn truths(set: &str) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
     Ok(match set {
+        "rgl" => load_brdfs(&measured_data_dir().join("rgl_bsdf").to_string_lossy())?,
+        "nbrdf-rgl" => nbrdf_set(NbrdfSet::RglIsotropic)?,
         "builtin" => builtin_database()
             .into_iter()
             .map(|m| Arc::new(m) as Arc<dyn Brdf>)
             .collect(),
         "sgd" => load_model(FitModel::Sgd)?,
         "abc" => load_model(FitModel::Abc)?,
-        "nbrdf" => NbrdfSet::Merl100
-            .names()?
-            .iter()
-            .map(|n| Ok(Arc::new(Nbrdf::load(NbrdfSet::Merl100, n)?) as Arc<dyn Brdf>))
-            .collect::<anyhow::Result<_>>()?,
-        other => anyhow::bail!("unknown set {other} (builtin, sgd, abc, nbrdf)"),
+        "nbrdf" => nbrdf_set(NbrdfSet::Merl100)?,
+        other => anyhow::bail!("unknown set {other} (rgl, nbrdf-rgl, builtin, sgd, abc, nbrdf)"),
     })
+}
+
+fn nbrdf_set(set: NbrdfSet) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
+    set.names()?
+        .iter()
+        .map(|n| Ok(Arc::new(Nbrdf::load(set, n)?) as Arc<dyn Brdf>))
+        .collect()
 }
 
 #[derive(Default, Clone, Copy)]
@@ -123,6 +217,7 @@ fn main() -> anyhow::Result<()> {
     let mut sets = Vec::new();
     let mut every = 1usize;
     let mut plans = Vec::new();
+    let mut trusts = Vec::new();
     let mut i = 0;
     while i < args.len() {
         match args[i].as_str() {
@@ -138,6 +233,15 @@ fn main() -> anyhow::Result<()> {
                     .max(1);
                 i += 1;
             }
+            "--trust" => {
+                let spec = args.get(i + 1).cloned().unwrap_or_default();
+                let parts: Vec<f64> = spec.split(',').filter_map(|v| v.parse().ok()).collect();
+                let [w, s2] = parts[..] else {
+                    anyhow::bail!("--trust {spec}: expected W,S2, e.g. 0.5,0.1");
+                };
+                trusts.push((w, s2));
+                i += 1;
+            }
             "--plan" => {
                 plans.push(args.get(i + 1).cloned().unwrap_or_default());
                 i += 1;
@@ -150,24 +254,40 @@ fn main() -> anyhow::Result<()> {
         sets = vec!["builtin".into(), "sgd".into(), "abc".into()];
     }
     let device = Device::utia();
-    let configs = configs(&plans)?;
+    let configs = configs(&plans, &trusts)?;
+    let basis = PriorBasis::merl()?;
     let mut sums: BTreeMap<(String, String), Sums> = BTreeMap::new();
+    // Per set and configuration, each material's ratios to the paper pipeline's figures.
+    let mut ratios: BTreeMap<(String, String), Vec<[f64; 4]>> = BTreeMap::new();
     println!(
         "set,material,config,k,measured,rel_within,log_within,mae_within,rel_all,log_all,mae_all"
     );
     for set in &sets {
         for truth in truths(set)?.iter().step_by(every) {
             let table = tabulate(truth.as_ref(), PlanSettings::paper().phi_h_deg.to_radians());
+            let mut paper_figures = None;
             for config in &configs {
-                let m = Measurement::simulate(truth.as_ref(), &config.plan, &device)?;
-                let (_, a) = evaluate(&m.samples, config.method, &table, 75.0)?;
+                let (count, samples, k) = config.measure(truth.as_ref(), &device)?;
+                let a = match config.method {
+                    Recon::Method(method) => evaluate(&samples, method, &table, 75.0)?.1,
+                    Recon::Prior(given) => {
+                        let (r, trust) = reconstruct_with_prior(&samples, &basis, "prior", given)?;
+                        eprintln!("{}: {trust:?}", truth.name());
+                        Accuracy::of(&r.brdf, &table, 75.0)
+                    }
+                };
                 let f = figures(&a);
+                let paper = *paper_figures.get_or_insert(f);
+                ratios
+                    .entry((set.clone(), config.name.clone()))
+                    .or_default()
+                    .push([0, 1, 3, 4].map(|i| f[i] / paper[i]));
                 println!(
                     "{set},{},{},{},{},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e}",
                     truth.name(),
                     config.name,
-                    m.k.map_or(String::new(), |k| format!("{k:.3}")),
-                    m.samples.len(),
+                    k.map_or(String::new(), |k| format!("{k:.3}")),
+                    count,
                     f[0],
                     f[1],
                     f[2],
@@ -178,7 +298,7 @@ fn main() -> anyhow::Result<()> {
                 for key in [set.clone(), "all".into()] {
                     sums.entry((key, config.name.clone()))
                         .or_default()
-                        .add(m.samples.len(), &a);
+                        .add(count, &a);
                 }
             }
         }
@@ -191,6 +311,21 @@ fn main() -> anyhow::Result<()> {
             "{set},{config},{},{measured:.0},{},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e},{:.3},{:.3},{:.3},{:.3}",
             s.n, s.max_measured, f[0], f[1], f[2], f[3], f[4], f[5],
             f[0] / paper[0], f[1] / paper[1], f[3] / paper[3], f[4] / paper[4]
+        );
+    }
+    println!("\nset,config,materials,median_ratio_rel_within,median_ratio_log_within,median_ratio_rel_all,median_ratio_log_all,max_ratio_rel_within,max_ratio_log_within");
+    for ((set, config), per_material) in &ratios {
+        let column = |i: usize| per_material.iter().map(|r| r[i]).collect::<Vec<f64>>();
+        let max = |i: usize| column(i).into_iter().fold(0.0, f64::max);
+        println!(
+            "{set},{config},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3}",
+            per_material.len(),
+            median(&mut column(0)),
+            median(&mut column(1)),
+            median(&mut column(2)),
+            median(&mut column(3)),
+            max(0),
+            max(1)
         );
     }
     Ok(())

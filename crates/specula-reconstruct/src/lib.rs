@@ -9,6 +9,7 @@
 
 pub mod accuracy;
 pub mod axis;
+pub mod budget;
 pub mod deblur;
 pub mod domain;
 pub mod extrapolate;
@@ -17,6 +18,8 @@ pub mod kernel;
 pub mod lattice;
 pub mod lobe;
 pub mod method;
+pub mod prior;
+pub mod prior_reconstruct;
 pub mod provenance;
 pub mod reconstruct;
 pub mod sample;

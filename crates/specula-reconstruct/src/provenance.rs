@@ -7,7 +7,10 @@
 //! - 0 measured: a sample lies in the cell's bin (directly or through the phi_d symmetry);
 //! - 1 interpolated: the value comes from measured lattice nodes only;
 //! - 2 extrapolated: the bin centre lies beyond the lattice on some axis, or a node that
-//!   brackets it was extrapolated ([`crate::extrapolate`]).
+//!   brackets it was extrapolated ([`crate::extrapolate`]);
+//! - 3 prior: as 2, but the value beyond the measured nodes comes from the material's model
+//!   (the data-driven prior and the lobe, [`crate::prior_reconstruct`]), not from copying
+//!   the nearest measured node.
 //!
 //! Beside `OUT.binary` it is written as `OUT.provenance.npy`.
 
@@ -22,6 +25,7 @@ pub enum CellOrigin {
     Measured = 0,
     Interpolated = 1,
     Extrapolated = 2,
+    Prior = 3,
 }
 
 impl CellOrigin {
@@ -30,8 +34,14 @@ impl CellOrigin {
             0 => Some(CellOrigin::Measured),
             1 => Some(CellOrigin::Interpolated),
             2 => Some(CellOrigin::Extrapolated),
+            3 => Some(CellOrigin::Prior),
             _ => None,
         }
+    }
+
+    /// Whether the value lies beyond what was measured (extrapolated or from the prior).
+    pub fn is_extrapolated(self) -> bool {
+        matches!(self, CellOrigin::Extrapolated | CellOrigin::Prior)
     }
 }
 
@@ -80,14 +90,36 @@ impl Provenance {
         Self { cells }
     }
 
-    /// How many cells have each origin: (measured, interpolated, extrapolated).
+    /// As [`Provenance::new`], with the extrapolated cells filled from the prior
+    /// ([`CellOrigin::Prior`]).
+    pub fn with_prior(samples: &[Sample], extrapolated: &[bool]) -> Self {
+        let mut provenance = Self::new(samples, extrapolated);
+        for cell in &mut provenance.cells {
+            if *cell == CellOrigin::Extrapolated {
+                *cell = CellOrigin::Prior;
+            }
+        }
+        provenance
+    }
+
+    /// How many cells have each origin: (measured, interpolated, extrapolated), the last
+    /// counting the cells from the prior too ([`CellOrigin::is_extrapolated`]).
     pub fn counts(&self) -> (usize, usize, usize) {
         let count = |o| self.cells.iter().filter(|c| **c == o).count();
+        let extrapolated = self.cells.iter().filter(|c| c.is_extrapolated()).count();
         (
             count(CellOrigin::Measured),
             count(CellOrigin::Interpolated),
-            count(CellOrigin::Extrapolated),
+            extrapolated,
         )
+    }
+
+    /// How many cells come from the prior.
+    pub fn prior_count(&self) -> usize {
+        self.cells
+            .iter()
+            .filter(|c| **c == CellOrigin::Prior)
+            .count()
     }
 
     /// The bytes of the `.npy` file.
@@ -224,6 +256,13 @@ mod tests {
                 CellOrigin::Interpolated
             )
         );
+        let prior = Provenance::with_prior(&samples, &extrapolated);
+        assert_eq!(
+            (prior.counts(), prior.prior_count()),
+            ((2, CELLS - 3, 1), 1)
+        );
+        assert_eq!(prior.cells[CELLS - 1], CellOrigin::Prior);
+        assert_eq!(Provenance::from_npy(&prior.to_npy()).unwrap(), prior);
         let mut bad = bytes.clone();
         *bad.last_mut().unwrap() = 7;
         assert!(Provenance::from_npy(&bad)

@@ -56,7 +56,7 @@ fn measured_lobe(lobe: &Lobe, nodes: &[CaptureNode], hd: HalfDiff) -> Rgb {
 /// the lobe fit, which can be ill-conditioned on data far from a lobe, cannot amplify the
 /// last-bit difference between the two into different lobes. Only the lobe (its fit and the
 /// samples' ratios to it) sees it: bins and provenance keep the samples' own angles.
-fn reciprocal_canonical(sample: &Sample) -> Sample {
+pub(crate) fn reciprocal_canonical(sample: &Sample) -> Sample {
     const QUANTUM_RAD: f64 = 1e-9;
     let folded = sample.hd.phi_d.rem_euclid(std::f64::consts::PI);
     let phi_d = ((folded / QUANTUM_RAD).round() * QUANTUM_RAD).rem_euclid(std::f64::consts::PI);

@@ -6,7 +6,7 @@ use specula_appearance::aperture::ExtrapolatedCells;
 use specula_appearance::figures::text_rows;
 use specula_appearance::{appearance, Appearance, Differences, Options};
 use specula_core::Brdf;
-use specula_reconstruct::provenance::{sidecar_path, CellOrigin, Provenance};
+use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_visual::report::TableSection;
 use std::path::Path;
 
@@ -28,7 +28,7 @@ pub fn extrapolated_cells_of(provenance: &Provenance) -> Option<ExtrapolatedCell
         provenance
             .cells
             .iter()
-            .map(|c| *c == CellOrigin::Extrapolated)
+            .map(|c| c.is_extrapolated())
             .collect(),
     )
 }

@@ -48,23 +48,12 @@ pub struct Args {
     /// Write CSV (one row per BRDF, the reference's first) instead of the text table.
     #[arg(long)]
     pub csv: bool,
-    /// Angular resolution of the instrument that measured the BRDFs, degrees in (0, 90]:
-    /// for example the angular radius of its light source (1.82 deg on the simulated UTIA
-    /// device). Figures that read the BRDF at a finer angle get a warning.
-    #[arg(long, value_parser = resolution_deg)]
+    /// Angular resolution of the instrument that measured the BRDFs, degrees: for example
+    /// the angular radius of its light source (1.82 deg on the simulated UTIA device). Figures
+    /// that read the BRDF at a finer angle get a warning. Range: degrees above 0 and at most
+    /// 90.
+    #[arg(long = "resolution", alias = "resolution-deg", value_parser = crate::range::RESOLUTION_DEG)]
     pub resolution_deg: Option<f64>,
-}
-
-/// Parses --resolution-deg: degrees in (0, 90].
-fn resolution_deg(text: &str) -> Result<f64, String> {
-    let value: f64 = text
-        .parse()
-        .map_err(|_| format!("not a number of degrees: {text}"))?;
-    if value > 0.0 && value <= 90.0 {
-        Ok(value)
-    } else {
-        Err(format!("must be in (0, 90] degrees, got {value}"))
-    }
 }
 
 pub fn run(args: Args) -> Result<()> {

@@ -4,7 +4,6 @@ use super::grid_args::PAPER_PHI_H_DEG;
 use crate::{progress, range};
 use anyhow::Result;
 use specula_formats::convert::{convert, ConvertOptions, CsvGrid};
-use specula_formats::rgl::write::{ELEVATIONS_RANGE, NDF_SIZE_RANGE, SAMPLE_SIZE_RANGE};
 use specula_formats::rgl::RglResolution;
 use std::path::PathBuf;
 
@@ -50,21 +49,20 @@ pub struct Args {
     /// the 1,458,000 MERL bin centres, or `utia`, the 82,944 UTIA nodes.
     #[arg(long, value_enum, default_value_t = Grid::Merl)]
     pub grid: Grid,
-    /// RGL output: incident elevations (slices), 2 to 90, evenly spaced in cos(theta_i) from
-    /// the normal to 89.9 deg. Each adds ndf-size^2 + 4 sample-size^2 floats to the file.
-    #[arg(long, default_value_t = RglResolution::DEFAULT.elevations as u16,
-          value_parser = clap::value_parser!(u16).range(*ELEVATIONS_RANGE.start() as i64..=*ELEVATIONS_RANGE.end() as i64))]
-    pub rgl_elevations: u16,
+    /// RGL output: incident elevations (slices), evenly spaced in cos(theta_i) from the
+    /// normal to 89.9 deg. Each adds ndf-size^2 + 4 sample-size^2 floats to the file. Range: a
+    /// whole number from 2 to 90.
+    #[arg(long, default_value_t = RglResolution::DEFAULT.elevations, value_parser = range::RGL_ELEVATIONS)]
+    pub rgl_elevations: usize,
     /// RGL output: nodes per axis of the microfacet distribution and of the visible-normal
-    /// warp, 8 to 512 (the RGL database uses 128).
-    #[arg(long, default_value_t = RglResolution::DEFAULT.ndf_size as u16,
-          value_parser = clap::value_parser!(u16).range(*NDF_SIZE_RANGE.start() as i64..=*NDF_SIZE_RANGE.end() as i64))]
-    pub rgl_ndf_size: u16,
-    /// RGL output: samples per axis of each elevation's RGB grid, 4 to 256 (the RGL database
-    /// uses 32; finer resolves sharp highlights over a diffuse base better).
-    #[arg(long, default_value_t = RglResolution::DEFAULT.sample_size as u16,
-          value_parser = clap::value_parser!(u16).range(*SAMPLE_SIZE_RANGE.start() as i64..=*SAMPLE_SIZE_RANGE.end() as i64))]
-    pub rgl_sample_size: u16,
+    /// warp (the RGL database uses 128). Range: a whole number from 8 to 512.
+    #[arg(long, default_value_t = RglResolution::DEFAULT.ndf_size, value_parser = range::RGL_NDF_SIZE)]
+    pub rgl_ndf_size: usize,
+    /// RGL output: samples per axis of each elevation's RGB grid (the RGL database uses 32;
+    /// finer resolves sharp highlights over a diffuse base better). Range: a whole number from
+    /// 4 to 256.
+    #[arg(long, default_value_t = RglResolution::DEFAULT.sample_size, value_parser = range::RGL_SAMPLE_SIZE)]
+    pub rgl_sample_size: usize,
 }
 
 /// Sample placement for continuous sources written as CSV.
@@ -82,9 +80,9 @@ pub fn run(args: Args) -> Result<()> {
             Grid::Utia => CsvGrid::Utia,
         },
         rgl: RglResolution {
-            elevations: args.rgl_elevations.into(),
-            ndf_size: args.rgl_ndf_size.into(),
-            sample_size: args.rgl_sample_size.into(),
+            elevations: args.rgl_elevations,
+            ndf_size: args.rgl_ndf_size,
+            sample_size: args.rgl_sample_size,
         },
     };
     let spinner = progress::spinner("converting");

@@ -41,7 +41,9 @@ pub struct Args {
     /// the measured samples of its main stage.
     #[arg(long)]
     pub session: Option<PathBuf>,
-    /// Reconstruction method: lobe, log or linear (the paper's baseline).
+    /// Reconstruction method: lobe, log or linear (the paper's baseline). lobe is the
+    /// default, the best measured on real RGL measurements (`specula evaluate --help`);
+    /// log and linear stay for comparison.
     #[arg(long, default_value = "lobe")]
     pub method: Method,
     /// With --session: do not fit the lobe through the instrument's response that the
