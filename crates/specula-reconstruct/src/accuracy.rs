@@ -343,6 +343,45 @@ mod tests {
     }
 
     #[test]
+    fn through_the_instrument_the_samples_are_blurred_and_the_lobe_deblurs_them() {
+        // chrome (GGX alpha 0.01) on a small plan: measured through the UTIA response its
+        // peak sample is well below the truth's; reconstructed through the response the
+        // error is far below the same samples reconstructed as if they were sharp.
+        let truth = preset("chrome").unwrap();
+        let device = Device::utia();
+        let response = device.response();
+        let settings = PlanSettings {
+            placement: ThetaHPlacement::Function(
+                SamplingFunction::new(Family::Exponential, 6.0).unwrap(),
+            ),
+            theta_h_samples: 12,
+            theta_d_step_deg: 15.0,
+            phi_d_step_deg: 45.0,
+            phi_h_deg: 45.0,
+        };
+        let sharp = Measurement::simulate(&truth, &settings, &device).unwrap();
+        let blurred =
+            Measurement::simulate_through(&truth, &settings, &device, Some(&response)).unwrap();
+        assert_eq!(sharp.samples.len(), blurred.samples.len());
+        assert_eq!(sharp.samples[0].hd, blurred.samples[0].hd);
+        assert!(blurred.samples[0].value.y < 0.5 * sharp.samples[0].value.y);
+        let table = tabulate(&truth, 45f64.to_radians());
+        let (_, kept) = evaluate(&blurred.samples, Method::LOBE, &table, 75.0).unwrap();
+        let (_, deblurred) = evaluate_through(
+            &blurred.samples,
+            Method::LOBE,
+            &table,
+            75.0,
+            Some(&response),
+        )
+        .unwrap();
+        assert!(
+            deblurred.within.relative_rmse < 0.3 * kept.within.relative_rmse,
+            "{deblurred:?} vs {kept:?}"
+        );
+    }
+
+    #[test]
     fn a_dense_plan_reconstructs_a_smooth_material_closely() {
         let truth = preset("silver-925").unwrap();
         let theta_h = SamplingFunction::new(Family::Exponential, 5.0)
