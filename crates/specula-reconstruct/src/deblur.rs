@@ -66,29 +66,40 @@ mod tests {
     use specula_acquisition::device::Device;
     use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
 
-    #[test]
-    fn a_blurred_probe_comes_back_sharp() {
-        // A probe column (theta_d 40, phi_d 90) of a GGX lobe alpha 0.01 measured through the
-        // UTIA response (2048 nodes): deblurred, its peak is within 15 % of the truth's, while
-        // the blurred peak is under a third of it.
-        let response = Device::utia().response();
-        let world = response.capture_nodes(2048);
+    /// A GGX lobe (`alpha`, Schlick weights `specular`, `grazing`) and `count` samples of its
+    /// probe column (theta_d 40, phi_d 90 deg) measured through `nodes` of the response.
+    fn blurred_probe(
+        response: &InstrumentResponse,
+        alpha: f64,
+        specular: f64,
+        grazing: f64,
+        nodes: usize,
+        count: usize,
+    ) -> (Lobe, Vec<Sample>) {
+        let world = response.capture_nodes(nodes);
         let truth = Lobe {
-            shape: Shape {
-                alpha: 0.01,
-                gamma: 2.0,
-            },
+            shape: Shape { alpha, gamma: 2.0 },
             diffuse: Rgb::splat(0.0),
-            specular: Rgb::splat(0.9),
-            grazing: Rgb::splat(0.1),
+            specular: Rgb::splat(specular),
+            grazing: Rgb::splat(grazing),
         };
-        let samples: Vec<Sample> = (0..60)
+        let samples = (0..count)
             .map(|k| {
                 let h = (k as f64 * 1.5).powi(2) / 90.0;
                 let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 90.0);
                 Sample::new(hd, truth.measured(&world, hd))
             })
             .collect();
+        (truth, samples)
+    }
+
+    #[test]
+    fn a_blurred_probe_comes_back_sharp() {
+        // A probe column (theta_d 40, phi_d 90) of a GGX lobe alpha 0.01 measured through the
+        // UTIA response (2048 nodes): deblurred, its peak is within 15 % of the truth's, while
+        // the blurred peak is under a third of it.
+        let response = Device::utia().response();
+        let (truth, samples) = blurred_probe(&response, 0.01, 0.9, 0.1, 2048, 60);
         let (sharp, _) = deblur_samples(&samples, &response).unwrap();
         let peak_truth = truth.eval(&Geometry::of(samples[0].hd)).y;
         assert!(samples[0].value.y < peak_truth / 3.0);
@@ -106,23 +117,8 @@ mod tests {
         // compass search stopped at 2 % in alpha (the peak is then 2 % off, and the blurred
         // ratio cannot correct the sharp peak).
         let response = Device::utia().response();
-        let world = response.capture_nodes(SIMULATOR_RESPONSE_NODES);
-        let truth = Lobe {
-            shape: Shape {
-                alpha: 0.011,
-                gamma: 2.0,
-            },
-            diffuse: Rgb::splat(0.0),
-            specular: Rgb::splat(0.62),
-            grazing: Rgb::splat(0.3),
-        };
-        let samples: Vec<Sample> = (0..40)
-            .map(|k| {
-                let h = (k as f64 * 1.5).powi(2) / 90.0;
-                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 90.0);
-                Sample::new(hd, truth.measured(&world, hd))
-            })
-            .collect();
+        let (truth, samples) =
+            blurred_probe(&response, 0.011, 0.62, 0.3, SIMULATOR_RESPONSE_NODES, 40);
         let (sharp, _) = deblur_samples(&samples, &response).unwrap();
         for s in sharp.iter().filter(|s| s.hd.theta_h.to_degrees() < 2.0) {
             let want = truth.eval(&Geometry::of(s.hd)).y;
