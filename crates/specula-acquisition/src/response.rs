@@ -274,6 +274,32 @@ impl InstrumentResponse {
     }
 }
 
+/// A BRDF as the instrument measures it: each value is what a capture at the nominal
+/// directions gives of `truth`, integrated over the response's quadrature `nodes`
+/// ([`InstrumentResponse::measure_brdf`]); `None` where the truth itself is not measured.
+/// The accuracy harness measures its truths through it, so that methods are compared on
+/// the samples a device gives.
+pub struct ThroughResponse<'a> {
+    pub truth: &'a dyn Brdf,
+    pub nodes: Vec<CaptureNode>,
+}
+
+impl Brdf for ThroughResponse<'_> {
+    fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+        self.truth.eval(wi, wo)?;
+        Some(InstrumentResponse::measure_brdf(
+            &self.nodes,
+            self.truth,
+            wi,
+            wo,
+        ))
+    }
+
+    fn name(&self) -> String {
+        self.truth.name()
+    }
+}
+
 /// Two unit vectors orthogonal to `n` and to each other.
 pub fn orthonormal_basis(n: DVec3) -> (DVec3, DVec3) {
     let helper = if n.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };

@@ -289,7 +289,7 @@ const GAMMA_MINUS_ONE_GRID: [f64; 5] = [0.3, 1.0, 3.0, 10.0, 50.0];
 const GRID_STRIDE: usize = 4;
 /// The first compass step in ln units (about the grid's spacing).
 const GRID_LOG_STEP: f64 = 0.7;
-const MIN_LOG_STEP: f64 = 0.02;
+const MIN_LOG_STEP: f64 = 0.002;
 
 fn shape_of((ln_alpha, ln_gamma_minus_one): (f64, f64)) -> Shape {
     Shape {

@@ -55,10 +55,10 @@ use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, HalfDiff, Rgb};
-use specula_reconstruct::deblur::deblur_samples;
+use specula_reconstruct::deblur::deblur_probe;
 use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::{reconstruct_through, Method, Sample};
-use specula_sampling::{fit_k, Probe};
+use specula_sampling::{fit_k, Probe, ProbeSettings};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -864,24 +864,18 @@ fn fit_probe(
     })
 }
 
-/// The probe's `(theta_h_deg, f)` before the instrument's blur (at theta_d = 40, phi_d =
-/// 90 deg, the probe's column); the measured probe where no lobe fits.
+/// The probe's `(theta_h_deg, f)` before the instrument's blur ([`deblur_probe`] on the
+/// probe's column: theta_d 40, phi_d 90 deg, as [`probe_plan`] takes it).
 pub fn deblurred_probe(
     probe: &[(f64, Rgb)],
     response: &InstrumentResponse,
     phi_h_deg: f64,
 ) -> Vec<(f64, Rgb)> {
-    let samples: Vec<Sample> = probe
-        .iter()
-        .map(|&(h, v)| Sample::new(HalfDiff::from_degrees(h, phi_h_deg, 40.0, 90.0), v))
-        .collect();
-    match deblur_samples(&samples, response) {
-        Some((sharp, _)) => sharp
-            .iter()
-            .map(|s| (s.hd.theta_h.to_degrees(), s.value))
-            .collect(),
-        None => probe.to_vec(),
-    }
+    let column = ProbeSettings {
+        phi_h_deg,
+        ..ProbeSettings::default()
+    };
+    deblur_probe(probe, &column, response)
 }
 
 /// `0, step, 2 step, ...` below `end` (or up to it when `inclusive`), degrees.

@@ -59,6 +59,9 @@ pub struct SimulatorConfig {
     pub flare: Option<LensFlare>,
 }
 
+/// Quadrature nodes of the response per simulated capture ([`SimulatorConfig::new`]).
+pub const SIMULATOR_RESPONSE_NODES: usize = 4096;
+
 impl SimulatorConfig {
     /// The defaults for a device: its accuracy as the positioning error's standard
     /// deviation, no flare.
@@ -69,7 +72,7 @@ impl SimulatorConfig {
             light_levels: vec![1.0, 0.1, 0.01],
             exposure_range_s: (2e-5, 8.0),
             response: device.response(),
-            response_nodes: 4096,
+            response_nodes: SIMULATOR_RESPONSE_NODES,
             positioning: PositioningError {
                 sigma_deg: device.accuracy_deg,
             },

@@ -5,6 +5,7 @@ use super::grid_args::GridArgs;
 use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
 use specula_acquisition::device::Device;
+use specula_acquisition::response::InstrumentResponse;
 use specula_core::materials::builtin_database;
 use specula_core::sampling::SamplingFunction;
 use specula_core::tabulate::tabulate;
@@ -13,7 +14,7 @@ use specula_formats::fits::{load_model, FitModel};
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_formats::samples_csv::{Sample as SampleRow, SampleSet};
 use specula_reconstruct::accuracy::{
-    evaluate, Accuracy, Measurement, PlanSettings, ThetaHPlacement,
+    evaluate_through, Accuracy, Measurement, PlanSettings, ThetaHPlacement,
 };
 use specula_reconstruct::Method;
 use std::path::PathBuf;
@@ -79,6 +80,14 @@ pub struct Args {
     /// figures. Range: degrees above 0 and at most 90.
     #[arg(long, default_value_t = 75.0, value_parser = crate::range::ELEVATION_DEG)]
     pub max_elevation: f64,
+    /// Measure through the instrument, as `specula measure` does without its noise: every
+    /// sample, and the probe that places theta_h, is what a capture of the device gives
+    /// (the truth integrated over the response of --device: the light's disk, the camera's
+    /// pupil and the measured area; README, The instrument's response); the probe is
+    /// deblurred before k is fitted and the method reconstructs through the response (`lobe`
+    /// fits its lobe before the blur; `linear` and `log` have no model and keep the blur).
+    #[arg(long)]
+    pub through_instrument: bool,
     /// Also write the simulated samples (CSV, the input of `specula reconstruct`); one
     /// --truth only.
     #[arg(long, conflicts_with_all = ["builtin", "merl_fits"])]
@@ -212,7 +221,9 @@ fn plan_settings(args: &Args) -> Result<PlanSettings> {
 /// The plan for one material, its noise-free measurement, the reconstruction and the error.
 fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
     let name = truth.name();
-    let measurement = Measurement::simulate(truth, &plan_settings(args)?, device)?;
+    let response = instrument_response(args, device);
+    let measurement =
+        Measurement::simulate_through(truth, &plan_settings(args)?, device, response.as_ref())?;
     let samples = measurement.samples;
     if let Some(path) = &args.samples_out {
         let rows = samples
@@ -225,8 +236,14 @@ fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
         SampleSet::new(name.clone(), rows).write(path)?;
     }
     let table = tabulate(truth, args.grid.phi_h.to_radians());
-    let (_, accuracy) = evaluate(&samples, args.method, &table, args.max_elevation)
-        .with_context(|| format!("{name}: reconstructing {} samples", samples.len()))?;
+    let (_, accuracy) = evaluate_through(
+        &samples,
+        args.method,
+        &table,
+        args.max_elevation,
+        response.as_ref(),
+    )
+    .with_context(|| format!("{name}: reconstructing {} samples", samples.len()))?;
     Ok(Row {
         set: String::new(),
         name,
@@ -236,10 +253,20 @@ fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
     })
 }
 
+/// The response the harness measures through (`--through-instrument`), else none.
+fn instrument_response(args: &Args, device: &Device) -> Option<InstrumentResponse> {
+    args.through_instrument.then(|| device.response())
+}
+
 fn print_rows(args: &Args, rows: &[Row]) {
     outln!(
-        "# method {}, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, phi_h {} deg; within = light and camera <= {} deg",
+        "# method {}{}, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, phi_h {} deg; within = light and camera <= {} deg",
         args.method,
+        if args.through_instrument {
+            " through the instrument's response"
+        } else {
+            ""
+        },
         args.grid.theta_h_samples,
         match args.placement {
             Placement::Function => format!("{} function", args.grid.family),
