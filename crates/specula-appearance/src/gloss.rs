@@ -23,7 +23,7 @@
 //! than the source image).
 
 use crate::aperture::{self, Aperture, Beams, ExtrapolatedCells, Flux};
-use specula_core::materials::fresnel;
+use specula_core::scattering::fresnel;
 use specula_core::Brdf;
 
 /// Refractive index of the polished black glass primary standard (ASTM D523, ISO 2813).

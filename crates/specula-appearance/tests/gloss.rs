@@ -8,7 +8,8 @@ use specula_appearance::gloss::{BLACK_GLASS_INDEX, GEOMETRIES, SOURCE_IMAGE};
 use specula_appearance::{appearance, haze, Options};
 use specula_core::materials::clearcoat::ClearCoat;
 use specula_core::materials::conductor::RoughConductor;
-use specula_core::materials::{fresnel, Base, Distribution, Material};
+use specula_core::materials::{Base, Distribution, Material};
+use specula_core::scattering::fresnel;
 use specula_core::{Brdf, Rgb};
 use std::f64::consts::PI;
 

@@ -14,5 +14,6 @@ pub use merl::MerlBrdf;
 pub mod compare;
 pub mod materials;
 pub mod sampling;
+pub mod scattering;
 pub mod shown;
 pub mod tabulate;

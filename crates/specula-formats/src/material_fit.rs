@@ -23,10 +23,10 @@ use rayon::prelude::*;
 use specula_core::compare::{compare, ErrorFigures};
 use specula_core::materials::clearcoat::{ClearCoat, MAX_BASE_ALBEDO};
 use specula_core::materials::conductor::RoughConductor;
-use specula_core::materials::fresnel::conductor_index_from_reflectivity;
 use specula_core::materials::microfacet::IsotropicCosines;
 use specula_core::materials::{Base, Distribution, Material};
 use specula_core::merl::{Bin, MerlBrdf, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::scattering::fresnel::conductor_index_from_reflectivity;
 use specula_core::tabulate::tabulate;
 use specula_core::Rgb;
 

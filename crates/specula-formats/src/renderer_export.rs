@@ -25,9 +25,9 @@
 
 use specula_core::materials::clearcoat::ClearCoat;
 use specula_core::materials::conductor::RoughConductor;
-use specula_core::materials::fresnel;
 use specula_core::materials::microfacet::IsotropicCosines;
 use specula_core::materials::{Base, Distribution, Material};
+use specula_core::scattering::fresnel;
 use specula_core::Rgb;
 use std::fmt::Write;
 

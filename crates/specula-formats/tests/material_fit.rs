@@ -1,8 +1,8 @@
 //! `specula fit`'s library against truths it was not built from: analytic presets, whose
 //! parameters the fit must recover from their tabulated values alone.
 
-use specula_core::materials::fresnel::conductor_rgb;
 use specula_core::materials::{preset, Base};
+use specula_core::scattering::fresnel::conductor_rgb;
 use specula_core::tabulate::tabulate;
 use specula_formats::material_fit::{fit_material, FitModel};
 

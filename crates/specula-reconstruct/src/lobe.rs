@@ -37,6 +37,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use specula_acquisition::response::{orthonormal_basis, CaptureNode, InstrumentResponse};
 use specula_core::merl::{theta_h_centre_deg, Bin, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::scattering::{fresnel, masking, ndf};
 use specula_core::{HalfDiff, Rgb};
 use std::f64::consts::PI;
 
@@ -89,12 +90,13 @@ impl Geometry {
         if !self.above_surface() {
             return 0.0;
         }
-        smith_g1_over_cos(self.cos_i, alpha) * smith_g1_over_cos(self.cos_o, alpha) / 4.0
+        masking::ggx_g1_over_cos(self.cos_i, alpha) * masking::ggx_g1_over_cos(self.cos_o, alpha)
+            / 4.0
     }
 
     /// Schlick's `(1 - cos theta_d)^5`.
     pub fn schlick_weight(&self) -> f64 {
-        (1.0 - self.cos_theta_d).max(0.0).powi(5)
+        fresnel::schlick_weight(self.cos_theta_d)
     }
 
     /// `tan^2 theta_h`.
@@ -102,13 +104,6 @@ impl Geometry {
         let c2 = self.cos_theta_h * self.cos_theta_h;
         (1.0 - c2).max(0.0) / c2.max(1e-300)
     }
-}
-
-/// Smith's GGX masking term over the cosine, `G1(theta) / cos theta`, for `cos theta > 0`:
-/// `2 / (cos + sqrt(cos^2 + alpha^2 (1 - cos^2)))`.
-fn smith_g1_over_cos(cos: f64, alpha: f64) -> f64 {
-    let c2 = cos * cos;
-    2.0 / (cos + (c2 + alpha * alpha * (1.0 - c2)).sqrt())
 }
 
 /// The shape of the distribution of normals.
@@ -132,10 +127,7 @@ impl Shape {
 
     /// D(theta_h) given `tan^2 theta_h` and `cos theta_h`.
     pub fn distribution(&self, tan2_h: f64, cos_h: f64) -> f64 {
-        let a2 = self.alpha * self.alpha;
-        let x = tan2_h / ((self.gamma - 1.0) * a2);
-        let c2 = cos_h * cos_h;
-        (-self.gamma * x.ln_1p()).exp() / (PI * a2 * c2 * c2)
+        ndf::student_t_d(tan2_h, cos_h, self.alpha, self.gamma)
     }
 }
 
@@ -252,7 +244,7 @@ impl LobeOnGrid {
         let theta_d = (0..THETA_D_BINS)
             .map(|j| {
                 let (s, c) = trig(j as f64 + 0.5);
-                (s, c, (1.0 - c).powi(5))
+                (s, c, fresnel::schlick_weight(c))
             })
             .collect();
         let cos_phi_d = (0..PHI_D_BINS).map(|k| trig(k as f64 + 0.5).1).collect();
@@ -332,8 +324,8 @@ impl NodeGeometry {
         if self.cos_i <= 0.0 || self.cos_o <= 0.0 {
             return [0.0; 3];
         }
-        let geometric = smith_g1_over_cos(self.cos_i, shape.alpha)
-            * smith_g1_over_cos(self.cos_o, shape.alpha)
+        let geometric = masking::ggx_g1_over_cos(self.cos_i, shape.alpha)
+            * masking::ggx_g1_over_cos(self.cos_o, shape.alpha)
             / 4.0;
         let s = shape.distribution(self.tan2_h, self.cos_h) * geometric * self.weight;
         [self.weight / PI, s, s * self.schlick]

@@ -11,6 +11,7 @@ use glam::DVec3;
 use specula_core::brdf::Brdf;
 use specula_core::geometry::HalfDiff;
 use specula_core::merl::{theta_h_centre_deg, THETA_H_BINS};
+use specula_core::scattering::{masking, ndf};
 use std::f64::consts::{FRAC_1_PI, PI};
 
 /// theta_d at which the fall-off along theta_h is read, degrees (phi_d = 90 deg).
@@ -155,25 +156,15 @@ pub fn alpha_of_half_width(theta_rad: f64) -> f64 {
     s / (std::f64::consts::SQRT_2 - c * c).sqrt()
 }
 
-/// The GGX (Trowbridge-Reitz) normal distribution `D(m)` for a microfacet normal `m`.
+/// The GGX (Trowbridge-Reitz) normal distribution `D(m)` of roughness `alpha` for a
+/// microfacet normal `m` ([`ndf::ggx_d_of_normal`]).
 pub fn ggx_d(alpha: f64, m: DVec3) -> f64 {
-    if m.z <= 0.0 {
-        return 0.0;
-    }
-    let a2 = alpha * alpha;
-    let cos2 = m.z * m.z;
-    let t = cos2 * (a2 - 1.0) + 1.0;
-    a2 / (PI * t * t)
+    ndf::ggx_d_of_normal(m, alpha, alpha)
 }
 
-/// Smith's masking function of GGX for a direction `w`.
+/// Smith's masking function of GGX for a direction `w` ([`masking::ggx_g1_of_direction`]).
 pub fn smith_g1(alpha: f64, w: DVec3) -> f64 {
-    if w.z <= 0.0 {
-        return 0.0;
-    }
-    let cos2 = w.z * w.z;
-    let tan2 = (1.0 - cos2).max(0.0) / cos2;
-    2.0 / (1.0 + (1.0 + alpha * alpha * tan2).sqrt())
+    masking::ggx_g1_of_direction(w, alpha)
 }
 
 /// A microfacet normal drawn from the GGX distribution of normals visible from `wo`

@@ -22,9 +22,9 @@
 //! check the directional albedo numerically up to 89 degrees for alpha from 0.003 to 1.
 
 use super::coat_albedo::CoatAlbedo;
-use super::fresnel;
 use super::microfacet::{Distribution, IsotropicCosines, IsotropicRow, Microfacet};
 use crate::brdf::Rgb;
+use crate::scattering::fresnel;
 use std::f64::consts::PI;
 
 /// The brightest base albedo per channel a material file accepts (see the energy note).

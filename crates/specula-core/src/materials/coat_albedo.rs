@@ -13,8 +13,8 @@
 //! `E` is tabulated at 64 nodes even in `sqrt(mu)`, dense at grazing where it changes fastest,
 //! and interpolated linearly: within about 2e-4 of the integral, 5e-4 at grazing angles.
 
-use super::fresnel;
 use super::microfacet::{Distribution, Microfacet};
+use crate::scattering::fresnel;
 use glam::DVec3;
 use std::f64::consts::PI;
 

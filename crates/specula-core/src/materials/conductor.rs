@@ -7,9 +7,9 @@
 //! with `h = normalize(wi + wo)`, `F` the exact conductor Fresnel reflectance per RGB channel
 //! and `D`, `G1` from [`Microfacet`].
 
-use super::fresnel;
 use super::microfacet::{Distribution, IsotropicCosines, IsotropicRow, Microfacet};
 use crate::brdf::Rgb;
+use crate::scattering::fresnel;
 
 /// A rough conductor with isotropic roughness and a complex index `eta + i k` per channel.
 #[derive(Debug, Clone, PartialEq)]

@@ -11,11 +11,13 @@
 //!   `alpha` is the roughness projected on the azimuth of `v`.
 //! - `G(wi, wo, m) = G1(wi, m) G1(wo, m)`: the separable form Mitsuba evaluates (not the
 //!   height-correlated one).
+//!
+//! The formulas themselves are in [`crate::scattering::ndf`] and [`crate::scattering::masking`].
 
 use crate::geometry::HalfDiff;
+use crate::scattering::{masking, ndf};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
-use std::f64::consts::PI;
 
 /// The shape of the microfacet normal distribution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -70,18 +72,17 @@ impl Microfacet {
             return 0.0;
         }
         let cos2 = m.z * m.z;
-        let (su, sv) = (m.x / self.alpha_u, m.y / self.alpha_v);
-        self.d_of_scaled_tan2((su * su + sv * sv) / cos2, cos2)
+        self.d_of_scaled_tan2(ndf::scaled_tan2(m, self.alpha_u, self.alpha_v), cos2)
     }
 
     /// `D` from `tan^2 theta_m / alpha^2` (alpha projected on m's azimuth) and
     /// `cos^2 theta_m`.
     fn d_of_scaled_tan2(&self, scaled_tan2: f64, cos2: f64) -> f64 {
-        let norm = PI * self.alpha_u * self.alpha_v * cos2 * cos2;
-        match self.distribution {
-            Distribution::Beckmann => (-scaled_tan2).exp() / norm,
-            Distribution::Ggx => 1.0 / (norm * (1.0 + scaled_tan2) * (1.0 + scaled_tan2)),
-        }
+        let d = match self.distribution {
+            Distribution::Beckmann => ndf::beckmann_d,
+            Distribution::Ggx => ndf::ggx_d,
+        };
+        d(scaled_tan2, cos2, self.alpha_u, self.alpha_v)
     }
 
     /// Smith's masking `G1(v, m)` of direction `v` for microfacet normal `m`, in `[0, 1]`.
@@ -96,19 +97,9 @@ impl Microfacet {
 
     /// `G1` from `alpha^2 tan^2 theta_v` (alpha projected on v's azimuth).
     fn g1_of_alpha2_tan2(&self, alpha2_tan2: f64) -> f64 {
-        if alpha2_tan2 == 0.0 {
-            return 1.0;
-        }
         match self.distribution {
-            Distribution::Beckmann => {
-                let a = 1.0 / alpha2_tan2.sqrt();
-                if a >= 1.6 {
-                    1.0
-                } else {
-                    (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a)
-                }
-            }
-            Distribution::Ggx => 2.0 / (1.0 + (1.0 + alpha2_tan2).sqrt()),
+            Distribution::Beckmann => masking::beckmann_g1(alpha2_tan2),
+            Distribution::Ggx => masking::ggx_g1(alpha2_tan2),
         }
     }
 
@@ -229,6 +220,7 @@ impl IsotropicRow {
 mod tests {
     use super::*;
     use crate::geometry::Spherical;
+    use std::f64::consts::PI;
 
     /// `int f(m) dm` over the upper hemisphere by the midpoint rule in
     /// `(u = 1 - cos theta, phi)`, with nodes crowded near the pole where narrow lobes live.

@@ -8,7 +8,6 @@ pub mod clearcoat;
 pub mod coat_albedo;
 pub mod conductor;
 pub mod database;
-pub mod fresnel;
 pub mod material;
 pub mod material_file;
 pub mod microfacet;

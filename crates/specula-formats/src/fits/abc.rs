@@ -12,6 +12,7 @@
 use super::TableRow;
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
+use specula_core::scattering::fresnel::dielectric as fresnel_dielectric;
 use specula_core::{Brdf, Rgb};
 use std::f64::consts::PI;
 
@@ -41,20 +42,6 @@ impl Abc {
         }
         Ok(fit)
     }
-}
-
-/// Unpolarised Fresnel reflectance of a dielectric interface of relative index `ior` for
-/// light arriving at `cos_i` from the outside; 1 beyond the critical angle.
-pub fn fresnel_dielectric(cos_i: f64, ior: f64) -> f64 {
-    let cos_i = cos_i.clamp(0.0, 1.0);
-    let sin_t2 = (1.0 - cos_i * cos_i) / (ior * ior);
-    if sin_t2 >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = (1.0 - sin_t2).sqrt();
-    let r_s = (cos_i - ior * cos_t) / (cos_i + ior * cos_t);
-    let r_p = (ior * cos_i - cos_t) / (ior * cos_i + cos_t);
-    0.5 * (r_s * r_s + r_p * r_p)
 }
 
 impl Brdf for Abc {

@@ -14,6 +14,7 @@
 use super::TableRow;
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
+use specula_core::scattering::fresnel;
 use specula_core::{Brdf, Rgb};
 use std::f64::consts::PI;
 
@@ -76,7 +77,8 @@ impl Brdf for Sgd {
         let tan2_h = (1.0 - cos_h * cos_h).max(0.0) / (cos_h * cos_h);
         let mut f = [0.0; 3];
         for (ch, value) in f.iter_mut().enumerate() {
-            let fresnel = self.f0[ch] - cd * self.f1[ch] + (1.0 - cd).powi(5) * (1.0 - self.f0[ch]);
+            let fresnel =
+                self.f0[ch] - cd * self.f1[ch] + fresnel::schlick_weight(cd) * (1.0 - self.f0[ch]);
             let ax = self.alpha[ch] + tan2_h / self.alpha[ch];
             let d = self.kap[ch] * (-ax).exp() / (PI * ax.powf(self.p[ch]) * cos_h.powi(4));
             let g = self.g1(wi, ch) * self.g1(wo, ch);
