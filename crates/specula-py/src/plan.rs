@@ -6,11 +6,11 @@ use crate::sampling::family;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use specula_accuracy::GridPlan;
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::Spherical;
-use specula_reconstruct::accuracy::GridPlan;
 use std::path::PathBuf;
 
 /// The options of the paper's grid shared by `plan`, `evaluate` and `measure` (the CLI's

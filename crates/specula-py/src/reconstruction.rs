@@ -11,13 +11,11 @@ use numpy::ndarray::Array3;
 use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
+use specula_accuracy::{evaluate as evaluate_samples, Measurement, PlanSettings, ThetaHPlacement};
 use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::sampling::SamplingFunction;
 use specula_core::tabulate::tabulate;
 use specula_core::HalfDiff;
-use specula_reconstruct::accuracy::{
-    evaluate as evaluate_samples, Measurement, PlanSettings, ThetaHPlacement,
-};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_reconstruct::{reconstruct as reconstruct_samples, Method, Sample};
 use std::path::PathBuf;

@@ -1,5 +1,6 @@
-//! Reconstruction of sparse BRDF samples into the full MERL grid (paper 5.3's last step) and
-//! the accuracy harness that measures how good a plan and a method are against a known BRDF.
+//! Reconstruction of sparse BRDF samples into the full MERL grid (paper 5.3's last step).
+//! The accuracy harness that measures how good a plan and a method are against a known BRDF
+//! is `specula-accuracy`.
 //!
 //! Pipeline ([`reconstruct::reconstruct`]): fold phi_d by reciprocity and the mirror symmetry
 //! ([`sample`]), place the samples on their lattice ([`lattice`]) in the method's value domain
@@ -7,7 +8,6 @@
 //! no sample reached ([`extrapolate`]), interpolate at the MERL bin centres ([`grid`] with a
 //! [`kernel`]) and record each cell's [`provenance`].
 
-pub mod accuracy;
 pub mod axis;
 pub mod budget;
 pub mod deblur;

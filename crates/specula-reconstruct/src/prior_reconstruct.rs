@@ -326,7 +326,6 @@ fn predict(model: &Model, h: &HeldOut) -> Rgb {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accuracy::{measure, within_elevation};
     use crate::provenance::CellOrigin;
     use glam::DVec3;
     use specula_core::materials::preset;
@@ -355,13 +354,18 @@ mod tests {
             for d in (0..90).step_by(5) {
                 for p in [0.0, 30.0, 60.0, 90.0] {
                     let hd = HalfDiff::from_degrees(h, 45.0, d as f64, p);
-                    if within_elevation(hd, 75.0) {
+                    let (wi, wo) = hd.to_directions();
+                    let min_cos = 75f64.to_radians().cos() - 1e-12;
+                    if wi.z >= min_cos && wo.z >= min_cos {
                         configurations.push(hd);
                     }
                 }
             }
         }
-        measure(truth, &configurations)
+        configurations
+            .iter()
+            .filter_map(|&hd| truth.eval_half_diff(hd).map(|v| Sample::new(hd, v)))
+            .collect()
     }
 
     #[test]

@@ -4,6 +4,7 @@
 use super::grid_args::GridArgs;
 use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
+use specula_accuracy::{evaluate_through, Accuracy, Measurement, PlanSettings, ThetaHPlacement};
 use specula_acquisition::device::Device;
 use specula_acquisition::response::InstrumentResponse;
 use specula_core::materials::builtin_database;
@@ -13,9 +14,6 @@ use specula_core::Brdf;
 use specula_formats::fits::{load_model, FitModel};
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_formats::samples_csv::{Sample as SampleRow, SampleSet};
-use specula_reconstruct::accuracy::{
-    evaluate_through, Accuracy, Measurement, PlanSettings, ThetaHPlacement,
-};
 use specula_reconstruct::Method;
 use std::path::PathBuf;
 use std::sync::Arc;

@@ -6,10 +6,10 @@
 //!     cargo bench -p specula-reconstruct --bench reconstruct
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use specula_accuracy::{measure, within_elevation, GridPlan};
 use specula_core::materials::preset;
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::HalfDiff;
-use specula_reconstruct::accuracy::{measure, within_elevation, GridPlan};
 use specula_reconstruct::{reconstruct, Method};
 use std::hint::black_box;
 

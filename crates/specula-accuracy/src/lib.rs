@@ -15,9 +15,6 @@
 //! probe is deblurred before k is fitted and the method reconstructs through the response,
 //! as `specula measure` does, without its noise.
 
-use crate::deblur::deblur_probe;
-use crate::sample::Sample;
-use crate::{reconstruct, reconstruct_through, Method, ReconstructError, Reconstruction};
 use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, Status};
@@ -26,6 +23,10 @@ use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
 use specula_core::compare::{compare, ErrorFigures};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, HalfDiff, MerlBrdf};
+use specula_reconstruct::deblur::deblur_probe;
+use specula_reconstruct::{
+    reconstruct, reconstruct_through, Method, ReconstructError, Reconstruction, Sample,
+};
 use specula_sampling::{fit_k, place_theta_h, Probe, ProbeSettings};
 
 /// A plan on a grid: every combination of the theta_h, theta_d and phi_d positions (degrees)

@@ -21,6 +21,7 @@
 //! per set and over all sets with the ratio of each mean to the paper pipeline's, then the
 //! median over each set's materials of the per-material ratio to the paper pipeline's.
 
+use specula_accuracy::{evaluate, measure, reached_by, Accuracy, Measurement, PlanSettings};
 use specula_acquisition::device::Device;
 use specula_core::materials::builtin_database;
 use specula_core::tabulate::tabulate;
@@ -29,9 +30,6 @@ use specula_formats::fits::{load_model, FitModel};
 use specula_formats::input::measured_data_dir;
 use specula_formats::load_brdfs;
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
-use specula_reconstruct::accuracy::{
-    evaluate, measure, reached_by, Accuracy, Measurement, PlanSettings,
-};
 use specula_reconstruct::budget::graded_theta_d_deg;
 use specula_reconstruct::prior::PriorBasis;
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
