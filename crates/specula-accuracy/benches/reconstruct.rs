@@ -3,7 +3,7 @@
 //! device's occlusion takes the paper's count to 4073), into the 1,458,000 MERL cells.
 //! `tools/reconstruct_scipy.py time` times scipy's RegularGridInterpolator on the same task.
 //!
-//!     cargo bench -p specula-reconstruct --bench reconstruct
+//!     cargo bench -p specula-accuracy --bench reconstruct
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use specula_accuracy::{measure, within_elevation, GridPlan};

@@ -2,7 +2,7 @@
 //! plan, linear reconstruction) against ours (the `lobe` method, and smaller plans), averaged
 //! over sets of ground-truth materials, each measured without noise on the UTIA device model.
 //!
-//!     cargo run --release -p specula-reconstruct --example accuracy_study -- \
+//!     cargo run --release -p specula-accuracy --example accuracy_study -- \
 //!         [--set rgl] [--set nbrdf-rgl] [--set builtin] [--set sgd] [--set abc] [--set nbrdf]
 //!         [--every N] [--plan HxDxP]... [--trust W,S2]...
 //!
@@ -21,6 +21,7 @@
 //! per set and over all sets with the ratio of each mean to the paper pipeline's, then the
 //! median over each set's materials of the per-material ratio to the paper pipeline's.
 
+use specula_accuracy::merl_prior::merl_prior;
 use specula_accuracy::{evaluate, measure, reached_by, Accuracy, Measurement, PlanSettings};
 use specula_acquisition::device::Device;
 use specula_core::materials::builtin_database;
@@ -31,7 +32,6 @@ use specula_formats::input::measured_data_dir;
 use specula_formats::load_brdfs;
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_reconstruct::budget::graded_theta_d_deg;
-use specula_reconstruct::prior::PriorBasis;
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
 use specula_reconstruct::Sample;
@@ -253,7 +253,7 @@ fn main() -> anyhow::Result<()> {
     }
     let device = Device::utia();
     let configs = configs(&plans, &trusts)?;
-    let basis = PriorBasis::merl()?;
+    let basis = merl_prior()?;
     let mut sums: BTreeMap<(String, String), Sums> = BTreeMap::new();
     // Per set and configuration, each material's ratios to the paper pipeline's figures.
     let mut ratios: BTreeMap<(String, String), Vec<[f64; 4]>> = BTreeMap::new();

@@ -15,6 +15,8 @@
 //! probe is deblurred before k is fitted and the method reconstructs through the response,
 //! as `specula measure` does, without its noise.
 
+pub mod merl_prior;
+
 use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, Status};
@@ -23,10 +25,10 @@ use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
 use specula_core::compare::{compare, ErrorFigures};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, HalfDiff, MerlBrdf};
-use specula_reconstruct::deblur::deblur_probe;
 use specula_reconstruct::{
     reconstruct, reconstruct_through, Method, ReconstructError, Reconstruction, Sample,
 };
+use specula_sampling::deblur::deblur_probe;
 use specula_sampling::{fit_k, place_theta_h, Probe, ProbeSettings};
 
 /// A plan on a grid: every combination of the theta_h, theta_d and phi_d positions (degrees)

@@ -25,7 +25,7 @@
 //! [`InstrumentResponse::capture_nodes`] turns these into equal-weight quadrature nodes
 //! (offsets of wi and wo in the planes orthogonal to them, radians); the simulator integrates
 //! its truth over many of them ([`crate::simulator`]), and the reconstruction fits its lobe
-//! through the same operator with fewer ([`InstrumentResponse::measure`]). In half-vector
+//! through the same operator with fewer ([`specula_core::capture::measure`]). In half-vector
 //! terms a spread of radius `a` about wi or wo moves `h` by `a / 2` in the plane of
 //! incidence and by `a / (2 cos theta_d)` across it: [`InstrumentResponse::resolution_deg`]
 //! is the former for the combined radius, the width in theta_h below which a peak is a bound,
@@ -33,6 +33,7 @@
 
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
+use specula_core::capture::{self, CaptureNode, CaptureResponse};
 use specula_core::{Brdf, Rgb};
 use std::f64::consts::PI;
 
@@ -119,14 +120,6 @@ pub struct InstrumentResponse {
     /// angles).
     pub light_distance_m: f64,
     pub camera_distance_m: f64,
-}
-
-/// One quadrature node of a capture: the offsets of the light's and the camera's directions,
-/// radians, in the planes orthogonal to them.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CaptureNode {
-    pub light: DVec2,
-    pub camera: DVec2,
 }
 
 impl InstrumentResponse {
@@ -224,59 +217,25 @@ impl InstrumentResponse {
         }
         nodes
     }
+}
 
-    /// The mean of `g(wi', wo')` over the pairs of directions `nodes` make of the nominal
-    /// `wi`, `wo` (unit): the light's and the camera's offsets in the planes orthogonal to
-    /// them.
-    pub fn integrate(
-        nodes: &[CaptureNode],
-        wi: DVec3,
-        wo: DVec3,
-        mut g: impl FnMut(DVec3, DVec3) -> Rgb,
-    ) -> Rgb {
-        let (li, lj) = orthonormal_basis(wi);
-        let (ci, cj) = orthonormal_basis(wo);
-        let sum: Rgb = nodes
-            .iter()
-            .map(|node| {
-                let wi2 = (wi + node.light.x * li + node.light.y * lj).normalize();
-                let wo2 = (wo + node.camera.x * ci + node.camera.y * cj).normalize();
-                g(wi2, wo2)
-            })
-            .sum();
-        sum / nodes.len() as f64
+impl CaptureResponse for InstrumentResponse {
+    fn capture_nodes(&self, count: usize) -> Vec<CaptureNode> {
+        InstrumentResponse::capture_nodes(self, count)
     }
 
-    /// What a capture at the nominal directions `wi`, `wo` (unit, sample frame) measures of
-    /// `f`, integrated over `nodes`: `mean f(wi', wo') cos theta_i' / cos theta_i`, zero where
-    /// a direction is below the surface.
-    pub fn measure(
-        nodes: &[CaptureNode],
-        wi: DVec3,
-        wo: DVec3,
-        mut f: impl FnMut(DVec3, DVec3) -> Rgb,
-    ) -> Rgb {
-        if wi.z <= 0.0 {
-            return Rgb::ZERO;
-        }
-        Self::integrate(nodes, wi, wo, |a, b| {
-            if a.z <= 0.0 || b.z <= 0.0 {
-                Rgb::ZERO
-            } else {
-                f(a, b) * a.z
-            }
-        }) / wi.z
+    fn is_point(&self) -> bool {
+        InstrumentResponse::is_point(self)
     }
 
-    /// What a capture measures of a BRDF at `wi`, `wo` over `nodes` ([`Self::measure`]).
-    pub fn measure_brdf(nodes: &[CaptureNode], brdf: &dyn Brdf, wi: DVec3, wo: DVec3) -> Rgb {
-        Self::measure(nodes, wi, wo, |a, b| brdf.eval(a, b).unwrap_or(Rgb::ZERO))
+    fn resolution_deg(&self) -> f64 {
+        InstrumentResponse::resolution_deg(self)
     }
 }
 
 /// A BRDF as the instrument measures it: each value is what a capture at the nominal
 /// directions gives of `truth`, integrated over the response's quadrature `nodes`
-/// ([`InstrumentResponse::measure_brdf`]); `None` where the truth itself is not measured.
+/// ([`capture::measure_brdf`]); `None` where the truth itself is not measured.
 /// The accuracy harness measures its truths through it, so that methods are compared on
 /// the samples a device gives.
 pub struct ThroughResponse<'a> {
@@ -287,24 +246,12 @@ pub struct ThroughResponse<'a> {
 impl Brdf for ThroughResponse<'_> {
     fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
         self.truth.eval(wi, wo)?;
-        Some(InstrumentResponse::measure_brdf(
-            &self.nodes,
-            self.truth,
-            wi,
-            wo,
-        ))
+        Some(capture::measure_brdf(&self.nodes, self.truth, wi, wo))
     }
 
     fn name(&self) -> String {
         self.truth.name()
     }
-}
-
-/// Two unit vectors orthogonal to `n` and to each other.
-pub fn orthonormal_basis(n: DVec3) -> (DVec3, DVec3) {
-    let helper = if n.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
-    let u = n.cross(helper).normalize();
-    (u, n.cross(u))
 }
 
 #[cfg(test)]
@@ -366,7 +313,7 @@ mod tests {
         let nodes = response.capture_nodes(500);
         let wi = DVec3::new(0.5, 0.1, 0.8).normalize();
         let wo = DVec3::new(-0.3, 0.2, 0.9).normalize();
-        let m = InstrumentResponse::measure(&nodes, wi, wo, |_, _| Rgb::splat(0.3));
+        let m = capture::measure(&nodes, wi, wo, |_, _| Rgb::splat(0.3));
         assert!((m.x / 0.3 - 1.0).abs() < 1e-3, "{m}");
         assert_eq!(
             InstrumentResponse::point(1.1, 2.0).capture_nodes(50).len(),

@@ -5,6 +5,7 @@
 pub mod atomic_file;
 pub mod bounded_read;
 pub mod brdf;
+pub mod capture;
 pub mod geometry;
 pub mod merl;
 

@@ -1,22 +1,21 @@
 //! Samples before the instrument's blur: the lobe fitted through the response
 //! ([`Lobe::fit_through`]) times each sample's measured ratio to that lobe as measured, the
 //! same correction the `lobe` method's lattice carries ([`crate::domain`]). The probe is
-//! deblurred this way before k is fitted to it, so that the sampling adapts to the material
-//! and not to the light's disk.
+//! deblurred this way before k is fitted to it (`specula_sampling::deblur`), so that the
+//! sampling adapts to the material and not to the light's disk.
 
 use crate::domain::Domain;
 use crate::lobe::Lobe;
 use crate::reconstruct::{FIT_RESPONSE_NODES, RESIDUAL_RESPONSE_NODES};
 use crate::sample::Sample;
-use specula_acquisition::response::InstrumentResponse;
-use specula_core::{HalfDiff, Rgb};
-use specula_sampling::ProbeSettings;
+use specula_core::capture::CaptureResponse;
+use specula_core::Rgb;
 
 /// The samples as the material would give them without the blur, with the lobe fitted
 /// through the response; `None` when no sample lies above the surface.
 pub fn deblur_samples(
     samples: &[Sample],
-    response: &InstrumentResponse,
+    response: &dyn CaptureResponse,
 ) -> Option<(Vec<Sample>, Lobe)> {
     let lobe = Lobe::fit_through(samples, &response.capture_nodes(FIT_RESPONSE_NODES))?;
     let nodes = response.capture_nodes(RESIDUAL_RESPONSE_NODES);
@@ -35,36 +34,14 @@ pub fn deblur_samples(
     Some((deblurred, lobe))
 }
 
-/// A probe's `(theta_h_deg, f)` (its column at `column`'s theta_d, phi_d and phi_h) before
-/// the instrument's blur ([`deblur_samples`]); the probe as measured where no lobe fits.
-pub fn deblur_probe(
-    probe: &[(f64, Rgb)],
-    column: &ProbeSettings,
-    response: &InstrumentResponse,
-) -> Vec<(f64, Rgb)> {
-    let samples: Vec<Sample> = probe
-        .iter()
-        .map(|&(h, v)| {
-            let hd =
-                HalfDiff::from_degrees(h, column.phi_h_deg, column.theta_d_deg, column.phi_d_deg);
-            Sample::new(hd, v)
-        })
-        .collect();
-    match deblur_samples(&samples, response) {
-        Some((sharp, _)) => sharp
-            .iter()
-            .map(|s| (s.hd.theta_h.to_degrees(), s.value))
-            .collect(),
-        None => probe.to_vec(),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::lobe::{Geometry, Shape};
     use specula_acquisition::device::Device;
+    use specula_acquisition::response::InstrumentResponse;
     use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
+    use specula_core::HalfDiff;
 
     /// A GGX lobe (`alpha`, Schlick weights `specular`, `grazing`) and `count` samples of its
     /// probe column (theta_d 40, phi_d 90 deg) measured through `nodes` of the response.

@@ -17,10 +17,10 @@
 //! used for every gamma.
 //!
 //! **Through the instrument.** A capture integrates the BRDF over the instrument's response
-//! (the light's disk, the camera's pupil, the measured area:
-//! [`specula_acquisition::response`]). [`Lobe::fit_through`] fits the lobe so that the lobe
-//! *integrated over the response* matches the samples (the forward model of the
-//! measurement); the lobe itself is then the BRDF before the blur. Samples within
+//! (the light's disk, the camera's pupil, the measured area: `specula_acquisition::response`,
+//! here any [`specula_core::capture::CaptureResponse`]). [`Lobe::fit_through`] fits the lobe
+//! so that the lobe *integrated over the response* matches the samples (the forward model
+//! of the measurement); the lobe itself is then the BRDF before the blur. Samples within
 //! [`BLUR_THETA_H_DEG`] of the specular peak are integrated over the response's quadrature
 //! nodes; beyond it the blur changes a lobe by less than 1 % and the nominal geometry is
 //! used.
@@ -35,7 +35,7 @@ use crate::domain::LOG_OFFSET;
 use crate::sample::Sample;
 use glam::DVec3;
 use rayon::prelude::*;
-use specula_acquisition::response::{orthonormal_basis, CaptureNode, InstrumentResponse};
+use specula_core::capture::{self, orthonormal_basis, CaptureNode};
 use specula_core::merl::{theta_h_centre_deg, Bin, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::scattering::{fresnel, masking, ndf};
 use specula_core::{HalfDiff, Rgb};
@@ -155,13 +155,13 @@ impl Lobe {
     }
 
     /// What a capture at `hd` measures of the lobe through the response's `nodes`
-    /// ([`InstrumentResponse::measure`]); the lobe itself without nodes.
+    /// ([`capture::measure`]); the lobe itself without nodes.
     pub fn measured(&self, nodes: &[CaptureNode], hd: HalfDiff) -> Rgb {
         if nodes.is_empty() {
             return self.eval(&Geometry::of(hd));
         }
         let (wi, wo) = hd.to_directions();
-        InstrumentResponse::measure(nodes, wi, wo, |a, b| {
+        capture::measure(nodes, wi, wo, |a, b| {
             self.eval(&Geometry::from_directions(a, b))
         })
     }

@@ -14,17 +14,16 @@
 //! every [`PHI_D_STEP_DEG`]. Between nodes it is interpolated linearly (theta_h in index
 //! space), so it is evaluated at any sample and at every MERL bin centre.
 //!
-//! **Training** ([`PriorBasis::merl`]): the 100 MERL materials as fitted by three published
-//! models (neural `nbrdf:`, Bagher 2012 `sgd:`, Löw 2012 `abc:`), each channel one training
-//! vector. No RGL material is in it, so the RGL files and their `nbrdf-rgl:` fits are test
-//! data. The basis is derived at first use and kept for the process.
+//! **Training** ([`PriorBasis::derive`]): any set of BRDFs, each channel one training
+//! vector. The accuracy study's basis is the 100 MERL materials as fitted by three published
+//! models (`specula_accuracy::merl_prior`).
 
 use crate::sample::{fold_phi_d_rad, Sample};
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rayon::prelude::*;
 use specula_core::merl::{theta_h_centre_deg, Bin, CELLS, THETA_H_BINS};
 use specula_core::{Brdf, HalfDiff, Rgb};
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 /// Offset of the mapped domain (Nielsen et al. 2015 use 0.001).
 pub const MAPPED_OFFSET: f64 = 1e-3;
@@ -42,14 +41,10 @@ pub const PHI_D_STEP_DEG: f64 = 10.0;
 pub const PHI_D_NODES: usize = 10;
 /// Nodes of the prior grid (per channel).
 pub const NODES: usize = THETA_H_NODES * THETA_D_NODES * PHI_D_NODES;
-/// Principal components kept by [`PriorBasis::merl`].
-pub const MERL_COMPONENTS: usize = 24;
 
 /// Why the prior cannot be built.
 #[derive(Debug, thiserror::Error)]
 pub enum PriorError {
-    #[error("loading the training materials: {0}")]
-    Training(String),
     #[error("{0} training vectors: need more than the {1} components")]
     TooFewMaterials(usize, usize),
 }
@@ -157,18 +152,6 @@ pub struct PriorBasis {
 }
 
 impl PriorBasis {
-    /// The basis of the MERL-100 fits (see the module documentation), derived once per
-    /// process.
-    pub fn merl() -> Result<Arc<PriorBasis>, PriorError> {
-        static MERL: OnceLock<Arc<PriorBasis>> = OnceLock::new();
-        if let Some(basis) = MERL.get() {
-            return Ok(basis.clone());
-        }
-        let training = merl_training_set()?;
-        let basis = Arc::new(Self::derive(&training, MERL_COMPONENTS)?);
-        Ok(MERL.get_or_init(|| basis).clone())
-    }
-
     /// The basis of `components` principal components of the training BRDFs, each channel
     /// one vector (PCA through the Gram matrix of the centred vectors).
     pub fn derive(training: &[Arc<dyn Brdf>], components: usize) -> Result<Self, PriorError> {
@@ -300,22 +283,6 @@ fn gram_matrix(vectors: &[Vec<f32>]) -> DMatrix<f64> {
         })
         .collect();
     DMatrix::from_fn(n, n, |i, j| if j <= i { rows[i][j] } else { rows[j][i] })
-}
-
-/// The training materials of [`PriorBasis::merl`]: MERL-100 as fitted by NBRDF, SGD and ABC.
-fn merl_training_set() -> Result<Vec<Arc<dyn Brdf>>, PriorError> {
-    use specula_formats::fits::{load_model, FitModel};
-    use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
-    let error = |e: anyhow::Error| PriorError::Training(format!("{e:#}"));
-    let mut out: Vec<Arc<dyn Brdf>> = Vec::new();
-    for name in NbrdfSet::Merl100.names().map_err(error)? {
-        out.push(Arc::new(
-            Nbrdf::load(NbrdfSet::Merl100, &name).map_err(error)?,
-        ));
-    }
-    out.extend(load_model(FitModel::Sgd).map_err(error)?);
-    out.extend(load_model(FitModel::Abc).map_err(error)?);
-    Ok(out)
 }
 
 /// A prior fitted to one material: its mapped field on the prior grid, per channel.

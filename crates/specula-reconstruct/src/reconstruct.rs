@@ -10,7 +10,7 @@ use crate::method::Method;
 use crate::provenance::Provenance;
 use crate::sample::Sample;
 use rayon::prelude::*;
-use specula_acquisition::response::{CaptureNode, InstrumentResponse};
+use specula_core::capture::{CaptureNode, CaptureResponse};
 use specula_core::merl::MerlBrdf;
 use specula_core::{HalfDiff, Rgb};
 
@@ -82,7 +82,7 @@ pub fn reconstruct(
     method: Method,
     name: &str,
 ) -> Result<Reconstruction, ReconstructError> {
-    reconstruct_through(samples, method, name, None)
+    reconstruct_through(samples, method, name, None::<&dyn CaptureResponse>)
 }
 
 /// Reconstructs the table from samples measured through an instrument `response`: the
@@ -90,11 +90,11 @@ pub fn reconstruct(
 /// [`crate::lobe`]) and the lattice holds the samples' log ratio to the lobe *as measured*,
 /// so the table is the lobe before the blur times the measured residual. The other methods,
 /// which have no model of the BRDF, ignore the response. `None`: as [`reconstruct`].
-pub fn reconstruct_through(
+pub fn reconstruct_through<R: CaptureResponse + ?Sized>(
     samples: &[Sample],
     method: Method,
     name: &str,
-    response: Option<&InstrumentResponse>,
+    response: Option<&R>,
 ) -> Result<Reconstruction, ReconstructError> {
     if samples.is_empty() {
         return Err(ReconstructError::NoSamples);
@@ -134,7 +134,7 @@ pub fn reconstruct_through(
         brdf,
         provenance: Provenance::new(samples, &extrapolated_cells(&lattice)),
         lobe,
-        resolution_deg: through.map(InstrumentResponse::resolution_deg),
+        resolution_deg: through.map(|r| r.resolution_deg()),
         lattice_shape: lattice.shape(),
         measured_nodes,
         filled_nodes: lattice.status.len() - measured_nodes,

@@ -17,6 +17,7 @@ use crate::kinematics::AxisPositions;
 use crate::response::InstrumentResponse;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
+use specula_core::capture;
 use specula_core::materials::conductor::RoughConductor;
 use specula_core::materials::{Base, Distribution, Material};
 use specula_core::{Brdf, Rgb};
@@ -114,7 +115,7 @@ fn model_scan(
         .map(|d| {
             let a = (options.elevation_deg + d - centre_deg).to_radians();
             let wo = DVec3::new(a.sin(), 0.0, a.cos());
-            let m = InstrumentResponse::measure_brdf(&nodes, mirror, wi, wo);
+            let m = capture::measure_brdf(&nodes, mirror, wi, wo);
             (m.x + m.y + m.z) / 3.0
         })
         .collect()

@@ -30,12 +30,13 @@ use crate::device::Device;
 use crate::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
 use crate::kinematics::{AxisPositions, AXIS_NAMES, CAMERA_AXIS};
 use crate::occlusion::{blockage, Blockage};
-use crate::response::{CaptureNode, InstrumentResponse};
+use crate::response::InstrumentResponse;
 use crate::timing::TimeModel;
 use camera::CameraModel;
 use glam::DVec3;
 use optics::{Ghost, LensFlare};
 use sample::{MountedSample, PositioningError};
+use specula_core::capture::{self, CaptureNode};
 use std::collections::HashMap;
 
 /// Everything about the simulated device that the device file does not say.
@@ -164,7 +165,7 @@ impl Simulator {
             |lab: DVec3| specula_core::geometry::rotate_z(lab, -actual.turntable_rad);
         let wi = to_turntable(actual.light_direction());
         let wo = to_turntable(actual.camera_direction());
-        InstrumentResponse::integrate(&self.nodes, wi, wo, |a, b| self.sample.reflected(a, b))
+        capture::integrate(&self.nodes, wi, wo, |a, b| self.sample.reflected(a, b))
     }
 
     /// The noise-free black-subtracted raw rate of each channel at full light, DN/s: what an
