@@ -5,9 +5,8 @@
 //! with two), and documents every field. Values are in degrees, metres and seconds, as in the
 //! file; the kinematics, occlusion and timing modules convert to radians where they compute.
 
-use crate::kinematics::AxisPositions;
+use crate::capture_bracket::CaptureBracket;
 use crate::response::{InstrumentResponse, LightProfile};
-use crate::timing::CaptureBracket;
 use serde::{Deserialize, Serialize};
 use specula_core::shown::shown;
 use std::path::Path;
@@ -208,18 +207,8 @@ impl Device {
         }
     }
 
-    /// The park position as axis angles.
-    pub fn park_axes(&self) -> AxisPositions {
-        let p = self.park;
-        AxisPositions::from_degrees(
-            p.turntable_deg,
-            p.camera_deg,
-            p.light_azimuth_deg,
-            p.light_elevation_deg,
-        )
-    }
-
-    /// The four axes in the order of [`AxisPositions::as_array`].
+    /// The four axes: turntable, camera, light azimuth, light elevation (the order of
+    /// `kinematics::AxisPositions::as_array`).
     pub fn axes(&self) -> [&Axis; 4] {
         [
             &self.turntable,
@@ -227,19 +216,6 @@ impl Device {
             &self.light.azimuth,
             &self.light.elevation,
         ]
-    }
-
-    /// True when every axis angle lies within its range (to within a nano-radian, so that a
-    /// grid point exactly at a limit counts as reachable).
-    pub fn within_limits(&self, axes: &AxisPositions) -> bool {
-        const EPS_RAD: f64 = 1e-9;
-        self.axes()
-            .iter()
-            .zip(axes.as_array())
-            .all(|(axis, angle_rad)| {
-                angle_rad >= axis.min_deg.to_radians() - EPS_RAD
-                    && angle_rad <= axis.max_deg.to_radians() + EPS_RAD
-            })
     }
 
     /// The first problem that makes the description unusable, if any.
@@ -376,14 +352,5 @@ mod tests {
 
         let missing = Device::load(Path::new("/nonexistent/device.toml")).unwrap_err();
         assert!(missing.to_string().contains("/nonexistent/device.toml"));
-    }
-
-    #[test]
-    fn limits_are_inclusive() {
-        let d = Device::utia();
-        let at_limit = AxisPositions::from_degrees(0.0, 75.0, 0.0, -75.0);
-        assert!(d.within_limits(&at_limit));
-        let beyond = AxisPositions::from_degrees(0.0, 75.01, 0.0, 0.0);
-        assert!(!d.within_limits(&beyond));
     }
 }

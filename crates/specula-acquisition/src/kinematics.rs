@@ -177,6 +177,34 @@ fn turns_in_range(angle_rad: f64, axis: &Axis) -> impl Iterator<Item = f64> {
         .map(move |a| a.clamp(min + LIMIT_EPS_RAD, max - LIMIT_EPS_RAD))
 }
 
+/// The device's axes as [`AxisPositions`] (here, so that the device description does not
+/// depend on the kinematics).
+impl Device {
+    /// The park position as axis angles.
+    pub fn park_axes(&self) -> AxisPositions {
+        let p = self.park;
+        AxisPositions::from_degrees(
+            p.turntable_deg,
+            p.camera_deg,
+            p.light_azimuth_deg,
+            p.light_elevation_deg,
+        )
+    }
+
+    /// True when every axis angle lies within its range (to within a nano-radian, so that a
+    /// grid point exactly at a limit counts as reachable).
+    pub fn within_limits(&self, axes: &AxisPositions) -> bool {
+        const EPS_RAD: f64 = 1e-9;
+        self.axes()
+            .iter()
+            .zip(axes.as_array())
+            .all(|(axis, angle_rad)| {
+                angle_rad >= axis.min_deg.to_radians() - EPS_RAD
+                    && angle_rad <= axis.max_deg.to_radians() + EPS_RAD
+            })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -306,5 +334,14 @@ mod tests {
                 prop_assert!(close(a, wi) && close(b, wo), "{axes:?}: {a} {b} vs {wi} {wo}");
             }
         }
+    }
+
+    #[test]
+    fn limits_are_inclusive() {
+        let d = Device::utia();
+        let at_limit = AxisPositions::from_degrees(0.0, 75.0, 0.0, -75.0);
+        assert!(d.within_limits(&at_limit));
+        let beyond = AxisPositions::from_degrees(0.0, 75.01, 0.0, 0.0);
+        assert!(!d.within_limits(&beyond));
     }
 }

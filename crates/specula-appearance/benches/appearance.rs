@@ -4,7 +4,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use specula_appearance::{appearance, Options};
-use specula_core::materials::presets::preset;
+use specula_core::materials::preset;
 use specula_core::tabulate::tabulate;
 use std::f64::consts::FRAC_PI_4;
 

@@ -5,7 +5,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rayon::prelude::*;
-use specula_core::materials::presets::preset;
+use specula_core::materials::preset;
 use specula_core::merl::{Bin, CELLS};
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;

@@ -51,7 +51,7 @@ mod tests {
     /// gives what evaluating each cell on its own gives.
     #[test]
     fn rows_agree_with_cell_by_cell_evaluation() {
-        use crate::materials::presets::preset;
+        use crate::materials::preset;
         for name in [
             "silver-925",
             "green-paint",

@@ -4,7 +4,7 @@
 //! so every lookup is the nearest-bin MERL evaluation of a measured file.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use specula_core::materials::presets::preset;
+use specula_core::materials::preset;
 use specula_core::tabulate::tabulate;
 use specula_formats::rgl::{RglResolution, RglTables};
 use std::f64::consts::FRAC_PI_4;

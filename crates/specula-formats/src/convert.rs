@@ -11,11 +11,11 @@
 //! its `valid` bit cleared. Same-format conversions copy, except RGL, which is rebuilt at the
 //! chosen resolution.
 
+use crate::brdf_source::BrdfSource;
 use crate::input::{file_error, read_input};
 use crate::rgl::{RglBsdf, RglResolution, RglTables};
 use crate::samples_csv::{Sample, SampleSet};
 use crate::utia::{self, UtiaBrdf};
-use crate::BrdfSource;
 use anyhow::{bail, Result};
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
 use specula_core::tabulate::tabulate;

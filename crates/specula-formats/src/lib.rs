@@ -1,6 +1,7 @@
 //! Reading BRDFs from everything Specula accepts: MERL tables, material presets and TOML
 //! files, and (as they land) the measured formats and published model fits.
 
+pub mod brdf_source;
 pub mod catalog;
 pub mod convert;
 pub mod fits;
@@ -14,4 +15,5 @@ pub mod samples_csv;
 pub mod source;
 pub mod utia;
 
-pub use source::{load_brdf, load_brdfs, BrdfSource};
+pub use brdf_source::BrdfSource;
+pub use source::{load_brdf, load_brdfs};

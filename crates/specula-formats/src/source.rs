@@ -11,14 +11,12 @@
 //! - `lafortune:NAME` (Ngan et al. 2005 fits), `nbrdf:NAME` (neural fits of MERL-100),
 //!   `nbrdf-rgl:NAME` and `nbrdf-nielsen:NAME` (of the RGL and Nielsen 2015 materials).
 
+use crate::brdf_source::BrdfSource;
 use anyhow::{bail, Result};
 use specula_core::materials::{self, Material};
-use specula_core::{Brdf, MerlBrdf};
+use specula_core::MerlBrdf;
 use std::path::Path;
 use std::sync::Arc;
-
-/// A loaded BRDF behind a shared pointer, so that parallel work can hold it.
-pub type BrdfSource = Arc<dyn Brdf>;
 
 /// Resolves a BRDF source string, or a folder to every BRDF file in it, in name order
 /// (files of a recognised format: [`crate::convert::FileFormat::detect`], MERL `.binary`,

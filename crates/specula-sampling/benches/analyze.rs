@@ -10,7 +10,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rayon::prelude::*;
-use specula_core::materials::presets::preset;
+use specula_core::materials::preset;
 use specula_core::tabulate::tabulate;
 use specula_formats::fits::{load_fit, FitModel};
 use specula_sampling::analysis::analyze_slice;

@@ -3,7 +3,7 @@
 //! placement (dense log-spline model + dynamic programme) for the planner.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use specula_core::materials::presets::preset;
+use specula_core::materials::preset;
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_sampling::fit::{fit_error, fit_k};
 use specula_sampling::place_theta_h;

@@ -261,7 +261,7 @@ mod tests {
     /// missing cells take the walk instead of the shared [`Resampling`].
     #[test]
     fn matches_a_fit_of_every_family_on_every_column() {
-        let material = |name| specula_core::materials::presets::preset(name).unwrap();
+        let material = |name| specula_core::materials::preset(name).unwrap();
         let lobes = lobe_slice("lobes", 1.0);
         // Cells missing near grazing, as in MERL files: those columns are on fewer nodes.
         let holes = (0..THETA_D_COLUMNS)

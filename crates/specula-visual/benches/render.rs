@@ -7,7 +7,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use specula_core::brdf::Brdf;
-use specula_core::materials::presets::preset;
+use specula_core::materials::preset;
 use specula_core::tabulate::tabulate;
 use specula_visual::{render, Environment, Lighting, RenderSettings, Scene, ShapeKind};
 use std::sync::Arc;

@@ -11,6 +11,7 @@ pub mod font;
 pub mod frame;
 pub mod grid;
 pub mod heatmap;
+pub mod hit;
 pub mod linear_image;
 pub mod lobe;
 pub mod nearest_bin_table;

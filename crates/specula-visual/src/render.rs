@@ -23,10 +23,11 @@
 
 use crate::camera::{Camera, Ray};
 use crate::environment::Environment;
+use crate::hit::Hit;
 use crate::linear_image::LinearImage;
 use crate::lobe::ProxyLobe;
 use crate::nearest_bin_table::NearestBinTable;
-use crate::shape::{Hit, Shape, ShapeKind};
+use crate::shape::{Shape, ShapeKind};
 use glam::DVec3;
 use rayon::prelude::*;
 use specula_core::brdf::Brdf;

@@ -3,6 +3,7 @@
 
 use crate::camera::Ray;
 use crate::frame::Frame;
+use crate::hit::Hit;
 use crate::speedshape::Speedshape;
 use glam::DVec3;
 
@@ -27,14 +28,6 @@ impl std::str::FromStr for ShapeKind {
             )),
         }
     }
-}
-
-/// A ray's first intersection with the object.
-#[derive(Debug, Clone, Copy)]
-pub struct Hit {
-    pub position: DVec3,
-    /// The shading frame: outward normal and tangent.
-    pub frame: Frame,
 }
 
 /// An object placed in the scene.

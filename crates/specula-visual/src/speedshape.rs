@@ -9,7 +9,7 @@
 
 use crate::camera::Ray;
 use crate::frame::Frame;
-use crate::shape::Hit;
+use crate::hit::Hit;
 use glam::{DMat3, DVec3};
 
 /// Largest number of sphere-tracing steps before a ray is declared a miss.

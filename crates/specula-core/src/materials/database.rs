@@ -119,6 +119,12 @@ pub fn builtin_database() -> Vec<Material> {
     database().to_vec()
 }
 
+/// A preset by name ([`presets::paper_preset`]); other names of the built-in database
+/// resolve too. `None` for an unknown name.
+pub fn preset(name: &str) -> Option<Material> {
+    presets::paper_preset(name).or_else(|| find(name))
+}
+
 /// A material of the database by name.
 pub fn find(name: &str) -> Option<Material> {
     database().iter().find(|m| m.name == name).cloned()

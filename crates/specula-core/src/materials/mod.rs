@@ -14,8 +14,8 @@ pub mod microfacet;
 pub mod presets;
 pub mod scratch;
 
-pub use database::builtin_database;
+pub use database::{builtin_database, preset};
 pub use material::{Base, Material};
 pub use material_file::MaterialError;
 pub use microfacet::Distribution;
-pub use presets::{preset, preset_names};
+pub use presets::preset_names;

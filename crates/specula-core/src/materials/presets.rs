@@ -9,7 +9,6 @@
 
 use super::clearcoat::ClearCoat;
 use super::conductor::RoughConductor;
-use super::database;
 use super::material::{Base, Material};
 use super::microfacet::Distribution;
 use super::scratch::ScratchLobe;
@@ -43,22 +42,25 @@ pub fn preset_names() -> Vec<&'static str> {
     ]
 }
 
-/// A preset by name; other names of the built-in database ([`database::builtin_database`])
-/// resolve too. `None` for an unknown name.
-pub fn preset(name: &str) -> Option<Material> {
+/// One of the paper's presets ([`preset_names`]) by name; `None` for any other name
+/// (`materials::preset` resolves the built-in database's names too).
+pub fn paper_preset(name: &str) -> Option<Material> {
     match name {
         "silver-925" => Some(silver_925()),
         "silver-925-scratched" => Some(silver_925_scratched()),
         "green-paint" => Some(green_paint()),
         "chrome" => Some(chrome()),
         "steel" => Some(steel()),
-        _ => database::find(name),
+        _ => None,
     }
 }
 
 /// All presets, in [`preset_names`] order.
 pub fn all_presets() -> Vec<Material> {
-    preset_names().into_iter().filter_map(preset).collect()
+    preset_names()
+        .into_iter()
+        .filter_map(paper_preset)
+        .collect()
 }
 
 fn conductor(

@@ -7,8 +7,8 @@
 pub mod abc;
 pub mod sgd;
 
+use crate::brdf_source::BrdfSource;
 use crate::input::{data_file, file_error, read_input};
-use crate::source::BrdfSource;
 use anyhow::{anyhow, Result};
 use specula_core::Rgb;
 use std::path::Path;
