@@ -7,10 +7,8 @@
 use crate::domain::Domain;
 use crate::lobe::Lobe;
 use crate::reconstruct::{FIT_RESPONSE_NODES, RESIDUAL_RESPONSE_NODES};
-use crate::sample::Sample;
 use specula_acquisition::response::InstrumentResponse;
-use specula_core::{HalfDiff, Rgb};
-use specula_sampling::ProbeSettings;
+use specula_core::{ProbePoint, ProbeSpec, Rgb, Sample};
 
 /// The samples as the material would give them without the blur, with the lobe fitted
 /// through the response; `None` when no sample lies above the surface.
@@ -35,25 +33,21 @@ pub fn deblur_samples(
     Some((deblurred, lobe))
 }
 
-/// A probe's `(theta_h_deg, f)` (its column at `column`'s theta_d, phi_d and phi_h) before
-/// the instrument's blur ([`deblur_samples`]); the probe as measured where no lobe fits.
+/// A probe's points (its column at `column`'s theta_d, phi_d and phi_h) before the
+/// instrument's blur ([`deblur_samples`]); the probe as measured where no lobe fits.
 pub fn deblur_probe(
-    probe: &[(f64, Rgb)],
-    column: &ProbeSettings,
+    probe: &[ProbePoint],
+    column: &ProbeSpec,
     response: &InstrumentResponse,
-) -> Vec<(f64, Rgb)> {
+) -> Vec<ProbePoint> {
     let samples: Vec<Sample> = probe
         .iter()
-        .map(|&(h, v)| {
-            let hd =
-                HalfDiff::from_degrees(h, column.phi_h_deg, column.theta_d_deg, column.phi_d_deg);
-            Sample::new(hd, v)
-        })
+        .map(|p| Sample::new(column.half_diff(p.theta_h_deg), p.value))
         .collect();
     match deblur_samples(&samples, response) {
         Some((sharp, _)) => sharp
             .iter()
-            .map(|s| (s.hd.theta_h.to_degrees(), s.value))
+            .map(|s| ProbePoint::new(s.theta_h_deg(), s.value))
             .collect(),
         None => probe.to_vec(),
     }
@@ -65,6 +59,7 @@ mod tests {
     use crate::lobe::{Geometry, Shape};
     use specula_acquisition::device::Device;
     use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
+    use specula_core::HalfDiff;
 
     /// A GGX lobe (`alpha`, Schlick weights `specular`, `grazing`) and `count` samples of its
     /// probe column (theta_d 40, phi_d 90 deg) measured through `nodes` of the response.

@@ -19,10 +19,11 @@
 //! vector. No RGL material is in it, so the RGL files and their `nbrdf-rgl:` fits are test
 //! data. The basis is derived at first use and kept for the process.
 
-use crate::sample::{fold_phi_d_rad, Sample};
+use crate::sample::fold_phi_d_rad;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rayon::prelude::*;
 use specula_core::merl::{theta_h_centre_deg, Bin, CELLS, THETA_H_BINS};
+use specula_core::Sample;
 use specula_core::{Brdf, HalfDiff, Rgb};
 use std::sync::{Arc, OnceLock};
 
