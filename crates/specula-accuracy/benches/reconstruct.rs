@@ -13,7 +13,7 @@ use specula_core::HalfDiff;
 use specula_reconstruct::{reconstruct, Method};
 use std::hint::black_box;
 
-fn paper_task() -> Vec<specula_reconstruct::Sample> {
+fn paper_task() -> Vec<specula_core::Sample> {
     let theta_h = SamplingFunction::new(Family::Exponential, 4.78)
         .unwrap()
         .positions_deg(30);

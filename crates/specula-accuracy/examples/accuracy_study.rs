@@ -27,6 +27,7 @@ use specula_acquisition::device::Device;
 use specula_core::materials::builtin_database;
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
+use specula_core::{GridSpec, Sample};
 use specula_formats::fits::{load_model, FitModel};
 use specula_formats::input::measured_data_dir;
 use specula_formats::load_brdfs;
@@ -34,7 +35,6 @@ use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_reconstruct::budget::graded_theta_d_deg;
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
-use specula_reconstruct::Sample;
 use specula_sampling::analysis::median;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -133,9 +133,12 @@ fn configs(plans: &[String], trusts: &[(f64, f64)]) -> anyhow::Result<Vec<Config
                 .ok_or_else(|| anyhow::anyhow!("--plan {spec}: bad theta_d step"))?,
         };
         let plan = PlanSettings {
-            theta_h_samples: theta_h as usize,
-            theta_d_step_deg: theta_d,
-            phi_d_step_deg: phi_d,
+            grid: GridSpec {
+                theta_h_samples: theta_h as usize,
+                theta_d_step_deg: theta_d,
+                phi_d_step_deg: phi_d,
+                ..paper.grid
+            },
             ..paper
         };
         out.push(Config {
@@ -262,7 +265,10 @@ fn main() -> anyhow::Result<()> {
     );
     for set in &sets {
         for truth in truths(set)?.iter().step_by(every) {
-            let table = tabulate(truth.as_ref(), PlanSettings::paper().phi_h_deg.to_radians());
+            let table = tabulate(
+                truth.as_ref(),
+                PlanSettings::paper().grid.phi_h_deg.to_radians(),
+            );
             let mut paper_figures = None;
             for config in &configs {
                 let (count, samples, k) = config.measure(truth.as_ref(), &device)?;

@@ -19,17 +19,15 @@ pub mod merl_prior;
 
 use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
-use specula_acquisition::plan::{Plan, Status};
+use specula_acquisition::plan::Plan;
 use specula_acquisition::response::{InstrumentResponse, ThroughResponse};
 use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
 use specula_core::compare::{compare, ErrorFigures};
 use specula_core::sampling::{Family, SamplingFunction};
-use specula_core::{Brdf, HalfDiff, MerlBrdf};
-use specula_reconstruct::{
-    reconstruct, reconstruct_through, Method, ReconstructError, Reconstruction, Sample,
-};
+use specula_core::{Brdf, GridSpec, HalfDiff, MerlBrdf, ProbeSpec, Sample};
+use specula_reconstruct::{reconstruct, reconstruct_through, Method, ReconstructError, Reconstruction};
 use specula_sampling::deblur::deblur_probe;
-use specula_sampling::{fit_k, place_theta_h, Probe, ProbeSettings};
+use specula_sampling::{fit_k, place_theta_h, Probe};
 
 /// A plan on a grid: every combination of the theta_h, theta_d and phi_d positions (degrees)
 /// at one phi_h, theta_h outermost and phi_d innermost (the paper's nested loops, 5.3).
@@ -41,38 +39,23 @@ pub struct GridPlan {
     pub phi_h_deg: f64,
 }
 
-/// The paper's theta_d step (degrees), from 0 up to 87.
-pub const PAPER_THETA_D_STEP_DEG: f64 = 3.0;
-/// The paper's phi_d step (degrees), from 0 to 90.
-pub const PAPER_PHI_D_STEP_DEG: f64 = 15.0;
-/// The paper's phi_h (degrees).
-pub const PAPER_PHI_H_DEG: f64 = 45.0;
-
 impl GridPlan {
-    /// theta_d from 0 in steps below 90 degrees, phi_d from 0 to 90 inclusive in steps.
-    pub fn with_steps(
-        theta_h_deg: Vec<f64>,
-        theta_d_step_deg: f64,
-        phi_d_step_deg: f64,
-        phi_h_deg: f64,
-    ) -> Self {
+    /// The grid `spec` at the given theta_h positions: theta_d from 0 in steps below 90
+    /// degrees, phi_d from 0 to 90 inclusive in steps, at `spec`'s phi_h (its theta_h count
+    /// is the positions').
+    pub fn on(theta_h_deg: Vec<f64>, spec: &GridSpec) -> Self {
         Self {
             theta_h_deg,
-            theta_d_deg: steps_below(theta_d_step_deg, 90.0, false),
-            phi_d_deg: steps_below(phi_d_step_deg, 90.0, true),
-            phi_h_deg,
+            theta_d_deg: spec.theta_d_deg(),
+            phi_d_deg: spec.phi_d_deg(),
+            phi_h_deg: spec.phi_h_deg,
         }
     }
 
     /// The paper's plan (5.3) around the given theta_h positions: theta_d 0, 3, ..., 87,
     /// phi_d 0, 15, ..., 90, phi_h 45 degrees.
     pub fn paper(theta_h_deg: Vec<f64>) -> Self {
-        Self::with_steps(
-            theta_h_deg,
-            PAPER_THETA_D_STEP_DEG,
-            PAPER_PHI_D_STEP_DEG,
-            PAPER_PHI_H_DEG,
-        )
+        Self::on(theta_h_deg, &GridSpec::paper())
     }
 
     /// Every planned configuration, in the plan's order.
@@ -97,15 +80,6 @@ impl GridPlan {
     }
 }
 
-/// `0, step, 2 step, ...` below `end` (or up to it, inclusive, within float noise).
-fn steps_below(step: f64, end: f64, inclusive: bool) -> Vec<f64> {
-    let n = (end / step + 1e-9).floor() as usize;
-    (0..=n)
-        .map(|i| i as f64 * step)
-        .filter(|&v| v < end - 1e-9 || (inclusive && v <= end + 1e-9))
-        .collect()
-}
-
 /// The stand-in reach: light and camera both within `max_elevation_deg` of the normal.
 pub fn within_elevation(hd: HalfDiff, max_elevation_deg: f64) -> bool {
     let (wi, wo) = hd.to_directions();
@@ -128,10 +102,8 @@ pub enum ThetaHPlacement {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanSettings {
     pub placement: ThetaHPlacement,
-    pub theta_h_samples: usize,
-    pub theta_d_step_deg: f64,
-    pub phi_d_step_deg: f64,
-    pub phi_h_deg: f64,
+    /// The grid: theta_h count, theta_d and phi_d steps, phi_h.
+    pub grid: GridSpec,
 }
 
 impl PlanSettings {
@@ -140,17 +112,14 @@ impl PlanSettings {
     pub fn paper() -> Self {
         Self {
             placement: ThetaHPlacement::FittedFunction(Family::Exponential),
-            theta_h_samples: 30,
-            theta_d_step_deg: PAPER_THETA_D_STEP_DEG,
-            phi_d_step_deg: PAPER_PHI_D_STEP_DEG,
-            phi_h_deg: PAPER_PHI_H_DEG,
+            grid: GridSpec::paper(),
         }
     }
 
     /// theta_h positions (degrees) for a material, with the k they come from (none for the
     /// probe placement).
     pub fn theta_h_deg(&self, truth: &dyn Brdf) -> Result<(Vec<f64>, Option<f64>)> {
-        self.theta_h_deg_of_probe(|| Probe::take(truth, &ProbeSettings::default()))
+        self.theta_h_deg_of_probe(|| Probe::take(truth, &ProbeSpec::paper()))
     }
 
     /// [`Self::theta_h_deg`] with the probe `take` gives, taken only when the placement
@@ -159,7 +128,7 @@ impl PlanSettings {
         &self,
         take: impl FnOnce() -> Result<Probe>,
     ) -> Result<(Vec<f64>, Option<f64>)> {
-        let n = self.theta_h_samples;
+        let n = self.grid.theta_h_samples;
         if let ThetaHPlacement::Function(f) = self.placement {
             return Ok((f.positions_deg(n), Some(f.k)));
         }
@@ -176,15 +145,7 @@ impl PlanSettings {
     /// The grid for a material.
     pub fn grid(&self, truth: &dyn Brdf) -> Result<(GridPlan, Option<f64>)> {
         let (theta_h, k) = self.theta_h_deg(truth)?;
-        Ok((
-            GridPlan::with_steps(
-                theta_h,
-                self.theta_d_step_deg,
-                self.phi_d_step_deg,
-                self.phi_h_deg,
-            ),
-            k,
-        ))
+        Ok((GridPlan::on(theta_h, &self.grid), k))
     }
 }
 
@@ -199,7 +160,7 @@ pub fn reached_by(grid: &GridPlan, device: &Device) -> Vec<HalfDiff> {
     )
     .samples
     .iter()
-    .filter(|s| s.status == Status::Ok)
+    .filter(|s| s.status.is_ok())
     .map(|s| s.hd)
     .collect()
 }
@@ -242,22 +203,18 @@ impl Measurement {
             truth,
             nodes: response.capture_nodes(SIMULATOR_RESPONSE_NODES),
         };
-        let column = ProbeSettings::default();
+        let column = ProbeSpec::paper();
         let (theta_h, k) = settings
             .theta_h_deg_of_probe(|| {
                 let blurred = Probe::take(&measured, &column)?;
                 let (theta_h, values) = deblur_probe(&blurred.points(), &column, response)
                     .into_iter()
+                    .map(|p| (p.theta_h_deg, p.value))
                     .unzip();
                 Ok(Probe::new(theta_h, values)?)
             })
             .with_context(|| format!("{}: placing theta_h", truth.name()))?;
-        let grid = GridPlan::with_steps(
-            theta_h,
-            settings.theta_d_step_deg,
-            settings.phi_d_step_deg,
-            settings.phi_h_deg,
-        );
+        let grid = GridPlan::on(theta_h, &settings.grid);
         let samples = measure(&measured, &reached_by(&grid, device));
         Ok(Self { grid, k, samples })
     }
@@ -357,10 +314,12 @@ mod tests {
             placement: ThetaHPlacement::Function(
                 SamplingFunction::new(Family::Exponential, 6.0).unwrap(),
             ),
-            theta_h_samples: 12,
-            theta_d_step_deg: 15.0,
-            phi_d_step_deg: 45.0,
-            phi_h_deg: 45.0,
+            grid: GridSpec {
+                theta_h_samples: 12,
+                theta_d_step_deg: 15.0,
+                phi_d_step_deg: 45.0,
+                phi_h_deg: 45.0,
+            },
         };
         let sharp = Measurement::simulate(&truth, &settings, &device).unwrap();
         let blurred =

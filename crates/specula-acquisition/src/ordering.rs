@@ -45,8 +45,8 @@ pub fn order(plan: &Plan) -> Plan {
 
 /// [`order`] with explicit tuning.
 pub fn order_with(plan: &Plan, options: &OrderingOptions) -> Plan {
-    let measured: Vec<&PlannedSample> = plan.measured().collect();
-    let mut path = Path::new(&plan.time_model, &measured);
+    let (measured, axes): (Vec<&PlannedSample>, Vec<AxisPositions>) = plan.measured().unzip();
+    let mut path = Path::new(&plan.time_model, axes);
     let mut tour = path.nearest_neighbour_tour();
     for _ in 0..options.rounds.max(1) {
         let neighbours = path.candidate_lists(options.neighbours.max(1));
@@ -59,16 +59,13 @@ pub fn order_with(plan: &Plan, options: &OrderingOptions) -> Plan {
         .iter()
         .map(|&node| {
             let mut sample = measured[node - 1].clone();
-            sample.axes = Some(path.points[node]);
+            if let Status::Ok { axes, .. } = &mut sample.status {
+                *axes = path.points[node];
+            }
             sample
         })
         .collect();
-    samples.extend(
-        plan.samples
-            .iter()
-            .filter(|s| s.status != Status::Ok)
-            .cloned(),
-    );
+    samples.extend(plan.samples.iter().filter(|s| !s.status.is_ok()).cloned());
     let mut ordered = Plan {
         samples,
         time_model: plan.time_model.clone(),
@@ -88,13 +85,10 @@ struct Path<'a> {
 const MIN_GAIN_S: f64 = 1e-9;
 
 impl<'a> Path<'a> {
-    fn new(model: &'a TimeModel, measured: &[&PlannedSample]) -> Self {
+    /// The park position, then the measured samples' positions.
+    fn new(model: &'a TimeModel, measured_axes: Vec<AxisPositions>) -> Self {
         let mut points = vec![model.park];
-        points.extend(
-            measured
-                .iter()
-                .map(|s| s.axes.expect("measured samples have axes")),
-        );
+        points.extend(measured_axes);
         Self { model, points }
     }
 
@@ -384,7 +378,7 @@ impl<'a> Path<'a> {
             };
             let current = cost(&self.points[node]);
             let best = measured[node - 1]
-                .alternatives
+                .alternatives()
                 .iter()
                 .map(|alt| (cost(alt), *alt))
                 .min_by(|x, y| x.0.total_cmp(&y.0));
@@ -535,9 +529,8 @@ mod tests {
             transition_time_s(&plan)
         );
         // Every position is still a free alternative that gives the sample's directions.
-        for s in ordered.measured() {
-            let axes = s.axes.unwrap();
-            assert!(s.alternatives.contains(&axes));
+        for (s, axes) in ordered.measured() {
+            assert!(s.alternatives().contains(&axes));
             let (wi, wo) = axes.directions();
             assert!((wi - s.wi).length() < 1e-9 && (wo - s.wo).length() < 1e-9);
         }
@@ -561,7 +554,7 @@ mod tests {
         .map(|&(th, td, pd)| specula_core::HalfDiff::from_degrees(th, 45.0, td, pd))
         .collect();
         let plan = Plan::from_half_diffs(&hds, &device);
-        let measured: Vec<&PlannedSample> = plan.measured().collect();
+        let measured: Vec<&PlannedSample> = plan.measured().map(|(s, _)| s).collect();
         assert_eq!(measured.len(), hds.len());
         let ordered = order(&plan);
         let heuristic = transition_time_s(&ordered);
@@ -575,7 +568,7 @@ mod tests {
             let mut costs: Vec<(AxisPositions, f64)> = vec![(model.park, 0.0)];
             for &k in order {
                 costs = measured[k]
-                    .alternatives
+                    .alternatives()
                     .iter()
                     .map(|alt| {
                         let c = costs

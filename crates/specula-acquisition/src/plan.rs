@@ -22,25 +22,38 @@ use specula_core::HalfDiff;
 use std::collections::BTreeMap;
 use std::io::Write;
 
-/// Whether the device can take a sample.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+/// Whether the device can take a sample, with what each case has.
+#[derive(Debug, Clone, PartialEq)]
 pub enum Status {
     /// Reachable and unobstructed.
-    Ok,
+    Ok {
+        /// The position used.
+        axes: AxisPositions,
+        /// Every free position; `axes` is one of them.
+        alternatives: Vec<AxisPositions>,
+    },
     /// Out of the axes' ranges for every position.
     Limit,
     /// Reachable, but blocked at every reachable position.
-    Occluded,
+    Occluded {
+        /// What blocks the first reachable position.
+        blockage: Blockage,
+    },
 }
 
 impl Status {
     /// `ok`, `limit` or `occluded`, as in the plan CSV.
-    pub fn name(self) -> &'static str {
+    pub fn name(&self) -> &'static str {
         match self {
-            Status::Ok => "ok",
+            Status::Ok { .. } => "ok",
             Status::Limit => "limit",
-            Status::Occluded => "occluded",
+            Status::Occluded { .. } => "occluded",
         }
+    }
+
+    /// Whether the device can take the sample.
+    pub fn is_ok(&self) -> bool {
+        matches!(self, Status::Ok { .. })
     }
 }
 
@@ -56,16 +69,37 @@ pub struct PlannedSample {
     pub wi: DVec3,
     /// Direction to the camera, sample frame.
     pub wo: DVec3,
+    /// Whether the device can take it, with its positions or what blocks it.
     pub status: Status,
-    /// The position used, for an `ok` sample.
-    pub axes: Option<AxisPositions>,
-    /// Every free position of an `ok` sample; `axes` is one of them.
-    pub alternatives: Vec<AxisPositions>,
-    /// For an `occluded` sample, what blocks its first reachable position.
-    pub blockage: Option<Blockage>,
     /// This sample's step: the move from the previous measured sample (the park position for
     /// the first), settling and the capture, seconds; 0 for an excluded sample.
     pub time_s: f64,
+}
+
+impl PlannedSample {
+    /// The position used, for an `ok` sample.
+    pub fn axes(&self) -> Option<AxisPositions> {
+        match &self.status {
+            Status::Ok { axes, .. } => Some(*axes),
+            _ => None,
+        }
+    }
+
+    /// Every free position of an `ok` sample (none for an excluded one).
+    pub fn alternatives(&self) -> &[AxisPositions] {
+        match &self.status {
+            Status::Ok { alternatives, .. } => alternatives,
+            _ => &[],
+        }
+    }
+
+    /// For an `occluded` sample, what blocks its first reachable position.
+    pub fn blockage(&self) -> Option<Blockage> {
+        match &self.status {
+            Status::Occluded { blockage } => Some(*blockage),
+            _ => None,
+        }
+    }
 }
 
 /// Samples in execution order with their device positions and step times.
@@ -130,7 +164,7 @@ impl Plan {
         let mut excluded = Vec::new();
         for (index, &hd) in hds.iter().enumerate() {
             let sample = plan_sample(index, hd, device, &time_model, &previous);
-            if let Some(axes) = sample.axes {
+            if let Status::Ok { axes, .. } = sample.status {
                 previous = axes;
                 measured.push(sample);
             } else {
@@ -146,17 +180,18 @@ impl Plan {
         plan
     }
 
-    /// The measurable samples in execution order.
-    pub fn measured(&self) -> impl Iterator<Item = &PlannedSample> {
-        self.samples.iter().filter(|s| s.status == Status::Ok)
+    /// The measurable samples in execution order, each with its position.
+    pub fn measured(&self) -> impl Iterator<Item = (&PlannedSample, AxisPositions)> {
+        self.samples
+            .iter()
+            .filter_map(|s| s.axes().map(|axes| (s, axes)))
     }
 
     /// The step of each measured sample from the one before (the park position first).
     pub fn steps(&self) -> Vec<StepTime> {
         let mut previous = self.time_model.park;
         self.measured()
-            .filter_map(|s| s.axes)
-            .map(|axes| {
+            .map(|(_, axes)| {
                 let step = self.time_model.step(&previous, &axes);
                 previous = axes;
                 step
@@ -168,30 +203,30 @@ impl Plan {
     pub fn retime(&mut self) {
         let mut previous = self.time_model.park;
         for sample in &mut self.samples {
-            sample.time_s = match sample.axes {
-                Some(axes) if sample.status == Status::Ok => {
+            sample.time_s = match sample.axes() {
+                Some(axes) => {
                     let t = self.time_model.step(&previous, &axes).total_s();
                     previous = axes;
                     t
                 }
-                _ => 0.0,
+                None => 0.0,
             };
         }
     }
 
     /// Counts by status and the time, split into moves, settling and captures.
     pub fn summary(&self, device: &Device) -> PlanSummary {
-        let count = |status| self.samples.iter().filter(|s| s.status == status).count();
+        let count = |is: fn(&Status) -> bool| self.samples.iter().filter(|s| is(&s.status)).count();
         let mut occluded_by = BTreeMap::new();
-        for b in self.samples.iter().filter_map(|s| s.blockage) {
+        for b in self.samples.iter().filter_map(|s| s.blockage()) {
             *occluded_by.entry(b.describe(device)).or_insert(0) += 1;
         }
         let steps = self.steps();
         PlanSummary {
             total: self.samples.len(),
-            measurable: count(Status::Ok),
-            limit: count(Status::Limit),
-            occluded: count(Status::Occluded),
+            measurable: count(Status::is_ok),
+            limit: count(|s| matches!(s, Status::Limit)),
+            occluded: count(|s| matches!(s, Status::Occluded { .. })),
             occluded_by,
             move_s: steps.iter().map(|s| s.move_s).sum(),
             settle_s: steps.iter().map(|s| s.settle_s).sum(),
@@ -237,7 +272,7 @@ impl Plan {
             let mut record: Vec<String> = vec![s.index.to_string()];
             record.extend(angles.iter().map(|a| format!("{:.6}", a.to_degrees())));
             record.push(s.status.name().to_string());
-            match s.axes {
+            match s.axes() {
                 Some(axes) => record.extend(axes.to_degrees().iter().map(|a| format!("{a:.4}"))),
                 None => record.extend(std::iter::repeat_n(String::new(), 4)),
             }
@@ -267,31 +302,22 @@ fn plan_sample(
         .filter(|(_, b)| b.is_none())
         .map(|(a, _)| *a)
         .collect();
-    let status = if reachable.is_empty() {
-        Status::Limit
-    } else if alternatives.is_empty() {
-        Status::Occluded
-    } else {
-        Status::Ok
-    };
-    let axes = alternatives.iter().copied().min_by(|a, b| {
+    let quickest = alternatives.iter().copied().min_by(|a, b| {
         time_model
             .transition_s(previous, a)
             .total_cmp(&time_model.transition_s(previous, b))
     });
+    let status = match (quickest, blocked.first()) {
+        (Some(axes), _) => Status::Ok { axes, alternatives },
+        (None, Some(&Some(blockage))) => Status::Occluded { blockage },
+        (None, _) => Status::Limit,
+    };
     PlannedSample {
         index,
         hd,
         wi,
         wo,
         status,
-        axes,
-        alternatives,
-        blockage: if status == Status::Occluded {
-            blocked[0]
-        } else {
-            None
-        },
         time_s: 0.0,
     }
 }
@@ -314,10 +340,10 @@ mod tests {
         ];
         let plan = Plan::from_half_diffs(&hds, &d);
         let by_index = |i: usize| plan.samples.iter().find(|s| s.index == i).unwrap();
-        assert_eq!(by_index(0).status, Status::Ok);
-        assert_eq!(by_index(1).status, Status::Occluded);
+        assert_eq!(by_index(0).status.name(), "ok");
+        assert_eq!(by_index(1).status.name(), "occluded");
         assert_eq!(by_index(2).status, Status::Limit);
-        assert!(by_index(1).blockage.is_some());
+        assert!(by_index(1).blockage().is_some());
         // Measured first, then excluded in order.
         let order: Vec<usize> = plan.samples.iter().map(|s| s.index).collect();
         assert_eq!(order, vec![0, 1, 2]);
@@ -340,9 +366,8 @@ mod tests {
             &d,
         );
         assert_eq!(plan.samples.len(), 27);
-        for s in plan.measured() {
-            let axes = s.axes.unwrap();
-            assert!(s.alternatives.contains(&axes));
+        for (s, axes) in plan.measured() {
+            assert!(s.alternatives().contains(&axes));
             assert!(d.within_limits(&axes));
             assert_eq!(blockage(&d, &axes), None);
             let (wi, wo) = axes.directions();

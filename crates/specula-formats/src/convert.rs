@@ -14,12 +14,12 @@
 use crate::brdf_source::BrdfSource;
 use crate::input::{file_error, read_input};
 use crate::rgl::{RglBsdf, RglResolution, RglTables};
-use crate::samples_csv::{Sample, SampleSet};
+use crate::samples_csv::SampleSet;
 use crate::utia::{self, UtiaBrdf};
 use anyhow::{bail, Result};
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
 use specula_core::tabulate::tabulate;
-use specula_core::{Brdf, HalfDiff};
+use specula_core::{Brdf, HalfDiff, Sample};
 use std::io::Read;
 use std::path::Path;
 use std::sync::Arc;
@@ -315,10 +315,7 @@ fn utia_samples(table: &UtiaBrdf) -> SampleSet {
         .filter_map(|i| {
             let value = table.node(i)?;
             let (wi, wo) = utia::Node::from_index(i).directions();
-            Some(Sample {
-                angles: HalfDiff::from_directions(wi, wo),
-                value,
-            })
+            Some(Sample::new(HalfDiff::from_directions(wi, wo), value))
         })
         .collect();
     SampleSet::new(table.name(), samples)

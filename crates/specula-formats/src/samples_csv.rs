@@ -14,20 +14,12 @@ use crate::input::{file_error, file_stem, open_input};
 use anyhow::Result;
 use glam::DVec3;
 use specula_core::merl::{Bin, CELLS};
-use specula_core::{Brdf, HalfDiff, MerlBrdf, Rgb};
+use specula_core::{Brdf, HalfDiff, MerlBrdf, Rgb, Sample};
 use std::io::Write;
 use std::path::Path;
 
 /// The header written, and the columns a sample file must have.
 pub const HEADER: [&str; 7] = ["theta_h", "phi_h", "theta_d", "phi_d", "r", "g", "b"];
-
-/// One measured value at half-difference angles.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
-    pub angles: HalfDiff,
-    /// f_r in 1/sr.
-    pub value: Rgb,
-}
 
 /// Samples, and the MERL table they bin into.
 #[derive(Clone)]
@@ -80,10 +72,10 @@ impl Row {
         if value.min_element() < 0.0 {
             return Err(format!("negative f_r ({}, {}, {})", self.r, self.g, self.b));
         }
-        Ok(Sample {
-            angles: HalfDiff::from_degrees(self.theta_h, self.phi_h, self.theta_d, self.phi_d),
+        Ok(Sample::new(
+            HalfDiff::from_degrees(self.theta_h, self.phi_h, self.theta_d, self.phi_d),
             value,
-        })
+        ))
     }
 }
 
@@ -141,10 +133,9 @@ impl SampleSet {
     pub fn from_merl(table: &MerlBrdf, phi_h_rad: f64) -> Self {
         let samples = (0..CELLS)
             .filter_map(|i| {
-                table.cell(i).map(|value| Sample {
-                    angles: Bin::from_index(i).centre(phi_h_rad),
-                    value,
-                })
+                table
+                    .cell(i)
+                    .map(|value| Sample::new(Bin::from_index(i).centre(phi_h_rad), value))
             })
             .collect();
         Self::new(table.name(), samples)
@@ -155,10 +146,7 @@ impl SampleSet {
     pub fn from_brdf_at(brdf: &dyn Brdf, angles: impl IntoIterator<Item = HalfDiff>) -> Self {
         let samples = angles
             .into_iter()
-            .filter_map(|hd| {
-                brdf.eval_half_diff(hd)
-                    .map(|value| Sample { angles: hd, value })
-            })
+            .filter_map(|hd| brdf.eval_half_diff(hd).map(|value| Sample::new(hd, value)))
             .collect();
         Self::new(brdf.name(), samples)
     }
@@ -173,7 +161,7 @@ impl SampleSet {
     pub fn write_to(&self, out: &mut impl Write) -> std::io::Result<()> {
         writeln!(out, "{}", HEADER.join(","))?;
         for s in &self.samples {
-            let a = s.angles;
+            let a = s.hd;
             writeln!(
                 out,
                 "{},{},{},{},{},{},{}",
@@ -203,7 +191,7 @@ impl SampleSet {
 fn bin_into_merl(name: &str, samples: &[Sample]) -> MerlBrdf {
     let mut sums = vec![(Rgb::ZERO, 0u32); CELLS];
     for s in samples {
-        let cell = &mut sums[Bin::of(s.angles).index()];
+        let cell = &mut sums[Bin::of(s.hd).index()];
         cell.0 += s.value;
         cell.1 += 1;
     }
@@ -270,8 +258,8 @@ mod tests {
         set.write_to(&mut out).unwrap();
         let back = SampleSet::from_csv("t", out.as_slice()).unwrap();
         for (a, b) in set.samples().iter().zip(back.samples()) {
-            assert!((a.angles.theta_h - b.angles.theta_h).abs() < 1e-15);
-            assert!((a.angles.phi_d - b.angles.phi_d).abs() < 1e-14);
+            assert!((a.hd.theta_h - b.hd.theta_h).abs() < 1e-15);
+            assert!((a.hd.phi_d - b.hd.phi_d).abs() < 1e-14);
             assert_eq!(a.value, b.value);
         }
         let spaced = "theta_h, phi_h, theta_d, phi_d, r, g, b\n3, 0, 4, 5, 1, 1, 1\n";

@@ -10,17 +10,14 @@ use specula_accuracy::GridPlan;
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::sampling::{Family, SamplingFunction};
-use specula_core::Spherical;
+use specula_core::{GridSpec, Spherical};
 use std::path::PathBuf;
 
 /// The options of the paper's grid shared by `plan`, `evaluate` and `measure` (the CLI's
 /// `GridArgs`), checked with the same ranges.
 pub struct Grid {
     pub family: Family,
-    pub theta_h_samples: usize,
-    pub theta_d_step_deg: f64,
-    pub phi_d_step_deg: f64,
-    pub phi_h_deg: f64,
+    pub spec: GridSpec,
 }
 
 impl Grid {
@@ -49,10 +46,12 @@ impl Grid {
         }
         Ok(Self {
             family: family(family_name)?,
-            theta_h_samples,
-            theta_d_step_deg,
-            phi_d_step_deg,
-            phi_h_deg,
+            spec: GridSpec {
+                theta_h_samples,
+                theta_d_step_deg,
+                phi_d_step_deg,
+                phi_h_deg,
+            },
         })
     }
 }
@@ -106,7 +105,7 @@ pub fn plan<'py>(
         (None, None) => return Err(invalid("give k or theta_h_deg")),
         (Some(k), None) => SamplingFunction::new(grid.family, k)
             .or_raise()?
-            .positions_deg(grid.theta_h_samples),
+            .positions_deg(grid.spec.theta_h_samples),
         (None, Some(list)) => {
             if list.is_empty() || list.iter().any(|t| !(0.0..=90.0).contains(t)) {
                 return Err(invalid("theta_h_deg needs values between 0 and 90 degrees"));
@@ -124,12 +123,7 @@ pub fn plan<'py>(
         }
     };
     let device = self::device(device)?;
-    let grid = GridPlan::with_steps(
-        theta_h,
-        grid.theta_d_step_deg,
-        grid.phi_d_step_deg,
-        grid.phi_h_deg,
-    );
+    let grid = GridPlan::on(theta_h, &grid.spec);
     let (chosen, nested_summary, optimized_summary) =
         interrupt::run(py, Stop::Abandon, move |_| {
             let nested = Plan::from_grid(
@@ -195,7 +189,7 @@ fn plan_dict<'py>(py: Python<'py>, plan: &Plan) -> PyResult<Bound<'py, PyDict>> 
     {
         dict.set_item(
             name,
-            column(&|s| s.axes.map_or(f64::NAN, |a| a.to_degrees()[axis])),
+            column(&|s| s.axes().map_or(f64::NAN, |a| a.to_degrees()[axis])),
         )?;
     }
     dict.set_item("time_s", column(&|s| s.time_s))?;

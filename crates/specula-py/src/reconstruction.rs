@@ -15,9 +15,9 @@ use specula_accuracy::{evaluate as evaluate_samples, Measurement, PlanSettings, 
 use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::sampling::SamplingFunction;
 use specula_core::tabulate::tabulate;
-use specula_core::HalfDiff;
+use specula_core::{HalfDiff, Sample};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
-use specula_reconstruct::{reconstruct as reconstruct_samples, Method, Sample};
+use specula_reconstruct::{reconstruct as reconstruct_samples, Method};
 use std::path::PathBuf;
 
 /// The angle columns of a samples dict, in the order of `HalfDiff::from_degrees`.
@@ -187,17 +187,14 @@ pub fn evaluate<'py>(
     };
     let settings = PlanSettings {
         placement,
-        theta_h_samples: grid.theta_h_samples,
-        theta_d_step_deg: grid.theta_d_step_deg,
-        phi_d_step_deg: grid.phi_d_step_deg,
-        phi_h_deg: grid.phi_h_deg,
+        grid: grid.spec,
     };
     let truth = brdf_arg(truth)?;
     let device = self::device(device)?;
     let (name, k, samples, accuracy) = interrupt::run(py, Stop::Abandon, move |_| {
         let name = truth.name();
         let measurement = Measurement::simulate(truth.as_ref(), &settings, &device)?;
-        let table = tabulate(truth.as_ref(), settings.phi_h_deg.to_radians());
+        let table = tabulate(truth.as_ref(), settings.grid.phi_h_deg.to_radians());
         let (_, accuracy) =
             evaluate_samples(&measurement.samples, method, &table, max_elevation_deg).map_err(
                 |e| {

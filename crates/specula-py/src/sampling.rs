@@ -7,8 +7,8 @@ use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use specula_core::sampling::Family;
-use specula_core::Rgb;
-use specula_sampling::{fit_k as fit_k_hat, Probe, ProbeSettings};
+use specula_core::{ProbeSpec, Rgb};
+use specula_sampling::{fit_k as fit_k_hat, Probe};
 
 /// `(N, 3)` rows of R, G, B as an array.
 pub fn rgb_array<'py>(py: Python<'py>, rgb: &[Rgb]) -> Bound<'py, numpy::PyArray2<f64>> {
@@ -59,7 +59,7 @@ pub fn probe<'py>(
     samples: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let brdf = brdf_arg(brdf)?;
-    let settings = ProbeSettings {
+    let settings = ProbeSpec {
         theta_d_deg,
         phi_d_deg,
         phi_h_deg,

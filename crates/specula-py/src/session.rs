@@ -85,10 +85,10 @@ pub fn measure<'py>(
         point_light,
         probe_samples,
         family: grid.family,
-        theta_h_samples: grid.theta_h_samples,
-        theta_d_step_deg: grid.theta_d_step_deg,
-        phi_d_step_deg: grid.phi_d_step_deg,
-        phi_h_deg: grid.phi_h_deg,
+        theta_h_samples: grid.spec.theta_h_samples,
+        theta_d_step_deg: grid.spec.theta_d_step_deg,
+        phi_d_step_deg: grid.spec.phi_d_step_deg,
+        phi_h_deg: grid.spec.phi_h_deg,
         order: match order {
             "optimized" => PlanOrder::Optimized,
             "nested" => PlanOrder::Nested,
@@ -178,7 +178,7 @@ pub fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>
     let has = |stage: &str| status.stages.iter().any(|s| s.stage == stage);
     let probe = if has(STAGE_PROBE) {
         let points = probe_samples(&journal).or_raise()?;
-        let (theta_h, rgb) = points.into_iter().unzip();
+        let (theta_h, rgb) = points.iter().map(|p| (p.theta_h_deg, p.value)).unzip();
         Probe::new(theta_h, rgb).ok()
     } else {
         None

@@ -7,9 +7,8 @@
 use crate::domain::Domain;
 use crate::lobe::Lobe;
 use crate::reconstruct::{FIT_RESPONSE_NODES, RESIDUAL_RESPONSE_NODES};
-use crate::sample::Sample;
 use specula_core::capture::CaptureResponse;
-use specula_core::Rgb;
+use specula_core::{Rgb, Sample};
 
 /// The samples as the material would give them without the blur, with the lobe fitted
 /// through the response; `None` when no sample lies above the surface.

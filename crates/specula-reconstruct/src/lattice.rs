@@ -8,7 +8,8 @@
 //! sample.
 
 use crate::axis::Axis;
-use crate::sample::{fold_phi_d_rad, Sample};
+use crate::sample::fold_phi_d_rad;
+use specula_core::Sample;
 
 /// Angles closer than this (degrees) are one node.
 pub const NODE_TOLERANCE: f64 = 1e-3;

@@ -26,4 +26,3 @@ pub mod sample;
 
 pub use method::Method;
 pub use reconstruct::{reconstruct, reconstruct_through, ReconstructError, Reconstruction};
-pub use sample::Sample;

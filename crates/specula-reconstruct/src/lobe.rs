@@ -32,12 +32,12 @@
 //! ln(gamma - 1)) on all samples.
 
 use crate::domain::LOG_OFFSET;
-use crate::sample::Sample;
 use glam::DVec3;
 use rayon::prelude::*;
 use specula_core::capture::{self, orthonormal_basis, CaptureNode};
 use specula_core::merl::{theta_h_centre_deg, Bin, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::scattering::{fresnel, masking, ndf};
+use specula_core::Sample;
 use specula_core::{HalfDiff, Rgb};
 use std::f64::consts::PI;
 

@@ -18,10 +18,11 @@
 //! vector. The accuracy study's basis is the 100 MERL materials as fitted by three published
 //! models (`specula_accuracy::merl_prior`).
 
-use crate::sample::{fold_phi_d_rad, Sample};
+use crate::sample::fold_phi_d_rad;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rayon::prelude::*;
 use specula_core::merl::{theta_h_centre_deg, Bin, CELLS, THETA_H_BINS};
+use specula_core::Sample;
 use specula_core::{Brdf, HalfDiff, Rgb};
 use std::sync::Arc;
 

@@ -28,10 +28,10 @@ use crate::lobe::{Geometry, Lobe, LobeOnGrid};
 use crate::prior::{PriorBasis, PriorFit};
 use crate::provenance::Provenance;
 use crate::reconstruct::reciprocal_canonical;
-use crate::sample::Sample;
 use crate::{ReconstructError, Reconstruction};
 use rayon::prelude::*;
 use specula_core::merl::MerlBrdf;
+use specula_core::Sample;
 use specula_core::{HalfDiff, Rgb};
 
 /// Candidate noise variances of the ridge fit (mapped domain, squared log units).

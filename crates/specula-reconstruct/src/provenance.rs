@@ -14,8 +14,8 @@
 //!
 //! Beside `OUT.binary` it is written as `OUT.provenance.npy`.
 
-use crate::sample::Sample;
 use specula_core::merl::{Bin, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::Sample;
 use std::path::{Path, PathBuf};
 
 /// Where a cell's value comes from (the code stored in the file).

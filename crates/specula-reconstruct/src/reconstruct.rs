@@ -8,10 +8,10 @@ use crate::lattice::Lattice;
 use crate::lobe::{Geometry, Lobe, LobeOnGrid, BLUR_THETA_H_DEG};
 use crate::method::Method;
 use crate::provenance::Provenance;
-use crate::sample::Sample;
 use rayon::prelude::*;
 use specula_core::capture::{CaptureNode, CaptureResponse};
 use specula_core::merl::MerlBrdf;
+use specula_core::Sample;
 use specula_core::{HalfDiff, Rgb};
 
 /// Why samples cannot be reconstructed.

@@ -1,22 +1,7 @@
-//! A measured sample: one BRDF value at one configuration of light and camera, held in
-//! Rusinkiewicz's half-difference angles (radians), and the symmetry that folds it into the
-//! quarter of the phi_d range that an isotropic, reciprocal BRDF needs (paper 5.3).
+//! The symmetry that folds a measured sample ([`specula_core::Sample`]) into the quarter of
+//! the phi_d range that an isotropic, reciprocal BRDF needs (paper 5.3).
 
-use specula_core::{HalfDiff, Rgb};
 use std::f64::consts::{FRAC_PI_2, PI};
-
-/// One measured BRDF value (1/sr per channel) at half-difference angles.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
-    pub hd: HalfDiff,
-    pub value: Rgb,
-}
-
-impl Sample {
-    pub fn new(hd: HalfDiff, value: Rgb) -> Self {
-        Self { hd, value }
-    }
-}
 
 /// Folds phi_d (radians, any value) into `[0, pi/2]`.
 ///

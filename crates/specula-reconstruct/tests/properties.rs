@@ -2,9 +2,10 @@
 
 use proptest::prelude::*;
 use specula_core::merl::{Bin, CELLS};
+use specula_core::Sample;
 use specula_core::{HalfDiff, Rgb};
 use specula_reconstruct::provenance::CellOrigin;
-use specula_reconstruct::{reconstruct, Method, Sample};
+use specula_reconstruct::{reconstruct, Method};
 
 /// A random grid (sorted distinct theta_h, theta_d, phi_d in degrees) with some nodes left out.
 fn grid() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {

@@ -2,8 +2,9 @@
 //! RegularGridInterpolator on the paper's task, vectors written by
 //! `python3 tools/reconstruct_scipy.py vectors`.
 
+use specula_core::Sample;
 use specula_core::{HalfDiff, Rgb};
-use specula_reconstruct::{reconstruct, Method, Sample};
+use specula_reconstruct::{reconstruct, Method};
 use std::path::PathBuf;
 
 fn data(name: &str) -> PathBuf {

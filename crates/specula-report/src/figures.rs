@@ -8,11 +8,11 @@ use specula_core::merl::{Bin, MerlBrdf, CELLS};
 use specula_core::sampling::SamplingFunction;
 use specula_core::shown::plain;
 use specula_core::tabulate::tabulate;
-use specula_core::{Brdf, Rgb};
+use specula_core::{Brdf, ProbePoint, ProbeSpec, Sample};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_visual::grid::{self, Tile};
 use specula_visual::plot::probe::{interpolate, plot_probe};
-use specula_visual::plot::raw_samples::{plot_raw_samples, RawSample};
+use specula_visual::plot::raw_samples::plot_raw_samples;
 use specula_visual::plot::slice::{plot_slice, plot_slices_against_truth, SliceOptions};
 use specula_visual::plot::ThetaHAxis;
 use specula_visual::report::{ErrorRow, ErrorSection, Figure};
@@ -228,10 +228,10 @@ pub(crate) fn slice_figures(
     ])
 }
 
-/// The probe `(theta_h deg, f)` against the `placed` positions of the fitted sampling
-/// function, valued by interpolating the probe (paper Fig. 13).
+/// The probe's points against the `placed` positions of the fitted sampling function,
+/// valued by interpolating the probe (paper Fig. 13).
 pub(crate) fn probe_figure(
-    probe: &[(f64, Rgb)],
+    probe: &[ProbePoint],
     function: &SamplingFunction,
     placed: usize,
     phi_h_deg: f64,
@@ -241,10 +241,12 @@ pub(crate) fn probe_figure(
     Figure::new(
         "Probe against the adaptive samples",
         format!(
-            "f_r at theta_d = 40, phi_d = 90, phi_h = {phi_h_deg:.1} deg: the square-root probe of \
+            "f_r at theta_d = {}, phi_d = {}, phi_h = {phi_h_deg:.1} deg: the square-root probe of \
              {} samples (solid) and the {placed} positions of the {} sampling function with \
              k-hat = {:.3} (dashed, values interpolated from the probe); below, theta_h 0 to 2 \
              deg (paper Fig. 13).",
+            ProbeSpec::paper().theta_d_deg,
+            ProbeSpec::paper().phi_d_deg,
             probe.len(),
             function.family,
             function.k
@@ -256,7 +258,7 @@ pub(crate) fn probe_figure(
 
 /// The raw-samples figure (paper Fig. 15) of samples from `origin`.
 pub(crate) fn raw_samples_figure(
-    raw: &[RawSample],
+    raw: &[Sample],
     title: &str,
     origin: &str,
 ) -> Result<Figure, ReportError> {

@@ -26,7 +26,7 @@ pub const MAX_IMAGE_PX: usize = 8192;
 pub use specula_visual::render::MAX_SAMPLES_PER_PIXEL;
 
 /// Adaptive samples the paper places along theta_h with the fitted k (section 5.3).
-const PLACED_SAMPLES: usize = 30;
+const PLACED_SAMPLES: usize = specula_core::GridSpec::paper().theta_h_samples;
 
 /// What to report on and how; the fields are `specula report`'s options.
 #[derive(Clone, Debug)]

@@ -16,10 +16,10 @@ use specula_acquisition::instrument::InstrumentInfo;
 use specula_appearance::aperture::ExtrapolatedCells;
 use specula_appearance::Options;
 use specula_core::merl::CELLS;
-use specula_core::{MerlBrdf, Rgb};
+use specula_core::{MerlBrdf, ProbePoint, Sample};
 use specula_formats::BrdfSource;
 use specula_reconstruct::provenance::Provenance;
-use specula_reconstruct::{reconstruct_through, Method, Sample};
+use specula_reconstruct::{reconstruct_through, Method};
 use specula_session::journal::{
     Journal, JournalError, SessionRecord, SessionStatus, SourceRecord, Stage, StageStatus,
 };
@@ -27,7 +27,6 @@ use specula_session::workflow::{
     measured_samples, probe_samples, ChecksRecord, DeblurRecord, FitRecord, MeasureSettings,
     PlanRecord,
 };
-use specula_visual::plot::raw_samples::RawSample;
 use specula_visual::report::{
     CoverageSection, DurationSection, KHatSection, MaterialSection, Report,
 };
@@ -53,8 +52,8 @@ struct Session {
     last_unix_s: Option<f64>,
     /// Main-stage samples whose value is only a lower bound (saturated in every capture).
     lower_bounds: usize,
-    /// The probe `(theta_h deg, f)`, in increasing theta_h, and its phi_h, degrees.
-    probe: Vec<(f64, Rgb)>,
+    /// The probe's points, in increasing theta_h, and its phi_h, degrees.
+    probe: Vec<ProbePoint>,
     probe_phi_h_deg: Option<f64>,
     /// The main stage's measured samples, in plan order.
     main: Vec<Sample>,
@@ -596,13 +595,8 @@ pub(crate) fn report(
         )?);
     }
     if !session.main.is_empty() {
-        let raw: Vec<RawSample> = session
-            .main
-            .iter()
-            .map(|s| RawSample::new(s.hd, s.value))
-            .collect();
         report.figures.push(raw_samples_figure(
-            &raw,
+            &session.main,
             &format!("{name}: measured samples"),
             &format!("the main stage of {}", options.input.display()),
         )?);

@@ -7,10 +7,10 @@ use crate::figures::{
 use crate::{generator, Progress, ReportOptions, PLACED_SAMPLES};
 use specula_core::merl::MerlBrdf;
 use specula_core::sampling::Family;
-use specula_core::Brdf;
+use specula_core::{Brdf, ProbeSpec};
 use specula_reconstruct::provenance::Provenance;
-use specula_sampling::{Probe, ProbeSettings};
-use specula_visual::plot::raw_samples::{RawSample, SampleGrid};
+use specula_sampling::Probe;
+use specula_visual::plot::raw_samples::SampleGrid;
 use specula_visual::report::{CoverageSection, KHatSection, MaterialSection, Report};
 use std::path::Path;
 
@@ -38,7 +38,7 @@ pub(crate) fn report(
     };
     let mut coverage = coverage_rows(&table, &options.input)?;
     progress.start("probe and k-hat", None);
-    let settings = ProbeSettings::default();
+    let settings = ProbeSpec::paper();
     let probe = Probe::take(&table, &settings);
     let fit = probe
         .as_ref()
@@ -96,20 +96,16 @@ pub(crate) fn report(
     }
     if let Some(path) = &options.samples {
         let set = specula_formats::samples_csv::SampleSet::read(path).or_report()?;
-        let raw: Vec<RawSample> = set
-            .samples()
-            .iter()
-            .map(|s| RawSample::new(s.angles, s.value))
-            .collect();
+        let raw = set.samples();
         let stem = path
             .file_stem()
             .map_or_else(|| "samples".into(), |s| s.to_string_lossy());
         let origin = path.display().to_string();
-        let (measured, planned) = SampleGrid::new(&raw)
+        let (measured, planned) = SampleGrid::new(raw)
             .map_err(|e| ReportError::within(&origin)(e.into()))?
             .coverage();
         report.figures.push(
-            raw_samples_figure(&raw, &stem, &origin)
+            raw_samples_figure(raw, &stem, &origin)
                 .map_err(|e| ReportError::within(&origin)(e.into()))?,
         );
         coverage.push((

@@ -5,14 +5,15 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use specula_core::materials::preset;
 use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::ProbeSpec;
 use specula_sampling::fit::{fit_error, fit_k};
 use specula_sampling::place_theta_h;
-use specula_sampling::probe::{Probe, ProbeSettings};
+use specula_sampling::probe::Probe;
 
 fn fit(c: &mut Criterion) {
     for name in ["silver-925", "green-paint"] {
         let material = preset(name).expect("a built-in preset");
-        let probe = Probe::take(&material, &ProbeSettings::default()).expect("a probe");
+        let probe = Probe::take(&material, &ProbeSpec::default()).expect("a probe");
         let column = probe.column();
         let function = SamplingFunction::new(Family::Exponential, 5.0).expect("valid k");
         c.bench_function(&format!("fit_error_{name}"), |b| {

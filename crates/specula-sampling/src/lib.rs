@@ -28,5 +28,5 @@ pub mod slice;
 pub use column::{Column, Interpolation};
 pub use fit::{fit_k, KFit};
 pub use placement::{optimal_placement, place_theta_h, Placement};
-pub use probe::{Probe, ProbeSettings};
+pub use probe::Probe;
 pub use slice::CharacteristicSlice;

@@ -1,35 +1,14 @@
 //! The probe of section 5.2: a dense theta_h column of a material, taken at fixed
 //! `theta_d = 40`, `phi_d = 90`, `phi_h = 45` degrees with up to 90 samples placed by the
-//! square-root mapping (paper eq. 1), from which k is fitted and samples are placed.
+//! square-root mapping (paper eq. 1), from which k is fitted and samples are placed. Where
+//! and how densely it is taken is [`ProbeSpec`] (in `specula-core`).
 //!
 //! File form: CSV with the header `theta_h,r,g,b`, theta_h in degrees, f_r in 1/sr.
 
 use crate::column::{scalar_of, Column, ColumnError};
 use anyhow::{bail, Context, Result};
-use specula_core::sampling::SamplingFunction;
-use specula_core::{Brdf, HalfDiff, Rgb};
+use specula_core::{Brdf, ProbePoint, ProbeSpec, Rgb};
 use std::path::Path;
-
-/// Where and how densely the probe is taken (defaults: the paper's 5.2).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ProbeSettings {
-    pub theta_d_deg: f64,
-    pub phi_d_deg: f64,
-    pub phi_h_deg: f64,
-    /// Number of theta_h samples, placed by the square-root mapping over `[0, 90]`.
-    pub samples: usize,
-}
-
-impl Default for ProbeSettings {
-    fn default() -> Self {
-        Self {
-            theta_d_deg: 40.0,
-            phi_d_deg: 90.0,
-            phi_h_deg: 45.0,
-            samples: 90,
-        }
-    }
-}
 
 /// The probe's samples: theta_h in degrees (increasing) and f_r in 1/sr.
 #[derive(Debug, Clone, PartialEq)]
@@ -69,7 +48,7 @@ impl Probe {
     }
 
     /// Takes the probe from a BRDF. Samples the BRDF reports as not measured are left out.
-    pub fn take(brdf: &dyn Brdf, settings: &ProbeSettings) -> Result<Self> {
+    pub fn take(brdf: &dyn Brdf, settings: &ProbeSpec) -> Result<Self> {
         if settings.samples < 2 {
             bail!("a probe needs at least 2 samples, got {}", settings.samples);
         }
@@ -82,17 +61,12 @@ impl Probe {
                 bail!("{what} = {value} deg is outside [0, {max}]");
             }
         }
-        let (theta_h_deg, rgb): (Vec<f64>, Vec<Rgb>) = SamplingFunction::square_root()
-            .positions_deg(settings.samples)
+        let (theta_h_deg, rgb): (Vec<f64>, Vec<Rgb>) = settings
+            .theta_h_deg()
             .into_iter()
             .filter_map(|theta_h| {
-                let hd = HalfDiff::from_degrees(
-                    theta_h,
-                    settings.phi_h_deg,
-                    settings.theta_d_deg,
-                    settings.phi_d_deg,
-                );
-                brdf.eval_half_diff(hd).map(|v| (theta_h, v))
+                brdf.eval_half_diff(settings.half_diff(theta_h))
+                    .map(|v| (theta_h, v))
             })
             .unzip();
         Self::new(theta_h_deg, rgb)
@@ -107,12 +81,12 @@ impl Probe {
         &self.rgb
     }
 
-    /// The samples as `(theta_h in degrees, f_r in 1/sr)` pairs, in increasing theta_h.
-    pub fn points(&self) -> Vec<(f64, Rgb)> {
+    /// The samples as points (theta_h in degrees, f_r in 1/sr), in increasing theta_h.
+    pub fn points(&self) -> Vec<ProbePoint> {
         self.theta_h_deg
             .iter()
-            .copied()
-            .zip(self.rgb.iter().copied())
+            .zip(&self.rgb)
+            .map(|(&theta_h_deg, &value)| ProbePoint::new(theta_h_deg, value))
             .collect()
     }
 
@@ -188,6 +162,7 @@ impl Probe {
 mod tests {
     use super::*;
     use glam::DVec3;
+    use specula_core::HalfDiff;
 
     /// f = (1 + theta_h_deg) * (1, 2, 3), a known function of theta_h only.
     struct Ramp;
@@ -203,7 +178,7 @@ mod tests {
 
     #[test]
     fn takes_samples_at_the_square_root_positions() {
-        let probe = Probe::take(&Ramp, &ProbeSettings::default()).unwrap();
+        let probe = Probe::take(&Ramp, &ProbeSpec::default()).unwrap();
         assert_eq!(probe.len(), 90);
         for (i, (&x, v)) in probe.theta_h_deg().iter().zip(probe.rgb()).enumerate() {
             let t = 90.0 * i as f64 / 89.0;
@@ -220,7 +195,7 @@ mod tests {
         let path = dir.path().join("probe.csv");
         let probe = Probe::take(
             &Ramp,
-            &ProbeSettings {
+            &ProbeSpec {
                 samples: 17,
                 ..Default::default()
             },
@@ -254,12 +229,12 @@ mod tests {
 
     #[test]
     fn settings_are_checked() {
-        let bad = ProbeSettings {
+        let bad = ProbeSpec {
             theta_d_deg: 95.0,
             ..Default::default()
         };
         assert!(Probe::take(&Ramp, &bad).is_err());
-        let few = ProbeSettings {
+        let few = ProbeSpec {
             samples: 1,
             ..Default::default()
         };

@@ -14,7 +14,7 @@
 
 use crate::column::{scalar_of, Column, Interpolation};
 use specula_core::sampling::SamplingFunction;
-use specula_core::{Brdf, HalfDiff};
+use specula_core::{Brdf, GridSpec, HalfDiff, ProbeSpec};
 
 /// Number of theta_d columns (whole degrees 0 to 89).
 pub const THETA_D_COLUMNS: usize = 90;
@@ -25,9 +25,9 @@ pub const DENSE_NODES: usize = 3 * (THETA_H_NODES - 1) + 1;
 /// phi_d of the characteristic slice, degrees.
 pub const SLICE_PHI_D_DEG: f64 = 90.0;
 /// phi_h at which an analytic BRDF is evaluated (the paper's choice for its samples).
-pub const SLICE_PHI_H_DEG: f64 = 45.0;
-/// The theta_d column of the paper's probe (section 5.2).
-pub const PROBE_THETA_D_DEG: usize = 40;
+pub const SLICE_PHI_H_DEG: f64 = GridSpec::paper().phi_h_deg;
+/// The theta_d column of the paper's probe (section 5.2): its theta_d in whole degrees.
+pub const PROBE_THETA_D_DEG: usize = ProbeSpec::paper().theta_d_deg as usize;
 
 /// The characteristic slice of one material (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]
@@ -191,8 +191,7 @@ mod tests {
         let dense = CharacteristicSlice::of(&Plane, DENSE_NODES);
         assert_eq!(dense.nodes(), 268);
         let probe = dense.probe().unwrap();
-        let taken =
-            crate::probe::Probe::take(&Plane, &crate::probe::ProbeSettings::default()).unwrap();
+        let taken = crate::probe::Probe::take(&Plane, &ProbeSpec::default()).unwrap();
         assert_eq!(probe.theta_h_deg(), taken.theta_h_deg());
         for (a, b) in probe.values().iter().zip(taken.column().values()) {
             assert!((a - b).abs() < 1e-9, "{a} vs {b}");

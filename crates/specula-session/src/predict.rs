@@ -20,7 +20,7 @@
 
 use crate::journal::{PlannedRow, SampleRecord};
 use specula_acquisition::calibration::Calibration;
-use specula_core::Rgb;
+use specula_core::{ProbePoint, Rgb};
 
 /// The largest correction applied, either way: beyond it the previous sample is taken to be
 /// unlike this one (an occlusion, a lower bound) and ignored.
@@ -36,12 +36,19 @@ pub struct ProbeModel {
 }
 
 impl ProbeModel {
-    /// From probe samples `(theta_h_deg, f)`; `None` with fewer than two positive samples.
-    pub fn new(samples: &[(f64, Rgb)]) -> Option<Self> {
+    /// From the probe's points; `None` with fewer than two positive samples.
+    pub fn new(samples: &[ProbePoint]) -> Option<Self> {
         let mut points: Vec<(f64, [f64; 3])> = samples
             .iter()
-            .filter(|(t, v)| t.is_finite() && *t >= 0.0 && v.max_element() > 0.0)
-            .map(|(t, v)| ((t * 90.0).sqrt(), v.to_array().map(|x| x.max(1e-12).ln())))
+            .filter(|p| {
+                p.theta_h_deg.is_finite() && p.theta_h_deg >= 0.0 && p.value.max_element() > 0.0
+            })
+            .map(|p| {
+                (
+                    (p.theta_h_deg * 90.0).sqrt(),
+                    p.value.to_array().map(|x| x.max(1e-12).ln()),
+                )
+            })
             .collect();
         points.sort_by(|a, b| a.0.total_cmp(&b.0));
         points.dedup_by(|a, b| a.0 == b.0);
@@ -178,10 +185,10 @@ mod tests {
     fn the_model_interpolates_log_f_in_the_merl_coordinate() {
         // f = exp(-x) in MERL's coordinate x = sqrt(90 theta_h): exact for log-linear
         // interpolation between the nodes.
-        let samples: Vec<(f64, Rgb)> = (0..10)
+        let samples: Vec<ProbePoint> = (0..10)
             .map(|i| {
                 let x = i as f64 * 3.0;
-                (x * x / 90.0, Rgb::splat((-x).exp()))
+                ProbePoint::new(x * x / 90.0, Rgb::splat((-x).exp()))
             })
             .collect();
         let model = ProbeModel::new(&samples).unwrap();
@@ -197,9 +204,9 @@ mod tests {
     #[test]
     fn predictions_follow_the_model_and_the_previous_sample() {
         let samples = [
-            (0.0, Rgb::splat(100.0)),
-            (10.0, Rgb::splat(1.0)),
-            (90.0, Rgb::splat(0.1)),
+            ProbePoint::new(0.0, Rgb::splat(100.0)),
+            ProbePoint::new(10.0, Rgb::splat(1.0)),
+            ProbePoint::new(90.0, Rgb::splat(0.1)),
         ];
         let with_model = Predictor::new(calibration(), ProbeModel::new(&samples));
         let here = row(1, 10.0, 40.0);

@@ -54,11 +54,11 @@ use specula_acquisition::response::InstrumentResponse;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::sampling::{Family, SamplingFunction};
-use specula_core::{Brdf, HalfDiff, Rgb};
+use specula_core::{Brdf, HalfDiff, ProbePoint, ProbeSpec, Rgb, Sample};
 use specula_reconstruct::provenance::sidecar_path;
-use specula_reconstruct::{reconstruct_through, Method, Sample};
+use specula_reconstruct::{reconstruct_through, Method};
 use specula_sampling::deblur::deblur_probe;
-use specula_sampling::{fit_k, Probe, ProbeSettings};
+use specula_sampling::{fit_k, Probe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -802,13 +802,14 @@ fn with_retries<T>(
     }
 }
 
-/// The probe's samples (paper 5.2) as a stage plan: square-root theta_h at theta_d = 40,
-/// phi_d = 90 deg, in increasing theta_h; the ones the device cannot take are left out.
+/// The probe's samples (paper 5.2, [`MeasureSettings::probe`]) as a stage plan:
+/// square-root theta_h in increasing order; the ones the device cannot take are left out.
 fn probe_plan(device: &Device, settings: &MeasureSettings, phi_h_deg: f64) -> Vec<PlannedRow> {
-    let hds: Vec<HalfDiff> = SamplingFunction::square_root()
-        .positions_deg(settings.probe_samples)
+    let probe = settings.probe(phi_h_deg);
+    let hds: Vec<HalfDiff> = probe
+        .theta_h_deg()
         .into_iter()
-        .map(|theta_h| HalfDiff::from_degrees(theta_h, phi_h_deg, 40.0, 90.0))
+        .map(|theta_h| probe.half_diff(theta_h))
         .collect();
     rows_of(&Plan::from_half_diffs(&hds, device))
 }
@@ -817,35 +818,35 @@ fn probe_plan(device: &Device, settings: &MeasureSettings, phi_h_deg: f64) -> Ve
 fn rows_of(plan: &Plan) -> Vec<PlannedRow> {
     plan.measured()
         .enumerate()
-        .map(|(seq, s)| PlannedRow {
+        .map(|(seq, (s, axes))| PlannedRow {
             seq: seq as u32,
             hd: s.hd,
-            axes: s.axes.expect("measured samples have axes"),
+            axes,
             predicted_s: s.time_s,
         })
         .collect()
 }
 
-/// `(theta_h_deg, f)` of the probe's samples, in increasing theta_h.
-pub fn probe_samples(journal: &Journal) -> Result<Vec<(f64, Rgb)>> {
+/// The probe's samples as points, in increasing theta_h.
+pub fn probe_samples(journal: &Journal) -> Result<Vec<ProbePoint>> {
     let rows = journal.plan(STAGE_PROBE)?;
     let samples = journal.samples(STAGE_PROBE)?;
-    let mut probe: Vec<(f64, Rgb)> = rows
+    let mut probe: Vec<ProbePoint> = rows
         .iter()
         .filter_map(|r| {
             samples
                 .get(&r.seq)
-                .map(|s| (r.hd.theta_h.to_degrees(), s.value.max(Rgb::ZERO)))
+                .map(|s| ProbePoint::new(r.hd.theta_h.to_degrees(), s.value.max(Rgb::ZERO)))
         })
         .collect();
-    probe.sort_by(|a, b| a.0.total_cmp(&b.0));
+    probe.sort_by(|a, b| a.theta_h_deg.total_cmp(&b.theta_h_deg));
     Ok(probe)
 }
 
 /// k-hat of the settings' family for the probe (paper 5.2), deblurred first when the
 /// response is known ([`deblur_samples`]), so that k adapts to the material.
 fn fit_probe(
-    probe: &[(f64, Rgb)],
+    probe: &[ProbePoint],
     settings: &MeasureSettings,
     response: Option<&InstrumentResponse>,
     phi_h_deg: f64,
@@ -854,7 +855,8 @@ fn fit_probe(
         Some(response) => deblurred_probe(probe, response, phi_h_deg),
         None => probe.to_vec(),
     };
-    let (theta_h, values): (Vec<f64>, Vec<Rgb>) = probe.iter().copied().unzip();
+    let (theta_h, values): (Vec<f64>, Vec<Rgb>) =
+        probe.iter().map(|p| (p.theta_h_deg, p.value)).unzip();
     let probe = Probe::new(theta_h, values).map_err(|e| e.to_string())?;
     let fit = fit_k(&probe.column(), settings.family, settings.theta_h_samples)
         .map_err(|e| e.to_string())?;
@@ -864,33 +866,18 @@ fn fit_probe(
     })
 }
 
-/// The probe's `(theta_h_deg, f)` before the instrument's blur ([`deblur_probe`] on the
-/// probe's column: theta_d 40, phi_d 90 deg, as [`probe_plan`] takes it).
+/// The probe's points before the instrument's blur ([`deblur_probe`] on the probe's column
+/// at `phi_h_deg`: theta_d and phi_d of [`ProbeSpec::paper`], as [`probe_plan`] takes it).
 pub fn deblurred_probe(
-    probe: &[(f64, Rgb)],
+    probe: &[ProbePoint],
     response: &InstrumentResponse,
     phi_h_deg: f64,
-) -> Vec<(f64, Rgb)> {
-    let column = ProbeSettings {
+) -> Vec<ProbePoint> {
+    let column = ProbeSpec {
         phi_h_deg,
-        ..ProbeSettings::default()
+        ..ProbeSpec::paper()
     };
     deblur_probe(probe, &column, response)
-}
-
-/// `0, step, 2 step, ...` below `end` (or up to it when `inclusive`), degrees.
-fn steps_deg(step: f64, end: f64, inclusive: bool) -> Vec<f64> {
-    let count = (end / step + 1e-9).floor() as usize;
-    (0..=count)
-        .map(|i| i as f64 * step)
-        .filter(|v| {
-            if inclusive {
-                *v <= end + 1e-9
-            } else {
-                *v < end - 1e-9
-            }
-        })
-        .collect()
 }
 
 /// The main plan (5.3): made, ordered and journaled the first time, read back afterwards.
@@ -917,9 +904,10 @@ fn main_plan(
         bail!("the theta_d and phi_d steps must be positive");
     }
     observer.step("planning and ordering the samples");
-    let theta_h = function.positions_deg(settings.theta_h_samples);
-    let theta_d = steps_deg(settings.theta_d_step_deg, 90.0, false);
-    let phi_d = steps_deg(settings.phi_d_step_deg, 90.0, true);
+    let grid = settings.grid();
+    let theta_h = function.positions_deg(grid.theta_h_samples);
+    let theta_d = grid.theta_d_deg();
+    let phi_d = grid.phi_d_deg();
     let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, phi_h_deg, device);
     let chosen = match settings.order {
         PlanOrder::Optimized => order(&nested),
@@ -1028,10 +1016,11 @@ mod tests {
 
     #[test]
     fn grid_steps_match_the_paper() {
-        let theta_d = steps_deg(3.0, 90.0, false);
+        let grid = MeasureSettings::default().grid();
+        let theta_d = grid.theta_d_deg();
         assert_eq!(theta_d.len(), 30);
         assert_eq!(theta_d.last(), Some(&87.0));
-        let phi_d = steps_deg(15.0, 90.0, true);
+        let phi_d = grid.phi_d_deg();
         assert_eq!(phi_d, vec![0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0]);
     }
 

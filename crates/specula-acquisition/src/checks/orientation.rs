@@ -42,7 +42,7 @@ impl Default for OrientationSettings {
             theta_d_deg: 30.0,
             phi_d_deg: 90.0,
             phi_h_step_deg: 3.0,
-            planned_phi_h_deg: 45.0,
+            planned_phi_h_deg: specula_core::GridSpec::paper().phi_h_deg,
             min_excess: 0.05,
         }
     }

@@ -5,6 +5,7 @@ use crate::progress;
 use anyhow::{bail, Context, Result};
 use specula_core::materials::database::builtin_database;
 use specula_core::sampling::Family;
+use specula_core::GridSpec;
 use specula_sampling::analysis::{analyze_slice, write_materials_csv, BestPair, DatabaseSummary};
 use specula_sampling::database::{map_slices, merl_files, SliceSource};
 use specula_sampling::slice::{CharacteristicSlice, PROBE_THETA_D_DEG, THETA_H_NODES};
@@ -102,7 +103,7 @@ pub struct Args {
     pub database: DatabaseArgs,
     /// Number of theta_h samples of the sparse measurement. Range: a whole number from 2 to
     /// 360.
-    #[arg(long, default_value_t = 30, value_parser = crate::range::THETA_H_SAMPLES)]
+    #[arg(long, default_value_t = GridSpec::paper().theta_h_samples, value_parser = crate::range::THETA_H_SAMPLES)]
     pub theta_h_samples: usize,
     /// Output folder (created if missing).
     #[arg(long)]

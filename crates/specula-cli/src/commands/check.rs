@@ -1,6 +1,5 @@
 //! `specula check`: the paper's practical checks (4.2, 4.3) on the simulated device.
 
-use super::grid_args::PAPER_PHI_H_DEG;
 use crate::range;
 use anyhow::{bail, Context, Result};
 use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
@@ -17,7 +16,7 @@ use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::materials::microfacet::Distribution;
 use specula_core::materials::scratch::ScratchLobe;
 use specula_core::materials::{preset, Material};
-use specula_core::Brdf;
+use specula_core::{Brdf, GridSpec};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -93,7 +92,7 @@ pub struct OrientationArgs {
     #[command(flatten)]
     pub simulated: Simulated,
     /// The phi_h the plan uses, degrees (45 in the paper). Range: degrees from -360 to 360.
-    #[arg(long = "phi-h", alias = "phi-h-deg", default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
+    #[arg(long = "phi-h", alias = "phi-h-deg", default_value_t = GridSpec::paper().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h_deg: f64,
     /// Step of the phi_h scan over [0, 180), degrees. Range: degrees above 0 and at most 45.
     #[arg(long = "phi-h-step", alias = "phi-h-step-deg", default_value_t = 3.0, value_parser = range::PHI_H_STEP_DEG)]

@@ -33,7 +33,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let phi_h_rad = super::grid_args::PAPER_PHI_H_DEG.to_radians();
+    let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
     let a = tabulate(specula_formats::load_brdf(&args.a)?.as_ref(), phi_h_rad);
     let b = tabulate(specula_formats::load_brdf(&args.b)?.as_ref(), phi_h_rad);
     outln!("set,cells,relative_rmse,log_rmse,slice_mae");

@@ -1,8 +1,8 @@
 //! `specula convert`: a BRDF from one measured format into another.
 
-use super::grid_args::PAPER_PHI_H_DEG;
 use crate::{progress, range};
 use anyhow::Result;
+use specula_core::GridSpec;
 use specula_formats::convert::{convert, ConvertOptions, CsvGrid};
 use specula_formats::rgl::RglResolution;
 use std::path::PathBuf;
@@ -43,7 +43,7 @@ pub struct Args {
     ///
     /// Matters only for anisotropic sources (UTIA files); 45 is the paper's choice (section
     /// 4.3), away from the scratch directions.
-    #[arg(long = "phi-h", alias = "phi-h-deg", default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
+    #[arg(long = "phi-h", alias = "phi-h-deg", default_value_t = GridSpec::paper().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h_deg: f64,
     /// Where to sample a continuous source (RGL file, fit, preset) written as CSV: `merl`,
     /// the 1,458,000 MERL bin centres, or `utia`, the 82,944 UTIA nodes.

@@ -13,7 +13,7 @@ use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
 use specula_formats::fits::{load_model, FitModel};
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
-use specula_formats::samples_csv::{Sample as SampleRow, SampleSet};
+use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::Method;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -209,10 +209,7 @@ fn plan_settings(args: &Args) -> Result<PlanSettings> {
     };
     Ok(PlanSettings {
         placement,
-        theta_h_samples: args.grid.theta_h_samples,
-        theta_d_step_deg: args.grid.theta_d_step,
-        phi_d_step_deg: args.grid.phi_d_step,
-        phi_h_deg: args.grid.phi_h,
+        grid: args.grid.spec(),
     })
 }
 
@@ -224,14 +221,7 @@ fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
         Measurement::simulate_through(truth, &plan_settings(args)?, device, response.as_ref())?;
     let samples = measurement.samples;
     if let Some(path) = &args.samples_out {
-        let rows = samples
-            .iter()
-            .map(|s| SampleRow {
-                angles: s.hd,
-                value: s.value,
-            })
-            .collect();
-        SampleSet::new(name.clone(), rows).write(path)?;
+        SampleSet::new(name.clone(), samples.clone()).write(path)?;
     }
     let table = tabulate(truth, args.grid.phi_h.to_radians());
     let (_, accuracy) = evaluate_through(

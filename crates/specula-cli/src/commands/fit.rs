@@ -1,10 +1,10 @@
 //! `specula fit`: an analytic material for renderers, fitted to any BRDF.
 
-use super::grid_args::PAPER_PHI_H_DEG;
 use crate::range;
 use anyhow::{Context, Result};
 use specula_core::atomic_file::write_bytes;
 use specula_core::tabulate::tabulate;
+use specula_core::GridSpec;
 use specula_formats::material_fit::{fit_models, FitModel, MaterialFit};
 use specula_formats::renderer_export::{
     gltf_document, mitsuba_scene, mitsuba_warning, pbrt_material,
@@ -75,7 +75,7 @@ pub fn run(args: Args) -> Result<()> {
         Model::Both => &[FitModel::Conductor, FitModel::Coat],
     };
     let spinner = crate::progress::spinner("fitting");
-    let table = tabulate(brdf.as_ref(), PAPER_PHI_H_DEG.to_radians());
+    let table = tabulate(brdf.as_ref(), GridSpec::paper().phi_h_deg.to_radians());
     let fits = fit_models(&table, models, args.max_elevation, &brdf.name())
         .with_context(|| format!("{}: cannot fit", args.brdf))?;
     spinner.finish_and_clear();

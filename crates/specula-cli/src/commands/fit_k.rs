@@ -2,6 +2,7 @@
 
 use anyhow::{bail, Result};
 use specula_core::sampling::Family;
+use specula_core::GridSpec;
 use specula_formats::convert::FileFormat;
 use specula_sampling::fit::fit_k;
 use specula_sampling::probe::Probe;
@@ -29,7 +30,7 @@ pub struct Args {
     pub family: Family,
     /// Number of theta_h samples the measurement will take. Range: a whole number from 2 to
     /// 360.
-    #[arg(long, default_value_t = 30, value_parser = crate::range::THETA_H_SAMPLES)]
+    #[arg(long, default_value_t = GridSpec::paper().theta_h_samples, value_parser = crate::range::THETA_H_SAMPLES)]
     pub theta_h_samples: usize,
 }
 

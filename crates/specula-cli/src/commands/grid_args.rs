@@ -5,13 +5,10 @@
 use crate::range;
 use anyhow::{bail, Result};
 use specula_core::sampling::Family;
+use specula_core::GridSpec;
 
 /// The largest grid a plan may hold (the paper's: 6300 samples).
 pub const MAX_GRID_SAMPLES: usize = 1_000_000;
-
-/// phi_h of the paper (section 4.3): 45 deg, away from the scratch directions. The default
-/// of every command's `--phi-h`.
-pub const PAPER_PHI_H_DEG: f64 = 45.0;
 
 #[derive(clap::Args, Clone, Debug)]
 pub struct GridArgs {
@@ -20,24 +17,34 @@ pub struct GridArgs {
     pub family: Family,
     /// Number of theta_h positions of the sampling function (paper: 30). Range: a whole
     /// number from 2 to 360.
-    #[arg(long, default_value_t = 30, value_parser = range::THETA_H_SAMPLES)]
+    #[arg(long, default_value_t = GridSpec::paper().theta_h_samples, value_parser = range::THETA_H_SAMPLES)]
     pub theta_h_samples: usize,
     /// Step of theta_d in degrees (0, step, ... below 90). Range: degrees from 0.5 to 90.
-    #[arg(long, default_value_t = 3.0, value_parser = range::GRID_STEP_DEG)]
+    #[arg(long, default_value_t = GridSpec::paper().theta_d_step_deg, value_parser = range::GRID_STEP_DEG)]
     pub theta_d_step: f64,
     /// Step of phi_d in degrees (0, step, ... up to 90). Range: degrees from 0.5 to 90.
-    #[arg(long, default_value_t = 15.0, value_parser = range::GRID_STEP_DEG)]
+    #[arg(long, default_value_t = GridSpec::paper().phi_d_step_deg, value_parser = range::GRID_STEP_DEG)]
     pub phi_d_step: f64,
     /// phi_h in degrees: the sample's orientation, chosen to avoid anisotropic scratches
     /// (paper 4.3). Range: degrees from -360 to 360.
     ///
     /// It only turns the turntable; reachability does not depend on it. `measure` takes the
     /// orientation check's recommendation instead when the check finds a scratch lobe here.
-    #[arg(long, default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
+    #[arg(long, default_value_t = GridSpec::paper().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
 }
 
 impl GridArgs {
+    /// The grid the options describe.
+    pub fn spec(&self) -> GridSpec {
+        GridSpec {
+            theta_h_samples: self.theta_h_samples,
+            theta_d_step_deg: self.theta_d_step,
+            phi_d_step_deg: self.phi_d_step,
+            phi_h_deg: self.phi_h,
+        }
+    }
+
     /// Rejects a grid too large to plan: the ranges of the single options are checked as
     /// they are parsed ([`crate::range`]); their product is checked here.
     pub fn check(&self) -> Result<()> {

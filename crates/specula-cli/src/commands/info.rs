@@ -62,7 +62,7 @@ pub fn run(args: Args) -> Result<()> {
 
 /// A continuous source, evaluated at the MERL bin centres.
 fn evaluated(brdf: &dyn specula_core::Brdf) {
-    let phi_h_rad = super::grid_args::PAPER_PHI_H_DEG.to_radians();
+    let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
     let table = tabulate(brdf, phi_h_rad);
     describe_merl(
         &table,
@@ -181,7 +181,7 @@ fn describe_samples(set: &SampleSet) {
     let stats = Stats::of(samples.iter().enumerate().map(|(i, s)| (i, s.value)));
     stats.print();
     if let Some((value, index)) = stats.peak {
-        let a = samples[index].angles;
+        let a = samples[index].hd;
         outln!(
             "peak: {} 1/sr (mean of R, G, B) at theta_h {} deg, phi_h {} deg, theta_d {} deg, phi_d {} deg (row {}), among the samples",
             plain(value),

@@ -9,6 +9,7 @@ use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
+use specula_core::ProbeSpec;
 use specula_session::engine::{Progress, StageOutcome};
 use specula_session::protocol::{ClientSettings, Endpoint};
 use specula_session::workflow::{
@@ -74,7 +75,7 @@ pub struct Args {
     pub point_light: bool,
     /// Probe samples along theta_h (square-root placement, paper 5.2). Range: a whole number
     /// from 2 to 10000.
-    #[arg(long, default_value_t = 90, value_parser = range::PROBE_SAMPLES)]
+    #[arg(long, default_value_t = ProbeSpec::paper().samples, value_parser = range::PROBE_SAMPLES)]
     pub probe_samples: usize,
     #[command(flatten)]
     pub grid: GridArgs,

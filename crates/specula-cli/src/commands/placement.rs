@@ -2,6 +2,7 @@
 
 use super::analyze::DatabaseArgs;
 use anyhow::{Context, Result};
+use specula_core::GridSpec;
 use specula_sampling::column::Interpolation;
 use specula_sampling::placement_study::{study_slice, summarize, MaterialPlacement, Method};
 use specula_sampling::slice::DENSE_NODES;
@@ -32,7 +33,7 @@ pub struct Args {
     pub database: DatabaseArgs,
     /// Number of theta_h samples of the sparse measurement. Range: a whole number from 2 to
     /// 360.
-    #[arg(long, default_value_t = 30, value_parser = crate::range::THETA_H_SAMPLES)]
+    #[arg(long, default_value_t = GridSpec::paper().theta_h_samples, value_parser = crate::range::THETA_H_SAMPLES)]
     pub theta_h_samples: usize,
     /// Also print the table for interpolation in the log domain (ln f), which doubles the time.
     #[arg(long)]

@@ -80,8 +80,9 @@ pub fn run(args: Args) -> Result<()> {
     let out = args.out.clone().context("--out is required")?;
     args.grid.check()?;
     let theta_h = theta_h_positions(&args)?;
-    let theta_d = steps_deg(args.grid.theta_d_step, false);
-    let phi_d = steps_deg(args.grid.phi_d_step, true);
+    let grid = args.grid.spec();
+    let theta_d = grid.theta_d_deg();
+    let phi_d = grid.phi_d_deg();
 
     let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, args.grid.phi_h, &device);
     let spinner = crate::progress::spinner("ordering");
@@ -131,21 +132,6 @@ fn theta_h_positions(args: &Args) -> Result<Vec<f64>> {
     let k = args.k.context("give --k or --theta-h-list")?;
     let function = SamplingFunction::new(args.grid.family, k)?;
     Ok(function.positions_deg(args.grid.theta_h_samples))
-}
-
-/// `0, step, 2 step, ...` below 90 degrees, or up to and including 90 with `include_90`;
-/// `step` lies in (0, 90] ([`GridArgs::check`]).
-fn steps_deg(step: f64, include_90: bool) -> Vec<f64> {
-    let count = (90.0 / step + 1e-9).floor() as usize;
-    let mut values: Vec<f64> = (0..=count).map(|i| i as f64 * step).collect();
-    values.retain(|&v| {
-        if include_90 {
-            v <= 90.0 + 1e-9
-        } else {
-            v < 90.0 - 1e-9
-        }
-    });
-    values
 }
 
 fn print_summary(nested: &PlanSummary, optimized: &PlanSummary) {

@@ -1,15 +1,14 @@
 //! `specula plot`: the paper's figures as PNG pictures (Fig. 11, 13, 15 and the analysis of
 //! section 5.1).
 
-use super::grid_args::PAPER_PHI_H_DEG;
 use crate::range;
 use anyhow::{bail, Context, Result};
 use specula_core::sampling::{Family, SamplingFunction};
-use specula_core::Rgb;
+use specula_core::{GridSpec, ProbePoint, Rgb};
 use specula_sampling::Probe;
 use specula_visual::heatmap::Heatmap;
 use specula_visual::plot::probe::{interpolate, plot_probe};
-use specula_visual::plot::raw_samples::{plot_raw_samples, RawSample};
+use specula_visual::plot::raw_samples::plot_raw_samples;
 use specula_visual::plot::slice::{plot_slice, SliceOptions};
 use specula_visual::plot::ThetaHAxis;
 use specula_visual::RgbImage;
@@ -53,7 +52,7 @@ pub struct SliceArgs {
     pub phi_d: f64,
     /// Azimuth of the half vector, degrees (matters only for anisotropic materials; 45 is
     /// the paper's choice). Range: degrees from -360 to 360.
-    #[arg(long, default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
+    #[arg(long, default_value_t = GridSpec::paper().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
 }
 
@@ -105,7 +104,7 @@ pub struct ProbeArgs {
     #[arg(long, default_value = "exponential")]
     pub family: Family,
     /// Number of adaptive theta_h samples. Range: a whole number from 2 to 360.
-    #[arg(long, default_value_t = 30, value_parser = range::THETA_H_SAMPLES)]
+    #[arg(long, default_value_t = GridSpec::paper().theta_h_samples, value_parser = range::THETA_H_SAMPLES)]
     pub theta_h_samples: usize,
 }
 
@@ -156,12 +155,7 @@ fn slice(args: SliceArgs) -> Result<RgbImage> {
 
 fn samples(args: SamplesArgs) -> Result<RgbImage> {
     let set = specula_formats::samples_csv::SampleSet::read(&args.samples)?;
-    let raw: Vec<RawSample> = set
-        .samples()
-        .iter()
-        .map(|s| RawSample::new(s.angles, s.value))
-        .collect();
-    plot_raw_samples(&raw, &stem(&args.samples), args.axis)
+    plot_raw_samples(set.samples(), &stem(&args.samples), args.axis)
         .with_context(|| args.samples.display().to_string())
 }
 
@@ -193,7 +187,7 @@ fn probe(args: ProbeArgs) -> Result<RgbImage> {
 }
 
 /// The adaptive samples of a CSV: theta_h, and r,g,b when present (else interpolated).
-fn read_adaptive(path: &Path, probe: &[(f64, Rgb)]) -> Result<Vec<(f64, Rgb)>> {
+fn read_adaptive(path: &Path, probe: &[ProbePoint]) -> Result<Vec<ProbePoint>> {
     let name = path.display();
     let mut reader =
         csv::Reader::from_path(path).with_context(|| format!("{name}: cannot read"))?;
@@ -236,7 +230,7 @@ fn read_adaptive(path: &Path, probe: &[(f64, Rgb)]) -> Result<Vec<(f64, Rgb)>> {
     Ok(match rgb {
         Some(_) => rows
             .into_iter()
-            .map(|(t, v)| (t, v.unwrap_or_default()))
+            .map(|(t, v)| ProbePoint::new(t, v.unwrap_or_default()))
             .collect(),
         None => interpolate(probe, &rows.iter().map(|r| r.0).collect::<Vec<_>>()),
     })

@@ -1,10 +1,10 @@
 //! `specula probe`: the dense theta_h column of paper 5.2 from any BRDF.
 
-use super::grid_args::PAPER_PHI_H_DEG;
 use crate::output::plain;
 use crate::range;
 use anyhow::Result;
-use specula_sampling::probe::{Probe, ProbeSettings};
+use specula_core::ProbeSpec;
+use specula_sampling::probe::Probe;
 use std::path::PathBuf;
 
 /// Take the probe of paper 5.2: one dense theta_h column of a BRDF, the input of `fit-k` and
@@ -24,19 +24,19 @@ pub struct Args {
     /// (e.g. sgd:chrome-steel).
     pub brdf: String,
     /// theta_d of the column, degrees. Range: degrees from 0 to 89.5.
-    #[arg(long, default_value_t = 40.0, value_parser = range::THETA_D_DEG)]
+    #[arg(long, default_value_t = ProbeSpec::paper().theta_d_deg, value_parser = range::THETA_D_DEG)]
     pub theta_d: f64,
     /// phi_d of the column, degrees (90: the characteristic slice of paper 5.1). Range:
     /// degrees from 0 to 180.
-    #[arg(long, default_value_t = 90.0, value_parser = range::PHI_D_DEG)]
+    #[arg(long, default_value_t = ProbeSpec::paper().phi_d_deg, value_parser = range::PHI_D_DEG)]
     pub phi_d: f64,
     /// phi_h, degrees: the sample's orientation (chosen to avoid scratches, paper 4.3).
     /// Range: degrees from -360 to 360.
-    #[arg(long, default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
+    #[arg(long, default_value_t = ProbeSpec::paper().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
     /// Number of theta_h samples of the probe (the paper uses up to 90). Range: a whole
     /// number from 2 to 10000.
-    #[arg(long, default_value_t = 90, value_parser = range::PROBE_SAMPLES)]
+    #[arg(long, default_value_t = ProbeSpec::paper().samples, value_parser = range::PROBE_SAMPLES)]
     pub probe_samples: usize,
     /// Where to write the probe (CSV).
     #[arg(long)]
@@ -45,7 +45,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     let brdf = specula_formats::load_brdf(&args.brdf)?;
-    let settings = ProbeSettings {
+    let settings = ProbeSpec {
         theta_d_deg: args.theta_d,
         phi_d_deg: args.phi_d,
         phi_h_deg: args.phi_h,

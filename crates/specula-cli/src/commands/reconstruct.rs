@@ -3,9 +3,10 @@
 use anyhow::{bail, Context, Result};
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::response::InstrumentResponse;
+use specula_core::Sample;
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::provenance::sidecar_path;
-use specula_reconstruct::{reconstruct_through, Method, Sample};
+use specula_reconstruct::{reconstruct_through, Method};
 use specula_session::journal::Journal;
 use specula_session::workflow::{measured_samples, STAGE_MAIN};
 use std::path::{Path, PathBuf};
@@ -147,10 +148,5 @@ fn session_samples(path: &Path) -> Result<(Vec<Sample>, Option<InstrumentRespons
 
 /// The samples of a CSV file.
 fn read_samples(path: &Path) -> Result<Vec<Sample>> {
-    let set = SampleSet::read(path)?;
-    Ok(set
-        .samples()
-        .iter()
-        .map(|s| Sample::new(s.angles, s.value))
-        .collect())
+    Ok(SampleSet::read(path)?.samples().to_vec())
 }

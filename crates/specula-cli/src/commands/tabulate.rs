@@ -1,8 +1,8 @@
 //! `specula tabulate`: any BRDF into a MERL `.binary` table at the bin centres.
 
-use super::grid_args::PAPER_PHI_H_DEG;
 use crate::range;
 use anyhow::Result;
+use specula_core::GridSpec;
 use std::path::PathBuf;
 
 /// Tabulate a BRDF into the MERL grid (90 x 90 x 180 cells, at the bin centres) and write
@@ -13,7 +13,7 @@ pub struct Args {
     pub brdf: String,
     /// Azimuth of the half vector in degrees (matters only for anisotropic materials; 45 is
     /// the paper's choice, section 4.3). Range: degrees from -360 to 360.
-    #[arg(long, default_value_t = PAPER_PHI_H_DEG, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
+    #[arg(long, default_value_t = GridSpec::paper().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
     /// The MERL .binary file to write.
     #[arg(long)]

@@ -10,6 +10,7 @@ use specula_acquisition::checks::alignment::AlignmentReport;
 use specula_acquisition::checks::orientation::OrientationReport;
 use specula_acquisition::instrument::InstrumentInfo;
 use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::{GridSpec, ProbeSpec};
 use specula_reconstruct::Method;
 use std::path::Path;
 
@@ -219,9 +220,10 @@ pub struct MeasureSettings {
     /// The simulated light as a point instead of its disk (which blurs sharp highlights as
     /// the real device's does).
     pub point_light: bool,
-    /// Probe samples along theta_h (square-root placement, paper 5.2).
+    /// Probe samples along theta_h (square-root placement, paper 5.2; [`ProbeSpec`]).
     pub probe_samples: usize,
     pub family: Family,
+    /// The grid's numbers ([`GridSpec`], [`MeasureSettings::grid`]), kept flat in the journal.
     pub theta_h_samples: usize,
     pub theta_d_step_deg: f64,
     pub phi_d_step_deg: f64,
@@ -242,19 +244,41 @@ pub struct MeasureSettings {
     pub tilt_azimuth_deg: f64,
 }
 
+impl MeasureSettings {
+    /// The measurement grid (paper 5.3) at the planned phi_h.
+    pub fn grid(&self) -> GridSpec {
+        GridSpec {
+            theta_h_samples: self.theta_h_samples,
+            theta_d_step_deg: self.theta_d_step_deg,
+            phi_d_step_deg: self.phi_d_step_deg,
+            phi_h_deg: self.phi_h_deg,
+        }
+    }
+
+    /// The probe (paper 5.2) at `phi_h_deg` (the planned one, or the orientation check's).
+    pub fn probe(&self, phi_h_deg: f64) -> ProbeSpec {
+        ProbeSpec {
+            phi_h_deg,
+            samples: self.probe_samples,
+            ..ProbeSpec::paper()
+        }
+    }
+}
+
 impl Default for MeasureSettings {
     /// The paper's measurement (5.2, 5.3) with our ordering and predicted exposures.
     fn default() -> Self {
+        let grid = GridSpec::paper();
         Self {
             seed: 1,
             ideal: false,
             point_light: false,
-            probe_samples: 90,
+            probe_samples: ProbeSpec::paper().samples,
             family: Family::Exponential,
-            theta_h_samples: 30,
-            theta_d_step_deg: 3.0,
-            phi_d_step_deg: 15.0,
-            phi_h_deg: 45.0,
+            theta_h_samples: grid.theta_h_samples,
+            theta_d_step_deg: grid.theta_d_step_deg,
+            phi_d_step_deg: grid.phi_d_step_deg,
+            phi_h_deg: grid.phi_h_deg,
             order: PlanOrder::Optimized,
             hdr: HdrChoice::Predicted,
             method: Method::LOBE,

@@ -36,10 +36,10 @@ pub fn planned_rows(
     let plan = Plan::from_grid(theta_h_deg, theta_d_deg, phi_d_deg, 45.0, &Device::utia());
     plan.measured()
         .enumerate()
-        .map(|(seq, s)| PlannedRow {
+        .map(|(seq, (s, axes))| PlannedRow {
             seq: seq as u32,
             hd: s.hd,
-            axes: s.axes.unwrap(),
+            axes,
             predicted_s: s.time_s,
         })
         .collect()

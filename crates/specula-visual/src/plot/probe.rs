@@ -14,6 +14,7 @@ use anyhow::{bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
 use specula_core::brdf::Rgb;
+use specula_core::ProbePoint;
 
 /// The theta_h range of the detail panel, degrees.
 pub const DETAIL_MAX_DEG: f64 = 2.0;
@@ -21,51 +22,59 @@ pub const DETAIL_MAX_DEG: f64 = 2.0;
 /// The probe's values at `positions_deg` by linear interpolation in theta_h (clamped to the
 /// probe's ends): what a measurement at the adaptive positions would read, when only the
 /// probe is known. `probe` must be sorted by theta_h.
-pub fn interpolate(probe: &[(f64, Rgb)], positions_deg: &[f64]) -> Vec<(f64, Rgb)> {
+pub fn interpolate(probe: &[ProbePoint], positions_deg: &[f64]) -> Vec<ProbePoint> {
     positions_deg
         .iter()
         .map(|&t| {
-            let at = probe.partition_point(|(p, _)| *p < t);
+            let at = probe.partition_point(|p| p.theta_h_deg < t);
             let value = match at {
-                0 => probe.first().map_or(Rgb::ZERO, |p| p.1),
-                n if n >= probe.len() => probe.last().map_or(Rgb::ZERO, |p| p.1),
+                0 => probe.first().map_or(Rgb::ZERO, |p| p.value),
+                n if n >= probe.len() => probe.last().map_or(Rgb::ZERO, |p| p.value),
                 n => {
-                    let ((t0, v0), (t1, v1)) = (probe[n - 1], probe[n]);
+                    let (p0, p1) = (probe[n - 1], probe[n]);
+                    let (t0, t1) = (p0.theta_h_deg, p1.theta_h_deg);
                     let w = if t1 > t0 { (t - t0) / (t1 - t0) } else { 0.0 };
-                    v0 + (v1 - v0) * w
+                    p0.value + (p1.value - p0.value) * w
                 }
             };
-            (t, value)
+            ProbePoint::new(t, value)
         })
         .collect()
 }
 
-fn check_sorted(name: &str, points: &[(f64, Rgb)]) -> Result<()> {
+fn check_sorted(name: &str, points: &[ProbePoint]) -> Result<()> {
     if points.is_empty() {
         bail!("the {name} has no values");
     }
-    if points.windows(2).any(|w| w[1].0 < w[0].0) {
+    if points
+        .windows(2)
+        .any(|w| w[1].theta_h_deg < w[0].theta_h_deg)
+    {
         bail!("the {name}'s theta_h values must increase");
     }
-    if let Some((t, v)) = points
+    if let Some(p) = points
         .iter()
-        .find(|(t, v)| !t.is_finite() || !v.is_finite())
+        .find(|p| !p.theta_h_deg.is_finite() || !p.value.is_finite())
     {
-        bail!("the {name} has a non-finite entry at theta_h {t}: {v}");
+        bail!(
+            "the {name} has a non-finite entry at theta_h {}: {}",
+            p.theta_h_deg,
+            p.value
+        );
     }
     Ok(())
 }
 
 /// Both panels in one picture (full range above, detail below).
-pub fn plot_probe(probe: &[(f64, Rgb)], adaptive: &[(f64, Rgb)], title: &str) -> Result<RgbImage> {
+pub fn plot_probe(probe: &[ProbePoint], adaptive: &[ProbePoint], title: &str) -> Result<RgbImage> {
     check_sorted("probe", probe)?;
     check_sorted("adaptive sampling", adaptive)?;
     draw(900, 860, |root| {
         let (top, bottom) = root.split_vertically(430);
         let full_max = probe
             .last()
-            .map_or(90.0, |p| p.0)
-            .max(adaptive.last().map_or(0.0, |p| p.0));
+            .map_or(90.0, |p| p.theta_h_deg)
+            .max(adaptive.last().map_or(0.0, |p| p.theta_h_deg));
         panel(
             &top,
             &format!(
@@ -90,29 +99,29 @@ pub fn plot_probe(probe: &[(f64, Rgb)], adaptive: &[(f64, Rgb)], title: &str) ->
 fn panel(
     area: &DrawingArea<Canvas<'_>, plotters::coord::Shift>,
     caption: &str,
-    probe: &[(f64, Rgb)],
-    adaptive: &[(f64, Rgb)],
+    probe: &[ProbePoint],
+    adaptive: &[ProbePoint],
     max_deg: f64,
 ) -> Result<()> {
     // The points up to the panel's edge, the lines ending there at the interpolated value.
-    let within = |points: &[(f64, Rgb)]| -> Vec<(f64, Rgb)> {
-        let end = points.partition_point(|(t, _)| *t <= max_deg);
+    let within = |points: &[ProbePoint]| -> Vec<ProbePoint> {
+        let end = points.partition_point(|p| p.theta_h_deg <= max_deg);
         let mut kept = points[..end].to_vec();
         if end > 0 && end < points.len() {
             kept.extend(interpolate(points, &[max_deg]));
         }
         kept
     };
-    let markers: Vec<(f64, Rgb)> = adaptive
+    let markers: Vec<ProbePoint> = adaptive
         .iter()
         .copied()
-        .filter(|(t, _)| *t <= max_deg)
+        .filter(|p| p.theta_h_deg <= max_deg)
         .collect();
     let (probe, adaptive) = (within(probe), within(adaptive));
     let positive = probe
         .iter()
         .chain(&adaptive)
-        .flat_map(|(_, v)| v.to_array())
+        .flat_map(|p| p.value.to_array())
         .filter(|v| *v > 0.0);
     let (lo, hi) = positive.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
         (lo.min(v), hi.max(v))
@@ -152,7 +161,7 @@ fn panel(
     for (c, &(name, colour)) in channels.iter().enumerate() {
         chart
             .draw_series(LineSeries::new(
-                probe.iter().map(|(t, v)| (*t, clamp(v[c]))),
+                probe.iter().map(|p| (p.theta_h_deg, clamp(p.value[c]))),
                 colour.stroke_width(2),
             ))
             .map_err(plot_error)?
@@ -160,7 +169,10 @@ fn panel(
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
             });
-        let points: Vec<(f64, f64)> = adaptive.iter().map(|(t, v)| (*t, clamp(v[c]))).collect();
+        let points: Vec<(f64, f64)> = adaptive
+            .iter()
+            .map(|p| (p.theta_h_deg, clamp(p.value[c])))
+            .collect();
         chart
             .draw_series(DashedLineSeries::new(
                 points.clone(),
@@ -180,7 +192,7 @@ fn panel(
             .draw_series(
                 markers
                     .iter()
-                    .map(|(t, v)| Circle::new((*t, clamp(v[c])), 3, colour.filled())),
+                    .map(|p| Circle::new((p.theta_h_deg, clamp(p.value[c])), 3, colour.filled())),
             )
             .map_err(plot_error)?;
     }
@@ -199,11 +211,11 @@ fn panel(
 mod tests {
     use super::*;
 
-    fn probe() -> Vec<(f64, Rgb)> {
+    fn probe() -> Vec<ProbePoint> {
         (0..90)
             .map(|i| {
                 let t = (i as f64).powi(2) / 90.0;
-                (
+                ProbePoint::new(
                     t,
                     Rgb::new(1e3, 8e2, 6e2) * (-3.0 * t).exp() + Rgb::splat(0.02),
                 )
@@ -214,11 +226,19 @@ mod tests {
     #[test]
     fn interpolation_hits_the_probe_and_lies_between_neighbours() {
         let p = probe();
-        let at = interpolate(&p, &[p[5].0, 0.5 * (p[5].0 + p[6].0), 200.0, -1.0]);
-        assert_eq!(at[0].1, p[5].1);
-        assert!((at[1].1 - 0.5 * (p[5].1 + p[6].1)).length() < 1e-9);
-        assert_eq!(at[2].1, p[89].1);
-        assert_eq!(at[3].1, p[0].1);
+        let at = interpolate(
+            &p,
+            &[
+                p[5].theta_h_deg,
+                0.5 * (p[5].theta_h_deg + p[6].theta_h_deg),
+                200.0,
+                -1.0,
+            ],
+        );
+        assert_eq!(at[0].value, p[5].value);
+        assert!((at[1].value - 0.5 * (p[5].value + p[6].value)).length() < 1e-9);
+        assert_eq!(at[2].value, p[89].value);
+        assert_eq!(at[3].value, p[0].value);
     }
 
     #[test]

@@ -11,32 +11,8 @@ use crate::font;
 use anyhow::{bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
-use specula_core::brdf::Rgb;
-use specula_core::HalfDiff;
+use specula_core::Sample;
 use std::collections::BTreeMap;
-
-/// One measured value.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RawSample {
-    pub theta_h_deg: f64,
-    pub theta_d_deg: f64,
-    pub phi_d_deg: f64,
-    /// f_r in 1/sr.
-    pub value: Rgb,
-}
-
-impl RawSample {
-    /// A sample at half-difference angles (radians), shown in degrees; phi_h is dropped
-    /// (isotropic BRDF).
-    pub fn new(angles: HalfDiff, value: Rgb) -> Self {
-        Self {
-            theta_h_deg: angles.theta_h.to_degrees(),
-            theta_d_deg: angles.theta_d.to_degrees(),
-            phi_d_deg: angles.phi_d.to_degrees(),
-            value,
-        }
-    }
-}
 
 /// Per cell `(theta_h index, theta_d index)` of one panel: the sum of values and their count.
 type CellSums = BTreeMap<(usize, usize), (f64, usize)>;
@@ -69,38 +45,40 @@ pub struct SampleGrid {
 }
 
 impl SampleGrid {
-    pub fn new(samples: &[RawSample]) -> Result<Self> {
+    /// The samples' grid (phi_h is dropped: an isotropic BRDF); an error when there are none
+    /// or one lies outside theta_h, theta_d in `[0, 90]` degrees.
+    pub fn new(samples: &[Sample]) -> Result<Self> {
         if samples.is_empty() {
             bail!("no samples to plot");
         }
         if let Some(s) = samples.iter().find(|s| {
-            ![s.theta_h_deg, s.theta_d_deg, s.phi_d_deg]
+            ![s.theta_h_deg(), s.theta_d_deg(), s.phi_d_deg()]
                 .iter()
                 .all(|v| v.is_finite())
-                || !(0.0..=90.0).contains(&s.theta_h_deg)
-                || !(0.0..=90.0).contains(&s.theta_d_deg)
+                || !(0.0..=90.0).contains(&s.theta_h_deg())
+                || !(0.0..=90.0).contains(&s.theta_d_deg())
         }) {
             bail!(
                 "a sample lies outside theta_h, theta_d in [0, 90] deg: {} {} {}",
-                s.theta_h_deg,
-                s.theta_d_deg,
-                s.phi_d_deg
+                s.theta_h_deg(),
+                s.theta_d_deg(),
+                s.phi_d_deg()
             );
         }
-        let mut theta_h: Vec<i64> = samples.iter().map(|s| key(s.theta_h_deg)).collect();
-        let mut theta_d: Vec<i64> = samples.iter().map(|s| key(s.theta_d_deg)).collect();
+        let mut theta_h: Vec<i64> = samples.iter().map(|s| key(s.theta_h_deg())).collect();
+        let mut theta_d: Vec<i64> = samples.iter().map(|s| key(s.theta_d_deg())).collect();
         for v in [&mut theta_h, &mut theta_d] {
             v.sort_unstable();
             v.dedup();
         }
         let mut sums: BTreeMap<i64, CellSums> = BTreeMap::new();
         for s in samples {
-            let phi_d = key(s.phi_d_deg.rem_euclid(180.0)) % key(180.0);
+            let phi_d = key(s.phi_d_deg().rem_euclid(180.0)) % key(180.0);
             let i = theta_h
-                .binary_search(&key(s.theta_h_deg))
+                .binary_search(&key(s.theta_h_deg()))
                 .unwrap_or_default();
             let j = theta_d
-                .binary_search(&key(s.theta_d_deg))
+                .binary_search(&key(s.theta_d_deg()))
                 .unwrap_or_default();
             let cell = sums
                 .entry(phi_d)
@@ -165,7 +143,7 @@ fn edges(positions: &[f64], lo: f64, hi: f64) -> Vec<f64> {
 }
 
 /// The raw samples as one picture: a panel per phi_d, a shared colour bar.
-pub fn plot_raw_samples(samples: &[RawSample], title: &str, axis: ThetaHAxis) -> Result<RgbImage> {
+pub fn plot_raw_samples(samples: &[Sample], title: &str, axis: ThetaHAxis) -> Result<RgbImage> {
     let grid = SampleGrid::new(samples)?;
     let Some(scale) = LogScale::of(
         grid.panels
@@ -237,8 +215,9 @@ pub fn plot_raw_samples(samples: &[RawSample], title: &str, axis: ThetaHAxis) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use specula_core::{HalfDiff, Rgb};
 
-    fn plan(phi_d: f64, skip_high_theta_d: bool) -> Vec<RawSample> {
+    fn plan(phi_d: f64, skip_high_theta_d: bool) -> Vec<Sample> {
         let mut out = Vec::new();
         for i in 0..30 {
             let theta_h = 90.0 * ((4.78 * i as f64 / 29.0).exp() - 1.0) / (4.78f64.exp() - 1.0);
@@ -247,12 +226,10 @@ mod tests {
                 if skip_high_theta_d && theta_d > 70.0 {
                     continue;
                 }
-                out.push(RawSample {
-                    theta_h_deg: theta_h,
-                    theta_d_deg: theta_d,
-                    phi_d_deg: phi_d,
-                    value: Rgb::splat(100.0 * (-theta_h).exp() + 0.01),
-                });
+                out.push(Sample::new(
+                    HalfDiff::from_degrees(theta_h, 0.0, theta_d, phi_d),
+                    Rgb::splat(100.0 * (-theta_h).exp() + 0.01),
+                ));
             }
         }
         out
@@ -291,12 +268,10 @@ mod tests {
             .filter(|p| p.0 == crate::color::UNMEASURED_BLUE)
             .count();
         assert!(blue > 1000, "{blue}");
-        let bad = [RawSample {
-            theta_h_deg: 95.0,
-            theta_d_deg: 1.0,
-            phi_d_deg: 0.0,
-            value: Rgb::ONE,
-        }];
+        let bad = [Sample::new(
+            HalfDiff::from_degrees(95.0, 0.0, 1.0, 0.0),
+            Rgb::ONE,
+        )];
         assert!(plot_raw_samples(&bad, "bad", ThetaHAxis::Merl).is_err());
     }
 }
