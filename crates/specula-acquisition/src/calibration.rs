@@ -349,10 +349,7 @@ type RangeRule<'a> = dyn Fn(bool, &str, &str, f64) -> Result<(), OutOfRange> + '
 /// The response's first value outside its range (see [`Calibration::validate`]): angles in
 /// [0, 90) degrees, the emission profile zero or positive, the footprint zero or positive,
 /// the distances positive, the fit residual zero or positive.
-fn validate_response(
-    fit: &response::ResponseFit,
-    rule: &RangeRule<'_>,
-) -> Result<(), OutOfRange> {
+fn validate_response(fit: &response::ResponseFit, rule: &RangeRule<'_>) -> Result<(), OutOfRange> {
     let r = &fit.response;
     let angle = |v: f64| (0.0..90.0).contains(&v);
     let at_least_zero = |v: f64| v.is_finite() && v >= 0.0;
