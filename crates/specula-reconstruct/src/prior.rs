@@ -49,7 +49,7 @@ pub const MERL_COMPONENTS: usize = 24;
 #[derive(Debug, thiserror::Error)]
 pub enum PriorError {
     #[error("loading the training materials: {0}")]
-    Training(String),
+    Training(specula_formats::input::FormatError),
     #[error("{0} training vectors: need more than the {1} components")]
     TooFewMaterials(usize, usize),
 }
@@ -306,7 +306,7 @@ fn gram_matrix(vectors: &[Vec<f32>]) -> DMatrix<f64> {
 fn merl_training_set() -> Result<Vec<Arc<dyn Brdf>>, PriorError> {
     use specula_formats::fits::{load_model, FitModel};
     use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
-    let error = |e: anyhow::Error| PriorError::Training(format!("{e:#}"));
+    let error = PriorError::Training;
     let mut out: Vec<Arc<dyn Brdf>> = Vec::new();
     for name in NbrdfSet::Merl100.names().map_err(error)? {
         out.push(Arc::new(

@@ -15,6 +15,7 @@
 pub mod analysis;
 pub mod column;
 pub mod database;
+pub mod error;
 pub mod fit;
 pub mod merl_slice;
 pub mod placement;
