@@ -9,8 +9,8 @@ use super::{
     angle_label, draw, log_ticks, plot_error, value_label, ThetaHAxis, AXIS_DESC_PX,
     F_R_DESCRIPTION, LABEL_PX, TITLE_PX,
 };
+use crate::error::VisualError;
 use crate::font;
-use anyhow::{bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
 use specula_core::brdf::Rgb;
@@ -40,24 +40,32 @@ pub fn interpolate(probe: &[(f64, Rgb)], positions_deg: &[f64]) -> Vec<(f64, Rgb
         .collect()
 }
 
-fn check_sorted(name: &str, points: &[(f64, Rgb)]) -> Result<()> {
+fn check_sorted(name: &str, points: &[(f64, Rgb)]) -> Result<(), VisualError> {
     if points.is_empty() {
-        bail!("the {name} has no values");
+        return Err(VisualError::Data(format!("the {name} has no values")));
     }
     if points.windows(2).any(|w| w[1].0 < w[0].0) {
-        bail!("the {name}'s theta_h values must increase");
+        return Err(VisualError::Data(format!(
+            "the {name}'s theta_h values must increase"
+        )));
     }
     if let Some((t, v)) = points
         .iter()
         .find(|(t, v)| !t.is_finite() || !v.is_finite())
     {
-        bail!("the {name} has a non-finite entry at theta_h {t}: {v}");
+        return Err(VisualError::Data(format!(
+            "the {name} has a non-finite entry at theta_h {t}: {v}"
+        )));
     }
     Ok(())
 }
 
 /// Both panels in one picture (full range above, detail below).
-pub fn plot_probe(probe: &[(f64, Rgb)], adaptive: &[(f64, Rgb)], title: &str) -> Result<RgbImage> {
+pub fn plot_probe(
+    probe: &[(f64, Rgb)],
+    adaptive: &[(f64, Rgb)],
+    title: &str,
+) -> Result<RgbImage, VisualError> {
     check_sorted("probe", probe)?;
     check_sorted("adaptive sampling", adaptive)?;
     draw(900, 860, |root| {
@@ -93,7 +101,7 @@ fn panel(
     probe: &[(f64, Rgb)],
     adaptive: &[(f64, Rgb)],
     max_deg: f64,
-) -> Result<()> {
+) -> Result<(), VisualError> {
     // The points up to the panel's edge, the lines ending there at the interpolated value.
     let within = |points: &[(f64, Rgb)]| -> Vec<(f64, Rgb)> {
         let end = points.partition_point(|(t, _)| *t <= max_deg);
@@ -118,7 +126,9 @@ fn panel(
         (lo.min(v), hi.max(v))
     });
     if hi <= 0.0 {
-        bail!("no positive f_r to plot below theta_h = {max_deg} deg");
+        return Err(VisualError::Data(format!(
+            "no positive f_r to plot below theta_h = {max_deg} deg"
+        )));
     }
     let (lo, hi) = (lo * 0.5, hi * 2.0);
     let mut chart = ChartBuilder::on(area)
