@@ -116,7 +116,7 @@ pub(crate) fn load_truth(
     scratch_orientation_deg: Option<f64>,
 ) -> Result<Arc<dyn Brdf>> {
     let Some(orientation) = scratch_orientation_deg else {
-        return specula_formats::load_brdf(spec);
+        return Ok(specula_formats::load_brdf(spec)?);
     };
     let material = if spec.ends_with(".toml") && Path::new(spec).is_file() {
         Material::from_toml_file(spec)

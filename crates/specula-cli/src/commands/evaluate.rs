@@ -111,7 +111,7 @@ impl MerlFits {
                 } else {
                     FitModel::Abc
                 };
-                load_model(model)
+                Ok(load_model(model)?)
             }
             MerlFits::Nbrdf => NbrdfSet::Merl100
                 .names()?

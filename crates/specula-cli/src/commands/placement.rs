@@ -53,7 +53,8 @@ pub fn run(args: Args) -> Result<()> {
         domains
             .iter()
             .map(|&domain| study_slice(slice, args.theta_h_samples, domain))
-            .collect::<Result<Vec<_>>>()
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(anyhow::Error::from)
     })?;
     let materials = rows.len();
     for (d, domain) in domains.iter().enumerate() {

@@ -151,7 +151,7 @@ fn slice(args: SliceArgs) -> Result<RgbImage> {
         phi_d_deg: args.phi_d,
         phi_h_deg: args.phi_h,
     };
-    plot_slice(brdf.as_ref(), &brdf.name(), &options)
+    Ok(plot_slice(brdf.as_ref(), &brdf.name(), &options)?)
 }
 
 fn samples(args: SamplesArgs) -> Result<RgbImage> {
@@ -189,7 +189,7 @@ fn probe(args: ProbeArgs) -> Result<RgbImage> {
             interpolate(&points, &fit.function.positions_deg(args.theta_h_samples))
         }
     };
-    plot_probe(&points, &adaptive, &stem(&args.probe))
+    Ok(plot_probe(&points, &adaptive, &stem(&args.probe))?)
 }
 
 /// The adaptive samples of a CSV: theta_h, and r,g,b when present (else interpolated).
@@ -296,7 +296,7 @@ fn heatmap(args: HeatmapArgs) -> Result<RgbImage> {
         .min_by(|a, b| a.2.total_cmp(&b.2))
         .map(|(f, j, _)| (f, j));
     let statistic = if args.median { "median" } else { "mean" };
-    Heatmap {
+    Ok(Heatmap {
         title: format!(
             "{}: {statistic} slice error by family and fitted column",
             stem(&args.analysis)
@@ -309,7 +309,7 @@ fn heatmap(args: HeatmapArgs) -> Result<RgbImage> {
         value_label: format!("{statistic} abs. error (1/sr)"),
         highlight: best,
     }
-    .draw()
+    .draw()?)
 }
 
 fn stem(path: &Path) -> String {

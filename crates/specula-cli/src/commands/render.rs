@@ -104,7 +104,7 @@ pub fn run(args: Args) -> Result<()> {
         .brdfs
         .iter()
         .map(|spec| specula_formats::load_brdf(spec))
-        .collect::<Result<Vec<_>>>()?;
+        .collect::<Result<Vec<_>, _>>()?;
     let scene = Scene::new(args.shape, lighting);
     let settings = RenderSettings {
         seed: args.seed,
