@@ -27,7 +27,10 @@ const ANGLES: [&str; 4] = ["theta_h_deg", "phi_h_deg", "theta_d_deg", "phi_d_deg
 
 /// Samples as the dict `{"theta_h_deg", "phi_h_deg", "theta_d_deg", "phi_d_deg": (N,),
 /// "rgb": (N, 3)}` (degrees, 1/sr): the columns of a samples CSV.
-pub(crate) fn samples_dict<'py>(py: Python<'py>, samples: &[Sample]) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn samples_dict<'py>(
+    py: Python<'py>,
+    samples: &[Sample],
+) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
     let angle = |f: fn(&HalfDiff) -> f64| {
         samples

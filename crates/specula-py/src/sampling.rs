@@ -16,7 +16,10 @@ pub(crate) fn rgb_array<'py>(py: Python<'py>, rgb: &[Rgb]) -> Bound<'py, numpy::
 }
 
 /// `(N, 3)` rows of R, G, B from an array-like of that shape.
-pub(crate) fn rgb_rows(rgb: &PyArrayLike2<'_, f64, AllowTypeChange>, rows: usize) -> PyResult<Vec<Rgb>> {
+pub(crate) fn rgb_rows(
+    rgb: &PyArrayLike2<'_, f64, AllowTypeChange>,
+    rows: usize,
+) -> PyResult<Vec<Rgb>> {
     let rgb = rgb.as_array();
     if rgb.shape() != [rows, 3] {
         return Err(invalid(format!(
