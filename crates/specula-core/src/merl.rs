@@ -37,14 +37,22 @@ pub const FILE_BYTES: usize = HEADER_BYTES + 3 * CELLS * 8;
 /// What is wrong with a MERL file; shown after the file's path.
 #[derive(Debug, thiserror::Error)]
 pub enum MerlError {
+    /// The file cannot be read or written.
     #[error("{path}: cannot read or write: {cause}")]
     Io {
+        /// The file.
         path: PathBuf,
         /// Not `source`: the message already holds it, and error chains would print it twice.
         cause: std::io::Error,
     },
+    /// The file's content is not a MERL table.
     #[error("{path}: {problem}")]
-    Invalid { path: PathBuf, problem: MerlProblem },
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        problem: MerlProblem,
+    },
 }
 
 impl MerlError {
@@ -112,8 +120,11 @@ pub enum MerlProblem {
 /// Cell coordinates `(theta_h_i, theta_d_i, phi_d_i)` of the MERL grid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Bin {
+    /// theta_h bin, `0..90`, square-root spaced (`theta_h = (i + 0.5)^2 / 90` deg).
     pub theta_h_i: usize,
+    /// theta_d bin, `0..90`, 1 deg wide.
     pub theta_d_i: usize,
+    /// phi_d bin, `0..180`, 1 deg wide (reciprocity folds phi_d into `[0, 180)`).
     pub phi_d_i: usize,
 }
 
@@ -164,7 +175,9 @@ impl Bin {
 /// contiguous in a plane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Row {
+    /// theta_h bin, `0..90`.
     pub theta_h_i: usize,
+    /// theta_d bin, `0..90`.
     pub theta_d_i: usize,
 }
 
@@ -439,6 +452,7 @@ impl MerlBrdf {
         self.cell(Bin::of(hd).index())
     }
 
+    /// Renames the table (the name reports and written files show).
     pub fn set_name(&mut self, name: impl Into<String>) {
         self.name = name.into();
     }
