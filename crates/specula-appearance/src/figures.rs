@@ -67,17 +67,33 @@ impl Figure {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Warning {
     /// Part of the integration fell on cells the table has not measured (left out).
-    Unmeasured { figure: Figure, fraction: f64 },
+    Unmeasured {
+        /// The figure.
+        figure: Figure,
+        /// The fraction of the aperture's weight left out.
+        fraction: f64,
+    },
     /// Part of the flux comes from extrapolated cells.
-    Extrapolated { figure: Figure, fraction: f64 },
+    Extrapolated {
+        /// The figure.
+        figure: Figure,
+        /// The fraction of the collected flux from extrapolated cells.
+        fraction: f64,
+    },
     /// The figure reads the BRDF at a finer angle than the instrument resolves.
     Resolution {
+        /// The figure.
         figure: Figure,
+        /// The angle the figure reads at, degrees.
         scale_deg: f64,
+        /// The instrument's resolution, degrees.
         resolution_deg: f64,
     },
     /// A colour reading's pair of directions is not measured.
-    ColourUnmeasured { aspecular_deg: f64 },
+    ColourUnmeasured {
+        /// The reading's aspecular angle, degrees.
+        aspecular_deg: f64,
+    },
 }
 
 impl fmt::Display for Warning {
