@@ -7,14 +7,14 @@ use anyhow::{bail, Result};
 use specula_core::sampling::Family;
 
 /// The largest grid a plan may hold (the paper's: 6300 samples).
-pub const MAX_GRID_SAMPLES: usize = 1_000_000;
+pub(crate) const MAX_GRID_SAMPLES: usize = 1_000_000;
 
 /// phi_h of the paper (section 4.3): 45 deg, away from the scratch directions. The default
 /// of every command's `--phi-h`.
-pub const PAPER_PHI_H_DEG: f64 = 45.0;
+pub(crate) const PAPER_PHI_H_DEG: f64 = 45.0;
 
 #[derive(clap::Args, Clone, Debug)]
-pub struct GridArgs {
+pub(crate) struct GridArgs {
     /// Sampling function family: exponential (paper eq. 3), power (eq. 2) or base (eq. 4).
     #[arg(long, default_value = "exponential")]
     pub family: Family,
@@ -40,7 +40,7 @@ pub struct GridArgs {
 impl GridArgs {
     /// Rejects a grid too large to plan: the ranges of the single options are checked as
     /// they are parsed ([`crate::range`]); their product is checked here.
-    pub fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         let theta_d = (90.0 / self.theta_d_step).ceil() as usize;
         let phi_d = (90.0 / self.phi_d_step).floor() as usize + 1;
         let samples = self.theta_h_samples * theta_d * phi_d;

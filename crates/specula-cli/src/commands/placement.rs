@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
 ///
 /// Example: specula placement --builtin
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(flatten)]
     pub database: DatabaseArgs,
     /// Number of theta_h samples of the sparse measurement. Range: a whole number from 2 to
@@ -43,7 +43,7 @@ pub struct Args {
     pub out: Option<PathBuf>,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let domains: &[Interpolation] = if args.log {
         &Interpolation::ALL
     } else {
