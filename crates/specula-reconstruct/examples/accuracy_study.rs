@@ -60,13 +60,13 @@ struct Config {
     method: Recon,
 }
 
+/// A material measured on a plan: the sample count, the samples and k (when a sampling
+/// function placed theta_h).
+type Measured = (usize, Vec<Sample>, Option<f64>);
+
 impl Config {
     /// The material measured on this configuration's plan.
-    fn measure(
-        &self,
-        truth: &dyn Brdf,
-        device: &Device,
-    ) -> Result<(usize, Vec<Sample>, Option<f64>), Box<dyn Error>> {
+    fn measure(&self, truth: &dyn Brdf, device: &Device) -> Result<Measured, Box<dyn Error>> {
         let Some((step, grazing_step, from)) = self.graded else {
             let m = Measurement::simulate(truth, &self.plan, device)?;
             return Ok((m.samples.len(), m.samples, m.k));

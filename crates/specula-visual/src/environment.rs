@@ -39,8 +39,8 @@ impl Environment {
     /// An environment from a latitude-longitude image of linear radiance.
     pub fn from_image(name: impl Into<String>, image: LinearImage) -> Result<Self, VisualError> {
         if image.width < 2 || image.height < 1 {
-            return Err(VisualError::Data(format!(
-                "an environment image needs at least 2 x 1 pixels"
+            return Err(VisualError::Data(String::from(
+                "an environment image needs at least 2 x 1 pixels",
             )));
         }
         if image
@@ -48,8 +48,8 @@ impl Environment {
             .iter()
             .any(|p| !p.is_finite() || p.min_element() < 0.0)
         {
-            return Err(VisualError::Data(format!(
-                "an environment image must hold finite, non-negative radiance"
+            return Err(VisualError::Data(String::from(
+                "an environment image must hold finite, non-negative radiance",
             )));
         }
         let (width, height) = (image.width, image.height);

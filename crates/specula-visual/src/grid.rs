@@ -78,12 +78,12 @@ pub fn difference(a: &LinearImage, b: &LinearImage) -> Result<Difference, Visual
 /// Lays the tiles out in rows of up to four, each with its label underneath.
 pub fn compose(tiles: &[Tile]) -> Result<RgbImage, VisualError> {
     let Some(first) = tiles.first() else {
-        return Err(VisualError::Data(format!("nothing to lay out")));
+        return Err(VisualError::Data(String::from("nothing to lay out")));
     };
     let (w, h) = first.image.dimensions();
     if tiles.iter().any(|t| t.image.dimensions() != (w, h)) {
-        return Err(VisualError::Data(format!(
-            "all pictures of a grid must have the same size"
+        return Err(VisualError::Data(String::from(
+            "all pictures of a grid must have the same size",
         )));
     }
     let font_px = (w as f64 / 18.0).clamp(12.0, 28.0);

@@ -66,15 +66,15 @@ impl Heatmap {
     fn check(&self) -> Result<(), VisualError> {
         let columns = self.x_values.len();
         if columns == 0 || self.row_labels.is_empty() {
-            return Err(VisualError::Data(format!(
-                "a heatmap needs at least one row and one column"
+            return Err(VisualError::Data(String::from(
+                "a heatmap needs at least one row and one column",
             )));
         }
         if self.values.len() != self.row_labels.len()
             || self.values.iter().any(|r| r.len() != columns)
         {
-            return Err(VisualError::Data(format!(
-                "a heatmap needs one value per row label and x value"
+            return Err(VisualError::Data(String::from(
+                "a heatmap needs one value per row label and x value",
             )));
         }
         Ok(())

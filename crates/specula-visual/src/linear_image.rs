@@ -34,7 +34,7 @@ impl ImageFormat {
         match extension.as_deref() {
             Some("png") => Ok(ImageFormat::Png),
             Some("exr") => Ok(ImageFormat::Exr),
-            _ => return Err(VisualError::Data(format!(
+            _ => Err(VisualError::Data(format!(
                 "{}: unknown image type (use .png for a tone-mapped picture or .exr for linear radiance)",
                 path.display()
             ))),

@@ -71,7 +71,7 @@ pub struct SampleGrid {
 impl SampleGrid {
     pub fn new(samples: &[RawSample]) -> Result<Self, VisualError> {
         if samples.is_empty() {
-            return Err(VisualError::Data(format!("no samples to plot")));
+            return Err(VisualError::Data(String::from("no samples to plot")));
         }
         if let Some(s) = samples.iter().find(|s| {
             ![s.theta_h_deg, s.theta_d_deg, s.phi_d_deg]
