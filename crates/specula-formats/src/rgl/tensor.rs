@@ -18,7 +18,7 @@ pub const MAGIC: &[u8; 12] = b"tensor_file\0";
 
 /// Element type of a field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Dtype {
+pub(super) enum Dtype {
     U8,
     I8,
     U16,
@@ -52,7 +52,7 @@ impl Dtype {
     }
 
     /// The code of this type in the field table.
-    pub fn code(self) -> u8 {
+    pub(super) fn code(self) -> u8 {
         use Dtype::*;
         match self {
             U8 => 1,
@@ -70,7 +70,7 @@ impl Dtype {
     }
 
     /// Size of one element in bytes.
-    pub fn size_bytes(self) -> usize {
+    pub(super) fn size_bytes(self) -> usize {
         use Dtype::*;
         match self {
             U8 | I8 => 1,
@@ -83,7 +83,7 @@ impl Dtype {
 
 /// One named array of a tensor file: its type, shape and where its bytes are.
 #[derive(Debug, Clone)]
-pub struct Field {
+pub(super) struct Field {
     pub dtype: Dtype,
     pub shape: Vec<usize>,
     data_start: usize,
@@ -92,7 +92,7 @@ pub struct Field {
 
 /// One named array to write: its element type, shape and little-endian bytes.
 #[derive(Debug, Clone)]
-pub struct FieldData {
+pub(super) struct FieldData {
     pub name: String,
     pub dtype: Dtype,
     pub shape: Vec<usize>,
@@ -101,7 +101,7 @@ pub struct FieldData {
 
 impl FieldData {
     /// An `f32` array of the given shape (whose product is `values.len()`).
-    pub fn f32(name: &str, shape: &[usize], values: &[f32]) -> Self {
+    pub(super) fn f32(name: &str, shape: &[usize], values: &[f32]) -> Self {
         debug_assert_eq!(shape.iter().product::<usize>(), values.len());
         Self {
             name: name.into(),
@@ -112,7 +112,7 @@ impl FieldData {
     }
 
     /// A rank-1 `u32` array.
-    pub fn u32(name: &str, values: &[u32]) -> Self {
+    pub(super) fn u32(name: &str, values: &[u32]) -> Self {
         Self {
             name: name.into(),
             dtype: Dtype::U32,
@@ -122,7 +122,7 @@ impl FieldData {
     }
 
     /// A rank-1 `u8` array.
-    pub fn u8(name: &str, values: &[u8]) -> Self {
+    pub(super) fn u8(name: &str, values: &[u8]) -> Self {
         Self {
             name: name.into(),
             dtype: Dtype::U8,
@@ -136,7 +136,7 @@ impl FieldData {
 const DATA_ALIGNMENT: usize = 8;
 
 /// The bytes of a tensor file (version 1.0) holding `fields` in order.
-pub fn encode(fields: &[FieldData]) -> Vec<u8> {
+pub(super) fn encode(fields: &[FieldData]) -> Vec<u8> {
     let header_len = MAGIC.len()
         + 2
         + 4
@@ -174,7 +174,7 @@ pub fn encode(fields: &[FieldData]) -> Vec<u8> {
 }
 
 /// A parsed tensor file: the field table over the file's bytes.
-pub struct TensorFile<'a> {
+pub(super) struct TensorFile<'a> {
     bytes: &'a [u8],
     fields: HashMap<String, Field>,
 }
@@ -231,7 +231,7 @@ impl<'a> Cursor<'a> {
 impl<'a> TensorFile<'a> {
     /// Parses the field table, checking the magic, the version and that every field's data
     /// lies inside the file. The error says what is wrong.
-    pub fn parse(bytes: &'a [u8]) -> Result<Self, Malformed> {
+    pub(super) fn parse(bytes: &'a [u8]) -> Result<Self, Malformed> {
         if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
             return Err("not a tensor file (the first 12 bytes are not \"tensor_file\\0\")".into());
         }
@@ -292,7 +292,7 @@ impl<'a> TensorFile<'a> {
     }
 
     /// The field called `name`, or an error naming it.
-    pub fn field(&self, name: &str) -> Result<&Field, Malformed> {
+    pub(super) fn field(&self, name: &str) -> Result<&Field, Malformed> {
         self.fields
             .get(name)
             .ok_or_else(|| Malformed(format!("missing field '{name}'")))
@@ -305,7 +305,11 @@ impl<'a> TensorFile<'a> {
 
     /// The elements of an `f32` field of the given rank, with its shape; every value must be
     /// finite.
-    pub fn f32_field(&self, name: &str, rank: usize) -> Result<(Vec<f32>, Vec<usize>), Malformed> {
+    pub(super) fn f32_field(
+        &self,
+        name: &str,
+        rank: usize,
+    ) -> Result<(Vec<f32>, Vec<usize>), Malformed> {
         let field = self.field(name)?;
         if field.dtype != Dtype::F32 || field.shape.len() != rank {
             return Err(format!(
@@ -330,7 +334,7 @@ impl<'a> TensorFile<'a> {
     }
 
     /// The bytes of a rank-1 `u8` field.
-    pub fn u8_field(&self, name: &str) -> Result<&'a [u8], Malformed> {
+    pub(super) fn u8_field(&self, name: &str) -> Result<&'a [u8], Malformed> {
         let field = self.field(name)?;
         if field.dtype != Dtype::U8 || field.shape.len() != 1 {
             return Err(format!(
