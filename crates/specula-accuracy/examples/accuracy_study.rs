@@ -37,6 +37,7 @@ use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
 use specula_sampling::analysis::median;
 use std::collections::BTreeMap;
+use std::error::Error;
 use std::sync::Arc;
 
 /// A reconstruction: a [`Method`] or the `prior` method (its trust chosen by the samples,
@@ -57,13 +58,13 @@ struct Config {
     method: Recon,
 }
 
+/// A material measured on a plan: the sample count, the samples and k (when a sampling
+/// function placed theta_h).
+type Measured = (usize, Vec<Sample>, Option<f64>);
+
 impl Config {
     /// The material measured on this configuration's plan.
-    fn measure(
-        &self,
-        truth: &dyn Brdf,
-        device: &Device,
-    ) -> anyhow::Result<(usize, Vec<Sample>, Option<f64>)> {
+    fn measure(&self, truth: &dyn Brdf, device: &Device) -> Result<Measured, Box<dyn Error>> {
         let Some((step, grazing_step, from)) = self.graded else {
             let m = Measurement::simulate(truth, &self.plan, device)?;
             return Ok((m.samples.len(), m.samples, m.k));
@@ -76,7 +77,7 @@ impl Config {
 }
 
 /// The paper's pipeline, our method on its samples, and our method on each smaller plan.
-fn configs(plans: &[String], trusts: &[(f64, f64)]) -> anyhow::Result<Vec<Config>> {
+fn configs(plans: &[String], trusts: &[(f64, f64)]) -> Result<Vec<Config>, Box<dyn Error>> {
     let paper = PlanSettings::paper();
     let mut out = vec![
         Config {
@@ -120,7 +121,9 @@ fn configs(plans: &[String], trusts: &[(f64, f64)]) -> anyhow::Result<Vec<Config
             parts.get(2).and_then(|v| number(v)),
             parts.get(1),
         ) else {
-            anyhow::bail!("--plan {spec}: expected HxDxP, e.g. 24x4x22.5 or 16x3:1.5@60x30");
+            return Err(
+                format!("--plan {spec}: expected HxDxP, e.g. 24x4x22.5 or 16x3:1.5@60x30").into(),
+            );
         };
         // D is a step, or `STEP:GRAZING_STEP@FROM`.
         let graded = theta_d_spec.split_once(':').and_then(|(step, rest)| {
@@ -129,8 +132,9 @@ fn configs(plans: &[String], trusts: &[(f64, f64)]) -> anyhow::Result<Vec<Config
         });
         let theta_d = match graded {
             Some((step, _, _)) => step,
-            None => number(theta_d_spec)
-                .ok_or_else(|| anyhow::anyhow!("--plan {spec}: bad theta_d step"))?,
+            None => {
+                number(theta_d_spec).ok_or_else(|| format!("--plan {spec}: bad theta_d step"))?
+            }
         };
         let plan = PlanSettings {
             grid: GridSpec {
@@ -157,7 +161,7 @@ fn configs(plans: &[String], trusts: &[(f64, f64)]) -> anyhow::Result<Vec<Config
     Ok(out)
 }
 
-fn truths(set: &str) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
+fn truths(set: &str) -> Result<Vec<Arc<dyn Brdf>>, Box<dyn Error>> {
     Ok(match set {
         "rgl" => load_brdfs(&measured_data_dir().join("rgl_bsdf").to_string_lossy())?,
         "nbrdf-rgl" => nbrdf_set(NbrdfSet::RglIsotropic)?,
@@ -168,11 +172,15 @@ fn truths(set: &str) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
         "sgd" => load_model(FitModel::Sgd)?,
         "abc" => load_model(FitModel::Abc)?,
         "nbrdf" => nbrdf_set(NbrdfSet::Merl100)?,
-        other => anyhow::bail!("unknown set {other} (rgl, nbrdf-rgl, builtin, sgd, abc, nbrdf)"),
+        other => {
+            return Err(
+                format!("unknown set {other} (rgl, nbrdf-rgl, builtin, sgd, abc, nbrdf)").into(),
+            )
+        }
     })
 }
 
-fn nbrdf_set(set: NbrdfSet) -> anyhow::Result<Vec<Arc<dyn Brdf>>> {
+fn nbrdf_set(set: NbrdfSet) -> Result<Vec<Arc<dyn Brdf>>, Box<dyn Error>> {
     set.names()?
         .iter()
         .map(|n| Ok(Arc::new(Nbrdf::load(set, n)?) as Arc<dyn Brdf>))
@@ -213,7 +221,7 @@ fn figures(a: &Accuracy) -> [f64; 6] {
     ]
 }
 
-fn main() -> anyhow::Result<()> {
+fn main() -> Result<(), Box<dyn Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut sets = Vec::new();
     let mut every = 1usize;
@@ -238,7 +246,7 @@ fn main() -> anyhow::Result<()> {
                 let spec = args.get(i + 1).cloned().unwrap_or_default();
                 let parts: Vec<f64> = spec.split(',').filter_map(|v| v.parse().ok()).collect();
                 let [w, s2] = parts[..] else {
-                    anyhow::bail!("--trust {spec}: expected W,S2, e.g. 0.5,0.1");
+                    return Err(format!("--trust {spec}: expected W,S2, e.g. 0.5,0.1").into());
                 };
                 trusts.push((w, s2));
                 i += 1;
@@ -247,7 +255,7 @@ fn main() -> anyhow::Result<()> {
                 plans.push(args.get(i + 1).cloned().unwrap_or_default());
                 i += 1;
             }
-            other => anyhow::bail!("unknown argument {other}"),
+            other => return Err(format!("unknown argument {other}").into()),
         }
         i += 1;
     }

@@ -17,7 +17,6 @@
 
 pub mod merl_prior;
 
-use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::Plan;
 use specula_acquisition::response::{InstrumentResponse, ThroughResponse};
@@ -27,6 +26,7 @@ use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, GridSpec, HalfDiff, MerlBrdf, ProbeSpec, Sample};
 use specula_reconstruct::{reconstruct, reconstruct_through, Method, ReconstructError, Reconstruction};
 use specula_sampling::deblur::deblur_probe;
+use specula_sampling::error::SamplingError;
 use specula_sampling::{fit_k, place_theta_h, Probe};
 
 /// A plan on a grid: every combination of the theta_h, theta_d and phi_d positions (degrees)
@@ -118,7 +118,7 @@ impl PlanSettings {
 
     /// theta_h positions (degrees) for a material, with the k they come from (none for the
     /// probe placement).
-    pub fn theta_h_deg(&self, truth: &dyn Brdf) -> Result<(Vec<f64>, Option<f64>)> {
+    pub fn theta_h_deg(&self, truth: &dyn Brdf) -> Result<(Vec<f64>, Option<f64>), SamplingError> {
         self.theta_h_deg_of_probe(|| Probe::take(truth, &ProbeSpec::paper()))
     }
 
@@ -126,8 +126,8 @@ impl PlanSettings {
     /// needs one.
     fn theta_h_deg_of_probe(
         &self,
-        take: impl FnOnce() -> Result<Probe>,
-    ) -> Result<(Vec<f64>, Option<f64>)> {
+        take: impl FnOnce() -> Result<Probe, SamplingError>,
+    ) -> Result<(Vec<f64>, Option<f64>), SamplingError> {
         let n = self.grid.theta_h_samples;
         if let ThetaHPlacement::Function(f) = self.placement {
             return Ok((f.positions_deg(n), Some(f.k)));
@@ -143,7 +143,7 @@ impl PlanSettings {
     }
 
     /// The grid for a material.
-    pub fn grid(&self, truth: &dyn Brdf) -> Result<(GridPlan, Option<f64>)> {
+    pub fn grid(&self, truth: &dyn Brdf) -> Result<(GridPlan, Option<f64>), SamplingError> {
         let (theta_h, k) = self.theta_h_deg(truth)?;
         Ok((GridPlan::on(theta_h, &self.grid), k))
     }
@@ -165,6 +165,24 @@ pub fn reached_by(grid: &GridPlan, device: &Device) -> Vec<HalfDiff> {
     .collect()
 }
 
+/// Why a material's measurement could not be planned: its theta_h could not be placed.
+#[derive(Debug, thiserror::Error)]
+#[error("{material}: placing theta_h: {cause}")]
+pub struct PlacementError {
+    /// The material's name.
+    pub material: String,
+    /// The cause.
+    pub cause: SamplingError,
+}
+
+impl PlacementError {
+    /// The error of placing theta_h for `truth`.
+    fn of(truth: &dyn Brdf) -> impl FnOnce(SamplingError) -> Self {
+        let material = truth.name();
+        move |cause| PlacementError { material, cause }
+    }
+}
+
 /// A material measured on its plan, without noise.
 #[derive(Debug, Clone)]
 pub struct Measurement {
@@ -176,10 +194,12 @@ pub struct Measurement {
 
 impl Measurement {
     /// Plans the material's measurement and takes the reachable samples from the truth.
-    pub fn simulate(truth: &dyn Brdf, settings: &PlanSettings, device: &Device) -> Result<Self> {
-        let (grid, k) = settings
-            .grid(truth)
-            .with_context(|| format!("{}: placing theta_h", truth.name()))?;
+    pub fn simulate(
+        truth: &dyn Brdf,
+        settings: &PlanSettings,
+        device: &Device,
+    ) -> Result<Self, PlacementError> {
+        let (grid, k) = settings.grid(truth).map_err(PlacementError::of(truth))?;
         let samples = measure(truth, &reached_by(&grid, device));
         Ok(Self { grid, k, samples })
     }
@@ -195,7 +215,7 @@ impl Measurement {
         settings: &PlanSettings,
         device: &Device,
         response: Option<&InstrumentResponse>,
-    ) -> Result<Self> {
+    ) -> Result<Self, PlacementError> {
         let Some(response) = response else {
             return Self::simulate(truth, settings, device);
         };
@@ -213,7 +233,7 @@ impl Measurement {
                     .unzip();
                 Ok(Probe::new(theta_h, values)?)
             })
-            .with_context(|| format!("{}: placing theta_h", truth.name()))?;
+            .map_err(PlacementError::of(truth))?;
         let grid = GridPlan::on(theta_h, &settings.grid);
         let samples = measure(&measured, &reached_by(&grid, device));
         Ok(Self { grid, k, samples })

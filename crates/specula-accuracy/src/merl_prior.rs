@@ -5,19 +5,30 @@
 //! are test data. The training set comes from `specula-formats`, which the reconstruction
 //! does not depend on.
 
-use anyhow::Result;
 use specula_core::Brdf;
 use specula_formats::fits::{load_model, FitModel};
+use specula_formats::input::FormatError;
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
-use specula_reconstruct::prior::PriorBasis;
+use specula_reconstruct::prior::{PriorBasis, PriorError};
 use std::sync::{Arc, OnceLock};
+
+/// Why the MERL-100 prior could not be derived.
+#[derive(Debug, thiserror::Error)]
+pub enum MerlPriorError {
+    /// A training material could not be loaded.
+    #[error("the prior's training set: {0}")]
+    Training(#[from] FormatError),
+    /// The basis could not be derived from the training set.
+    #[error(transparent)]
+    Basis(#[from] PriorError),
+}
 
 /// Principal components kept by [`merl_prior`].
 pub const MERL_COMPONENTS: usize = 24;
 
 /// The basis of the MERL-100 fits (see the module documentation), derived once per
 /// process.
-pub fn merl_prior() -> Result<Arc<PriorBasis>> {
+pub fn merl_prior() -> Result<Arc<PriorBasis>, MerlPriorError> {
     static MERL: OnceLock<Arc<PriorBasis>> = OnceLock::new();
     if let Some(basis) = MERL.get() {
         return Ok(basis.clone());
@@ -28,7 +39,7 @@ pub fn merl_prior() -> Result<Arc<PriorBasis>> {
 }
 
 /// The training materials of [`merl_prior`]: MERL-100 as fitted by NBRDF, SGD and ABC.
-fn merl_training_set() -> Result<Vec<Arc<dyn Brdf>>> {
+fn merl_training_set() -> Result<Vec<Arc<dyn Brdf>>, FormatError> {
     let mut out: Vec<Arc<dyn Brdf>> = Vec::new();
     for name in NbrdfSet::Merl100.names()? {
         out.push(Arc::new(Nbrdf::load(NbrdfSet::Merl100, &name)?));

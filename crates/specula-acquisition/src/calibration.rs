@@ -99,6 +99,21 @@ pub enum CalibrationError {
     Fit(String),
     #[error("{path}: {message}")]
     File { path: String, message: String },
+    /// A value of a calibration file lies outside its range.
+    #[error("{path}: {problem}")]
+    Range { path: String, problem: OutOfRange },
+}
+
+/// A calibration value outside its range: `field must be RANGE, got VALUE`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{field} must be {range}, got {}", shown(*.value))]
+pub struct OutOfRange {
+    /// The field's path in the calibration file, e.g. `noise.gain_dn_per_e`.
+    pub field: String,
+    /// The range in words, e.g. `positive and finite`.
+    pub range: String,
+    /// The value found.
+    pub value: f64,
 }
 
 /// How to calibrate.
@@ -220,9 +235,9 @@ impl Calibration {
             })?;
         calibration
             .validate()
-            .map_err(|message| CalibrationError::File {
+            .map_err(|problem| CalibrationError::Range {
                 path: name,
-                message,
+                problem,
             })?;
         Ok(calibration)
     }
@@ -230,12 +245,16 @@ impl Calibration {
     /// The first value outside its range, as `field must be RANGE, got VALUE`: gains
     /// positive, the colour matrix finite and invertible, the noise model's black level
     /// below its white level, the reference's reflectance in (0, 1].
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), OutOfRange> {
         let rule = |ok: bool, field: &str, range: &str, value: f64| {
             if ok {
                 Ok(())
             } else {
-                Err(format!("{field} must be {range}, got {}", shown(value)))
+                Err(OutOfRange {
+                    field: field.to_string(),
+                    range: range.to_string(),
+                    value,
+                })
             }
         };
         for (c, &gain) in self.gain_dn_s_per_sr.iter().enumerate() {
@@ -325,12 +344,12 @@ impl Calibration {
 
 /// One range check of [`Calibration::validate`]: whether the value is in range, the field's
 /// name, the range in words and the value; an error names the field.
-type RangeRule<'a> = dyn Fn(bool, &str, &str, f64) -> Result<(), String> + 'a;
+type RangeRule<'a> = dyn Fn(bool, &str, &str, f64) -> Result<(), OutOfRange> + 'a;
 
 /// The response's first value outside its range (see [`Calibration::validate`]): angles in
 /// [0, 90) degrees, the emission profile zero or positive, the footprint zero or positive,
 /// the distances positive, the fit residual zero or positive.
-fn validate_response(fit: &response::ResponseFit, rule: &RangeRule<'_>) -> Result<(), String> {
+fn validate_response(fit: &response::ResponseFit, rule: &RangeRule<'_>) -> Result<(), OutOfRange> {
     let r = &fit.response;
     let angle = |v: f64| (0.0..90.0).contains(&v);
     let at_least_zero = |v: f64| v.is_finite() && v >= 0.0;

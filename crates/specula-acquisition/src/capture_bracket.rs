@@ -27,9 +27,9 @@ impl CaptureBracket {
         self.light_levels.len() as f64 * (self.light_change_s + frames_s) + self.overhead_s
     }
 
-    pub(crate) fn validate(&self) -> Result<(), String> {
+    pub(crate) fn validate(&self) -> Result<(), CaptureProblem> {
         if self.exposures_s.is_empty() || self.light_levels.is_empty() {
-            return Err("capture needs at least one exposure and one light level".into());
+            return Err(CaptureProblem::Empty);
         }
         let times = self.exposures_s.iter().chain([
             &self.readout_s,
@@ -37,15 +37,29 @@ impl CaptureBracket {
             &self.overhead_s,
         ]);
         if times.into_iter().any(|t| !(t.is_finite() && *t >= 0.0)) {
-            return Err("capture times must be zero or positive numbers of seconds".into());
+            return Err(CaptureProblem::Time);
         }
         if self
             .light_levels
             .iter()
             .any(|l| !(l.is_finite() && *l > 0.0))
         {
-            return Err("capture.light_levels must be positive".into());
+            return Err(CaptureProblem::LightLevel);
         }
         Ok(())
     }
+}
+
+/// What makes a device file's capture bracket unusable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum CaptureProblem {
+    /// No exposure or no light level.
+    #[error("capture needs at least one exposure and one light level")]
+    Empty,
+    /// A time is negative or not a number.
+    #[error("capture times must be zero or positive numbers of seconds")]
+    Time,
+    /// A light level is zero, negative or not a number.
+    #[error("capture.light_levels must be positive")]
+    LightLevel,
 }

@@ -146,6 +146,12 @@ pub enum DeviceError {
     },
     #[error("device file {path}: {problem}")]
     Invalid { path: String, problem: String },
+    /// The capture bracket of a device file is unusable.
+    #[error("device file {path}: {problem}")]
+    Capture {
+        path: String,
+        problem: crate::capture_bracket::CaptureProblem,
+    },
 }
 
 impl Device {
@@ -180,6 +186,13 @@ impl Device {
             path: origin.to_string(),
             problem,
         })?;
+        device
+            .capture
+            .validate()
+            .map_err(|problem| DeviceError::Capture {
+                path: origin.to_string(),
+                problem,
+            })?;
         Ok(device)
     }
 
@@ -218,7 +231,8 @@ impl Device {
         ]
     }
 
-    /// The first problem that makes the description unusable, if any.
+    /// The first problem that makes the description unusable, if any, apart from its capture
+    /// bracket (which `CaptureBracket::validate` checks).
     fn validate(&self) -> Result<(), String> {
         let positive = |value: f64, what: &str| {
             if value.is_finite() && value > 0.0 {
@@ -304,7 +318,7 @@ impl Device {
             }
             non_negative(part.radius_m, &format!("part '{}' radius_m", part.name))?;
         }
-        self.capture.validate()
+        Ok(())
     }
 }
 

@@ -59,6 +59,7 @@ pub struct Aperture {
 pub struct Beams {
     /// Angle of the source's centre (and of the mirror direction) from the normal.
     pub theta_deg: f64,
+    /// The source aperture.
     pub source: Aperture,
     /// The receptor window.
     pub window: Aperture,

@@ -22,11 +22,17 @@ pub struct Options {
 /// Which figure a warning is about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Figure {
+    /// Specular gloss at 20 deg (ISO 2813 / ASTM D523).
     Gloss20,
+    /// Specular gloss at 60 deg.
     Gloss60,
+    /// Specular gloss at 85 deg.
     Gloss85,
+    /// Reflection haze (ASTM E430).
     Haze,
+    /// Distinctness of image (ASTM E430).
     Doi,
+    /// Haze at 20 deg (ASTM E430 Test Method B / ISO 13803).
     Haze20,
 }
 
@@ -61,17 +67,33 @@ impl Figure {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Warning {
     /// Part of the integration fell on cells the table has not measured (left out).
-    Unmeasured { figure: Figure, fraction: f64 },
+    Unmeasured {
+        /// The figure.
+        figure: Figure,
+        /// The fraction of the aperture's weight left out.
+        fraction: f64,
+    },
     /// Part of the flux comes from extrapolated cells.
-    Extrapolated { figure: Figure, fraction: f64 },
+    Extrapolated {
+        /// The figure.
+        figure: Figure,
+        /// The fraction of the collected flux from extrapolated cells.
+        fraction: f64,
+    },
     /// The figure reads the BRDF at a finer angle than the instrument resolves.
     Resolution {
+        /// The figure.
         figure: Figure,
+        /// The angle the figure reads at, degrees.
         scale_deg: f64,
+        /// The instrument's resolution, degrees.
         resolution_deg: f64,
     },
     /// A colour reading's pair of directions is not measured.
-    ColourUnmeasured { aspecular_deg: f64 },
+    ColourUnmeasured {
+        /// The reading's aspecular angle, degrees.
+        aspecular_deg: f64,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -124,6 +146,7 @@ pub struct Appearance {
     pub colour: Vec<Option<LabD65>>,
     /// Flop index from L* at 15, 45 and 110 deg (`None` when one is missing).
     pub flop_index: Option<f64>,
+    /// Where a figure rests on cells the table did not measure or extrapolated.
     pub warnings: Vec<Warning>,
 }
 
@@ -208,10 +231,15 @@ fn worse_of(a: &Flux, b: &Flux) -> Flux {
 /// Differences of a material's figures to a reference's (material minus reference).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Differences {
+    /// Specular gloss at 20, 60 and 85 deg, gloss units (ISO 2813 / ASTM D523).
     pub gloss: [f64; 3],
+    /// Reflection haze, haze units (ASTM E430).
     pub haze: f64,
+    /// Distinctness of image, DOI units (ASTM E430).
     pub doi: f64,
+    /// Haze at 20 deg, ASTM E430 Test Method B / ISO 13803.
     pub haze_20: f64,
+    /// Flop index (`None` when either lacks one).
     pub flop_index: Option<f64>,
     /// CIEDE2000 at each of [`ASPECULAR_DEG`].
     pub delta_e00: Vec<Option<f64>>,

@@ -40,6 +40,7 @@ pub const SOURCE_IMAGE: Aperture = Aperture {
 pub struct GlossGeometry {
     /// Angle of incidence (and of reflection) from the normal.
     pub angle_deg: f64,
+    /// The receptor aperture around the mirror direction (ASTM D523-14 Table 1).
     pub receptor: Aperture,
 }
 

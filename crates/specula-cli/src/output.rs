@@ -5,7 +5,7 @@ use std::io::{self, Write};
 
 /// Writes `text` to standard output; a closed pipe ends the program (exit 0) and any other
 /// failure to write (a full disk behind a redirect) ends it with a one-line error (exit 1).
-pub fn write(text: std::fmt::Arguments) {
+pub(crate) fn write(text: std::fmt::Arguments) {
     let mut out = io::stdout().lock();
     if let Err(e) = out.write_fmt(text).and_then(|()| out.flush()) {
         if e.kind() == io::ErrorKind::BrokenPipe {
@@ -17,7 +17,7 @@ pub fn write(text: std::fmt::Arguments) {
 }
 
 /// True when `err` comes from writing to a reader that has gone away.
-pub fn is_closed_pipe(err: &anyhow::Error) -> bool {
+pub(crate) fn is_closed_pipe(err: &anyhow::Error) -> bool {
     err.chain().any(|cause| {
         cause
             .downcast_ref::<io::Error>()
@@ -42,7 +42,7 @@ macro_rules! out {
     };
 }
 
-pub use specula_core::shown::plain;
+pub(crate) use specula_core::shown::plain;
 
 #[cfg(test)]
 mod tests {

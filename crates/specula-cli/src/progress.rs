@@ -3,7 +3,7 @@
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// A progress bar over `total` steps with a label, an ETA and a step count.
-pub fn bar(total: u64, label: &str) -> ProgressBar {
+pub(crate) fn bar(total: u64, label: &str) -> ProgressBar {
     let bar = ProgressBar::new(total);
     bar.set_style(
         ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} ({eta} left)")
@@ -15,7 +15,7 @@ pub fn bar(total: u64, label: &str) -> ProgressBar {
 }
 
 /// A spinner for work of unknown length.
-pub fn spinner(label: &str) -> ProgressBar {
+pub(crate) fn spinner(label: &str) -> ProgressBar {
     let spinner = ProgressBar::new_spinner();
     spinner.set_message(label.to_string());
     spinner.enable_steady_tick(std::time::Duration::from_millis(120));
@@ -25,7 +25,7 @@ pub fn spinner(label: &str) -> ProgressBar {
 /// The report layer's progress on the terminal: a bar for a step of known length, else a
 /// spinner.
 #[derive(Default)]
-pub struct Terminal {
+pub(crate) struct Terminal {
     current: std::sync::Mutex<Option<ProgressBar>>,
 }
 

@@ -9,7 +9,7 @@ use specula_formats::rgl::write as rgl;
 
 /// A real number between two finite bounds, in a unit: degrees, seconds, stops, ...
 #[derive(Clone, Copy, Debug)]
-pub struct Real {
+pub(crate) struct Real {
     min: f64,
     max: f64,
     /// The minimum itself is refused (a step, a timeout: above 0).
@@ -19,7 +19,7 @@ pub struct Real {
 
 impl Real {
     /// Values from `min` to `max`, both included, in `unit`.
-    pub const fn from_to(min: f64, max: f64, unit: &'static str) -> Self {
+    pub(crate) const fn from_to(min: f64, max: f64, unit: &'static str) -> Self {
         Self {
             min,
             max,
@@ -29,7 +29,7 @@ impl Real {
     }
 
     /// Values above `min` (excluded) up to `max` (included), in `unit`.
-    pub const fn above(min: f64, max: f64, unit: &'static str) -> Self {
+    pub(crate) const fn above(min: f64, max: f64, unit: &'static str) -> Self {
         Self {
             min,
             max,
@@ -39,7 +39,7 @@ impl Real {
     }
 
     /// The range in words, as `--help` and the error say it.
-    pub fn words(&self) -> String {
+    pub(crate) fn words(&self) -> String {
         if self.above_min {
             format!("{} above {} and at most {}", self.unit, self.min, self.max)
         } else {
@@ -48,7 +48,7 @@ impl Real {
     }
 
     /// Whether `value` lies in the range (NaN never does).
-    pub fn contains(&self, value: f64) -> bool {
+    pub(crate) fn contains(&self, value: f64) -> bool {
         let above = if self.above_min {
             value > self.min
         } else {
@@ -60,19 +60,19 @@ impl Real {
 
 /// A whole number between two bounds (a count of samples, pixels, tries).
 #[derive(Clone, Copy, Debug)]
-pub struct Count {
+pub(crate) struct Count {
     min: usize,
     max: usize,
 }
 
 impl Count {
     /// Counts from `min` to `max`, both included.
-    pub const fn from_to(min: usize, max: usize) -> Self {
+    pub(crate) const fn from_to(min: usize, max: usize) -> Self {
         Self { min, max }
     }
 
     /// The range in words, as `--help` and the error say it.
-    pub fn words(&self) -> String {
+    pub(crate) fn words(&self) -> String {
         format!("a whole number from {} to {}", self.min, self.max)
     }
 }
@@ -123,60 +123,60 @@ impl TypedValueParser for Count {
 }
 
 /// Angles in degrees: a turntable or half-vector azimuth, either way round.
-pub const AZIMUTH_DEG: Real = Real::from_to(-360.0, 360.0, "degrees");
+pub(crate) const AZIMUTH_DEG: Real = Real::from_to(-360.0, 360.0, "degrees");
 /// phi_d of MERL's half-difference angles (folded by reciprocity to [0, 180]).
-pub const PHI_D_DEG: Real = Real::from_to(0.0, 180.0, "degrees");
+pub(crate) const PHI_D_DEG: Real = Real::from_to(0.0, 180.0, "degrees");
 /// theta_d, from the half vector: below the horizon at 90.
-pub const THETA_D_DEG: Real = Real::from_to(0.0, 89.5, "degrees");
+pub(crate) const THETA_D_DEG: Real = Real::from_to(0.0, 89.5, "degrees");
 /// A theta_h position.
-pub const THETA_H_DEG: Real = Real::from_to(0.0, 90.0, "degrees");
+pub(crate) const THETA_H_DEG: Real = Real::from_to(0.0, 90.0, "degrees");
 /// A step of a grid in degrees (theta_d, phi_d).
-pub const GRID_STEP_DEG: Real = Real::from_to(0.5, 90.0, "degrees");
+pub(crate) const GRID_STEP_DEG: Real = Real::from_to(0.5, 90.0, "degrees");
 /// An elevation from the normal that bounds the device's reach.
-pub const ELEVATION_DEG: Real = Real::above(0.0, 90.0, "degrees");
+pub(crate) const ELEVATION_DEG: Real = Real::above(0.0, 90.0, "degrees");
 /// The sample's tilt on the turntable (a misalignment to simulate).
-pub const TILT_DEG: Real = Real::from_to(0.0, 10.0, "degrees");
+pub(crate) const TILT_DEG: Real = Real::from_to(0.0, 10.0, "degrees");
 /// k of a theta_h sampling function (the family's own bound is checked as well: base-k
 /// needs k above 1).
-pub const SAMPLING_K: Real = Real::above(0.0, 100.0, "a number");
+pub(crate) const SAMPLING_K: Real = Real::above(0.0, 100.0, "a number");
 /// A scan step of phi_h.
-pub const PHI_H_STEP_DEG: Real = Real::above(0.0, 45.0, "degrees");
+pub(crate) const PHI_H_STEP_DEG: Real = Real::above(0.0, 45.0, "degrees");
 /// An elevation of the light above the sample for the alignment check.
-pub const LIGHT_ELEVATION_DEG: Real = Real::from_to(5.0, 75.0, "degrees");
+pub(crate) const LIGHT_ELEVATION_DEG: Real = Real::from_to(5.0, 75.0, "degrees");
 /// A reflectance (a white reference).
-pub const REFLECTANCE: Real = Real::above(0.0, 1.0, "a fraction");
+pub(crate) const REFLECTANCE: Real = Real::above(0.0, 1.0, "a fraction");
 /// Radiance factor of the simulated lens flare, 1/sr.
-pub const FLARE_STRENGTH_SR: Real = Real::from_to(0.0, 10.0, "1/sr");
+pub(crate) const FLARE_STRENGTH_SR: Real = Real::from_to(0.0, 10.0, "1/sr");
 /// Seconds to wait (timeouts): up to a day.
-pub const TIMEOUT_S: Real = Real::above(0.0, 86_400.0, "seconds");
+pub(crate) const TIMEOUT_S: Real = Real::above(0.0, 86_400.0, "seconds");
 /// How much faster than real time a rehearsal runs.
-pub const SPEEDUP: Real = Real::above(0.0, 1e6, "a factor");
+pub(crate) const SPEEDUP: Real = Real::above(0.0, 1e6, "a factor");
 /// An instrument's angular resolution, e.g. the angular radius of its light source.
-pub const RESOLUTION_DEG: Real = Real::above(0.0, 90.0, "degrees");
+pub(crate) const RESOLUTION_DEG: Real = Real::above(0.0, 90.0, "degrees");
 /// Exposure of a tone-mapped picture.
-pub const EXPOSURE_STOPS: Real = Real::from_to(-20.0, 20.0, "stops");
+pub(crate) const EXPOSURE_STOPS: Real = Real::from_to(-20.0, 20.0, "stops");
 
 /// theta_h samples of a measurement's sampling function (the paper: 30; MERL has 90 bins).
-pub const THETA_H_SAMPLES: Count = Count::from_to(2, 360);
+pub(crate) const THETA_H_SAMPLES: Count = Count::from_to(2, 360);
 /// Samples of a probe (the paper: 90).
-pub const PROBE_SAMPLES: Count = Count::from_to(2, 10_000);
+pub(crate) const PROBE_SAMPLES: Count = Count::from_to(2, 10_000);
 /// Failures in a row on one request before giving up.
-pub const FAILURES: Count = Count::from_to(1, 100);
+pub(crate) const FAILURES: Count = Count::from_to(1, 100);
 /// Turntable rotations of the alignment check.
-pub const ROTATIONS: Count = Count::from_to(3, 72);
+pub(crate) const ROTATIONS: Count = Count::from_to(3, 72);
 /// Width and height of a picture, pixels.
-pub const IMAGE_PX: Count = Count::from_to(8, specula_report::MAX_IMAGE_PX);
+pub(crate) const IMAGE_PX: Count = Count::from_to(8, specula_report::MAX_IMAGE_PX);
 /// Camera rays per pixel.
-pub const SAMPLES_PER_PIXEL: Count =
+pub(crate) const SAMPLES_PER_PIXEL: Count =
     Count::from_to(1, specula_visual::render::MAX_SAMPLES_PER_PIXEL);
 /// Incident elevations of a written RGL file.
-pub const RGL_ELEVATIONS: Count =
+pub(crate) const RGL_ELEVATIONS: Count =
     Count::from_to(*rgl::ELEVATIONS_RANGE.start(), *rgl::ELEVATIONS_RANGE.end());
 /// Nodes per axis of a written RGL file's microfacet distribution.
-pub const RGL_NDF_SIZE: Count =
+pub(crate) const RGL_NDF_SIZE: Count =
     Count::from_to(*rgl::NDF_SIZE_RANGE.start(), *rgl::NDF_SIZE_RANGE.end());
 /// Samples per axis of a written RGL file's RGB grid.
-pub const RGL_SAMPLE_SIZE: Count = Count::from_to(
+pub(crate) const RGL_SAMPLE_SIZE: Count = Count::from_to(
     *rgl::SAMPLE_SIZE_RANGE.start(),
     *rgl::SAMPLE_SIZE_RANGE.end(),
 );

@@ -44,8 +44,11 @@ pub trait Brdf: Send + Sync {
 /// grid when tabulating (angles in radians).
 #[derive(Debug, Clone, Copy)]
 pub struct PhiDRow<'a> {
+    /// Angle of the half vector to the normal, radians.
     pub theta_h: f64,
+    /// Angle between the half vector and `wi`, radians.
     pub theta_d: f64,
+    /// Azimuth of the half vector, radians.
     pub phi_h: f64,
     /// phi_d of each cell.
     pub phi_d: &'a [f64],

@@ -20,8 +20,12 @@ use rayon::prelude::*;
 pub struct ErrorFigures {
     /// Cells that entered the figures.
     pub cells: usize,
+    /// Cosine-weighted relative RMSE (dimensionless; see the module documentation).
     pub relative_rmse: f64,
+    /// RMSE of `ln(1 + f_r cos(theta_i))`, weighing the peak and the tail alike.
     pub log_rmse: f64,
+    /// The paper's figure (section 5.1): mean absolute difference of f_r, 1/sr, over the
+    /// characteristic slice phi_d = 90 deg.
     pub slice_mae: f64,
 }
 

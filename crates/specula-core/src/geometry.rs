@@ -24,6 +24,7 @@ pub struct Spherical {
 }
 
 impl Spherical {
+    /// A direction from its polar angle and azimuth, radians.
     pub fn new(theta_rad: f64, phi_rad: f64) -> Self {
         Self { theta_rad, phi_rad }
     }
@@ -75,6 +76,7 @@ pub struct HalfDiff {
 }
 
 impl HalfDiff {
+    /// A configuration from its four angles, radians (Rusinkiewicz 1998, as MERL indexes).
     pub fn new(theta_h: f64, phi_h: f64, theta_d: f64, phi_d: f64) -> Self {
         Self {
             theta_h,

@@ -37,30 +37,94 @@ pub const FILE_BYTES: usize = HEADER_BYTES + 3 * CELLS * 8;
 /// What is wrong with a MERL file; shown after the file's path.
 #[derive(Debug, thiserror::Error)]
 pub enum MerlError {
+    /// The file cannot be read or written.
     #[error("{path}: cannot read or write: {cause}")]
     Io {
+        /// The file.
         path: PathBuf,
         /// Not `source`: the message already holds it, and error chains would print it twice.
         cause: std::io::Error,
     },
+    /// The file's content is not a MERL table.
     #[error("{path}: {problem}")]
-    Invalid { path: PathBuf, problem: String },
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        problem: MerlProblem,
+    },
 }
 
 impl MerlError {
-    fn invalid(path: &Path, problem: impl Into<String>) -> Self {
+    fn invalid(path: &Path, problem: MerlProblem) -> Self {
         MerlError::Invalid {
             path: path.to_path_buf(),
-            problem: problem.into(),
+            problem,
         }
     }
+}
+
+/// What is wrong with the content of a MERL `.binary` file, for the caller to put after the
+/// file's name.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MerlProblem {
+    /// The path names a directory.
+    #[error("is a directory, not a MERL .binary file")]
+    Directory,
+    /// Fewer bytes than the 12-byte header.
+    #[error("too short for a MERL header ({total_len} bytes, need {HEADER_BYTES})")]
+    TooShort {
+        /// The file's length, bytes.
+        total_len: u64,
+    },
+    /// The header's dimensions are not the MERL grid's 90 x 90 x 180.
+    #[error(
+        "dimensions {} x {} x {}, expected 90 x 90 x 180 (theta_h, theta_d, phi_d)",
+        dims[0],
+        dims[1],
+        dims[2]
+    )]
+    Dimensions {
+        /// The dimensions the header holds (theta_h, theta_d, phi_d).
+        dims: [i32; 3],
+    },
+    /// The payload is shorter than the grid's three planes.
+    #[error("truncated payload: {total_len} bytes, expected {FILE_BYTES}")]
+    Truncated {
+        /// The file's length, bytes.
+        total_len: u64,
+    },
+    /// The payload is longer than the grid's three planes.
+    #[error("over-long payload: {total_len} bytes, expected {FILE_BYTES}")]
+    OverLong {
+        /// The file's length, bytes.
+        total_len: u64,
+    },
+    /// A stored value is NaN or infinite.
+    #[error(
+        "non-finite value {value} in the {channel} channel at cell (theta_h {}, theta_d {}, phi_d {})",
+        cell.theta_h_i,
+        cell.theta_d_i,
+        cell.phi_d_i
+    )]
+    NonFinite {
+        /// The value as stored.
+        value: f64,
+        /// "red", "green" or "blue".
+        channel: &'static str,
+        /// The cell holding it.
+        cell: Bin,
+    },
 }
 
 /// Cell coordinates `(theta_h_i, theta_d_i, phi_d_i)` of the MERL grid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Bin {
+    /// theta_h bin, `0..90`, square-root spaced (`theta_h = (i + 0.5)^2 / 90` deg).
     pub theta_h_i: usize,
+    /// theta_d bin, `0..90`, 1 deg wide.
     pub theta_d_i: usize,
+    /// phi_d bin, `0..180`, 1 deg wide (reciprocity folds phi_d into `[0, 180)`).
     pub phi_d_i: usize,
 }
 
@@ -111,7 +175,9 @@ impl Bin {
 /// contiguous in a plane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Row {
+    /// theta_h bin, `0..90`.
     pub theta_h_i: usize,
+    /// theta_d bin, `0..90`.
     pub theta_d_i: usize,
 }
 
@@ -231,10 +297,7 @@ impl MerlBrdf {
     /// what `numpy.fromfile` does without any check (README, Performance).
     pub fn read(path: &Path) -> Result<Self, MerlError> {
         if path.is_dir() {
-            return Err(MerlError::invalid(
-                path,
-                "is a directory, not a MERL .binary file",
-            ));
+            return Err(MerlError::invalid(path, MerlProblem::Directory));
         }
         let io_error = |cause| MerlError::Io {
             path: path.to_path_buf(),
@@ -255,7 +318,7 @@ impl MerlBrdf {
     }
 
     /// Parses the bytes of a `.binary` file; the error says what is wrong.
-    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, String> {
+    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, MerlProblem> {
         check_header(&bytes[..bytes.len().min(HEADER_BYTES)], bytes.len() as u64)?;
         let mut table = Self::unfilled(name.into());
         table
@@ -301,18 +364,17 @@ impl MerlBrdf {
     }
 
     /// Where the first non-finite stored value is, in words.
-    fn non_finite_problem(&self) -> String {
+    fn non_finite_problem(&self) -> MerlProblem {
         let pos = self
             .stored
             .iter()
             .position(|v| !v.is_finite())
             .unwrap_or_default();
-        let channel = ["red", "green", "blue"][pos / CELLS];
-        let bin = Bin::from_index(pos % CELLS);
-        format!(
-            "non-finite value {} in the {channel} channel at cell (theta_h {}, theta_d {}, phi_d {})",
-            self.stored[pos], bin.theta_h_i, bin.theta_d_i, bin.phi_d_i
-        )
+        MerlProblem::NonFinite {
+            value: self.stored[pos],
+            channel: ["red", "green", "blue"][pos / CELLS],
+            cell: Bin::from_index(pos % CELLS),
+        }
     }
 
     /// The bytes of the `.binary` file; cells not measured are written as -1.
@@ -390,6 +452,7 @@ impl MerlBrdf {
         self.cell(Bin::of(hd).index())
     }
 
+    /// Renames the table (the name reports and written files show).
     pub fn set_name(&mut self, name: impl Into<String>) {
         self.name = name.into();
     }
@@ -421,11 +484,9 @@ impl MerlBrdf {
 
 /// Checks the 12-byte header (or as much as there is) and the total length of a file; the
 /// error says what is wrong, for the caller to put after the file's name.
-pub fn check_header(header: &[u8], total_len: u64) -> Result<(), String> {
+pub fn check_header(header: &[u8], total_len: u64) -> Result<(), MerlProblem> {
     if header.len() < HEADER_BYTES {
-        return Err(format!(
-            "too short for a MERL header ({total_len} bytes, need {HEADER_BYTES})"
-        ));
+        return Err(MerlProblem::TooShort { total_len });
     }
     let dim = |i: usize| {
         i32::from_le_bytes([
@@ -437,22 +498,13 @@ pub fn check_header(header: &[u8], total_len: u64) -> Result<(), String> {
     };
     let dims = [dim(0), dim(1), dim(2)];
     if dims != [THETA_H_BINS as i32, THETA_D_BINS as i32, PHI_D_BINS as i32] {
-        return Err(format!(
-            "dimensions {} x {} x {}, expected 90 x 90 x 180 (theta_h, theta_d, phi_d)",
-            dims[0], dims[1], dims[2]
-        ));
+        return Err(MerlProblem::Dimensions { dims });
     }
-    if total_len != FILE_BYTES as u64 {
-        let kind = if total_len < FILE_BYTES as u64 {
-            "truncated"
-        } else {
-            "over-long"
-        };
-        return Err(format!(
-            "{kind} payload: {total_len} bytes, expected {FILE_BYTES}"
-        ));
+    match total_len.cmp(&(FILE_BYTES as u64)) {
+        std::cmp::Ordering::Less => Err(MerlProblem::Truncated { total_len }),
+        std::cmp::Ordering::Greater => Err(MerlProblem::OverLong { total_len }),
+        std::cmp::Ordering::Equal => Ok(()),
     }
-    Ok(())
 }
 
 /// A zeroed buffer for the three planes, backed by transparent huge pages where the system
@@ -660,23 +712,28 @@ mod tests {
     fn bad_input_is_described() {
         assert!(MerlBrdf::from_bytes("x", &[0; 5])
             .unwrap_err()
+            .to_string()
             .contains("too short"));
         let mut bytes = sample_table().to_bytes();
-        let err = MerlBrdf::from_bytes("x", &bytes[..1000]).unwrap_err();
+        let err = MerlBrdf::from_bytes("x", &bytes[..1000])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("truncated"), "{err}");
         bytes.push(0);
         assert!(MerlBrdf::from_bytes("x", &bytes)
             .unwrap_err()
+            .to_string()
             .contains("over-long"));
         bytes.pop();
         bytes[0..4].copy_from_slice(&(-5i32).to_le_bytes());
         assert!(MerlBrdf::from_bytes("x", &bytes)
             .unwrap_err()
+            .to_string()
             .contains("dimensions -5"));
         bytes[0..4].copy_from_slice(&90i32.to_le_bytes());
         let at = HEADER_BYTES + 8 * (CELLS + 44);
         bytes[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
-        let err = MerlBrdf::from_bytes("x", &bytes).unwrap_err();
+        let err = MerlBrdf::from_bytes("x", &bytes).unwrap_err().to_string();
         assert!(err.contains("non-finite") && err.contains("green"), "{err}");
     }
 }

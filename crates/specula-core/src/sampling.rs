@@ -28,6 +28,7 @@ pub enum Family {
 }
 
 impl Family {
+    /// The three families of the paper (equations 2 to 4), in its order.
     pub const ALL: [Family; 3] = [Family::Power, Family::Exponential, Family::Base];
 
     /// The lowercase name used on the command line and in files.
@@ -71,7 +72,9 @@ impl std::fmt::Display for Family {
 /// A sampling function: a family with its parameter k.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SamplingFunction {
+    /// The family (paper equations 2 to 4).
     pub family: Family,
+    /// The family's parameter (k-hat once fitted to a probe, paper section 5.2).
     pub k: f64,
 }
 
@@ -79,8 +82,11 @@ pub struct SamplingFunction {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("k = {k} is out of range for the {family} sampling function (needs k > {bound})")]
 pub struct InvalidK {
+    /// The family asked for.
     pub family: Family,
+    /// The k given.
     pub k: f64,
+    /// The family's lower bound of k (exclusive).
     pub bound: f64,
 }
 

@@ -2,8 +2,8 @@
 //! suggestions for a name it does not know.
 
 use crate::fits::{load_model, FitModel};
+use crate::input::Result;
 use crate::nbrdf::NbrdfSet;
-use anyhow::Result;
 use specula_core::materials::{builtin_database, preset_names};
 
 /// A group of named BRDFs and where they come from.

@@ -13,10 +13,10 @@
 
 use crate::brdf_source::BrdfSource;
 use crate::input::{file_error, read_input};
+use crate::input::{io_error, FormatError, Result};
 use crate::rgl::{RglBsdf, RglResolution, RglTables};
 use crate::samples_csv::SampleSet;
 use crate::utia::{self, UtiaBrdf};
-use anyhow::{bail, Result};
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
 use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, HalfDiff, Sample};
@@ -87,14 +87,13 @@ impl FileFormat {
     /// The format of an existing file: by its magic bytes when they are unambiguous (RGL,
     /// MERL), else by its extension, else by its size or header; `None` if unrecognised.
     pub fn detect(path: &Path) -> Result<Option<Self>> {
-        let mut file =
-            std::fs::File::open(path).map_err(|e| file_error(path, format!("cannot open: {e}")))?;
+        let mut file = std::fs::File::open(path).map_err(|cause| io_error(path, "open", cause))?;
         let len = file.metadata().map(|m| m.len()).unwrap_or(0);
         let mut prefix = Vec::with_capacity(64);
         file.by_ref()
             .take(64)
             .read_to_end(&mut prefix)
-            .map_err(|e| file_error(path, format!("cannot read: {e}")))?;
+            .map_err(|cause| io_error(path, "read", cause))?;
         let sniffed = Self::sniff(&prefix, len);
         Ok(match sniffed {
             Some(Self::Rgl) | Some(Self::Merl) => sniffed,
@@ -120,7 +119,12 @@ impl Loaded {
             FileFormat::Merl => {
                 let bytes = read_input(path)?;
                 let name = crate::input::file_stem(path);
-                Self::Merl(MerlBrdf::from_bytes(name, &bytes).map_err(|p| file_error(path, p))?)
+                Self::Merl(MerlBrdf::from_bytes(name, &bytes).map_err(|problem| {
+                    FormatError::Merl {
+                        path: path.to_path_buf(),
+                        problem,
+                    }
+                })?)
             }
             FileFormat::Utia => Self::Utia(UtiaBrdf::read(path)?),
             FileFormat::Rgl => Self::Rgl(Box::new(RglBsdf::read(path)?)),
@@ -199,10 +203,10 @@ pub struct Conversion {
 /// the file `output`, whose format is given by its extension.
 pub fn convert(input: &str, output: &Path, options: &ConvertOptions) -> Result<Conversion> {
     let Some(target) = FileFormat::from_extension(output) else {
-        bail!(
-            "{}: unknown output format (use .binary for MERL, .bin for UTIA, .bsdf for RGL, .csv for samples)",
-            output.display()
-        )
+        return Err(file_error(
+            output,
+            "unknown output format (use .binary for MERL, .bin for UTIA, .bsdf for RGL, .csv for samples)",
+        ));
     };
     let source = Loaded::resolve(input)?;
     match target {

@@ -4,9 +4,130 @@
 //! crate, with their provenance), the rest (the RGL files, the GPL Lafortune table) is read
 //! from the measured data directory (`shared/data/measured`), found at run time.
 
-use anyhow::{anyhow, Error, Result};
+use specula_core::materials::MaterialError;
+use specula_core::merl::{MerlError, MerlProblem};
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
+
+/// Why a BRDF input cannot be found, read, parsed or written: one line that names the file
+/// or the argument, as the CLI prints it (causes are part of the message, not error
+/// `source`s, so that error chains print them once, as `MerlError` does).
+#[derive(Debug, thiserror::Error)]
+pub enum FormatError {
+    /// A file that cannot be opened, read or written.
+    #[error("{path}: cannot {action}: {cause}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What was being done: `open`, `read` or `write`.
+        action: &'static str,
+        /// The cause.
+        cause: std::io::Error,
+    },
+    /// An input file larger than [`MAX_INPUT_BYTES`].
+    #[error("{path}: cannot read: the file holds {size} bytes, more than the {MAX_INPUT_BYTES} an input may hold")]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size, bytes.
+        size: u64,
+    },
+    /// An input path that names a directory.
+    #[error("{path}: is a directory, not a file")]
+    Directory {
+        /// The path.
+        path: PathBuf,
+    },
+    /// A file of the measured data directory that is not there.
+    #[error("{path}: measured data file not found (set {MEASURED_DIR_VAR} to the directory holding {relative})")]
+    NotFound {
+        /// Where it was looked for.
+        path: PathBuf,
+        /// Its path inside the measured data directory.
+        relative: String,
+    },
+    /// A CSV file whose header or a row cannot be parsed.
+    #[error("{path}: {place}: {cause}")]
+    Csv {
+        /// The file.
+        path: PathBuf,
+        /// `row N` or `cannot read the header`.
+        place: String,
+        /// The cause.
+        cause: csv::Error,
+    },
+    /// A file whose content is not what its format says.
+    #[error("{path}: {problem}")]
+    Malformed {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        problem: Malformed,
+    },
+    /// A MERL `.binary` file whose content is wrong.
+    #[error("{path}: {problem}")]
+    Merl {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        problem: MerlProblem,
+    },
+    /// A BRDF argument that names nothing Specula can read.
+    #[error("{spec}: {problem}")]
+    Argument {
+        /// The argument as given.
+        spec: String,
+        /// What is wrong, with near names when there are some.
+        problem: String,
+    },
+    /// A folder given as a BRDF argument that cannot be listed.
+    #[error("{spec}: cannot list the folder: {cause}")]
+    Folder {
+        /// The argument as given.
+        spec: String,
+        /// The cause.
+        cause: std::io::Error,
+    },
+    /// A MERL table that cannot be read or written.
+    #[error(transparent)]
+    MerlFile(#[from] MerlError),
+    /// A material file that cannot be read.
+    #[error(transparent)]
+    Material(#[from] MaterialError),
+    /// An RGL `.bsdf` file that cannot be made or written.
+    #[error(transparent)]
+    RglWrite(#[from] crate::rgl::write::RglWriteError),
+}
+
+/// What is wrong with the content of a file, in words, for the caller to put after the
+/// file's name (`truncated: 12 bytes, ...`, `row 3: theta_h is not finite`).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct Malformed(pub String);
+
+impl std::ops::Deref for Malformed {
+    type Target = str;
+
+    /// The problem in words.
+    fn deref(&self) -> &str {
+        &self.0
+    }
+}
+
+impl From<String> for Malformed {
+    fn from(problem: String) -> Self {
+        Malformed(problem)
+    }
+}
+
+impl From<&str> for Malformed {
+    fn from(problem: &str) -> Self {
+        Malformed(problem.to_string())
+    }
+}
+
+/// A result whose error is a [`FormatError`].
+pub type Result<T, E = FormatError> = std::result::Result<T, E>;
 
 /// Environment variable that overrides where the measured data lives.
 pub const MEASURED_DIR_VAR: &str = "SPECULA_MEASURED_DIR";
@@ -91,7 +212,7 @@ pub fn data_file(relative: &str) -> Result<DataFile> {
             path: PathBuf::from(format!("(built-in) {name}")),
             bytes: Cow::Borrowed(bytes),
         }),
-        None => Err(not_found(&on_disk, relative)),
+        None => Err(not_found(on_disk, relative)),
     }
 }
 
@@ -102,16 +223,16 @@ pub fn measured_file(relative: &str) -> Result<PathBuf> {
     if path.is_file() {
         Ok(path)
     } else {
-        Err(not_found(&path, relative))
+        Err(not_found(path, relative))
     }
 }
 
 /// The error of a measured data file that is not where it was looked for.
-fn not_found(path: &Path, relative: &str) -> Error {
-    anyhow!(
-        "{}: measured data file not found (set {MEASURED_DIR_VAR} to the directory holding {relative})",
-        path.display()
-    )
+fn not_found(path: PathBuf, relative: &str) -> FormatError {
+    FormatError::NotFound {
+        path,
+        relative: relative.to_string(),
+    }
 }
 
 /// The bytes of an input file; the error names the file and says why it cannot be read.
@@ -124,32 +245,56 @@ pub const MAX_INPUT_BYTES: u64 = 256 << 20;
 pub fn read_input(path: &Path) -> Result<Vec<u8>> {
     open_input(path)?;
     specula_core::bounded_read::read_bounded(path, MAX_INPUT_BYTES)
-        .map_err(|e| file_error(path, format!("cannot read: {e}")))
+        .map_err(|cause| io_error(path, "read", cause))
 }
 
 /// An input file opened for streaming, once its size (at most [`MAX_INPUT_BYTES`]) is known.
 pub fn open_input(path: &Path) -> Result<std::fs::File> {
     if path.is_dir() {
-        return Err(file_error(path, "is a directory, not a file"));
+        return Err(FormatError::Directory {
+            path: path.to_path_buf(),
+        });
     }
-    let file =
-        std::fs::File::open(path).map_err(|e| file_error(path, format!("cannot read: {e}")))?;
+    let file = std::fs::File::open(path).map_err(|cause| io_error(path, "read", cause))?;
     let size = file
         .metadata()
-        .map_err(|e| file_error(path, format!("cannot read: {e}")))?
+        .map_err(|cause| io_error(path, "read", cause))?
         .len();
     if size > MAX_INPUT_BYTES {
-        return Err(file_error(
-            path,
-            format!("cannot read: the file holds {size} bytes, more than the {MAX_INPUT_BYTES} an input may hold"),
-        ));
+        return Err(FormatError::TooLarge {
+            path: path.to_path_buf(),
+            size,
+        });
     }
     Ok(file)
 }
 
-/// A one-line error `PATH: PROBLEM`.
-pub fn file_error(path: &Path, problem: impl std::fmt::Display) -> Error {
-    anyhow!("{}: {problem}", path.display())
+/// The one-line error `PATH: PROBLEM` of a file whose content is wrong.
+pub fn file_error(path: &Path, problem: impl Into<Malformed>) -> FormatError {
+    FormatError::Malformed {
+        path: path.to_path_buf(),
+        problem: problem.into(),
+    }
+}
+
+/// The one-line error `PATH: cannot ACTION: CAUSE` of a file that cannot be opened, read or
+/// written.
+pub fn io_error(path: &Path, action: &'static str, cause: std::io::Error) -> FormatError {
+    FormatError::Io {
+        path: path.to_path_buf(),
+        action,
+        cause,
+    }
+}
+
+/// The one-line error `PATH: PLACE: CAUSE` of a CSV file whose header or a row cannot be
+/// parsed (`place` is `row N` or `cannot read the header`).
+pub fn csv_error(path: &Path, place: impl Into<String>, cause: csv::Error) -> FormatError {
+    FormatError::Csv {
+        path: path.to_path_buf(),
+        place: place.into(),
+        cause,
+    }
 }
 
 /// The file name without its extension, used as the BRDF's name.

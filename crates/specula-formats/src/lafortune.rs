@@ -7,8 +7,8 @@
 //! / max(|C_xy|, |C_z|))^n`.
 //! Table, parameter mapping and checks: `shared/data/measured/merl_fits_ngan2005_lafortune/`.
 
-use crate::input::{file_error, measured_file, read_input};
-use anyhow::{anyhow, Result};
+use crate::input::{csv_error, file_error, measured_file, read_input, Malformed, Result};
+use crate::source::argument_error;
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
 use specula_core::{Brdf, Rgb};
@@ -57,9 +57,9 @@ impl Lafortune {
         let all = Self::read_table(&path)?;
         let count = all.len();
         all.into_iter().find(|f| f.name == material).ok_or_else(|| {
-            anyhow!(
-                "lafortune:{material}: no such material among the {count} of {}",
-                path.display()
+            argument_error(
+                &format!("lafortune:{material}"),
+                format!("no such material among the {count} of {}", path.display()),
             )
         })
     }
@@ -70,7 +70,7 @@ impl Lafortune {
         let mut reader = csv::Reader::from_reader(bytes.as_slice());
         let mut fits = Vec::new();
         for (i, row) in reader.deserialize::<Row>().enumerate() {
-            let row = row.map_err(|e| file_error(path, format!("row {}: {e}", i + 2)))?;
+            let row = row.map_err(|e| csv_error(path, format!("row {}", i + 2), e))?;
             let fit =
                 Self::from_row(row).map_err(|p| file_error(path, format!("row {}: {p}", i + 2)))?;
             fits.push(fit);
@@ -78,7 +78,7 @@ impl Lafortune {
         Ok(fits)
     }
 
-    fn from_row(r: Row) -> Result<Self, String> {
+    fn from_row(r: Row) -> Result<Self, Malformed> {
         let fit = Self {
             name: r.material,
             rho_d: Rgb::new(r.rho_d_r, r.rho_d_g, r.rho_d_b),
@@ -89,13 +89,10 @@ impl Lafortune {
         };
         let scalars_finite = [fit.c_xy, fit.c_z, fit.n].iter().all(|v| v.is_finite());
         if !(fit.rho_d.is_finite() && fit.rho_s.is_finite() && scalars_finite) {
-            return Err(format!("{}: a parameter is not finite", fit.name));
+            return Err(format!("{}: a parameter is not finite", fit.name).into());
         }
         if (fit.c_xy == 0.0 && fit.c_z == 0.0) || fit.n < 0.0 {
-            return Err(format!(
-                "{}: degenerate lobe (C_xy = C_z = 0 or n < 0)",
-                fit.name
-            ));
+            return Err(format!("{}: degenerate lobe (C_xy = C_z = 0 or n < 0)", fit.name).into());
         }
         Ok(fit)
     }

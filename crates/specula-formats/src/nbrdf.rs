@@ -10,8 +10,8 @@
 //! `x = [sin th, 0, cos th, sin td cos pd, sin td sin pd, cos td]`.
 //! Source and checks: `shared/data/measured/merl_nbrdf/PROVENANCE.md`.
 
-use crate::input::{data_file, file_error};
-use anyhow::{anyhow, Result};
+use crate::input::{data_file, file_error, Malformed, Result};
+use crate::source::argument_error;
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
 use specula_core::{Brdf, HalfDiff, Rgb};
@@ -98,11 +98,13 @@ impl Nbrdf {
     pub fn load(set: NbrdfSet, material: &str) -> Result<Self> {
         let names = set.names()?;
         let row = names.iter().position(|n| n == material).ok_or_else(|| {
-            anyhow!(
-                "{}:{material}: no such material among the {} of this set{}",
-                set.prefix(),
-                names.len(),
-                crate::catalog::did_you_mean(material, &names)
+            argument_error(
+                &format!("{}:{material}", set.prefix()),
+                format!(
+                    "no such material among the {} of this set{}",
+                    names.len(),
+                    crate::catalog::did_you_mean(material, &names)
+                ),
             )
         })?;
         let file = data_file(set.files().0)?;
@@ -128,15 +130,14 @@ impl Nbrdf {
     }
 
     /// A network from its 675 weights in the published layout; every weight must be finite.
-    pub fn from_weights(name: impl Into<String>, weights: &[f32]) -> Result<Self, String> {
+    pub fn from_weights(name: impl Into<String>, weights: &[f32]) -> Result<Self, Malformed> {
         if weights.len() != WEIGHTS_PER_MATERIAL {
-            return Err(format!(
-                "{} weights, expected {WEIGHTS_PER_MATERIAL}",
-                weights.len()
-            ));
+            return Err(
+                format!("{} weights, expected {WEIGHTS_PER_MATERIAL}", weights.len()).into(),
+            );
         }
         if let Some(pos) = weights.iter().position(|w| !w.is_finite()) {
-            return Err(format!("weight {pos} is not finite ({})", weights[pos]));
+            return Err(format!("weight {pos} is not finite ({})", weights[pos]).into());
         }
         let mut rest = weights.iter().map(|w| *w as f64);
         let mut take = |n: usize| rest.by_ref().take(n).collect::<Vec<f64>>();

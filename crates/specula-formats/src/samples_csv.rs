@@ -10,8 +10,7 @@
 //! samples of each cell; phi_d folded by reciprocity as MERL does, no other symmetry), so it
 //! answers `None` where no sample fell: filling the gaps is reconstruction's job.
 
-use crate::input::{file_error, file_stem, open_input};
-use anyhow::Result;
+use crate::input::{file_error, file_stem, io_error, open_input, Malformed, Result};
 use glam::DVec3;
 use specula_core::merl::{Bin, CELLS};
 use specula_core::{Brdf, HalfDiff, MerlBrdf, Rgb, Sample};
@@ -100,7 +99,7 @@ impl SampleSet {
 
     /// Parses the text of a samples CSV file, streamed; the error says which row is wrong and
     /// why.
-    pub fn from_csv(name: impl Into<String>, text: impl std::io::Read) -> Result<Self, String> {
+    pub fn from_csv(name: impl Into<String>, text: impl std::io::Read) -> Result<Self, Malformed> {
         let mut reader = csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .from_reader(text);
@@ -113,7 +112,8 @@ impl SampleSet {
                 "header is '{}', expected '{}'",
                 header.iter().collect::<Vec<_>>().join(","),
                 HEADER.join(",")
-            ));
+            )
+            .into());
         }
         let mut samples = Vec::new();
         for (i, row) in reader.deserialize::<Row>().enumerate() {
@@ -154,7 +154,7 @@ impl SampleSet {
     /// Writes the CSV file.
     pub fn write(&self, path: &Path) -> Result<()> {
         specula_core::atomic_file::write_with(path, |out| self.write_to(out))
-            .map_err(|e| file_error(path, format!("cannot write: {e}")))
+            .map_err(|cause| io_error(path, "write", cause))
     }
 
     /// Writes the CSV text; f64 values are printed in their shortest exact form.

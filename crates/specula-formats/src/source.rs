@@ -12,7 +12,7 @@
 //!   `nbrdf-rgl:NAME` and `nbrdf-nielsen:NAME` (of the RGL and Nielsen 2015 materials).
 
 use crate::brdf_source::BrdfSource;
-use anyhow::{bail, Result};
+use crate::input::{FormatError, Result};
 use specula_core::materials::{self, Material};
 use specula_core::MerlBrdf;
 use std::path::Path;
@@ -27,7 +27,10 @@ pub fn load_brdfs(spec: &str) -> Result<Vec<BrdfSource>> {
         return Ok(vec![load_brdf(spec)?]);
     }
     let mut paths: Vec<_> = std::fs::read_dir(folder)
-        .map_err(|e| anyhow::anyhow!("{spec}: cannot list the folder: {e}"))?
+        .map_err(|cause| FormatError::Folder {
+            spec: spec.to_string(),
+            cause,
+        })?
         .filter_map(|entry| entry.ok().map(|e| e.path()))
         .filter(|path| path.is_file())
         .collect();
@@ -39,7 +42,7 @@ pub fn load_brdfs(spec: &str) -> Result<Vec<BrdfSource>> {
         }
     }
     if out.is_empty() {
-        bail!("{spec}: the folder holds no BRDF file (a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)");
+        return Err(argument_error(spec, "the folder holds no BRDF file (a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)"));
     }
     Ok(out)
 }
@@ -79,17 +82,28 @@ pub fn load_brdf(spec: &str) -> Result<BrdfSource> {
         Some("binary") => Ok(Arc::new(MerlBrdf::read(path)?)),
         Some("toml") => Ok(Arc::new(Material::from_toml_file(path)?)),
         _ if path.is_dir() => {
-            bail!("{spec}: is a directory, not a BRDF file (a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)")
+            Err(argument_error(spec, "is a directory, not a BRDF file (a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)"))
         }
         _ if path.exists() => {
-            bail!("{spec}: unrecognised BRDF file (expected a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)")
+            Err(argument_error(spec, "unrecognised BRDF file (expected a MERL .binary, UTIA .bin, RGL .bsdf, samples .csv or a material .toml)"))
         }
         _ => match materials::preset(spec) {
             Some(material) => Ok(Arc::new(material)),
-            None => bail!(
-                "{spec}: no such file, preset or model fit (`specula materials` lists them){}",
-                crate::catalog::did_you_mean(spec, &crate::catalog::all_names())
-            ),
+            None => Err(argument_error(
+                spec,
+                format!(
+                    "no such file, preset or model fit (`specula materials` lists them){}",
+                    crate::catalog::did_you_mean(spec, &crate::catalog::all_names())
+                ),
+            )),
         },
+    }
+}
+
+/// The one-line error `SPEC: PROBLEM` of a BRDF argument.
+pub(crate) fn argument_error(spec: &str, problem: impl Into<String>) -> FormatError {
+    FormatError::Argument {
+        spec: spec.to_string(),
+        problem: problem.into(),
     }
 }

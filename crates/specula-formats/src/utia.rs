@@ -16,8 +16,7 @@
 //! Specula writes cells it has no measurement for as -1, like MERL, and leaves negative nodes
 //! out of the interpolation (renormalising the weights of the others), `None` if all are out.
 
-use crate::input::{file_error, file_stem, read_input};
-use anyhow::Result;
+use crate::input::{file_error, file_stem, io_error, read_input, Malformed, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 use specula_core::brdf::both_above_surface;
@@ -108,7 +107,7 @@ impl UtiaBrdf {
     }
 
     /// Parses the bytes of a `.bin` file; the error says what is wrong.
-    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, String> {
+    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, Malformed> {
         if bytes.len() != FILE_BYTES {
             let kind = if bytes.len() < FILE_BYTES {
                 "truncated"
@@ -125,7 +124,8 @@ impl UtiaBrdf {
             return Err(format!(
                 "{kind}: {} bytes, a UTIA BRDF file has {FILE_BYTES} (3 x 6 x 48 x 6 x 48 f64){looks_like}",
                 bytes.len()
-            ));
+            )
+            .into());
         }
         let values: Vec<f64> = bytes
             .chunks_exact(8)
@@ -141,7 +141,8 @@ impl UtiaBrdf {
                 node.phi_i as f64 * PHI_STEP_DEG,
                 node.theta_v as f64 * THETA_STEP_DEG,
                 node.phi_v as f64 * PHI_STEP_DEG,
-            ));
+            )
+            .into());
         }
         Ok(Self {
             name: name.into(),
@@ -157,7 +158,7 @@ impl UtiaBrdf {
     /// Writes the `.bin` file.
     pub fn write(&self, path: &Path) -> Result<()> {
         specula_core::atomic_file::write_bytes(path, &self.to_bytes())
-            .map_err(|e| file_error(path, format!("cannot write: {e}")))
+            .map_err(|cause| io_error(path, "write", cause))
     }
 
     /// f_r of a node, or `None` when it was not measured (a negative channel).

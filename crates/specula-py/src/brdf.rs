@@ -25,8 +25,8 @@ const UNIT_TOLERANCE: f64 = 1e-6;
 /// table answers NaN where its cell is not measured, and every BRDF answers 0 at or below
 /// the horizon.
 #[pyclass(name = "Brdf", module = "specula", frozen)]
-pub struct PyBrdf {
-    pub inner: Arc<dyn Brdf>,
+pub(crate) struct PyBrdf {
+    pub(crate) inner: Arc<dyn Brdf>,
 }
 
 #[pymethods]
@@ -200,7 +200,7 @@ fn broadcast_shape(views: &[ArrayViewD<'_, f64>]) -> PyResult<Vec<usize>> {
 /// a UTIA `.bin`, a samples `.csv`, or a fit `model:name` (`sgd:`, `abc:`, `lafortune:`,
 /// `nbrdf:`...). Raises `SpeculaError` with the CLI's message when it cannot.
 #[pyfunction]
-pub fn load(py: Python<'_>, source: PathBuf) -> PyResult<PyBrdf> {
+pub(crate) fn load(py: Python<'_>, source: PathBuf) -> PyResult<PyBrdf> {
     let spec = source.to_string_lossy().into_owned();
     let inner = py.detach(|| specula_formats::load_brdf(&spec)).or_raise()?;
     Ok(PyBrdf { inner })
@@ -208,7 +208,7 @@ pub fn load(py: Python<'_>, source: PathBuf) -> PyResult<PyBrdf> {
 
 /// A BRDF argument: a `Brdf`, a source for [`load`] (str or path), or a `(90, 90, 180, 3)`
 /// array (a MERL table).
-pub fn brdf_arg(value: &Bound<'_, PyAny>) -> PyResult<Arc<dyn Brdf>> {
+pub(crate) fn brdf_arg(value: &Bound<'_, PyAny>) -> PyResult<Arc<dyn Brdf>> {
     if let Ok(brdf) = value.cast::<PyBrdf>() {
         return Ok(brdf.get().inner.clone());
     }
@@ -226,12 +226,12 @@ pub fn brdf_arg(value: &Bound<'_, PyAny>) -> PyResult<Arc<dyn Brdf>> {
 
 /// A BRDF as a MERL table: a table as it is, anything else tabulated at the bin centres
 /// (phi_h = 0), as `specula compare` does.
-pub fn as_table(py: Python<'_>, brdf: &Arc<dyn Brdf>) -> MerlBrdf {
+pub(crate) fn as_table(py: Python<'_>, brdf: &Arc<dyn Brdf>) -> MerlBrdf {
     py.detach(|| tabulate(brdf.as_ref(), 0.0))
 }
 
 /// The figures of one set of cells as a dict (`specula compare`'s columns).
-pub fn figures_dict<'py>(py: Python<'py>, e: &ErrorFigures) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn figures_dict<'py>(py: Python<'py>, e: &ErrorFigures) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
     dict.set_item("cells", e.cells)?;
     dict.set_item("relative_rmse", e.relative_rmse)?;
@@ -241,7 +241,7 @@ pub fn figures_dict<'py>(py: Python<'py>, e: &ErrorFigures) -> PyResult<Bound<'p
 }
 
 /// Check an elevation limit in degrees, (0, 90].
-pub fn check_elevation(max_elevation_deg: f64) -> PyResult<()> {
+pub(crate) fn check_elevation(max_elevation_deg: f64) -> PyResult<()> {
     if max_elevation_deg > 0.0 && max_elevation_deg <= 90.0 {
         Ok(())
     } else {
@@ -261,7 +261,7 @@ pub fn check_elevation(max_elevation_deg: f64) -> PyResult<()> {
 /// `log_rmse`, `slice_mae`.
 #[pyfunction]
 #[pyo3(signature = (a, b, max_elevation_deg = 75.0))]
-pub fn compare<'py>(
+pub(crate) fn compare<'py>(
     py: Python<'py>,
     a: &Bound<'py, PyAny>,
     b: &Bound<'py, PyAny>,
@@ -284,7 +284,7 @@ pub fn compare<'py>(
 /// Names of the built-in material database (the presets first, then the metals and paints
 /// of README's Built-in database), each a source for `load`.
 #[pyfunction]
-pub fn materials() -> Vec<String> {
+pub(crate) fn materials() -> Vec<String> {
     specula_core::materials::builtin_database()
         .iter()
         .map(|m| m.name.clone())

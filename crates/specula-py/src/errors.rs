@@ -11,7 +11,7 @@ pyo3::create_exception!(
 );
 
 /// The error and its causes joined by `": "`, as the CLI prints them (anyhow's `{:#}`).
-pub fn one_line(error: &(dyn Error + 'static)) -> String {
+pub(crate) fn one_line(error: &(dyn Error + 'static)) -> String {
     let mut message = error.to_string();
     let mut cause = error.source();
     while let Some(next) = cause {
@@ -23,13 +23,13 @@ pub fn one_line(error: &(dyn Error + 'static)) -> String {
 }
 
 /// A [`SpeculaError`] carrying `error`'s one-line message.
-pub fn to_py(error: impl Into<Box<dyn Error + Send + Sync>>) -> PyErr {
+pub(crate) fn to_py(error: impl Into<Box<dyn Error + Send + Sync>>) -> PyErr {
     let error = error.into();
     SpeculaError::new_err(one_line(error.as_ref()))
 }
 
 /// `?` on library results: their errors become [`SpeculaError`].
-pub trait OrRaise<T> {
+pub(crate) trait OrRaise<T> {
     fn or_raise(self) -> Result<T, PyErr>;
 }
 
@@ -40,6 +40,6 @@ impl<T, E: Into<Box<dyn Error + Send + Sync>>> OrRaise<T> for Result<T, E> {
 }
 
 /// A [`SpeculaError`] for a bad argument, worded like the CLI's checks.
-pub fn invalid(message: impl Into<String>) -> PyErr {
+pub(crate) fn invalid(message: impl Into<String>) -> PyErr {
     SpeculaError::new_err(message.into())
 }

@@ -19,7 +19,7 @@ const POLL: Duration = Duration::from_millis(50);
 
 /// Whether the work watches the stop flag.
 #[derive(Clone, Copy, PartialEq, Eq)]
-pub enum Stop {
+pub(crate) enum Stop {
     /// The work ends early when the flag is raised: wait for it.
     Cooperative,
     /// The work cannot stop: return at once and drop its result.
@@ -27,7 +27,7 @@ pub enum Stop {
 }
 
 /// Runs `work(stop_flag)` on its own thread, without the GIL, until it returns or Ctrl-C.
-pub fn run<T: Send + 'static>(
+pub(crate) fn run<T: Send + 'static>(
     py: Python<'_>,
     stop: Stop,
     work: impl FnOnce(Arc<AtomicBool>) -> T + Send + 'static,

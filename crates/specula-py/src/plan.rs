@@ -15,13 +15,13 @@ use std::path::PathBuf;
 
 /// The options of the paper's grid shared by `plan`, `evaluate` and `measure` (the CLI's
 /// `GridArgs`), checked with the same ranges.
-pub struct Grid {
-    pub family: Family,
-    pub spec: GridSpec,
+pub(crate) struct Grid {
+    pub(crate) family: Family,
+    pub(crate) spec: GridSpec,
 }
 
 impl Grid {
-    pub fn new(
+    pub(crate) fn new(
         family_name: &str,
         theta_h_samples: usize,
         theta_d_step_deg: f64,
@@ -57,7 +57,7 @@ impl Grid {
 }
 
 /// The device description at `path`, or the paper's UTIA gonioreflectometer.
-pub fn device(path: Option<PathBuf>) -> PyResult<Device> {
+pub(crate) fn device(path: Option<PathBuf>) -> PyResult<Device> {
     match path {
         Some(path) => Device::load(&path).or_raise(),
         None => Ok(Device::utia()),
@@ -81,7 +81,7 @@ pub fn device(path: Option<PathBuf>) -> PyResult<Device> {
     theta_d_step_deg = 3.0, phi_d_step_deg = 15.0, phi_h_deg = 45.0, order = "optimized",
     device = None))]
 #[allow(clippy::too_many_arguments)]
-pub fn plan<'py>(
+pub(crate) fn plan<'py>(
     py: Python<'py>,
     k: Option<f64>,
     theta_h_deg: Option<Vec<f64>>,

@@ -25,7 +25,10 @@ const ANGLES: [&str; 4] = ["theta_h_deg", "phi_h_deg", "theta_d_deg", "phi_d_deg
 
 /// Samples as the dict `{"theta_h_deg", "phi_h_deg", "theta_d_deg", "phi_d_deg": (N,),
 /// "rgb": (N, 3)}` (degrees, 1/sr): the columns of a samples CSV.
-pub fn samples_dict<'py>(py: Python<'py>, samples: &[Sample]) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn samples_dict<'py>(
+    py: Python<'py>,
+    samples: &[Sample],
+) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
     let angle = |f: fn(&HalfDiff) -> f64| {
         samples
@@ -44,7 +47,7 @@ pub fn samples_dict<'py>(py: Python<'py>, samples: &[Sample]) -> PyResult<Bound<
 }
 
 /// Samples from a mapping with the keys of [`samples_dict`].
-pub fn samples_of(samples: &Bound<'_, PyMapping>) -> PyResult<Vec<Sample>> {
+pub(crate) fn samples_of(samples: &Bound<'_, PyMapping>) -> PyResult<Vec<Sample>> {
     let mut angles = Vec::with_capacity(4);
     for key in ANGLES {
         let column: PyArrayLike1<'_, f64, AllowTypeChange> = samples.get_item(key)?.extract()?;
@@ -78,7 +81,7 @@ fn provenance_array<'py>(py: Python<'py>, provenance: &Provenance) -> Bound<'py,
 /// `specula reconstruct` and `specula measure`) as a uint8 `(90, 90, 180)` array (0 measured,
 /// 1 interpolated, 2 extrapolated), or None when the file has no sidecar.
 #[pyfunction]
-pub fn read_provenance(
+pub(crate) fn read_provenance(
     py: Python<'_>,
     merl_path: PathBuf,
 ) -> PyResult<Option<Bound<'_, PyArray3<u8>>>> {
@@ -105,7 +108,7 @@ fn method(name: &str) -> PyResult<Method> {
 /// "lobe"}` (`lobe`: the fitted lobe's `alpha`, `gamma`, `diffuse`, or None).
 #[pyfunction]
 #[pyo3(signature = (samples, method = "lobe"))]
-pub fn reconstruct<'py>(
+pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
     samples: &Bound<'py, PyMapping>,
     method: &str,
@@ -150,7 +153,7 @@ pub fn reconstruct<'py>(
     family = "exponential", theta_h_samples = 30, theta_d_step_deg = 3.0,
     phi_d_step_deg = 15.0, phi_h_deg = 45.0, max_elevation_deg = 75.0, device = None))]
 #[allow(clippy::too_many_arguments)]
-pub fn evaluate<'py>(
+pub(crate) fn evaluate<'py>(
     py: Python<'py>,
     truth: &Bound<'py, PyAny>,
     method: &str,

@@ -11,12 +11,15 @@ use specula_core::{ProbeSpec, Rgb};
 use specula_sampling::{fit_k as fit_k_hat, Probe};
 
 /// `(N, 3)` rows of R, G, B as an array.
-pub fn rgb_array<'py>(py: Python<'py>, rgb: &[Rgb]) -> Bound<'py, numpy::PyArray2<f64>> {
+pub(crate) fn rgb_array<'py>(py: Python<'py>, rgb: &[Rgb]) -> Bound<'py, numpy::PyArray2<f64>> {
     Array2::from_shape_fn((rgb.len(), 3), |(i, c)| rgb[i][c]).into_pyarray(py)
 }
 
 /// `(N, 3)` rows of R, G, B from an array-like of that shape.
-pub fn rgb_rows(rgb: &PyArrayLike2<'_, f64, AllowTypeChange>, rows: usize) -> PyResult<Vec<Rgb>> {
+pub(crate) fn rgb_rows(
+    rgb: &PyArrayLike2<'_, f64, AllowTypeChange>,
+    rows: usize,
+) -> PyResult<Vec<Rgb>> {
     let rgb = rgb.as_array();
     if rgb.shape() != [rows, 3] {
         return Err(invalid(format!(
@@ -32,7 +35,7 @@ pub fn rgb_rows(rgb: &PyArrayLike2<'_, f64, AllowTypeChange>, rows: usize) -> Py
 }
 
 /// A probe as the dict `{"theta_h_deg": (N,), "rgb": (N, 3)}`.
-pub fn probe_dict<'py>(py: Python<'py>, probe: &Probe) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn probe_dict<'py>(py: Python<'py>, probe: &Probe) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
     dict.set_item("theta_h_deg", probe.theta_h_deg().to_vec().into_pyarray(py))?;
     dict.set_item("rgb", rgb_array(py, probe.rgb()))?;
@@ -40,7 +43,7 @@ pub fn probe_dict<'py>(py: Python<'py>, probe: &Probe) -> PyResult<Bound<'py, Py
 }
 
 /// The family named by `name` (`exponential`, `power` or `base`).
-pub fn family(name: &str) -> PyResult<Family> {
+pub(crate) fn family(name: &str) -> PyResult<Family> {
     name.parse().map_err(invalid)
 }
 
@@ -50,7 +53,7 @@ pub fn family(name: &str) -> PyResult<Family> {
 /// BRDF does not hold are left out. Returns `{"theta_h_deg": (N,), "rgb": (N, 3)}` (1/sr).
 #[pyfunction]
 #[pyo3(signature = (brdf, theta_d_deg = 40.0, phi_d_deg = 90.0, phi_h_deg = 45.0, samples = 90))]
-pub fn probe<'py>(
+pub(crate) fn probe<'py>(
     py: Python<'py>,
     brdf: &Bound<'py, PyAny>,
     theta_d_deg: f64,
@@ -73,7 +76,7 @@ pub fn probe<'py>(
 
 /// A probe from a mapping with `theta_h_deg` (N,) and `rgb` (N, 3), checked as the CLI
 /// checks a probe file (increasing theta_h in [0, 90], finite non-negative values).
-pub fn probe_of(probe: &Bound<'_, PyMapping>) -> PyResult<Probe> {
+pub(crate) fn probe_of(probe: &Bound<'_, PyMapping>) -> PyResult<Probe> {
     let theta_h: PyArrayLike1<'_, f64, AllowTypeChange> =
         probe.get_item("theta_h_deg")?.extract()?;
     let theta_h = theta_h.as_array().to_vec();
@@ -89,7 +92,7 @@ pub fn probe_of(probe: &Bound<'_, PyMapping>) -> PyResult<Probe> {
 /// "theta_h_deg"}` (the positions of k-hat, degrees, ready for `plan(theta_h_deg=...)`).
 #[pyfunction]
 #[pyo3(signature = (probe, family = "exponential", samples = 30))]
-pub fn fit_k<'py>(
+pub(crate) fn fit_k<'py>(
     py: Python<'py>,
     probe: &Bound<'py, PyMapping>,
     family: &str,

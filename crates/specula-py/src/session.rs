@@ -37,7 +37,7 @@ use std::path::PathBuf;
     phi_d_step_deg = 15.0, phi_h_deg = 45.0, order = "optimized", hdr = "predicted",
     method = "lobe", deblur = true, checks = true, tilt_deg = 0.0, tilt_azimuth_deg = 0.0, device = None))]
 #[allow(clippy::too_many_arguments)]
-pub fn measure<'py>(
+pub(crate) fn measure<'py>(
     py: Python<'py>,
     truth: &Bound<'py, PyAny>,
     out: PathBuf,
@@ -170,7 +170,7 @@ fn summary_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict
 /// {"theta_h_deg", "rgb"} or None, "samples"}` (the main stage's measured samples in plan
 /// order, a dict for `reconstruct`). A file that is not a journal raises `SpeculaError`.
 #[pyfunction]
-pub fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
+pub(crate) fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     let journal = Journal::open_read_only(&path).or_raise()?;
     let status = journal.status().or_raise()?;
     let source: Option<SourceRecord> = journal.record().or_raise()?;

@@ -10,11 +10,11 @@ use specula_core::{MerlBrdf, Rgb};
 use std::path::PathBuf;
 
 /// The shape of a MERL table as an array: theta_h, theta_d, phi_d bins, then R, G, B.
-pub const SHAPE: [usize; 4] = [THETA_H_BINS, THETA_D_BINS, PHI_D_BINS, 3];
+pub(crate) const SHAPE: [usize; 4] = [THETA_H_BINS, THETA_D_BINS, PHI_D_BINS, 3];
 
 /// The table as a `(90, 90, 180, 3)` array without a copy: the scaled planes become the
 /// array's memory, the channel axis strided by a plane (`numpy` sees a transposed view).
-pub fn to_array(py: Python<'_>, table: MerlBrdf) -> Bound<'_, PyArray4<f64>> {
+pub(crate) fn to_array(py: Python<'_>, table: MerlBrdf) -> Bound<'_, PyArray4<f64>> {
     let planes = py.detach(|| table.into_planes_per_sr());
     let [nh, nd, np, channels] = SHAPE;
     Array4::from_shape_vec((channels, nh, nd, np), planes)
@@ -25,7 +25,7 @@ pub fn to_array(py: Python<'_>, table: MerlBrdf) -> Bound<'_, PyArray4<f64>> {
 
 /// A table from a `(90, 90, 180, 3)` array of any strides: NaN (or a negative value) in any
 /// channel marks the cell not measured.
-pub fn from_array(view: ArrayView4<'_, f64>, name: &str) -> PyResult<MerlBrdf> {
+pub(crate) fn from_array(view: ArrayView4<'_, f64>, name: &str) -> PyResult<MerlBrdf> {
     if view.shape() != SHAPE {
         return Err(invalid(format!(
             "a MERL table must have the shape (90, 90, 180, 3), got {:?}",
@@ -41,7 +41,7 @@ pub fn from_array(view: ArrayView4<'_, f64>, name: &str) -> PyResult<MerlBrdf> {
 }
 
 /// The array of a table that numpy hands in (float64, any layout).
-pub fn table_of<'py>(array: &PyReadonlyArray4<'py, f64>, name: &str) -> PyResult<MerlBrdf> {
+pub(crate) fn table_of<'py>(array: &PyReadonlyArray4<'py, f64>, name: &str) -> PyResult<MerlBrdf> {
     let view = array.as_array();
     array.py().detach(|| from_array(view, name))
 }
@@ -53,7 +53,7 @@ pub fn table_of<'py>(array: &PyReadonlyArray4<'py, f64>, name: &str) -> PyResult
 /// The array's memory is the file's three planes, scaled: index it
 /// `[theta_h_i, theta_d_i, phi_d_i, channel]` (README, MERL files).
 #[pyfunction]
-pub fn read_merl(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyArray4<f64>>> {
+pub(crate) fn read_merl(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyArray4<f64>>> {
     let table = py.detach(|| MerlBrdf::read(&path)).or_raise()?;
     Ok(to_array(py, table))
 }
@@ -64,7 +64,7 @@ pub fn read_merl(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyArray4<f
 /// the others are stored divided by MERL's channel scales, so that `read_merl` gives them
 /// back exactly as far as float64 division and multiplication allow.
 #[pyfunction]
-pub fn write_merl(path: PathBuf, array: PyReadonlyArray4<'_, f64>) -> PyResult<()> {
+pub(crate) fn write_merl(path: PathBuf, array: PyReadonlyArray4<'_, f64>) -> PyResult<()> {
     let name = path
         .file_stem()
         .map_or_else(String::new, |s| s.to_string_lossy().into_owned());

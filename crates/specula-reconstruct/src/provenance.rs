@@ -60,7 +60,38 @@ pub enum ProvenanceError {
         source: std::io::Error,
     },
     #[error("{path}: {problem}")]
-    Invalid { path: PathBuf, problem: String },
+    Invalid { path: PathBuf, problem: NpyProblem },
+}
+
+/// What is wrong with the bytes of a provenance `.npy` file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NpyProblem {
+    /// The bytes do not start with NumPy 1.0's magic.
+    #[error("not a NumPy 1.0 .npy file")]
+    NotNpy,
+    /// The header is cut short or is not text.
+    #[error("truncated or non-text .npy header")]
+    Header,
+    /// The header describes another array than the provenance's.
+    #[error("header '{found}', expected '{HEADER}'")]
+    Layout {
+        /// The header found, trailing padding removed.
+        found: String,
+    },
+    /// The data holds another number of cells than the MERL grid.
+    #[error("{found} cells, expected {CELLS}")]
+    Cells {
+        /// The number of cells found.
+        found: usize,
+    },
+    /// A cell holds a code that no [`CellOrigin`] has.
+    #[error("unknown code {code} at cell {index}")]
+    Code {
+        /// The code found.
+        code: u8,
+        /// The cell's index in MERL order.
+        index: usize,
+    },
 }
 
 const MAGIC: &[u8] = b"\x93NUMPY\x01\x00";
@@ -137,31 +168,30 @@ impl Provenance {
     }
 
     /// Parses the bytes of a file written by [`Provenance::to_npy`].
-    pub fn from_npy(bytes: &[u8]) -> Result<Self, String> {
+    pub fn from_npy(bytes: &[u8]) -> Result<Self, NpyProblem> {
         if !bytes.starts_with(MAGIC) || bytes.len() < MAGIC.len() + 2 {
-            return Err("not a NumPy 1.0 .npy file".into());
+            return Err(NpyProblem::NotNpy);
         }
         let len = u16::from_le_bytes([bytes[MAGIC.len()], bytes[MAGIC.len() + 1]]) as usize;
         let start = MAGIC.len() + 2;
         let header = bytes
             .get(start..start + len)
             .and_then(|h| std::str::from_utf8(h).ok())
-            .ok_or("truncated or non-text .npy header")?;
+            .ok_or(NpyProblem::Header)?;
         if header.trim_end() != HEADER {
-            return Err(format!(
-                "header '{}', expected '{HEADER}'",
-                header.trim_end()
-            ));
+            return Err(NpyProblem::Layout {
+                found: header.trim_end().to_string(),
+            });
         }
         let data = &bytes[start + len..];
         if data.len() != THETA_H_BINS * THETA_D_BINS * PHI_D_BINS {
-            return Err(format!("{} cells, expected {CELLS}", data.len()));
+            return Err(NpyProblem::Cells { found: data.len() });
         }
         let cells = data
             .iter()
             .enumerate()
             .map(|(i, &code)| {
-                CellOrigin::from_code(code).ok_or(format!("unknown code {code} at cell {i}"))
+                CellOrigin::from_code(code).ok_or(NpyProblem::Code { code, index: i })
             })
             .collect::<Result<_, _>>()?;
         Ok(Self { cells })
@@ -267,12 +297,15 @@ mod tests {
         *bad.last_mut().unwrap() = 7;
         assert!(Provenance::from_npy(&bad)
             .unwrap_err()
+            .to_string()
             .contains("unknown code 7"));
         assert!(Provenance::from_npy(&bytes[..1000])
             .unwrap_err()
+            .to_string()
             .contains("cells"));
         assert!(Provenance::from_npy(&bytes[..100])
             .unwrap_err()
+            .to_string()
             .contains("truncated"));
         assert_eq!(
             sidecar_path(Path::new("out/silver.binary")),

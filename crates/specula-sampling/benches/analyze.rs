@@ -15,6 +15,7 @@ use specula_core::tabulate::tabulate;
 use specula_formats::fits::{load_fit, FitModel};
 use specula_sampling::analysis::analyze_slice;
 use specula_sampling::database::{map_slices, SliceSource};
+use specula_sampling::error::SamplingError;
 use specula_sampling::merl_slice::read_merl_slice;
 use specula_sampling::slice::{CharacteristicSlice, THETA_H_NODES};
 
@@ -77,7 +78,7 @@ fn merl_folder(c: &mut Criterion) {
             map_slices(
                 &sources,
                 THETA_H_NODES,
-                |s| Ok(analyze_slice(s, 30)),
+                |s| Ok::<_, SamplingError>(analyze_slice(s, 30)),
                 |_| {},
             )
         })

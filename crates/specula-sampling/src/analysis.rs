@@ -10,9 +10,9 @@
 //! exponential at theta_d = 40 degrees on MERL-100).
 
 use crate::column::{Column, Resampling};
+use crate::error::SamplingError;
 use crate::fit::{base_of_exponential, FitSearch, KFitter};
 use crate::slice::{mean_over_cells, CharacteristicSlice, THETA_D_COLUMNS};
-use anyhow::{Context, Result};
 use specula_core::sampling::{Family, SamplingFunction};
 use std::path::Path;
 
@@ -143,8 +143,7 @@ impl DatabaseSummary {
     }
 
     /// Writes `family,theta_d,mean_error,median_error,materials` (errors in 1/sr).
-    pub fn write_csv(&self, path: &Path) -> Result<()> {
-        let name = path.display();
+    pub fn write_csv(&self, path: &Path) -> Result<(), SamplingError> {
         let mut w = csv::Writer::from_writer(Vec::new());
         w.write_record([
             "family",
@@ -152,7 +151,8 @@ impl DatabaseSummary {
             "mean_error",
             "median_error",
             "materials",
-        ])?;
+        ])
+        .map_err(SamplingError::csv_write(path))?;
         for (f, family) in Family::ALL.into_iter().enumerate() {
             for j in 0..THETA_D_COLUMNS {
                 w.write_record([
@@ -162,22 +162,25 @@ impl DatabaseSummary {
                     format!("{:e}", self.median[f][j]),
                     self.materials[f][j].to_string(),
                 ])
-                .with_context(|| format!("{name}: cannot write"))?;
+                .map_err(SamplingError::csv_write(path))?;
             }
         }
         let bytes = w
             .into_inner()
-            .with_context(|| format!("{name}: cannot write"))?;
+            .map_err(|e| SamplingError::io(path, "write")(e.into_error()))?;
         specula_core::atomic_file::write_bytes(path, &bytes)
-            .with_context(|| format!("{name}: cannot write"))
+            .map_err(SamplingError::io(path, "write"))
     }
 }
 
 /// Writes every material's k and error: `material,family,theta_d,k,error`.
-pub fn write_materials_csv(analyses: &[MaterialAnalysis], path: &Path) -> Result<()> {
-    let name = path.display();
+pub fn write_materials_csv(
+    analyses: &[MaterialAnalysis],
+    path: &Path,
+) -> Result<(), SamplingError> {
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["material", "family", "theta_d", "k", "error"])?;
+    w.write_record(["material", "family", "theta_d", "k", "error"])
+        .map_err(SamplingError::csv_write(path))?;
     for a in analyses {
         for (f, family) in Family::ALL.into_iter().enumerate() {
             for j in 0..THETA_D_COLUMNS {
@@ -188,15 +191,14 @@ pub fn write_materials_csv(analyses: &[MaterialAnalysis], path: &Path) -> Result
                     format!("{}", a.k[f][j]),
                     format!("{:e}", a.error[f][j]),
                 ])
-                .with_context(|| format!("{name}: cannot write"))?;
+                .map_err(SamplingError::csv_write(path))?;
             }
         }
     }
     let bytes = w
         .into_inner()
-        .with_context(|| format!("{name}: cannot write"))?;
-    specula_core::atomic_file::write_bytes(path, &bytes)
-        .with_context(|| format!("{name}: cannot write"))
+        .map_err(|e| SamplingError::io(path, "write")(e.into_error()))?;
+    specula_core::atomic_file::write_bytes(path, &bytes).map_err(SamplingError::io(path, "write"))
 }
 
 /// The median of the values (sorted in place); NaN when empty.

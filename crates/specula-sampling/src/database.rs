@@ -3,9 +3,9 @@
 //! in parallel with bounded memory: each task reads one material's slice, analyses it and
 //! keeps only the small result.
 
+use crate::error::SamplingError;
 use crate::merl_slice::read_merl_slice;
 use crate::slice::CharacteristicSlice;
-use anyhow::{Context, Result};
 use rayon::prelude::*;
 use specula_core::Brdf;
 use std::path::{Path, PathBuf};
@@ -34,7 +34,7 @@ impl SliceSource {
 
     /// Reads the characteristic slice of a MERL file (its 90 bins), or evaluates a BRDF's on
     /// `nodes` square-root-spaced theta_h nodes.
-    pub fn slice(&self, nodes: usize) -> Result<CharacteristicSlice> {
+    pub fn slice(&self, nodes: usize) -> Result<CharacteristicSlice, SamplingError> {
         match self {
             SliceSource::MerlFile(path) => read_merl_slice(path),
             SliceSource::Brdf(brdf) => Ok(CharacteristicSlice::of(brdf.as_ref(), nodes)),
@@ -44,17 +44,14 @@ impl SliceSource {
 
 /// The MERL files of a folder (`*.binary`, sorted by name), or the path itself when it is a
 /// file. The error names the path.
-pub fn merl_files(path: &Path) -> Result<Vec<PathBuf>> {
+pub fn merl_files(path: &Path) -> Result<Vec<PathBuf>, SamplingError> {
     if !path.is_dir() {
         return Ok(vec![path.to_path_buf()]);
     }
-    let name = path.display();
     let mut files = Vec::new();
-    for entry in
-        std::fs::read_dir(path).with_context(|| format!("{name}: cannot list the folder"))?
-    {
+    for entry in std::fs::read_dir(path).map_err(SamplingError::io(path, "list the folder"))? {
         let file = entry
-            .with_context(|| format!("{name}: cannot list the folder"))?
+            .map_err(SamplingError::io(path, "list the folder"))?
             .path();
         let is_merl = file
             .extension()
@@ -64,7 +61,9 @@ pub fn merl_files(path: &Path) -> Result<Vec<PathBuf>> {
         }
     }
     if files.is_empty() {
-        anyhow::bail!("{name}: no MERL .binary files in this folder");
+        return Err(SamplingError::NoMerlFiles {
+            path: path.to_path_buf(),
+        });
     }
     files.sort();
     Ok(files)
@@ -72,23 +71,28 @@ pub fn merl_files(path: &Path) -> Result<Vec<PathBuf>> {
 
 /// Runs `work` on every source's slice (BRDFs evaluated on `nodes` theta_h nodes) in
 /// parallel, calling `done` after each, and returns the results in the sources' order. Only
-/// one slice per worker thread is alive at a time.
-pub fn map_slices<T, W, D>(
+/// one slice per worker thread is alive at a time. A slice that cannot be read gives its
+/// [`SamplingError`] as `work`'s error type.
+pub fn map_slices<T, E, W, D>(
     sources: &[SliceSource],
     nodes: usize,
     work: W,
     done: D,
-) -> Vec<Result<T>>
+) -> Vec<Result<T, E>>
 where
     T: Send,
-    W: Fn(&CharacteristicSlice) -> Result<T> + Sync,
+    E: From<SamplingError> + Send,
+    W: Fn(&CharacteristicSlice) -> Result<T, E> + Sync,
     D: Fn(&SliceSource) + Sync,
 {
     sources
         .par_iter()
         .with_max_len(1)
         .map(|source| {
-            let result = source.slice(nodes).and_then(|slice| work(&slice));
+            let result = source
+                .slice(nodes)
+                .map_err(E::from)
+                .and_then(|slice| work(&slice));
             done(source);
             result
         })
@@ -142,7 +146,7 @@ mod tests {
         let results = map_slices(
             &sources,
             THETA_H_NODES,
-            |s| Ok((s.name().to_string(), s.value(40, 10))),
+            |s| Ok::<_, SamplingError>((s.name().to_string(), s.value(40, 10))),
             |_| {
                 count.fetch_add(1, Ordering::Relaxed);
             },
@@ -166,7 +170,7 @@ mod tests {
         let results = map_slices(
             &[SliceSource::MerlFile(bad)],
             THETA_H_NODES,
-            |_| Ok(()),
+            |_| Ok::<_, SamplingError>(()),
             |_| {},
         );
         assert!(format!("{:#}", results[0].as_ref().unwrap_err()).contains("bad.binary"));

@@ -17,6 +17,7 @@ pub mod analysis;
 pub mod column;
 pub mod database;
 pub mod deblur;
+pub mod error;
 pub mod fit;
 pub mod merl_slice;
 pub mod placement;

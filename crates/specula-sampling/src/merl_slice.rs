@@ -7,8 +7,8 @@
 //! degrees. The file's header and length are checked, and every value the slice uses.
 
 use crate::column::scalar_of;
+use crate::error::SamplingError;
 use crate::slice::{CharacteristicSlice, THETA_D_COLUMNS, THETA_H_NODES};
-use anyhow::{anyhow, bail, Context, Result};
 use specula_core::merl::{
     check_header, theta_h_centre_deg, CHANNEL_SCALE, HEADER_BYTES, PHI_D_BINS, THETA_D_BINS,
     THETA_H_BINS,
@@ -27,12 +27,11 @@ const READ_BUFFER_BYTES: usize = 1 << 20;
 
 /// Reads the characteristic slice of a MERL `.binary` file (see the module documentation).
 /// Errors name the file and the problem.
-pub fn read_merl_slice(path: &Path) -> Result<CharacteristicSlice> {
-    let name = path.display();
-    let file = std::fs::File::open(path).with_context(|| format!("{name}: cannot open"))?;
+pub fn read_merl_slice(path: &Path) -> Result<CharacteristicSlice, SamplingError> {
+    let file = std::fs::File::open(path).map_err(SamplingError::io(path, "open"))?;
     let length = file
         .metadata()
-        .with_context(|| format!("{name}: cannot read"))?
+        .map_err(SamplingError::io(path, "read"))?
         .len();
     let mut reader = BufReader::with_capacity(READ_BUFFER_BYTES, file);
 
@@ -40,8 +39,11 @@ pub fn read_merl_slice(path: &Path) -> Result<CharacteristicSlice> {
     let header_len = (length as usize).min(HEADER_BYTES);
     reader
         .read_exact(&mut header[..header_len])
-        .with_context(|| format!("{name}: cannot read"))?;
-    check_header(&header[..header_len], length).map_err(|problem| anyhow!("{name}: {problem}"))?;
+        .map_err(SamplingError::io(path, "read"))?;
+    check_header(&header[..header_len], length).map_err(|problem| SamplingError::Merl {
+        path: path.to_path_buf(),
+        problem,
+    })?;
 
     // stored[c][j * THETA_H_NODES + i]: channel c's stored value at (theta_h i, theta_d j).
     let mut stored = vec![vec![0.0f64; THETA_H_NODES * THETA_D_COLUMNS]; 3];
@@ -51,12 +53,17 @@ pub fn read_merl_slice(path: &Path) -> Result<CharacteristicSlice> {
             for j in 0..THETA_D_BINS {
                 reader
                     .read_exact(&mut row)
-                    .with_context(|| format!("{name}: cannot read"))?;
+                    .map_err(SamplingError::io(path, "read"))?;
                 let at = 8 * SLICE_PHI_D_BIN;
                 let value = f64::from_le_bytes(row[at..at + 8].try_into().expect("8 bytes"));
                 if !value.is_finite() {
-                    let channel = ["red", "green", "blue"][c];
-                    bail!("{name}: non-finite value in the {channel} channel at cell (theta_h {i}, theta_d {j}, phi_d {SLICE_PHI_D_BIN})");
+                    return Err(SamplingError::NonFinite {
+                        path: path.to_path_buf(),
+                        channel: ["red", "green", "blue"][c],
+                        theta_h_i: i,
+                        theta_d_i: j,
+                        phi_d_i: SLICE_PHI_D_BIN,
+                    });
                 }
                 plane[j * THETA_H_NODES + i] = value;
             }
@@ -79,7 +86,7 @@ pub fn read_merl_slice(path: &Path) -> Result<CharacteristicSlice> {
     let material = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| name.to_string());
+        .unwrap_or_else(|| path.display().to_string());
     Ok(CharacteristicSlice::from_grid(
         material,
         theta_h_deg,

@@ -22,10 +22,10 @@
 
 use crate::column::Column;
 use crate::column::Interpolation;
+use crate::error::SamplingError;
 use crate::fit::fit_k;
 use crate::placement::{optimal_placement, place_on_probe_column};
-use crate::slice::{mean_over_cells, CharacteristicSlice, PROBE_THETA_D_DEG, THETA_D_COLUMNS};
-use anyhow::{anyhow, Result};
+use crate::slice::{mean_over_cells, CharacteristicSlice, THETA_D_COLUMNS};
 use specula_core::sampling::{Family, SamplingFunction};
 
 /// A way to place the samples.
@@ -95,12 +95,9 @@ pub fn study_slice(
     slice: &CharacteristicSlice,
     n: usize,
     domain: Interpolation,
-) -> Result<MaterialPlacement> {
-    let probe = slice.probe().ok_or_else(|| {
-        anyhow!(
-            "{}: the probe column theta_d = {PROBE_THETA_D_DEG} is not measured",
-            slice.name()
-        )
+) -> Result<MaterialPlacement, SamplingError> {
+    let probe = slice.probe().ok_or_else(|| SamplingError::NoProbeColumn {
+        material: slice.name().to_string(),
     })?;
     let k_hat = fit_k(&probe, Family::Exponential, n)?.function;
     let columns: Vec<Option<Column>> = evaluated_columns().map(|j| slice.column(j)).collect();

@@ -6,7 +6,7 @@
 //! File form: CSV with the header `theta_h,r,g,b`, theta_h in degrees, f_r in 1/sr.
 
 use crate::column::{scalar_of, Column, ColumnError};
-use anyhow::{bail, Context, Result};
+use crate::error::SamplingError;
 use specula_core::{Brdf, ProbePoint, ProbeSpec, Rgb};
 use std::path::Path;
 
@@ -48,9 +48,9 @@ impl Probe {
     }
 
     /// Takes the probe from a BRDF. Samples the BRDF reports as not measured are left out.
-    pub fn take(brdf: &dyn Brdf, settings: &ProbeSpec) -> Result<Self> {
+    pub fn take(brdf: &dyn Brdf, settings: &ProbeSpec) -> Result<Self, SamplingError> {
         if settings.samples < 2 {
-            bail!("a probe needs at least 2 samples, got {}", settings.samples);
+            return Err(SamplingError::ProbeSamples(settings.samples));
         }
         for (what, value, max) in [
             ("theta_d", settings.theta_d_deg, 90.0),
@@ -58,7 +58,11 @@ impl Probe {
             ("phi_h", settings.phi_h_deg, 360.0),
         ] {
             if !(0.0..=max).contains(&value) {
-                bail!("{what} = {value} deg is outside [0, {max}]");
+                return Err(SamplingError::ProbeAngle {
+                    what,
+                    value_deg: value,
+                    max_deg: max,
+                });
             }
         }
         let (theta_h_deg, rgb): (Vec<f64>, Vec<Rgb>) = settings
@@ -69,8 +73,11 @@ impl Probe {
                     .map(|v| (theta_h, v))
             })
             .unzip();
-        Self::new(theta_h_deg, rgb)
-            .with_context(|| format!("{}: the probe has too few measured samples", brdf.name()))
+        Self::new(theta_h_deg, rgb).map_err(|cause| SamplingError::Probe {
+            origin: brdf.name(),
+            problem: "the probe has too few measured samples",
+            cause,
+        })
     }
 
     pub fn theta_h_deg(&self) -> &[f64] {
@@ -112,8 +119,7 @@ impl Probe {
     }
 
     /// Writes the CSV file (header `theta_h,r,g,b`).
-    pub fn write_csv(&self, path: &Path) -> Result<()> {
-        let name = path.display();
+    pub fn write_csv(&self, path: &Path) -> Result<(), SamplingError> {
         let mut writer = csv::Writer::from_writer(Vec::new());
         for (&theta_h, v) in self.theta_h_deg.iter().zip(&self.rgb) {
             writer
@@ -123,38 +129,47 @@ impl Probe {
                     g: v.y,
                     b: v.z,
                 })
-                .with_context(|| format!("{name}: cannot write"))?;
+                .map_err(SamplingError::csv_write(path))?;
         }
         let bytes = writer
             .into_inner()
-            .with_context(|| format!("{name}: cannot write"))?;
+            .map_err(|e| SamplingError::io(path, "write")(e.into_error()))?;
         specula_core::atomic_file::write_bytes(path, &bytes)
-            .with_context(|| format!("{name}: cannot write"))
+            .map_err(SamplingError::io(path, "write"))
     }
 
     /// Reads a CSV file written by [`Probe::write_csv`] (or by hand, or by a device).
-    pub fn read_csv(path: &Path) -> Result<Self> {
-        let name = path.display();
+    pub fn read_csv(path: &Path) -> Result<Self, SamplingError> {
+        let csv_error = |place: String| {
+            move |cause| SamplingError::Csv {
+                path: path.to_path_buf(),
+                place,
+                cause,
+            }
+        };
         let mut reader =
-            csv::Reader::from_path(path).with_context(|| format!("{name}: cannot open"))?;
+            csv::Reader::from_path(path).map_err(csv_error("cannot open".to_string()))?;
         let headers = reader
             .headers()
-            .with_context(|| format!("{name}: cannot read the header"))?;
+            .map_err(csv_error("cannot read the header".to_string()))?;
         if headers.iter().map(str::trim).collect::<Vec<_>>() != ["theta_h", "r", "g", "b"] {
-            bail!(
-                "{name}: expected the header theta_h,r,g,b, found {}",
-                headers.iter().collect::<Vec<_>>().join(",")
-            );
+            return Err(SamplingError::ProbeHeader {
+                path: path.to_path_buf(),
+                found: headers.iter().collect::<Vec<_>>().join(","),
+            });
         }
         let mut theta_h_deg = Vec::new();
         let mut rgb = Vec::new();
         for (i, record) in reader.deserialize::<ProbeRow>().enumerate() {
-            let row =
-                record.with_context(|| format!("{name}: row {}: expected four numbers", i + 2))?;
+            let row = record.map_err(csv_error(format!("row {}: expected four numbers", i + 2)))?;
             theta_h_deg.push(row.theta_h);
             rgb.push(Rgb::new(row.r, row.g, row.b));
         }
-        Self::new(theta_h_deg, rgb).with_context(|| format!("{name}: not a usable probe"))
+        Self::new(theta_h_deg, rgb).map_err(|cause| SamplingError::Probe {
+            origin: path.display().to_string(),
+            problem: "not a usable probe",
+            cause,
+        })
     }
 }
 

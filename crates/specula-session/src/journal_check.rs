@@ -45,7 +45,7 @@ pub(crate) fn refuse_empty_file(path: &Path) -> Result<(), JournalError> {
 pub(crate) fn check_file(conn: &Connection, path: &Path) -> Result<(), JournalError> {
     let damaged = |problem: String| JournalError::Damaged {
         path: path.display().to_string(),
-        problem,
+        problem: problem.into(),
     };
     let sql = |e: rusqlite::Error| damaged(damage(&e).unwrap_or_else(|| e.to_string()));
     let verdict: Vec<String> = conn
@@ -153,15 +153,48 @@ pub(crate) fn sample_checksum(s: &SampleRecord) -> i64 {
     i64::from_le_bytes(first)
 }
 
+/// What is damaged in a journal.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Damage {
+    /// Found by SQLite's or the file's checks, in words.
+    #[error("{0}")]
+    Found(String),
+    /// A sample's values do not match their checksum.
+    #[error(transparent)]
+    Checksum(#[from] ChecksumMismatch),
+}
+
+impl From<String> for Damage {
+    fn from(problem: String) -> Self {
+        Damage::Found(problem)
+    }
+}
+
+impl From<&str> for Damage {
+    fn from(problem: &str) -> Self {
+        Damage::Found(problem.to_string())
+    }
+}
+
+/// A sample whose values do not match the checksum stored with them.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{stage} sample {seq}: its values do not match their checksum")]
+pub struct ChecksumMismatch {
+    /// The sample's stage.
+    pub stage: String,
+    /// The sample's number in its stage's plan.
+    pub seq: u32,
+}
+
 /// Checks a sample read back against its stored checksum.
-pub(crate) fn verify_sample(s: &SampleRecord, stored: i64) -> Result<(), String> {
+pub(crate) fn verify_sample(s: &SampleRecord, stored: i64) -> Result<(), ChecksumMismatch> {
     if sample_checksum(s) == stored {
         Ok(())
     } else {
-        Err(format!(
-            "{} sample {}: its values do not match their checksum",
-            s.stage, s.seq
-        ))
+        Err(ChecksumMismatch {
+            stage: s.stage.to_string(),
+            seq: s.seq,
+        })
     }
 }
 

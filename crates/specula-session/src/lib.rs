@@ -20,3 +20,4 @@ pub mod pace;
 pub mod predict;
 pub mod protocol;
 pub mod workflow;
+pub mod workflow_error;

@@ -25,7 +25,8 @@ pub use crate::journal::{
     ChecksRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder, PlanRecord,
 };
 use crate::journal::{
-    DeviceRecord, Durability, Journal, PlannedRow, SampleRecord, SourceRecord, Stage, VersionRecord,
+    DeviceRecord, Durability, Journal, JournalError, PlannedRow, SampleRecord, SourceRecord, Stage,
+    VersionRecord,
 };
 
 /// The probe's stage name in the journal.
@@ -36,7 +37,7 @@ use crate::pace::Paced;
 use crate::predict::{Predictor, ProbeModel};
 use crate::protocol::validate::ReplyRanges;
 use crate::protocol::{ClientSettings, Endpoint, RemoteInstrument};
-use anyhow::{bail, Context, Result};
+use crate::workflow_error::WorkflowError;
 use serde::{Deserialize, Serialize};
 use specula_acquisition::calibration::response::{measure_response, ResponseFit, ResponseOptions};
 use specula_acquisition::calibration::{
@@ -93,7 +94,11 @@ enum Reached {
 }
 
 impl Reached {
-    fn reach(source: Source, device: &Device, settings: &MeasureSettings) -> Result<Self> {
+    fn reach(
+        source: Source,
+        device: &Device,
+        settings: &MeasureSettings,
+    ) -> Result<Self, WorkflowError> {
         Ok(match source {
             Source::Simulated { truth, speedup } => Reached::Simulated { truth, speedup },
             Source::Remote {
@@ -102,14 +107,19 @@ impl Reached {
                 calibration,
             } => {
                 if settings.ideal {
-                    bail!("--ideal is for the simulated device (--truth), not {endpoint}");
+                    return Err(WorkflowError::IdealRemote { endpoint });
                 }
                 let client = ClientSettings {
                     ranges: ReplyRanges::for_device(device),
                     ..client
                 };
-                let remote = RemoteInstrument::connect(endpoint.clone(), client)
-                    .with_context(|| format!("{endpoint}: cannot reach the device"))?;
+                let remote =
+                    RemoteInstrument::connect(endpoint.clone(), client).map_err(|cause| {
+                        WorkflowError::Unreachable {
+                            endpoint: endpoint.clone(),
+                            cause,
+                        }
+                    })?;
                 Reached::Remote {
                     remote: Box::new(remote),
                     calibration,
@@ -363,7 +373,7 @@ pub fn measure(
     out: &Path,
     stop: Arc<AtomicBool>,
     observer: &mut dyn Observer,
-) -> Result<MeasureOutcome> {
+) -> Result<MeasureOutcome, WorkflowError> {
     let method = settings.method;
     let truth = match &source {
         Source::Simulated { truth, .. } => Some(truth.name()),
@@ -379,7 +389,7 @@ pub fn measure(
     let info = connected
         .instrument
         .info()
-        .context("cannot describe the device")?;
+        .map_err(WorkflowError::device("cannot describe the device"))?;
     let description = describe(truth, &info);
     start_session(&journal, settings, &description, device)?;
     check_inputs(&journal, &hashes)?;
@@ -438,9 +448,7 @@ pub fn measure(
     let fit = match engine.journal.record::<FitRecord>()? {
         Some(stored) => stored,
         None => {
-            let fit = fit_probe(&probe, settings, response.as_ref(), phi_h_deg)
-                .map_err(anyhow::Error::msg)
-                .context("fitting k to the probe")?;
+            let fit = fit_probe(&probe, settings, response.as_ref(), phi_h_deg)?;
             engine.journal.put_record(&fit)?;
             fit
         }
@@ -477,7 +485,7 @@ pub fn measure(
         .file_stem()
         .map_or_else(|| "measured".into(), |s| s.to_string_lossy().into_owned());
     let result = reconstruct_through(&samples, method, &name, response.as_ref())
-        .context("reconstructing the samples")?;
+        .map_err(|cause| WorkflowError::Reconstruct { cause })?;
     let deblur = response_fit
         .as_ref()
         .filter(|_| result.resolution_deg.is_some())
@@ -485,11 +493,17 @@ pub fn measure(
     result
         .brdf
         .write(out)
-        .with_context(|| format!("{}: cannot write", out.display()))?;
+        .map_err(|cause| WorkflowError::WriteTable {
+            path: out.to_path_buf(),
+            cause,
+        })?;
     result
         .provenance
         .write(&sidecar_path(out))
-        .with_context(|| format!("{}: cannot write", sidecar_path(out).display()))?;
+        .map_err(|cause| WorkflowError::WriteProvenance {
+            path: sidecar_path(out),
+            cause,
+        })?;
 
     let summary = summarise(
         &journal,
@@ -505,8 +519,12 @@ pub fn measure(
     )?;
     let text = summary.lines().join("\n") + "\n";
     let path = summary_path(out);
-    specula_core::atomic_file::write_bytes(&path, text.as_bytes())
-        .with_context(|| format!("{}: cannot write", path.display()))?;
+    specula_core::atomic_file::write_bytes(&path, text.as_bytes()).map_err(|cause| {
+        WorkflowError::WriteSummary {
+            path: path.clone(),
+            cause,
+        }
+    })?;
     journal.log_event("complete", &format!("wrote {}", out.display()))?;
     journal.close()?;
     Ok(MeasureOutcome::Complete(Box::new(summary)))
@@ -518,22 +536,26 @@ fn start_session(
     settings: &MeasureSettings,
     source: &SourceRecord,
     device: &Device,
-) -> Result<()> {
-    let name = journal.path().display().to_string();
+) -> Result<(), WorkflowError> {
+    let session = journal.path().display().to_string();
     let stored: MeasureSettings = journal.record_or_insert(|| settings.clone())?;
     if stored != *settings {
-        bail!(
-            "{name}: this session was started with other settings ({}); rerun with those or use another --session",
-            differences(&stored, settings)
-        );
+        return Err(WorkflowError::Settings {
+            session,
+            differences: differences(&stored, settings),
+        });
     }
     let stored_source = journal.record_or_insert(|| source.clone())?;
     if stored_source != *source {
-        bail!("{name}: this session measures '{stored_source}', not '{source}'; use another --session");
+        return Err(WorkflowError::Source {
+            session,
+            stored: stored_source,
+            asked: source.clone(),
+        });
     }
     let stored_device = journal.record_or_insert(|| DeviceRecord(device.to_toml_string()))?;
     if stored_device.0 != device.to_toml_string() {
-        bail!("{name}: this session was started with another device model; use another --session");
+        return Err(WorkflowError::DeviceModel { session });
     }
     journal.record_or_insert(|| VersionRecord(env!("CARGO_PKG_VERSION").to_string()))?;
     Ok(())
@@ -561,7 +583,7 @@ fn connect(
     journal: &Journal,
     stop: &Arc<AtomicBool>,
     observer: &mut dyn Observer,
-) -> Result<Connected> {
+) -> Result<Connected, WorkflowError> {
     match source {
         Reached::Simulated { truth, speedup } => {
             let mut config = SimulatorConfig::new(settings.seed, device);
@@ -593,7 +615,7 @@ fn connect(
                             mount_in_simulator,
                             &CalibrationOptions::default(),
                         )
-                        .context("calibrating the simulated device")?;
+                        .map_err(|cause| WorkflowError::Calibration { cause })?;
                         c.response = Some(if settings.point_light {
                             ResponseFit::exact(true_response)
                         } else {
@@ -630,10 +652,9 @@ fn connect(
             let calibration = *calibration;
             let stored: Calibration = journal.record_or_insert(|| calibration.clone())?;
             if stored != calibration {
-                bail!(
-                    "{}: this session was measured with another calibration; give the same --calibration or use another --session",
-                    journal.path().display()
-                );
+                return Err(WorkflowError::Calibrated {
+                    session: journal.path().to_path_buf(),
+                });
             }
 
             let notes = remote.notes();
@@ -656,7 +677,7 @@ pub fn simulated_response(
     simulator: &mut Simulator,
     calibration: &Calibration,
     device: &Device,
-) -> Result<ResponseFit> {
+) -> Result<ResponseFit, WorkflowError> {
     let info = simulator.info()?;
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
     measure_response(
@@ -670,7 +691,7 @@ pub fn simulated_response(
         &device.response(),
         &ResponseOptions::default(),
     )
-    .context("measuring the instrument's response")
+    .map_err(|cause| WorkflowError::Response { cause })
 }
 
 fn hdr_mode(settings: &MeasureSettings, device: &Device) -> HdrMode {
@@ -691,14 +712,16 @@ fn run_checks(
     device: &Device,
     settings: &MeasureSettings,
     observer: &mut dyn Observer,
-) -> Result<ChecksRecord> {
+) -> Result<ChecksRecord, WorkflowError> {
     if let Some(stored) = journal.record::<ChecksRecord>()? {
         return Ok(stored);
     }
     let clock = |i: &dyn Instrument| i.simulated_clock_s();
     let started = (clock(instrument), std::time::Instant::now());
     observer.step("alignment check: the highlight at 8 turntable rotations");
-    instrument.home().context("homing the device")?;
+    instrument
+        .home()
+        .map_err(WorkflowError::device("homing the device"))?;
     let alignment = with_retries(journal, instrument, hdr, "alignment check", |i, h| {
         check_alignment(i, h, &AlignmentSettings::default())
     })?;
@@ -779,7 +802,7 @@ fn with_retries<T>(
     hdr: &mut HdrCapturer,
     what: &str,
     mut check: impl FnMut(&mut dyn Instrument, &mut HdrCapturer) -> Result<T, CheckError>,
-) -> Result<Result<T, CheckError>> {
+) -> Result<Result<T, CheckError>, WorkflowError> {
     let max_attempts = EngineSettings::default().max_attempts;
     let mut attempts = 0;
     loop {
@@ -790,13 +813,17 @@ fn with_retries<T>(
         };
         journal.log_event("fault", &format!("{what} try {attempts}: {error}"))?;
         if !is_retryable(&error) || attempts >= max_attempts {
-            bail!("{what} could not run: device: {error} (after {attempts} tries); run the same command to try again, or give --skip-checks to measure without the checks");
+            return Err(WorkflowError::Check {
+                check: what.to_string(),
+                cause: error,
+                attempts,
+            });
         }
         hdr.forget_light_level();
         if matches!(error, InstrumentError::MotorFault(_)) {
-            instrument
-                .home()
-                .with_context(|| format!("{what}: homing the device after a motor fault"))?;
+            instrument.home().map_err(WorkflowError::device(format!(
+                "{what}: homing the device after a motor fault"
+            )))?;
             journal.log_event("recovered", "homed the axes")?;
         }
     }
@@ -828,7 +855,7 @@ fn rows_of(plan: &Plan) -> Vec<PlannedRow> {
 }
 
 /// The probe's samples as points, in increasing theta_h.
-pub fn probe_samples(journal: &Journal) -> Result<Vec<ProbePoint>> {
+pub fn probe_samples(journal: &Journal) -> Result<Vec<ProbePoint>, JournalError> {
     let rows = journal.plan(STAGE_PROBE)?;
     let samples = journal.samples(STAGE_PROBE)?;
     let mut probe: Vec<ProbePoint> = rows
@@ -850,16 +877,17 @@ fn fit_probe(
     settings: &MeasureSettings,
     response: Option<&InstrumentResponse>,
     phi_h_deg: f64,
-) -> Result<FitRecord, String> {
+) -> Result<FitRecord, WorkflowError> {
     let probe = match response.filter(|r| !r.is_point()) {
         Some(response) => deblurred_probe(probe, response, phi_h_deg),
         None => probe.to_vec(),
     };
     let (theta_h, values): (Vec<f64>, Vec<Rgb>) =
         probe.iter().map(|p| (p.theta_h_deg, p.value)).unzip();
-    let probe = Probe::new(theta_h, values).map_err(|e| e.to_string())?;
+    let probe =
+        Probe::new(theta_h, values).map_err(|cause| WorkflowError::ProbeColumn { cause })?;
     let fit = fit_k(&probe.column(), settings.family, settings.theta_h_samples)
-        .map_err(|e| e.to_string())?;
+        .map_err(|cause| WorkflowError::ProbeFit { cause })?;
     Ok(FitRecord {
         function: fit.function,
         error: fit.error,
@@ -888,20 +916,20 @@ fn main_plan(
     function: &SamplingFunction,
     phi_h_deg: f64,
     observer: &mut dyn Observer,
-) -> Result<PlanRecord> {
+) -> Result<PlanRecord, WorkflowError> {
     let stored_rows = journal.plan(STAGE_MAIN)?.len();
     if let (Some(record), true) = (journal.record::<PlanRecord>()?, stored_rows > 0) {
         if record.measurable != stored_rows {
-            bail!(
-                "{}: the journal is damaged (its main plan holds {stored_rows} samples, its plan record {} measurable ones); restore it from a copy or measure into a new --session",
-                journal.path().display(),
-                record.measurable
-            );
+            return Err(WorkflowError::Damaged {
+                session: journal.path().to_path_buf(),
+                stored_rows,
+                measurable: record.measurable,
+            });
         }
         return Ok(record);
     }
     if !(settings.theta_d_step_deg > 0.0 && settings.phi_d_step_deg > 0.0) {
-        bail!("the theta_d and phi_d steps must be positive");
+        return Err(WorkflowError::Steps);
     }
     observer.step("planning and ordering the samples");
     let grid = settings.grid();
@@ -932,7 +960,7 @@ fn run_stage(
     stage: &str,
     predictor: &Predictor,
     observer: &mut dyn Observer,
-) -> Result<StageOutcome> {
+) -> Result<StageOutcome, WorkflowError> {
     let planned = engine.journal.plan(stage)?.len();
     let done = engine.journal.samples(stage)?.len();
     observer.stage_started(stage, planned, done);
@@ -971,7 +999,7 @@ fn summarise(
     simulated: bool,
     settings: &MeasureSettings,
     deblur: Option<DeblurRecord>,
-) -> Result<Summary> {
+) -> Result<Summary, WorkflowError> {
     let status = journal.status()?;
     let stage = |stage: Stage| {
         status
@@ -980,8 +1008,8 @@ fn summarise(
             .find(|s| s.stage == stage.name())
             .cloned()
     };
-    let probe = stage(Stage::Probe).context("the journal has no probe")?;
-    let main = stage(Stage::Main).context("the journal has no main stage")?;
+    let probe = stage(Stage::Probe).ok_or(WorkflowError::MissingStage("probe"))?;
+    let main = stage(Stage::Main).ok_or(WorkflowError::MissingStage("main stage"))?;
     let lower_bounds = journal
         .samples(STAGE_MAIN)?
         .values()

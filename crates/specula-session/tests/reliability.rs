@@ -648,7 +648,11 @@ mod replies_and_inputs {
         }
     }
 
-    fn start(truth: &str, session: &std::path::Path, stop: bool) -> anyhow::Result<MeasureOutcome> {
+    fn start(
+        truth: &str,
+        session: &std::path::Path,
+        stop: bool,
+    ) -> Result<MeasureOutcome, specula_session::workflow_error::WorkflowError> {
         let settings = MeasureSettings {
             probe_samples: 30,
             theta_h_samples: 8,

@@ -10,8 +10,8 @@
 
 use crate::color::luminance;
 use crate::distribution::Distribution2D;
+use crate::error::VisualError;
 use crate::linear_image::LinearImage;
-use anyhow::{bail, Result};
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
@@ -37,16 +37,20 @@ pub struct Environment {
 
 impl Environment {
     /// An environment from a latitude-longitude image of linear radiance.
-    pub fn from_image(name: impl Into<String>, image: LinearImage) -> Result<Self> {
+    pub fn from_image(name: impl Into<String>, image: LinearImage) -> Result<Self, VisualError> {
         if image.width < 2 || image.height < 1 {
-            bail!("an environment image needs at least 2 x 1 pixels");
+            return Err(VisualError::Data(String::from(
+                "an environment image needs at least 2 x 1 pixels",
+            )));
         }
         if image
             .pixels
             .iter()
             .any(|p| !p.is_finite() || p.min_element() < 0.0)
         {
-            bail!("an environment image must hold finite, non-negative radiance");
+            return Err(VisualError::Data(String::from(
+                "an environment image must hold finite, non-negative radiance",
+            )));
         }
         let (width, height) = (image.width, image.height);
         let (sampling_width, sampling_height) =
@@ -75,13 +79,16 @@ impl Environment {
     }
 
     /// Reads an OpenEXR or Radiance HDR latitude-longitude image.
-    pub fn from_file(path: &Path) -> Result<Self> {
+    pub fn from_file(path: &Path) -> Result<Self, VisualError> {
         let image = LinearImage::load(path)?;
         let name = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| path.display().to_string());
-        Self::from_image(name, image).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+        Self::from_image(name, image).map_err(|cause| VisualError::Environment {
+            path: path.to_path_buf(),
+            cause: Box::new(cause),
+        })
     }
 
     /// The same radiance from every direction.
@@ -108,7 +115,7 @@ impl Environment {
 
     /// The environment named on the command line: `studio`, `constant` (radiance 1),
     /// `constant:VALUE`, or the path of an `.exr` / `.hdr` latitude-longitude image.
-    pub fn from_spec(spec: &str) -> Result<Self> {
+    pub fn from_spec(spec: &str) -> Result<Self, VisualError> {
         if spec.eq_ignore_ascii_case("studio") {
             return Ok(Self::studio());
         }
@@ -121,17 +128,23 @@ impl Environment {
                     .ok()
                     .filter(|v| v.is_finite() && *v >= 0.0)
                     .ok_or_else(|| {
-                        anyhow::anyhow!(
+                        VisualError::Data(format!(
                             "{spec}: the constant radiance must be a non-negative number"
-                        )
+                        ))
                     })?,
-                None => bail!("{spec}: write constant or constant:VALUE"),
+                None => {
+                    return Err(VisualError::Data(format!(
+                        "{spec}: write constant or constant:VALUE"
+                    )))
+                }
             };
             return Ok(Self::constant(DVec3::splat(value)));
         }
         let path = Path::new(spec);
         if !path.exists() {
-            bail!("{spec}: no such environment file (or use studio, constant, constant:VALUE)");
+            return Err(VisualError::Data(format!(
+                "{spec}: no such environment file (or use studio, constant, constant:VALUE)"
+            )));
         }
         Self::from_file(path)
     }

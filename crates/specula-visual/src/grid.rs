@@ -3,9 +3,9 @@
 
 use crate::canvas::Canvas;
 use crate::color::{false_colour, luminance};
+use crate::error::VisualError;
 use crate::font;
 use crate::linear_image::LinearImage;
-use anyhow::{bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
 
@@ -33,15 +33,12 @@ pub struct Difference {
 }
 
 /// Compares two renders of the same size (see [`Difference`]).
-pub fn difference(a: &LinearImage, b: &LinearImage) -> Result<Difference> {
+pub fn difference(a: &LinearImage, b: &LinearImage) -> Result<Difference, VisualError> {
     if (a.width, a.height) != (b.width, b.height) {
-        bail!(
+        return Err(VisualError::Data(format!(
             "renders differ in size ({} x {} and {} x {})",
-            a.width,
-            a.height,
-            b.width,
-            b.height
-        );
+            a.width, a.height, b.width, b.height
+        )));
     }
     let mean = |img: &LinearImage| {
         img.pixels.iter().map(|p| luminance(*p)).sum::<f64>() / img.pixels.len().max(1) as f64
@@ -79,13 +76,15 @@ pub fn difference(a: &LinearImage, b: &LinearImage) -> Result<Difference> {
 }
 
 /// Lays the tiles out in rows of up to four, each with its label underneath.
-pub fn compose(tiles: &[Tile]) -> Result<RgbImage> {
+pub fn compose(tiles: &[Tile]) -> Result<RgbImage, VisualError> {
     let Some(first) = tiles.first() else {
-        bail!("nothing to lay out");
+        return Err(VisualError::Data(String::from("nothing to lay out")));
     };
     let (w, h) = first.image.dimensions();
     if tiles.iter().any(|t| t.image.dimensions() != (w, h)) {
-        bail!("all pictures of a grid must have the same size");
+        return Err(VisualError::Data(String::from(
+            "all pictures of a grid must have the same size",
+        )));
     }
     let font_px = (w as f64 / 18.0).clamp(12.0, 28.0);
     let label_h = (font_px * 1.8) as u32;
@@ -116,10 +115,9 @@ pub fn compose(tiles: &[Tile]) -> Result<RgbImage> {
             let cy = gap + row * (h + label_h + gap) + h + label_h / 2;
             let label = fit_label(&tile.label, w as f64, font_px);
             root.draw_text(&label, &style, (cx as i32, cy as i32))
-                .map_err(|e| anyhow::anyhow!("cannot draw the label '{label}': {e}"))?;
+                .map_err(VisualError::draw(format!("the label '{label}'")))?;
         }
-        root.present()
-            .map_err(|e| anyhow::anyhow!("cannot draw the grid: {e}"))?;
+        root.present().map_err(VisualError::draw("the grid"))?;
     }
     Ok(out)
 }

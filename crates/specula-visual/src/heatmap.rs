@@ -5,8 +5,8 @@
 
 use crate::canvas::Canvas;
 use crate::color::{false_colour, UNMEASURED_BLUE};
+use crate::error::VisualError;
 use crate::font;
-use anyhow::{anyhow, bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
 use std::path::Path;
@@ -63,21 +63,25 @@ impl Heatmap {
         })
     }
 
-    fn check(&self) -> Result<()> {
+    fn check(&self) -> Result<(), VisualError> {
         let columns = self.x_values.len();
         if columns == 0 || self.row_labels.is_empty() {
-            bail!("a heatmap needs at least one row and one column");
+            return Err(VisualError::Data(String::from(
+                "a heatmap needs at least one row and one column",
+            )));
         }
         if self.values.len() != self.row_labels.len()
             || self.values.iter().any(|r| r.len() != columns)
         {
-            bail!("a heatmap needs one value per row label and x value");
+            return Err(VisualError::Data(String::from(
+                "a heatmap needs one value per row label and x value",
+            )));
         }
         Ok(())
     }
 
     /// Draws the heatmap into an RGB image.
-    pub fn draw(&self) -> Result<RgbImage> {
+    pub fn draw(&self) -> Result<RgbImage, VisualError> {
         self.check()?;
         let height = MARGINS_HEIGHT + ROW_HEIGHT * self.row_labels.len() as u32;
         let mut out = RgbImage::from_pixel(WIDTH, height, image::Rgb([255, 255, 255]));
@@ -85,9 +89,8 @@ impl Heatmap {
         {
             let root = Canvas::with_buffer(out.as_mut(), (WIDTH, height)).into_drawing_area();
             self.draw_on(&root)
-                .map_err(|e| anyhow!("cannot draw the heatmap: {e}"))?;
-            root.present()
-                .map_err(|e| anyhow!("cannot draw the heatmap: {e}"))?;
+                .map_err(VisualError::draw("the heatmap"))?;
+            root.present().map_err(VisualError::draw("the heatmap"))?;
         }
         Ok(out)
     }
@@ -180,7 +183,7 @@ impl Heatmap {
     }
 
     /// Draws the heatmap and writes it as PNG; errors name the file.
-    pub fn write_png(&self, path: &Path) -> Result<()> {
+    pub fn write_png(&self, path: &Path) -> Result<(), VisualError> {
         crate::linear_image::save_png(&self.draw()?, path)
     }
 }

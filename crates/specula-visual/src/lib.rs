@@ -7,6 +7,7 @@ pub mod canvas;
 pub mod color;
 pub mod distribution;
 pub mod environment;
+pub mod error;
 pub mod font;
 pub mod frame;
 pub mod grid;

@@ -2,7 +2,7 @@
 //! float) or as a tone-mapped sRGB PNG, chosen by the file extension.
 
 use crate::color::display_rgb8;
-use anyhow::{bail, Context, Result};
+use crate::error::VisualError;
 use glam::DVec3;
 use image::{Rgb32FImage, RgbImage};
 use std::path::Path;
@@ -27,17 +27,17 @@ pub enum ImageFormat {
 
 impl ImageFormat {
     /// The format named by a path's extension (`.png` or `.exr`).
-    pub fn of_path(path: &Path) -> Result<Self> {
+    pub fn of_path(path: &Path) -> Result<Self, VisualError> {
         let extension = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
         match extension.as_deref() {
             Some("png") => Ok(ImageFormat::Png),
             Some("exr") => Ok(ImageFormat::Exr),
-            _ => bail!(
+            _ => Err(VisualError::Data(format!(
                 "{}: unknown image type (use .png for a tone-mapped picture or .exr for linear radiance)",
                 path.display()
-            ),
+            ))),
         }
     }
 }
@@ -72,7 +72,7 @@ impl LinearImage {
     }
 
     /// Writes a PNG (tone-mapped at `exposure_ev`) or an EXR (linear), by extension.
-    pub fn save(&self, path: &Path, exposure_ev: f64) -> Result<()> {
+    pub fn save(&self, path: &Path, exposure_ev: f64) -> Result<(), VisualError> {
         match ImageFormat::of_path(path)? {
             ImageFormat::Png => return save_png(&self.to_display(exposure_ev), path),
             ImageFormat::Exr => specula_core::atomic_file::write_with(path, |out| {
@@ -81,22 +81,29 @@ impl LinearImage {
                     .map_err(std::io::Error::other)
             }),
         }
-        .with_context(|| format!("{}: cannot write the image", path.display()))
+        .map_err(|cause| VisualError::Write {
+            path: path.to_path_buf(),
+            what: "the image",
+            cause,
+        })
     }
 
     /// Reads a linear image from an OpenEXR (`.exr`) or Radiance (`.hdr`) file.
-    pub fn load(path: &Path) -> Result<Self> {
+    pub fn load(path: &Path) -> Result<Self, VisualError> {
         let extension = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
         if !matches!(extension.as_deref(), Some("exr") | Some("hdr")) {
-            bail!(
+            return Err(VisualError::Data(format!(
                 "{}: not a high-dynamic-range image (expected .exr or .hdr)",
                 path.display()
-            );
+            )));
         }
         let decoded = image::open(path)
-            .with_context(|| format!("{}: cannot read the image", path.display()))?
+            .map_err(|cause| VisualError::Read {
+                path: path.to_path_buf(),
+                cause,
+            })?
             .into_rgb32f();
         let (width, height) = (decoded.width() as usize, decoded.height() as usize);
         let pixels = decoded
@@ -113,13 +120,17 @@ impl LinearImage {
 
 /// Writes an 8-bit picture as PNG, atomically ([`specula_core::atomic_file`]); errors name
 /// the file.
-pub fn save_png(image: &RgbImage, path: &Path) -> Result<()> {
+pub fn save_png(image: &RgbImage, path: &Path) -> Result<(), VisualError> {
     specula_core::atomic_file::write_with(path, |out| {
         image
             .write_to(out, image::ImageFormat::Png)
             .map_err(std::io::Error::other)
     })
-    .with_context(|| format!("{}: cannot write the PNG", path.display()))
+    .map_err(|cause| VisualError::Write {
+        path: path.to_path_buf(),
+        what: "the PNG",
+        cause,
+    })
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 //! Sections left empty say so in the page instead of disappearing, so that a reader sees
 //! what was not known.
 
-use anyhow::{Context, Result};
+use crate::error::VisualError;
 use base64::Engine;
 use image::RgbImage;
 use std::fmt::Write;
@@ -100,7 +100,7 @@ impl Figure {
         title: impl Into<String>,
         caption: impl Into<String>,
         image: &RgbImage,
-    ) -> Result<Self> {
+    ) -> Result<Self, VisualError> {
         Ok(Self {
             title: title.into(),
             caption: caption.into(),
@@ -128,11 +128,11 @@ pub struct Report {
 }
 
 /// The PNG file bytes of an image.
-pub fn png_bytes(image: &RgbImage) -> Result<Vec<u8>> {
+pub fn png_bytes(image: &RgbImage) -> Result<Vec<u8>, VisualError> {
     let mut bytes = std::io::Cursor::new(Vec::new());
     image
         .write_to(&mut bytes, image::ImageFormat::Png)
-        .context("cannot encode a PNG")?;
+        .map_err(|cause| VisualError::Encode { cause })?;
     Ok(bytes.into_inner())
 }
 
@@ -205,9 +205,14 @@ impl Report {
     }
 
     /// Writes the page.
-    pub fn write(&self, path: &Path) -> Result<()> {
-        specula_core::atomic_file::write_bytes(path, self.to_html().as_bytes())
-            .with_context(|| format!("{}: cannot write the report", path.display()))
+    pub fn write(&self, path: &Path) -> Result<(), VisualError> {
+        specula_core::atomic_file::write_bytes(path, self.to_html().as_bytes()).map_err(|cause| {
+            VisualError::Write {
+                path: path.to_path_buf(),
+                what: "the report",
+                cause,
+            }
+        })
     }
 
     fn material_html(&self, html: &mut String) {

@@ -15,7 +15,7 @@ use std::sync::Arc;
 
 /// The materials of a database: the arguments shared by `analyze` and `placement`.
 #[derive(clap::Args)]
-pub struct DatabaseArgs {
+pub(crate) struct DatabaseArgs {
     /// MERL .binary files, folders of them (every *.binary inside), or any other BRDF (a
     /// preset, a material .toml, a model:name fit such as sgd:chrome-steel).
     pub sources: Vec<String>,
@@ -30,7 +30,7 @@ pub struct DatabaseArgs {
 
 impl DatabaseArgs {
     /// The sources in the order given: arguments, then fits tables, then the built-in ones.
-    pub fn sources(&self) -> Result<Vec<SliceSource>> {
+    pub(crate) fn sources(&self) -> Result<Vec<SliceSource>> {
         let mut sources = Vec::new();
         for spec in &self.sources {
             let path = Path::new(spec);
@@ -63,7 +63,7 @@ impl DatabaseArgs {
     /// Runs `work` on every material's characteristic slice (a BRDF's on `nodes` theta_h
     /// nodes) in parallel with a progress bar; the first failure (naming its source) stops
     /// the command.
-    pub fn map<T: Send>(
+    pub(crate) fn map<T: Send>(
         &self,
         label: &str,
         nodes: usize,
@@ -98,7 +98,7 @@ impl DatabaseArgs {
 ///
 /// Example: specula analyze --fits ../shared/data/measured/merl_fits_djbrdf/merl_sgd_bagher2012.csv --out sgd-analysis
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(flatten)]
     pub database: DatabaseArgs,
     /// Number of theta_h samples of the sparse measurement. Range: a whole number from 2 to
@@ -110,7 +110,7 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("{}: cannot create the folder", args.out.display()))?;
     let analyses = args.database.map("analysing", THETA_H_NODES, |slice| {

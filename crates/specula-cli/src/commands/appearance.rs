@@ -37,7 +37,7 @@ use specula_report::appearance::extrapolated_cells;
 /// measured, and, with --resolution-deg, where it reads the BRDF at a finer angle than the
 /// instrument resolved.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// BRDFs: presets, material .toml files, MERL .binary, RGL .bsdf, UTIA .bin, samples
     /// .csv, or model:name fits.
     #[arg(required = true)]
@@ -56,7 +56,7 @@ pub struct Args {
     pub resolution_deg: Option<f64>,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let mut sources: Vec<String> = args.against.iter().cloned().collect();
     sources.extend(args.brdfs.iter().cloned());
     let mut figures = Vec::with_capacity(sources.len());

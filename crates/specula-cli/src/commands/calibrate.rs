@@ -22,7 +22,7 @@ use std::path::PathBuf;
 /// the --truth sample is mounted and a few of its values are measured and compared with the
 /// truth.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The sample measured after calibrating, as a check: a preset name, a material .toml, a
     /// MERL .binary or a model:name fit.
     #[arg(long)]
@@ -42,7 +42,7 @@ pub struct Args {
     pub device: Option<PathBuf>,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let truth = load_truth(&args.truth, None)?;
     let device = load_device(args.device.as_deref())?;
     let config = SimulatorConfig::new(args.seed, &device);

@@ -27,13 +27,13 @@ use std::sync::Arc;
 /// scratch lobe and picks a phi_h free of it. flare: captures whose colour changes locally
 /// (the lens's reddish ghost) are flagged and retaken at another arm position, or excluded.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(subcommand)]
     pub check: Check,
 }
 
 #[derive(clap::Subcommand)]
-pub enum Check {
+pub(crate) enum Check {
     /// Estimate the sample's tilt from the highlight at several turntable rotations.
     Alignment(AlignmentArgs),
     /// Scan phi_h for the anisotropic scratch lobe and recommend a phi_h free of it.
@@ -44,7 +44,7 @@ pub enum Check {
 
 /// The simulated device and what is mounted on it.
 #[derive(clap::Args)]
-pub struct Simulated {
+pub(crate) struct Simulated {
     /// The ground truth on the turntable: a preset name, a material .toml, a MERL .binary or
     /// a model:name fit.
     #[arg(long)]
@@ -75,7 +75,7 @@ pub struct Simulated {
 }
 
 #[derive(clap::Args)]
-pub struct AlignmentArgs {
+pub(crate) struct AlignmentArgs {
     #[command(flatten)]
     pub simulated: Simulated,
     /// Elevation of the light, degrees; the camera scans around the same angle. Range:
@@ -88,7 +88,7 @@ pub struct AlignmentArgs {
 }
 
 #[derive(clap::Args)]
-pub struct OrientationArgs {
+pub(crate) struct OrientationArgs {
     #[command(flatten)]
     pub simulated: Simulated,
     /// The phi_h the plan uses, degrees (45 in the paper). Range: degrees from -360 to 360.
@@ -100,7 +100,7 @@ pub struct OrientationArgs {
 }
 
 #[derive(clap::Args)]
-pub struct FlareArgs {
+pub(crate) struct FlareArgs {
     #[command(flatten)]
     pub simulated: Simulated,
     /// Radiance factor of the simulated ghost at full light, 1/sr (0 = no flare). Range:
@@ -115,7 +115,7 @@ pub(crate) fn load_truth(
     scratch_orientation_deg: Option<f64>,
 ) -> Result<Arc<dyn Brdf>> {
     let Some(orientation) = scratch_orientation_deg else {
-        return specula_formats::load_brdf(spec);
+        return Ok(specula_formats::load_brdf(spec)?);
     };
     let material = if spec.ends_with(".toml") && Path::new(spec).is_file() {
         Material::from_toml_file(spec)
@@ -164,7 +164,7 @@ impl Simulated {
     }
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     match args.check {
         Check::Alignment(a) => alignment(a),
         Check::Orientation(a) => orientation(a),

@@ -21,7 +21,7 @@ use specula_core::tabulate::tabulate;
 /// Each is given over all cells above the surface and over the cells whose light and camera
 /// are both within --max-elevation of the normal (the device's reach, 75 deg by default).
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The BRDF to judge.
     pub a: String,
     /// The reference BRDF.
@@ -32,7 +32,7 @@ pub struct Args {
     pub max_elevation: f64,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
     let a = tabulate(specula_formats::load_brdf(&args.a)?.as_ref(), phi_h_rad);
     let b = tabulate(specula_formats::load_brdf(&args.b)?.as_ref(), phi_h_rad);

@@ -33,7 +33,7 @@ use std::path::PathBuf;
   specula convert measured.binary measured.bsdf
   specula convert green-paint paint.bsdf --rgl-sample-size 96
   specula convert nbrdf:chrome chrome.csv --grid utia")]
-pub struct Args {
+pub(crate) struct Args {
     /// The BRDF to convert: a .binary, .bin, .bsdf or .csv file, a preset or a model:name fit.
     pub input: String,
     /// The file to write; .binary (MERL), .bin (UTIA), .bsdf (RGL) or .csv (samples).
@@ -67,12 +67,12 @@ pub struct Args {
 
 /// Sample placement for continuous sources written as CSV.
 #[derive(Clone, Copy, clap::ValueEnum)]
-pub enum Grid {
+pub(crate) enum Grid {
     Merl,
     Utia,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let options = ConvertOptions {
         phi_h_rad: args.phi_h_deg.to_radians(),
         csv_grid: match args.grid {

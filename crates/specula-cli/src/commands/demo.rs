@@ -33,7 +33,7 @@ const MATERIALS: [&str; 2] = ["silver-925", "green-paint"];
 /// A rerun resumes the sessions (and is quick once they are complete); Ctrl-C stops after
 /// the sample in progress. Another --seed is another measurement: it goes to OUT/seed-N/.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Folder for the outputs.
     #[arg(long, default_value = "demo-out")]
     pub out: PathBuf,
@@ -42,7 +42,7 @@ pub struct Args {
     pub seed: u64,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let started = Instant::now();
     let out = if args.seed == 1 {
         args.out.clone()

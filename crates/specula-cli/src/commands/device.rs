@@ -16,13 +16,13 @@ use std::time::Duration;
 
 /// Work with devices through the driver protocol (docs/driver-protocol.md).
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(subcommand)]
     pub command: DeviceCommand,
 }
 
 #[derive(clap::Subcommand)]
-pub enum DeviceCommand {
+pub(crate) enum DeviceCommand {
     /// Serve the simulated device over the driver protocol, so that `specula measure
     /// --connect tcp://HOST:PORT` (or a client of your own) can drive it. One client at a
     /// time; runs until stopped with Ctrl-C.
@@ -30,7 +30,7 @@ pub enum DeviceCommand {
 }
 
 #[derive(clap::Args)]
-pub struct ServeArgs {
+pub(crate) struct ServeArgs {
     /// The sample on the simulated turntable: a preset, a material .toml, a MERL .binary or
     /// a model:name fit.
     #[arg(long)]
@@ -67,7 +67,7 @@ pub struct ServeArgs {
     pub idle_timeout: f64,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     match args.command {
         DeviceCommand::Serve(serve_args) => serve(serve_args),
     }

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 /// direction is at or below the horizon. A MERL file is looked up in its nearest bin, as
 /// MERL's reference reader does.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit.
     pub brdf: String,
     /// CSV file of direction pairs with header theta_i,phi_i,theta_o,phi_o (degrees).
@@ -52,7 +52,7 @@ const THETA: crate::range::Real = crate::range::Real::from_to(0.0, 180.0, "degre
 /// A direction's azimuth.
 const PHI: crate::range::Real = crate::range::AZIMUTH_DEG;
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let brdf = specula_formats::load_brdf(&args.brdf)?;
     let name = args.dirs.display().to_string();
     let mut reader =

@@ -37,7 +37,7 @@ use std::sync::Arc;
 ///
 ///   specula evaluate --builtin --method lobe                # the built-in database, a table
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The ground-truth BRDF: a measured file (RGL .bsdf, MERL .binary, UTIA .bin), a
     /// folder of them (every BRDF file in it, e.g. ../shared/data/measured/rgl_bsdf), a
     /// preset name, a material .toml or a model:name fit. Repeat for several. Real measured
@@ -93,7 +93,7 @@ pub struct Args {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum MerlFits {
+pub(crate) enum MerlFits {
     Sgd,
     Abc,
     Nbrdf,
@@ -109,7 +109,7 @@ impl MerlFits {
                 } else {
                     FitModel::Abc
                 };
-                load_model(model)
+                Ok(load_model(model)?)
             }
             MerlFits::Nbrdf => NbrdfSet::Merl100
                 .names()?
@@ -121,7 +121,7 @@ impl MerlFits {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Placement {
+pub(crate) enum Placement {
     Function,
     Probe,
 }
@@ -136,7 +136,7 @@ struct Row {
     accuracy: Accuracy,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     check_args(&args)?;
     let device = match &args.device {
         Some(path) => Device::load(path)?,

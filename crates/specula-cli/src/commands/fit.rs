@@ -35,7 +35,7 @@ use std::path::{Path, PathBuf};
   specula fit silver-925 --model conductor --mitsuba silver.xml
   specula fit measured.binary --out fit.toml --pbrt fit.pbrt --gltf fit.gltf
   specula fit ../shared/data/measured/rgl_bsdf/paper_white_rgb.bsdf --model coat")]
-pub struct Args {
+pub(crate) struct Args {
     /// The BRDF to fit: a preset, a material .toml, a measured file or a model:name fit.
     pub brdf: String,
     /// Which models to fit: `conductor`, `coat` or `both` (the better one is exported).
@@ -61,13 +61,13 @@ pub struct Args {
 
 /// The models `--model` selects.
 #[derive(Clone, Copy, clap::ValueEnum)]
-pub enum Model {
+pub(crate) enum Model {
     Conductor,
     Coat,
     Both,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let brdf = specula_formats::load_brdf(&args.brdf)?;
     let models: &[FitModel] = match args.model {
         Model::Conductor => &[FitModel::Conductor],

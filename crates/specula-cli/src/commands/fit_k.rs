@@ -21,7 +21,7 @@ use std::path::PathBuf;
 ///
 /// Example: specula fit-k silver.csv --family exponential --theta-h-samples 30
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The probe: a CSV file with the header theta_h,r,g,b (from `specula probe` or a device).
     pub probe: PathBuf,
     /// Sampling function family: exponential (paper eq. 3, the paper's choice), power (eq. 2,
@@ -34,7 +34,7 @@ pub struct Args {
     pub theta_h_samples: usize,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     if let Some(format) = FileFormat::detect(&args.probe)? {
         if format != FileFormat::SamplesCsv {
             bail!(

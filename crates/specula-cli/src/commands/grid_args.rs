@@ -8,10 +8,10 @@ use specula_core::sampling::Family;
 use specula_core::GridSpec;
 
 /// The largest grid a plan may hold (the paper's: 6300 samples).
-pub const MAX_GRID_SAMPLES: usize = 1_000_000;
+pub(crate) const MAX_GRID_SAMPLES: usize = 1_000_000;
 
 #[derive(clap::Args, Clone, Debug)]
-pub struct GridArgs {
+pub(crate) struct GridArgs {
     /// Sampling function family: exponential (paper eq. 3), power (eq. 2) or base (eq. 4).
     #[arg(long, default_value = "exponential")]
     pub family: Family,
@@ -36,7 +36,7 @@ pub struct GridArgs {
 
 impl GridArgs {
     /// The grid the options describe.
-    pub fn spec(&self) -> GridSpec {
+    pub(crate) fn spec(&self) -> GridSpec {
         GridSpec {
             theta_h_samples: self.theta_h_samples,
             theta_d_step_deg: self.theta_d_step,
@@ -47,7 +47,7 @@ impl GridArgs {
 
     /// Rejects a grid too large to plan: the ranges of the single options are checked as
     /// they are parsed ([`crate::range`]); their product is checked here.
-    pub fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         let theta_d = (90.0 / self.theta_d_step).ceil() as usize;
         let phi_d = (90.0 / self.phi_d_step).floor() as usize + 1;
         let samples = self.theta_h_samples * theta_d * phi_d;

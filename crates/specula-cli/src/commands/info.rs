@@ -23,13 +23,13 @@ use std::path::Path;
 ///
 /// Example: specula info chrome.binary; specula info sgd:chrome-steel
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The BRDF: a MERL .binary, UTIA .bin, RGL .bsdf or samples .csv file, a material
     /// .toml, a preset name or a model:name fit.
     pub brdf: String,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let loaded = Loaded::resolve(&args.brdf)?;
     outln!("source: {}", args.brdf);
     match loaded {

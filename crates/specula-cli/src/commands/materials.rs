@@ -13,12 +13,12 @@ use specula_formats::catalog::{self, groups};
 ///
 /// Example: specula materials paint
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Show only the names containing this text.
     pub filter: Option<String>,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let groups = groups()?;
     let mut shown = 0;
     for group in &groups {

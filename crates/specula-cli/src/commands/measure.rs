@@ -45,7 +45,7 @@ use std::time::Duration;
 /// fake.binary
 #[derive(clap::Args)]
 #[command(group(clap::ArgGroup::new("source").required(true).args(["truth", "connect"])))]
-pub struct Args {
+pub(crate) struct Args {
     /// Measure the simulated device with this ground truth: a preset (silver-925,
     /// green-paint, ...), a material .toml, a MERL .binary or a model:name fit.
     #[arg(long)]
@@ -132,7 +132,7 @@ pub struct Args {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum HdrArg {
+pub(crate) enum HdrArg {
     Predicted,
     Bracket,
 }
@@ -179,7 +179,7 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     args.check()?;
     let device = match &args.device {
         Some(path) => Device::load(path)?,

@@ -1,34 +1,34 @@
 //! One module per subcommand: its arguments (with the `--help` text) and its `run`.
 
-pub mod analyze;
-pub mod appearance;
-pub mod calibrate;
-pub mod check;
-pub mod compare;
-pub mod convert;
-pub mod demo;
-pub mod device;
-pub mod eval;
-pub mod evaluate;
-pub mod fit;
-pub mod fit_k;
-pub mod grid_args;
-pub mod info;
-pub mod materials;
-pub mod measure;
-pub mod placement;
-pub mod plan;
-pub mod plot;
-pub mod probe;
-pub mod reconstruct;
-pub mod render;
-pub mod report;
-pub mod session;
-pub mod tabulate;
+pub(crate) mod analyze;
+pub(crate) mod appearance;
+pub(crate) mod calibrate;
+pub(crate) mod check;
+pub(crate) mod compare;
+pub(crate) mod convert;
+pub(crate) mod demo;
+pub(crate) mod device;
+pub(crate) mod eval;
+pub(crate) mod evaluate;
+pub(crate) mod fit;
+pub(crate) mod fit_k;
+pub(crate) mod grid_args;
+pub(crate) mod info;
+pub(crate) mod materials;
+pub(crate) mod measure;
+pub(crate) mod placement;
+pub(crate) mod plan;
+pub(crate) mod plot;
+pub(crate) mod probe;
+pub(crate) mod reconstruct;
+pub(crate) mod render;
+pub(crate) mod report;
+pub(crate) mod session;
+pub(crate) mod tabulate;
 
 /// Refuses an output path whose extension is not `.binary`, for the commands that write a
 /// MERL table (`specula convert` writes the other formats).
-pub fn require_merl_out(path: &std::path::Path) -> anyhow::Result<()> {
+pub(crate) fn require_merl_out(path: &std::path::Path) -> anyhow::Result<()> {
     let is_merl = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("binary"));
@@ -40,4 +40,4 @@ pub fn require_merl_out(path: &std::path::Path) -> anyhow::Result<()> {
     }
     Ok(())
 }
-pub mod token_args;
+pub(crate) mod token_args;

@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 ///
 /// Example: specula placement --builtin
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(flatten)]
     pub database: DatabaseArgs,
     /// Number of theta_h samples of the sparse measurement. Range: a whole number from 2 to
@@ -44,7 +44,7 @@ pub struct Args {
     pub out: Option<PathBuf>,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let domains: &[Interpolation] = if args.log {
         &Interpolation::ALL
     } else {
@@ -54,7 +54,8 @@ pub fn run(args: Args) -> Result<()> {
         domains
             .iter()
             .map(|&domain| study_slice(slice, args.theta_h_samples, domain))
-            .collect::<Result<Vec<_>>>()
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(anyhow::Error::from)
     })?;
     let materials = rows.len();
     for (d, domain) in domains.iter().enumerate() {

@@ -32,7 +32,7 @@ use std::path::PathBuf;
 ///
 /// Example: specula plan --k 4.78 --out plan.csv
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// k of the theta_h sampling function: the material's fitted k-hat (the paper: green
     /// paint 5.64, silver 925 4.78). Range: a number above 0 and at most 100.
     #[arg(long, allow_negative_numbers = true, required_unless_present_any = ["theta_h_list", "print_device"], value_parser = crate::range::SAMPLING_K)]
@@ -60,12 +60,12 @@ pub struct Args {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Order {
+pub(crate) enum Order {
     Optimized,
     Nested,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let device = match &args.device {
         Some(path) => Device::load(path)?,
         None => Device::utia(),

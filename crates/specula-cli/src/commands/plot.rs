@@ -20,13 +20,13 @@ use std::path::{Path, PathBuf};
 ///
 /// Example: specula plot slice chrome --out chrome-slice.png
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(subcommand)]
     pub plot: Plot,
 }
 
 #[derive(clap::Subcommand)]
-pub enum Plot {
+pub(crate) enum Plot {
     Slice(SliceArgs),
     Samples(SamplesArgs),
     Probe(ProbeArgs),
@@ -38,7 +38,7 @@ pub enum Plot {
 /// cells are not measured. On MERL's square-root theta_h axis (default) the first degree
 /// around the specular peak takes a tenth of the height; --axis linear shows degrees evenly.
 #[derive(clap::Args)]
-pub struct SliceArgs {
+pub(crate) struct SliceArgs {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit.
     pub brdf: String,
     /// The PNG to write.
@@ -63,7 +63,7 @@ pub struct SliceArgs {
 /// SAMPLES.csv has the header theta_h,phi_h,theta_d,phi_d,r,g,b (degrees, 1/sr), one sample
 /// a row; phi_h is not shown (the paper fixes it at 45 deg).
 #[derive(clap::Args)]
-pub struct SamplesArgs {
+pub(crate) struct SamplesArgs {
     /// The samples CSV file.
     pub samples: PathBuf,
     /// The PNG to write.
@@ -83,7 +83,7 @@ pub struct SamplesArgs {
 /// k-hat is fitted to the probe (exponential family, 30 samples, as the paper). Where no
 /// values are given, the probe is interpolated linearly at the positions.
 #[derive(clap::Args)]
-pub struct ProbeArgs {
+pub(crate) struct ProbeArgs {
     /// The probe CSV file (header theta_h,r,g,b; degrees, 1/sr), e.g. from `specula probe`.
     pub probe: PathBuf,
     /// The PNG to write.
@@ -114,7 +114,7 @@ pub struct ProbeArgs {
 ///
 /// ANALYSIS.csv is what `specula analyze` writes: family,theta_d,mean_error,median_error,...
 #[derive(clap::Args)]
-pub struct HeatmapArgs {
+pub(crate) struct HeatmapArgs {
     /// The analysis CSV file.
     pub analysis: PathBuf,
     /// The PNG to write.
@@ -125,7 +125,7 @@ pub struct HeatmapArgs {
     pub median: bool,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let (out, image) = match args.plot {
         Plot::Slice(a) => (a.out.clone(), slice(a)?),
         Plot::Samples(a) => (a.out.clone(), samples(a)?),
@@ -150,7 +150,7 @@ fn slice(args: SliceArgs) -> Result<RgbImage> {
         phi_d_deg: args.phi_d,
         phi_h_deg: args.phi_h,
     };
-    plot_slice(brdf.as_ref(), &brdf.name(), &options)
+    Ok(plot_slice(brdf.as_ref(), &brdf.name(), &options)?)
 }
 
 fn samples(args: SamplesArgs) -> Result<RgbImage> {
@@ -183,7 +183,7 @@ fn probe(args: ProbeArgs) -> Result<RgbImage> {
             interpolate(&points, &fit.function.positions_deg(args.theta_h_samples))
         }
     };
-    plot_probe(&points, &adaptive, &stem(&args.probe))
+    Ok(plot_probe(&points, &adaptive, &stem(&args.probe))?)
 }
 
 /// The adaptive samples of a CSV: theta_h, and r,g,b when present (else interpolated).
@@ -290,7 +290,7 @@ fn heatmap(args: HeatmapArgs) -> Result<RgbImage> {
         .min_by(|a, b| a.2.total_cmp(&b.2))
         .map(|(f, j, _)| (f, j));
     let statistic = if args.median { "median" } else { "mean" };
-    Heatmap {
+    Ok(Heatmap {
         title: format!(
             "{}: {statistic} slice error by family and fitted column",
             stem(&args.analysis)
@@ -303,7 +303,7 @@ fn heatmap(args: HeatmapArgs) -> Result<RgbImage> {
         value_label: format!("{statistic} abs. error (1/sr)"),
         highlight: best,
     }
-    .draw()
+    .draw()?)
 }
 
 fn stem(path: &Path) -> String {

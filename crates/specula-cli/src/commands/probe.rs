@@ -19,7 +19,7 @@ use std::path::PathBuf;
 ///
 /// Example: specula probe silver-925 --out silver.csv && specula fit-k silver.csv
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit
     /// (e.g. sgd:chrome-steel).
     pub brdf: String,
@@ -43,7 +43,7 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let brdf = specula_formats::load_brdf(&args.brdf)?;
     let settings = ProbeSpec {
         theta_d_deg: args.theta_d,

@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 ///
 /// Example: specula reconstruct --samples-csv silver.csv --out silver.binary
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Samples CSV with the header theta_h,phi_h,theta_d,phi_d,r,g,b (degrees, 1/sr), one
     /// row per measured sample.
     #[arg(
@@ -62,7 +62,7 @@ pub struct Args {
 /// `specula measure --truth silver-925`, then `specula info`); one sample, 99.99 %.
 const MOSTLY_EXTRAPOLATED: f64 = 0.9;
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     super::require_merl_out(&args.out)?;
     let (input, samples, response) = match (&args.samples, &args.session) {
         (Some(path), _) => (path, read_samples(path)?, None),

@@ -32,7 +32,7 @@ use std::time::Instant;
 ///
 ///   specula render silver-925 chrome --side-by-side --out compare.png
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The BRDFs: preset names, material .toml files, MERL .binary files or model:name fits.
     #[arg(required = true)]
     pub brdfs: Vec<String>,
@@ -72,12 +72,12 @@ pub struct Args {
 
 /// The kinds of light besides an environment.
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub enum LightKind {
+pub(crate) enum LightKind {
     /// One point light.
     Point,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let format = ImageFormat::of_path(&args.out)?;
     if args.brdfs.len() > 1 && !args.side_by_side {
         bail!(
@@ -104,7 +104,7 @@ pub fn run(args: Args) -> Result<()> {
         .brdfs
         .iter()
         .map(|spec| specula_formats::load_brdf(spec))
-        .collect::<Result<Vec<_>>>()?;
+        .collect::<Result<Vec<_>, _>>()?;
     let scene = Scene::new(args.shape, lighting);
     let settings = RenderSettings {
         seed: args.seed,

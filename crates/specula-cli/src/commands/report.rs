@@ -23,7 +23,7 @@ use std::path::PathBuf;
 /// Examples: specula report silver.binary --truth silver-925 --out silver.html;
 /// specula report demo-out/silver-925/silver-925.session.sqlite --out silver.html
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The measured BRDF (a MERL .binary file) or a session journal (.sqlite).
     pub input: PathBuf,
     /// The HTML file to write.
@@ -51,7 +51,7 @@ pub struct Args {
     pub title: Option<String>,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     let options = ReportOptions {
         input: args.input,
         truth: args.truth,

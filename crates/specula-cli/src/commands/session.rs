@@ -7,13 +7,13 @@ use std::path::PathBuf;
 
 /// Inspect measurement sessions (the SQLite journals of `specula measure`).
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(subcommand)]
     pub command: SessionCommand,
 }
 
 #[derive(clap::Subcommand)]
-pub enum SessionCommand {
+pub(crate) enum SessionCommand {
     /// Progress of a session: samples measured and left per stage, captures, the device time
     /// spent and the estimate of what is left (the progress bar's: the time model scaled by
     /// how the finished samples compared with it), faults and resumptions. Safe to run while
@@ -24,7 +24,7 @@ pub enum SessionCommand {
     },
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     match args.command {
         SessionCommand::Status { session } => status(&session),
     }

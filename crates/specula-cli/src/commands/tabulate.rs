@@ -8,7 +8,7 @@ use std::path::PathBuf;
 /// Tabulate a BRDF into the MERL grid (90 x 90 x 180 cells, at the bin centres) and write
 /// it as a MERL .binary file.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit.
     pub brdf: String,
     /// Azimuth of the half vector in degrees (matters only for anisotropic materials; 45 is
@@ -20,7 +20,7 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     super::require_merl_out(&args.out)?;
     let brdf = specula_formats::load_brdf(&args.brdf)?;
     let spinner = crate::progress::spinner("tabulating");

@@ -8,13 +8,13 @@ use specula_session::protocol::Token;
 use std::path::PathBuf;
 
 /// The environment variable a token is read from when no flag gives one.
-pub const TOKEN_VAR: &str = "SPECULA_TOKEN";
+pub(crate) const TOKEN_VAR: &str = "SPECULA_TOKEN";
 
 /// The largest token file read, bytes.
 const MAX_TOKEN_FILE_BYTES: u64 = 4096;
 
 #[derive(clap::Args, Clone, Debug)]
-pub struct TokenArgs {
+pub(crate) struct TokenArgs {
     /// The shared secret of `hello` (never empty). Visible in the process list: prefer
     /// --token-file or the SPECULA_TOKEN environment variable.
     #[arg(long, conflicts_with = "token_file")]
@@ -28,7 +28,7 @@ pub struct TokenArgs {
 impl TokenArgs {
     /// The token from the flag, the file or the environment, in that order; `None` when
     /// none gives one. An empty token is an error wherever it comes from.
-    pub fn resolve(&self) -> Result<Option<Token>> {
+    pub(crate) fn resolve(&self) -> Result<Option<Token>> {
         let (secret, origin) = if let Some(token) = &self.token {
             (token.clone(), "--token".to_string())
         } else if let Some(path) = &self.token_file {

@@ -34,7 +34,7 @@ impl Observer for StopAfter {
 /// Measures silver-925 with a small plan (30 probe samples, 8 theta_h x 6 theta_d x 3 phi_d,
 /// no checks, seed 3) into `dir`; with `stop_after` = (stage, n) it stops once that stage
 /// has n samples. Returns the session journal and the table (written only when complete).
-pub fn measure_small(dir: &Path, stop_after: Option<(&str, usize)>) -> (PathBuf, PathBuf) {
+pub(crate) fn measure_small(dir: &Path, stop_after: Option<(&str, usize)>) -> (PathBuf, PathBuf) {
     let settings = MeasureSettings {
         seed: 3,
         probe_samples: 30,
@@ -73,7 +73,7 @@ pub fn measure_small(dir: &Path, stop_after: Option<(&str, usize)>) -> (PathBuf,
 
 /// `specula report INPUT --out OUT` with renders of `render_px` square at 2 samples per
 /// pixel, and `extra`.
-pub fn report(input: &Path, out: &Path, render_px: usize, extra: &[&str]) -> Output {
+pub(crate) fn report(input: &Path, out: &Path, render_px: usize, extra: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_specula"))
         .arg("report")
         .arg(input)

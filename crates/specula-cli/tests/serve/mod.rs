@@ -7,7 +7,7 @@ use std::process::{Child, Command, Stdio};
 /// `specula device serve --truth silver-925` on 127.0.0.1 with a free port and the given
 /// extra arguments and environment; returns the child and the port. The server's log is
 /// drained so that it never blocks on a full pipe.
-pub fn serve(extra: &[&str], env: &[(&str, &str)]) -> (Child, u16) {
+pub(crate) fn serve(extra: &[&str], env: &[(&str, &str)]) -> (Child, u16) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_specula"))
         .args([
             "device",

@@ -59,10 +59,12 @@ impl ClearCoat {
         }
     }
 
+    /// The coat's microfacet distribution's shape.
     pub fn distribution(&self) -> Distribution {
         self.coat.distribution
     }
 
+    /// The coat's roughness (isotropic).
     pub fn alpha(&self) -> f64 {
         self.coat.alpha_u
     }

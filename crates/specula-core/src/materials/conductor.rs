@@ -31,10 +31,12 @@ impl RoughConductor {
         }
     }
 
+    /// The microfacet distribution's shape.
     pub fn distribution(&self) -> Distribution {
         self.microfacet.distribution
     }
 
+    /// The roughness (isotropic: along both axes).
     pub fn alpha(&self) -> f64 {
         self.microfacet.alpha_u
     }

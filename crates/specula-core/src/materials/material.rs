@@ -63,8 +63,11 @@ impl Base {
     into = "super::material_file::MaterialFile"
 )]
 pub struct Material {
+    /// The material's name.
     pub name: String,
+    /// The base: a rough conductor or a clear coat over a diffuse colour.
     pub base: Base,
+    /// An optional anisotropic scratch lobe over the base.
     pub scratch: Option<ScratchLobe>,
 }
 

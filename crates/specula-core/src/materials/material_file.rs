@@ -33,19 +33,30 @@ pub enum MaterialError {
     /// with `{:#}` show it once.
     #[error("{path}: cannot read: {error}")]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The cause.
         error: std::io::Error,
     },
+    /// A file or preset whose content is not a valid material.
     #[error("{origin}: {problem}")]
-    Invalid { origin: String, problem: String },
+    Invalid {
+        /// The file or preset.
+        origin: String,
+        /// The first problem, naming the field and its range.
+        problem: String,
+    },
 }
 
 /// The on-disk form of a [`Material`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialFile {
+    /// The material's name.
     pub name: String,
+    /// The `[base]` table: the conductor or clear-coated base.
     pub base: BaseFile,
+    /// The optional `[scratch]` table.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scratch: Option<ScratchFile>,
 }
@@ -54,19 +65,29 @@ pub struct MaterialFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum BaseFile {
+    /// A rough conductor (`kind = "conductor"`).
     Conductor {
+        /// The microfacet distribution (GGX unless given).
         #[serde(default)]
         distribution: Distribution,
+        /// Roughness (dimensionless).
         alpha: f64,
+        /// Real part of the complex index of refraction, per RGB channel.
         eta: [f64; 3],
+        /// Extinction coefficient, per RGB channel.
         k: [f64; 3],
     },
+    /// A clear coat over a diffuse colour (`kind = "clearcoat"`).
     Clearcoat {
+        /// The coat's microfacet distribution (GGX unless given).
         #[serde(default)]
         distribution: Distribution,
+        /// The coat's roughness (dimensionless).
         alpha: f64,
+        /// The coat's index of refraction (1.5 unless given).
         #[serde(default = "default_coat_ior")]
         ior: f64,
+        /// The diffuse albedo under the coat, linear RGB.
         color: [f64; 3],
     },
 }
@@ -75,11 +96,16 @@ pub enum BaseFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ScratchFile {
+    /// The scratch lobe's microfacet distribution (GGX unless given).
     #[serde(default)]
     pub distribution: Distribution,
+    /// The lobe's weight against the base.
     pub weight: f64,
+    /// Roughness along the scratches (dimensionless).
     pub alpha_along: f64,
+    /// Roughness across the scratches (dimensionless).
     pub alpha_across: f64,
+    /// Direction of the scratches from the frame's x axis, degrees.
     pub orientation_deg: f64,
 }
 

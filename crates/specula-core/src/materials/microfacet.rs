@@ -43,6 +43,7 @@ impl Distribution {
 /// A microfacet distribution of a given shape and roughness.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Microfacet {
+    /// The distribution's shape (GGX or Beckmann).
     pub distribution: Distribution,
     /// Roughness along the frame's x axis (dimensionless, RMS slope scale).
     pub alpha_u: f64,
@@ -150,9 +151,13 @@ impl Microfacet {
 /// directions strictly above the surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IsotropicCosines {
+    /// Cosine of the half vector to the normal (`cos theta_h`).
     pub cos_h: f64,
+    /// Cosine of `wi` to the half vector (`cos theta_d`).
     pub cos_d: f64,
+    /// Cosine of `wi` to the normal.
     pub cos_i: f64,
+    /// Cosine of `wo` to the normal.
     pub cos_o: f64,
 }
 
@@ -182,13 +187,18 @@ impl IsotropicCosines {
 /// `cos_i` and `cos_o` change with phi_d.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IsotropicRow {
+    /// `cos theta_h`.
     pub cos_h: f64,
+    /// `sin theta_h`.
     pub sin_h: f64,
+    /// `cos theta_d`.
     pub cos_d: f64,
+    /// `sin theta_d`.
     pub sin_d: f64,
 }
 
 impl IsotropicRow {
+    /// The row of `theta_h` and `theta_d`, radians.
     pub fn new(theta_h: f64, theta_d: f64) -> Self {
         let (sin_h, cos_h) = theta_h.sin_cos();
         let (sin_d, cos_d) = theta_d.sin_cos();

@@ -42,6 +42,7 @@ impl ScratchLobe {
         }
     }
 
+    /// The lobe's microfacet distribution's shape.
     pub fn distribution(&self) -> Distribution {
         self.microfacet.distribution
     }

@@ -10,6 +10,7 @@
 //! ```
 
 use super::TableRow;
+use crate::input::Malformed;
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
 use specula_core::scattering::fresnel::dielectric as fresnel_dielectric;
@@ -28,7 +29,7 @@ pub struct Abc {
 }
 
 impl Abc {
-    pub(crate) fn from_row(row: &TableRow) -> Result<Self, String> {
+    pub(crate) fn from_row(row: &TableRow) -> Result<Self, Malformed> {
         let fit = Self {
             name: row.text("material")?.to_string(),
             k_d: row.rgb("kD")?,
@@ -38,7 +39,7 @@ impl Abc {
             ior: row.number("ior")?,
         };
         if fit.ior <= 0.0 || fit.b < 0.0 {
-            return Err(format!("{}: needs ior > 0 and B >= 0", fit.name));
+            return Err(format!("{}: needs ior > 0 and B >= 0", fit.name).into());
         }
         Ok(fit)
     }

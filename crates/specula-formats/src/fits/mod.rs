@@ -8,8 +8,8 @@ pub mod abc;
 pub mod sgd;
 
 use crate::brdf_source::BrdfSource;
-use crate::input::{data_file, file_error, read_input};
-use anyhow::{anyhow, Result};
+use crate::input::{csv_error, data_file, file_error, read_input, Malformed, Result};
+use crate::source::argument_error;
 use specula_core::Rgb;
 use std::path::Path;
 use std::sync::Arc;
@@ -77,7 +77,7 @@ fn parse_fits(path: &Path, bytes: &[u8]) -> Result<Vec<BrdfSource>> {
     let mut reader = csv::Reader::from_reader(bytes);
     let headers = reader
         .headers()
-        .map_err(|e| file_error(path, format!("cannot read the header: {e}")))?
+        .map_err(|e| csv_error(path, "cannot read the header", e))?
         .clone();
     let model = FitModel::of_headers(&headers).ok_or_else(|| {
         file_error(
@@ -88,12 +88,12 @@ fn parse_fits(path: &Path, bytes: &[u8]) -> Result<Vec<BrdfSource>> {
     let mut fits: Vec<BrdfSource> = Vec::new();
     for (i, record) in reader.records().enumerate() {
         let row_number = i + 2;
-        let record = record.map_err(|e| file_error(path, format!("row {row_number}: {e}")))?;
+        let record = record.map_err(|e| csv_error(path, format!("row {row_number}"), e))?;
         let row = TableRow {
             headers: &headers,
             record: &record,
         };
-        let brdf: Result<BrdfSource, String> = match model {
+        let brdf: Result<BrdfSource, Malformed> = match model {
             FitModel::Sgd => sgd::Sgd::from_row(&row).map(|f| Arc::new(f) as BrdfSource),
             FitModel::Abc => abc::Abc::from_row(&row).map(|f| Arc::new(f) as BrdfSource),
         };
@@ -112,10 +112,13 @@ pub fn load_fit(model: FitModel, material: &str) -> Result<BrdfSource> {
     let wanted = format!("{}:{material}", model.prefix());
     let names: Vec<String> = all.iter().map(|f| f.name()).collect();
     all.into_iter().find(|f| f.name() == wanted).ok_or_else(|| {
-        anyhow!(
-            "{wanted}: no such material among the {count} {} fits{}",
-            model.prefix(),
-            crate::catalog::did_you_mean(&wanted, &names)
+        argument_error(
+            &wanted,
+            format!(
+                "no such material among the {count} {} fits{}",
+                model.prefix(),
+                crate::catalog::did_you_mean(&wanted, &names)
+            ),
         )
     })
 }
@@ -128,29 +131,31 @@ pub(crate) struct TableRow<'a> {
 
 impl TableRow<'_> {
     /// The text under `column`.
-    pub(crate) fn text(&self, column: &str) -> Result<&str, String> {
+    pub(crate) fn text(&self, column: &str) -> Result<&str, Malformed> {
         let at = self
             .headers
             .iter()
             .position(|h| h == column)
-            .ok_or_else(|| format!("no column {column}"))?;
+            .ok_or_else(|| Malformed(format!("no column {column}")))?;
         self.record
             .get(at)
             .map(str::trim)
-            .ok_or_else(|| format!("missing value under {column}"))
+            .ok_or_else(|| Malformed(format!("missing value under {column}")))
     }
 
     /// The finite number under `column`.
-    pub(crate) fn number(&self, column: &str) -> Result<f64, String> {
+    pub(crate) fn number(&self, column: &str) -> Result<f64, Malformed> {
         let text = self.text(column)?;
         match text.parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v),
-            _ => Err(format!("{column} = '{text}' is not a finite number")),
+            _ => Err(Malformed(format!(
+                "{column} = '{text}' is not a finite number"
+            ))),
         }
     }
 
     /// The three numbers under `{prefix}_r`, `{prefix}_g`, `{prefix}_b`.
-    pub(crate) fn rgb(&self, prefix: &str) -> Result<Rgb, String> {
+    pub(crate) fn rgb(&self, prefix: &str) -> Result<Rgb, Malformed> {
         Ok(Rgb::new(
             self.number(&format!("{prefix}_r"))?,
             self.number(&format!("{prefix}_g"))?,

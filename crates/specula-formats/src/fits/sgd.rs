@@ -12,6 +12,7 @@
 //! A negative total (possible for some fitted Fresnel terms) is clamped to zero.
 
 use super::TableRow;
+use crate::input::Malformed;
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
 use specula_core::scattering::fresnel;
@@ -36,7 +37,7 @@ pub struct Sgd {
 }
 
 impl Sgd {
-    pub(crate) fn from_row(row: &TableRow) -> Result<Self, String> {
+    pub(crate) fn from_row(row: &TableRow) -> Result<Self, Malformed> {
         let fit = Self {
             name: row.text("material")?.to_string(),
             rho_d: row.rgb("rhoD")?,
@@ -52,7 +53,7 @@ impl Sgd {
             theta0: row.rgb("theta0")?,
         };
         if fit.alpha.min_element() <= 0.0 {
-            return Err(format!("{}: alpha must be positive", fit.name));
+            return Err(format!("{}: alpha must be positive", fit.name).into());
         }
         Ok(fit)
     }

@@ -28,7 +28,7 @@ mod tensor;
 mod warp;
 pub mod write;
 
-use anyhow::Result;
+use crate::input::{Malformed, Result};
 use glam::{DVec2, DVec3};
 use specula_core::brdf::both_above_surface;
 use specula_core::{Brdf, Rgb};
@@ -67,16 +67,15 @@ impl RglBsdf {
     }
 
     /// Parses the bytes of a `.bsdf` file; the error says what is wrong.
-    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, String> {
+    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, Malformed> {
         let tf = TensorFile::parse(bytes)?;
         let description = String::from_utf8_lossy(tf.u8_field("description")?).into_owned();
         let jacobian = match tf.u8_field("jacobian")? {
             [flag] => *flag != 0,
             other => {
-                return Err(format!(
-                    "field 'jacobian' has {} entries, expected 1",
-                    other.len()
-                ))
+                return Err(
+                    format!("field 'jacobian' has {} entries, expected 1", other.len()).into(),
+                )
             }
         };
         let (phi_i, _) = tf.f32_field("phi_i", 1)?;
@@ -84,7 +83,7 @@ impl RglBsdf {
             return Err(format!(
                 "anisotropic material (phi_i has {} entries); only isotropic RGL files are supported",
                 phi_i.len()
-            ));
+            ).into());
         }
         let theta_i_rad = elevations(&tf)?;
         let n_theta = theta_i_rad.len();
@@ -200,13 +199,14 @@ fn phi_to_unit(phi_rad: f64) -> f64 {
 }
 
 /// The incident elevations of the slices: at least two, strictly increasing.
-fn elevations(tf: &TensorFile) -> Result<Vec<f64>, String> {
+fn elevations(tf: &TensorFile) -> Result<Vec<f64>, Malformed> {
     let (theta, _) = tf.f32_field("theta_i", 1)?;
     if theta.len() < 2 {
         return Err(format!(
             "field 'theta_i' has {} entries, need at least 2",
             theta.len()
-        ));
+        )
+        .into());
     }
     if theta.windows(2).any(|w| w[1] <= w[0]) {
         return Err("field 'theta_i' is not strictly increasing".into());
@@ -216,12 +216,10 @@ fn elevations(tf: &TensorFile) -> Result<Vec<f64>, String> {
 
 /// A rank-2 field as a grid (rows = first axis); `positive` requires every value > 0,
 /// otherwise values must be >= 0.
-fn plain_grid(tf: &TensorFile, name: &str, positive: bool) -> Result<Grid, String> {
+fn plain_grid(tf: &TensorFile, name: &str, positive: bool) -> Result<Grid, Malformed> {
     let (values, shape) = tf.f32_field(name, 2)?;
     if shape[0] < 2 || shape[1] < 2 {
-        return Err(format!(
-            "field '{name}' has shape {shape:?}, need at least 2 x 2"
-        ));
+        return Err(format!("field '{name}' has shape {shape:?}, need at least 2 x 2").into());
     }
     let bad = if positive {
         values.iter().any(|v| *v <= 0.0)
@@ -230,7 +228,7 @@ fn plain_grid(tf: &TensorFile, name: &str, positive: bool) -> Result<Grid, Strin
     };
     if bad {
         let need = if positive { "positive" } else { "non-negative" };
-        return Err(format!("field '{name}' holds values that are not {need}"));
+        return Err(format!("field '{name}' holds values that are not {need}").into());
     }
     Ok(Grid::new(
         shape[1],
@@ -240,7 +238,7 @@ fn plain_grid(tf: &TensorFile, name: &str, positive: bool) -> Result<Grid, Strin
 }
 
 /// Checks that `shape` starts with `leading` and ends with two axes of at least 2.
-fn table_shape(name: &str, shape: &[usize], leading: &[usize]) -> Result<TableShape, String> {
+fn table_shape(name: &str, shape: &[usize], leading: &[usize]) -> Result<TableShape, Malformed> {
     let ok = shape.len() == leading.len() + 2
         && shape[..leading.len()] == *leading
         && shape[leading.len()] >= 2
@@ -248,7 +246,7 @@ fn table_shape(name: &str, shape: &[usize], leading: &[usize]) -> Result<TableSh
     if !ok {
         return Err(format!(
             "field '{name}' has shape {shape:?}, expected {leading:?} followed by two axes of at least 2"
-        ));
+        ).into());
     }
     Ok(TableShape {
         rows: shape[leading.len()],

@@ -39,7 +39,7 @@ const STEPS_PER_CELL: usize = 8;
 
 /// The tabulated distribution of normals and its projected area.
 #[derive(Debug, Clone)]
-pub struct RetroNdf {
+pub(super) struct RetroNdf {
     /// `D` in 1/sr at the nodes, normalised so that `∫ D(m) cos(theta_m) dm = 1`.
     pub d: Vec<f64>,
     /// `sigma(theta) = ∫ D(m) <m . w> dm` at the same nodes (1 at the normal).
@@ -52,7 +52,7 @@ pub struct RetroNdf {
 }
 
 /// The elevation, radians, of node `j` of `n` nodes: `theta = u^2 pi / 2`, `u = j / (n - 1)`.
-pub fn node_elevation_rad(j: usize, n: usize) -> f64 {
+pub(super) fn node_elevation_rad(j: usize, n: usize) -> f64 {
     let u = j as f64 / (n - 1) as f64;
     u * u * PI / 2.0
 }
@@ -60,7 +60,7 @@ pub fn node_elevation_rad(j: usize, n: usize) -> f64 {
 impl RetroNdf {
     /// The distribution of `brdf` at `n >= 2` nodes; `None` when the retro-reflection is
     /// zero or not measured at every node.
-    pub fn from_brdf(brdf: &dyn Brdf, n: usize) -> Option<Self> {
+    pub(super) fn from_brdf(brdf: &dyn Brdf, n: usize) -> Option<Self> {
         let (retro, not_measured) = retro_reflection(brdf, n)?;
         let cosines: Vec<f64> = (0..n).map(|j| node_elevation_rad(j, n).cos()).collect();
         let mut d: Vec<f64> = retro.iter().zip(&cosines).map(|(f, c)| f * c).collect();

@@ -10,6 +10,7 @@
 //! `f32` and `u8` fields can be read out. [`encode`] writes the same layout, each field's data
 //! aligned to 8 bytes (Mitsuba maps the file and reads the arrays in place).
 
+use crate::input::Malformed;
 use std::collections::HashMap;
 
 /// The first 12 bytes of every tensor file.
@@ -17,7 +18,7 @@ pub const MAGIC: &[u8; 12] = b"tensor_file\0";
 
 /// Element type of a field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Dtype {
+pub(super) enum Dtype {
     U8,
     I8,
     U16,
@@ -51,7 +52,7 @@ impl Dtype {
     }
 
     /// The code of this type in the field table.
-    pub fn code(self) -> u8 {
+    pub(super) fn code(self) -> u8 {
         use Dtype::*;
         match self {
             U8 => 1,
@@ -69,7 +70,7 @@ impl Dtype {
     }
 
     /// Size of one element in bytes.
-    pub fn size_bytes(self) -> usize {
+    pub(super) fn size_bytes(self) -> usize {
         use Dtype::*;
         match self {
             U8 | I8 => 1,
@@ -82,7 +83,7 @@ impl Dtype {
 
 /// One named array of a tensor file: its type, shape and where its bytes are.
 #[derive(Debug, Clone)]
-pub struct Field {
+pub(super) struct Field {
     pub dtype: Dtype,
     pub shape: Vec<usize>,
     data_start: usize,
@@ -91,7 +92,7 @@ pub struct Field {
 
 /// One named array to write: its element type, shape and little-endian bytes.
 #[derive(Debug, Clone)]
-pub struct FieldData {
+pub(super) struct FieldData {
     pub name: String,
     pub dtype: Dtype,
     pub shape: Vec<usize>,
@@ -100,7 +101,7 @@ pub struct FieldData {
 
 impl FieldData {
     /// An `f32` array of the given shape (whose product is `values.len()`).
-    pub fn f32(name: &str, shape: &[usize], values: &[f32]) -> Self {
+    pub(super) fn f32(name: &str, shape: &[usize], values: &[f32]) -> Self {
         debug_assert_eq!(shape.iter().product::<usize>(), values.len());
         Self {
             name: name.into(),
@@ -111,7 +112,7 @@ impl FieldData {
     }
 
     /// A rank-1 `u32` array.
-    pub fn u32(name: &str, values: &[u32]) -> Self {
+    pub(super) fn u32(name: &str, values: &[u32]) -> Self {
         Self {
             name: name.into(),
             dtype: Dtype::U32,
@@ -121,7 +122,7 @@ impl FieldData {
     }
 
     /// A rank-1 `u8` array.
-    pub fn u8(name: &str, values: &[u8]) -> Self {
+    pub(super) fn u8(name: &str, values: &[u8]) -> Self {
         Self {
             name: name.into(),
             dtype: Dtype::U8,
@@ -135,7 +136,7 @@ impl FieldData {
 const DATA_ALIGNMENT: usize = 8;
 
 /// The bytes of a tensor file (version 1.0) holding `fields` in order.
-pub fn encode(fields: &[FieldData]) -> Vec<u8> {
+pub(super) fn encode(fields: &[FieldData]) -> Vec<u8> {
     let header_len = MAGIC.len()
         + 2
         + 4
@@ -173,7 +174,7 @@ pub fn encode(fields: &[FieldData]) -> Vec<u8> {
 }
 
 /// A parsed tensor file: the field table over the file's bytes.
-pub struct TensorFile<'a> {
+pub(super) struct TensorFile<'a> {
     bytes: &'a [u8],
     fields: HashMap<String, Field>,
 }
@@ -185,7 +186,7 @@ struct Cursor<'a> {
 }
 
 impl<'a> Cursor<'a> {
-    fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
+    fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], Malformed> {
         let end = self
             .at
             .checked_add(n)
@@ -200,25 +201,26 @@ impl<'a> Cursor<'a> {
                 "truncated header: {what} at byte {} runs past the end of the file ({} bytes)",
                 self.at,
                 self.bytes.len()
-            )),
+            )
+            .into()),
         }
     }
 
-    fn u8(&mut self, what: &str) -> Result<u8, String> {
+    fn u8(&mut self, what: &str) -> Result<u8, Malformed> {
         Ok(self.take(1, what)?[0])
     }
 
-    fn u16(&mut self, what: &str) -> Result<u16, String> {
+    fn u16(&mut self, what: &str) -> Result<u16, Malformed> {
         let b = self.take(2, what)?;
         Ok(u16::from_le_bytes([b[0], b[1]]))
     }
 
-    fn u32(&mut self, what: &str) -> Result<u32, String> {
+    fn u32(&mut self, what: &str) -> Result<u32, Malformed> {
         let b = self.take(4, what)?;
         Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
     }
 
-    fn u64(&mut self, what: &str) -> Result<u64, String> {
+    fn u64(&mut self, what: &str) -> Result<u64, Malformed> {
         let b = self.take(8, what)?;
         Ok(u64::from_le_bytes([
             b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7],
@@ -229,7 +231,7 @@ impl<'a> Cursor<'a> {
 impl<'a> TensorFile<'a> {
     /// Parses the field table, checking the magic, the version and that every field's data
     /// lies inside the file. The error says what is wrong.
-    pub fn parse(bytes: &'a [u8]) -> Result<Self, String> {
+    pub(super) fn parse(bytes: &'a [u8]) -> Result<Self, Malformed> {
         if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
             return Err("not a tensor file (the first 12 bytes are not \"tensor_file\\0\")".into());
         }
@@ -242,20 +244,21 @@ impl<'a> TensorFile<'a> {
             return Err(format!(
                 "unsupported tensor file version {}.{} (expected 1.0)",
                 version[0], version[1]
-            ));
+            )
+            .into());
         }
         let count = cursor.u32("field count")?;
         let mut fields = HashMap::new();
         for index in 0..count {
             let (name, field) = Self::parse_field(&mut cursor, index)?;
             if fields.insert(name.clone(), field).is_some() {
-                return Err(format!("field '{name}' appears twice"));
+                return Err(format!("field '{name}' appears twice").into());
             }
         }
         Ok(Self { bytes, fields })
     }
 
-    fn parse_field(cursor: &mut Cursor<'a>, index: u32) -> Result<(String, Field), String> {
+    fn parse_field(cursor: &mut Cursor<'a>, index: u32) -> Result<(String, Field), Malformed> {
         let name_len = cursor.u16("field name length")? as usize;
         let name = String::from_utf8_lossy(cursor.take(name_len, "field name")?).into_owned();
         let rank = cursor.u16("field rank")? as usize;
@@ -277,7 +280,7 @@ impl<'a> TensorFile<'a> {
             return Err(format!(
                 "truncated: field '{name}' ({dtype:?}{shape:?}) needs bytes {offset}..{} but the file has {file_len}",
                 offset.saturating_add(data_len)
-            ));
+            ).into());
         }
         let field = Field {
             dtype,
@@ -289,10 +292,10 @@ impl<'a> TensorFile<'a> {
     }
 
     /// The field called `name`, or an error naming it.
-    pub fn field(&self, name: &str) -> Result<&Field, String> {
+    pub(super) fn field(&self, name: &str) -> Result<&Field, Malformed> {
         self.fields
             .get(name)
-            .ok_or_else(|| format!("missing field '{name}'"))
+            .ok_or_else(|| Malformed(format!("missing field '{name}'")))
     }
 
     /// The raw bytes of a field.
@@ -302,13 +305,18 @@ impl<'a> TensorFile<'a> {
 
     /// The elements of an `f32` field of the given rank, with its shape; every value must be
     /// finite.
-    pub fn f32_field(&self, name: &str, rank: usize) -> Result<(Vec<f32>, Vec<usize>), String> {
+    pub(super) fn f32_field(
+        &self,
+        name: &str,
+        rank: usize,
+    ) -> Result<(Vec<f32>, Vec<usize>), Malformed> {
         let field = self.field(name)?;
         if field.dtype != Dtype::F32 || field.shape.len() != rank {
             return Err(format!(
                 "field '{name}' is {:?}{:?}, expected a rank-{rank} f32 array",
                 field.dtype, field.shape
-            ));
+            )
+            .into());
         }
         let values: Vec<f32> = self
             .data(field)
@@ -319,19 +327,21 @@ impl<'a> TensorFile<'a> {
             return Err(format!(
                 "field '{name}' holds a non-finite value ({}) at element {pos}",
                 values[pos]
-            ));
+            )
+            .into());
         }
         Ok((values, field.shape.clone()))
     }
 
     /// The bytes of a rank-1 `u8` field.
-    pub fn u8_field(&self, name: &str) -> Result<&'a [u8], String> {
+    pub(super) fn u8_field(&self, name: &str) -> Result<&'a [u8], Malformed> {
         let field = self.field(name)?;
         if field.dtype != Dtype::U8 || field.shape.len() != 1 {
             return Err(format!(
                 "field '{name}' is {:?}{:?}, expected a rank-1 u8 array",
                 field.dtype, field.shape
-            ));
+            )
+            .into());
         }
         Ok(self.data(field))
     }

@@ -15,7 +15,7 @@ use glam::DVec2;
 ///
 /// As Mitsuba's `find_interval`: `i` is the largest index in `[0, n - 2]` with
 /// `knots[i] < value` (0 if there is none). A single knot gives `(0, 0.0)`.
-pub fn interval(knots: &[f64], value: f64) -> (usize, f64) {
+pub(super) fn interval(knots: &[f64], value: f64) -> (usize, f64) {
     if knots.len() < 2 {
         return (0, 0.0);
     }
@@ -28,7 +28,7 @@ pub fn interval(knots: &[f64], value: f64) -> (usize, f64) {
 /// A `width x height` grid of values over the unit square: node `(x, y)` sits at
 /// `(x / (width - 1), y / (height - 1))`, row-major with `x` contiguous.
 #[derive(Debug, Clone)]
-pub struct Grid {
+pub(super) struct Grid {
     width: usize,
     height: usize,
     values: Vec<f64>,
@@ -43,7 +43,7 @@ struct Patch {
 
 impl Grid {
     /// A grid from row-major values; `width` and `height` are at least 2 (checked by the caller).
-    pub fn new(width: usize, height: usize, values: Vec<f64>) -> Self {
+    pub(super) fn new(width: usize, height: usize, values: Vec<f64>) -> Self {
         debug_assert!(width >= 2 && height >= 2 && values.len() == width * height);
         Self {
             width,
@@ -53,7 +53,7 @@ impl Grid {
     }
 
     /// The node values, row-major.
-    pub fn values(&self) -> &[f64] {
+    pub(super) fn values(&self) -> &[f64] {
         &self.values
     }
 
@@ -74,7 +74,7 @@ impl Grid {
     }
 
     /// Bilinear interpolation at `u` in the unit square (clamped into it).
-    pub fn eval(&self, u: DVec2) -> f64 {
+    pub(super) fn eval(&self, u: DVec2) -> f64 {
         let p = self.patch(u);
         let bottom = lerp(self.at(p.x, p.y), self.at(p.x + 1, p.y), p.frac.x);
         let top = lerp(self.at(p.x, p.y + 1), self.at(p.x + 1, p.y + 1), p.frac.x);
@@ -84,19 +84,19 @@ impl Grid {
 
 /// Grids tabulated at several incident elevations, interpolated linearly between them.
 #[derive(Debug, Clone)]
-pub struct GridStack {
+pub(super) struct GridStack {
     theta_i_rad: Vec<f64>,
     grids: Vec<Grid>,
 }
 
 impl GridStack {
-    pub fn new(theta_i_rad: Vec<f64>, grids: Vec<Grid>) -> Self {
+    pub(super) fn new(theta_i_rad: Vec<f64>, grids: Vec<Grid>) -> Self {
         debug_assert_eq!(theta_i_rad.len(), grids.len());
         Self { theta_i_rad, grids }
     }
 
     /// The value at `u` for incident elevation `theta_i_rad`.
-    pub fn eval(&self, u: DVec2, theta_i_rad: f64) -> f64 {
+    pub(super) fn eval(&self, u: DVec2, theta_i_rad: f64) -> f64 {
         let (i, w) = interval(&self.theta_i_rad, theta_i_rad);
         let low = self.grids[i].eval(u);
         if w == 0.0 {
@@ -156,7 +156,7 @@ impl MarginalSlice {
 /// The visible-normal (VNDF) warp of every incident elevation; its inverse takes a
 /// microfacet normal in unit coordinates to the warped domain of the RGB samples.
 #[derive(Debug, Clone)]
-pub struct VndfWarp {
+pub(super) struct VndfWarp {
     width: usize,
     height: usize,
     theta_i_rad: Vec<f64>,
@@ -166,7 +166,7 @@ pub struct VndfWarp {
 impl VndfWarp {
     /// Builds the warp from one density grid per incident elevation. The error gives the
     /// index of a slice that integrates to zero.
-    pub fn new(theta_i_rad: Vec<f64>, grids: &[Grid]) -> Result<Self, usize> {
+    pub(super) fn new(theta_i_rad: Vec<f64>, grids: &[Grid]) -> Result<Self, usize> {
         let slices = grids
             .iter()
             .enumerate()
@@ -183,7 +183,7 @@ impl VndfWarp {
     /// Maps a point `u` of the unit square (microfacet normal coordinates) through the inverse
     /// of the continuous marginal-conditional warp at incident elevation `theta_i_rad`.
     /// Every table entry used is interpolated linearly between the two nearest elevations.
-    pub fn invert(&self, u: DVec2, theta_i_rad: f64) -> DVec2 {
+    pub(super) fn invert(&self, u: DVec2, theta_i_rad: f64) -> DVec2 {
         let (k, w) = interval(&self.theta_i_rad, theta_i_rad);
         let next = (k + 1).min(self.slices.len() - 1);
         let blend = |pick: &dyn Fn(&MarginalSlice) -> f64| {
@@ -285,7 +285,7 @@ impl VndfWarp {
     /// The forward warp of elevation slice `k` at the sample `s` of the unit square: the
     /// microfacet normal, in unit coordinates, whose inverse warp ([`Self::invert`] at the
     /// slice's own elevation) is `s`.
-    pub fn sample_slice(&self, k: usize, s: DVec2) -> DVec2 {
+    pub(super) fn sample_slice(&self, k: usize, s: DVec2) -> DVec2 {
         self.slices[k].sample(self.width, self.height, s)
     }
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 /// A file of the measured data directory (`shared/data/measured`, or `$SPECULA_MEASURED_DIR`),
 /// or `None`, with the reason printed, where the data is absent: the test then skips.
-pub fn measured(relative: &str) -> Option<PathBuf> {
+pub(crate) fn measured(relative: &str) -> Option<PathBuf> {
     let path = specula_formats::input::measured_data_dir().join(relative);
     if path.is_file() {
         Some(path)
@@ -21,14 +21,14 @@ pub fn measured(relative: &str) -> Option<PathBuf> {
 }
 
 /// A file of this crate's `tests/data`.
-pub fn test_data(name: &str) -> PathBuf {
+pub(crate) fn test_data(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
         .join(name)
 }
 
 /// The five isotropic RGL files shipped in `rgl_bsdf/`.
-pub const RGL_MATERIALS: [&str; 5] = [
+pub(crate) const RGL_MATERIALS: [&str; 5] = [
     "cc_ibiza_sunset_rgb",
     "cc_iris_purple_gem_rgb",
     "colodur_napoli_4f_rgb",
@@ -38,7 +38,7 @@ pub const RGL_MATERIALS: [&str; 5] = [
 
 /// One row of the Mitsuba reference vectors: a direction pair (degrees) and f_r per channel.
 #[derive(serde::Deserialize)]
-pub struct MitsubaVector {
+pub(crate) struct MitsubaVector {
     pub theta_i: f64,
     pub phi_i: f64,
     pub theta_o: f64,

@@ -31,6 +31,7 @@
 //! file, so a damaged journal is an error that says so, never a silent new session.
 
 use crate::journal_check;
+pub use crate::journal_check::{ChecksumMismatch, Damage};
 use rusqlite::{params, Connection, OpenFlags, OptionalExtension, Transaction};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -162,7 +163,7 @@ pub enum JournalError {
         seq: u32,
     },
     #[error("{path}: the journal is damaged ({problem}); it was changed outside specula or its disk failed: restore it from a copy or measure into a new --session")]
-    Damaged { path: String, problem: String },
+    Damaged { path: String, problem: Damage },
     #[error("{path}: {stage} sample {seq}: {field} is {value:e}, not a finite number; nothing was written")]
     NotFinite {
         path: String,
@@ -722,7 +723,7 @@ impl Journal {
             journal_check::verify_sample(&record, checksum).map_err(|problem| {
                 JournalError::Damaged {
                     path: self.name(),
-                    problem,
+                    problem: problem.into(),
                 }
             })?;
             samples.insert(record.seq, record);
@@ -859,7 +860,10 @@ impl Journal {
 fn sql_error(path: &Path, cause: rusqlite::Error) -> JournalError {
     let path = path.display().to_string();
     match journal_check::damage(&cause) {
-        Some(problem) => JournalError::Damaged { path, problem },
+        Some(problem) => JournalError::Damaged {
+            path,
+            problem: problem.into(),
+        },
         None => JournalError::Sqlite { path, cause },
     }
 }

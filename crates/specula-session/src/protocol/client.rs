@@ -17,7 +17,7 @@ use super::message::{
     CaptureParams, HelloParams, HelloResult, LightParams, MoveParams, Reply, Request, WireError,
     PROTOCOL_VERSION,
 };
-use super::validate::ReplyRanges;
+use super::validate::{ReplyProblem, ReplyRanges};
 use serde::de::DeserializeOwned;
 use serde_json::{json, Value};
 use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
@@ -142,7 +142,7 @@ impl RemoteInstrument {
         &mut self,
         method: &str,
         params: Value,
-        check: &dyn Fn(&ReplyRanges, &T) -> Result<(), String>,
+        check: &dyn Fn(&ReplyRanges, &T) -> Result<(), ReplyProblem>,
     ) -> Result<T, InstrumentError> {
         let mut failures = 0u32;
         loop {

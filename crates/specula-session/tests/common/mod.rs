@@ -20,7 +20,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 /// The UTIA device simulated with a flat-mounted preset and a fixed seed.
-pub fn simulator(material: &str, seed: u64) -> Simulator {
+pub(crate) fn simulator(material: &str, seed: u64) -> Simulator {
     let device = Device::utia();
     let truth = Arc::new(preset(material).unwrap());
     let sample = MountedSample::new(material, truth, Tilt::default());
@@ -28,7 +28,7 @@ pub fn simulator(material: &str, seed: u64) -> Simulator {
 }
 
 /// The measurable samples of a small grid (degrees; phi_h 45), in plan order.
-pub fn planned_rows(
+pub(crate) fn planned_rows(
     theta_h_deg: &[f64],
     theta_d_deg: &[f64],
     phi_d_deg: &[f64],
@@ -46,7 +46,7 @@ pub fn planned_rows(
 }
 
 /// How one run of the stage `main` is set up.
-pub struct MainStage<'a> {
+pub(crate) struct MainStage<'a> {
     pub rows: &'a [PlannedRow],
     pub calibration: &'a Calibration,
     /// Raised to stop after the sample in progress.
@@ -56,7 +56,7 @@ pub struct MainStage<'a> {
 
 /// Runs the stage `main` into the journal at `path` (created or resumed), calling
 /// `after_sample` with the count of samples done after each one.
-pub fn run_main_stage(
+pub(crate) fn run_main_stage(
     instrument: &mut dyn Instrument,
     path: &Path,
     stage: MainStage,
@@ -80,7 +80,7 @@ pub fn run_main_stage(
 }
 
 /// The journaled value of every sample of `main`, by sequence number.
-pub fn values(path: &Path) -> BTreeMap<u32, Rgb> {
+pub(crate) fn values(path: &Path) -> BTreeMap<u32, Rgb> {
     let journal = Journal::open_read_only(path).unwrap();
     journal
         .samples("main")
@@ -91,7 +91,7 @@ pub fn values(path: &Path) -> BTreeMap<u32, Rgb> {
 }
 
 /// How many events of each kind the journal holds.
-pub fn events(path: &Path) -> BTreeMap<String, usize> {
+pub(crate) fn events(path: &Path) -> BTreeMap<String, usize> {
     Journal::open_read_only(path)
         .unwrap()
         .status()

@@ -13,8 +13,8 @@ pub mod slice;
 
 use crate::canvas::Canvas;
 use crate::color::false_colour;
+use crate::error::{DrawCause, VisualError};
 use crate::font;
-use anyhow::{anyhow, Result};
 use image::RgbImage;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -25,17 +25,20 @@ pub(crate) const TITLE_PX: f64 = 20.0;
 pub(crate) const LABEL_PX: f64 = 14.0;
 pub(crate) const AXIS_DESC_PX: f64 = 15.0;
 
-/// A plotters error as an anyhow error (plotters' errors borrow the backend's types).
-pub(crate) fn plot_error(e: impl std::fmt::Display) -> anyhow::Error {
-    anyhow!("cannot draw the plot: {e}")
+/// A plotters error of drawing a plot.
+pub(crate) fn plot_error(cause: DrawCause) -> VisualError {
+    VisualError::Draw {
+        what: "the plot".to_string(),
+        cause,
+    }
 }
 
 /// Draws on a white canvas of `width` x `height` pixels and returns the picture.
 pub(crate) fn draw(
     width: u32,
     height: u32,
-    paint: impl FnOnce(&DrawingArea<Canvas<'_>, Shift>) -> Result<()>,
-) -> Result<RgbImage> {
+    paint: impl FnOnce(&DrawingArea<Canvas<'_>, Shift>) -> Result<(), VisualError>,
+) -> Result<RgbImage, VisualError> {
     font::ensure_registered();
     let mut buffer = vec![255u8; (width * height * 3) as usize];
     {
@@ -44,7 +47,7 @@ pub(crate) fn draw(
         paint(&root)?;
         root.present().map_err(plot_error)?;
     }
-    RgbImage::from_raw(width, height, buffer).ok_or_else(|| anyhow!("plot buffer size mismatch"))
+    RgbImage::from_raw(width, height, buffer).ok_or(VisualError::Buffer)
 }
 
 /// How theta_h runs along an axis.
@@ -235,7 +238,7 @@ pub(crate) fn draw_colour_bar(
     area: &DrawingArea<Canvas<'_>, Shift>,
     scale: LogScale,
     description: &str,
-) -> Result<()> {
+) -> Result<(), VisualError> {
     let mut chart = ChartBuilder::on(area)
         .margin_top(40)
         .margin_bottom(50)

@@ -9,8 +9,8 @@ use super::{
     angle_label, draw, log_ticks, plot_error, value_label, ThetaHAxis, AXIS_DESC_PX,
     F_R_DESCRIPTION, LABEL_PX, TITLE_PX,
 };
+use crate::error::VisualError;
 use crate::font;
-use anyhow::{bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
 use specula_core::brdf::Rgb;
@@ -42,31 +42,36 @@ pub fn interpolate(probe: &[ProbePoint], positions_deg: &[f64]) -> Vec<ProbePoin
         .collect()
 }
 
-fn check_sorted(name: &str, points: &[ProbePoint]) -> Result<()> {
+fn check_sorted(name: &str, points: &[ProbePoint]) -> Result<(), VisualError> {
     if points.is_empty() {
-        bail!("the {name} has no values");
+        return Err(VisualError::Data(format!("the {name} has no values")));
     }
     if points
         .windows(2)
         .any(|w| w[1].theta_h_deg < w[0].theta_h_deg)
     {
-        bail!("the {name}'s theta_h values must increase");
+        return Err(VisualError::Data(format!(
+            "the {name}'s theta_h values must increase"
+        )));
     }
     if let Some(p) = points
         .iter()
         .find(|p| !p.theta_h_deg.is_finite() || !p.value.is_finite())
     {
-        bail!(
+        return Err(VisualError::Data(format!(
             "the {name} has a non-finite entry at theta_h {}: {}",
-            p.theta_h_deg,
-            p.value
-        );
+            p.theta_h_deg, p.value
+        )));
     }
     Ok(())
 }
 
 /// Both panels in one picture (full range above, detail below).
-pub fn plot_probe(probe: &[ProbePoint], adaptive: &[ProbePoint], title: &str) -> Result<RgbImage> {
+pub fn plot_probe(
+    probe: &[ProbePoint],
+    adaptive: &[ProbePoint],
+    title: &str,
+) -> Result<RgbImage, VisualError> {
     check_sorted("probe", probe)?;
     check_sorted("adaptive sampling", adaptive)?;
     draw(900, 860, |root| {
@@ -102,7 +107,7 @@ fn panel(
     probe: &[ProbePoint],
     adaptive: &[ProbePoint],
     max_deg: f64,
-) -> Result<()> {
+) -> Result<(), VisualError> {
     // The points up to the panel's edge, the lines ending there at the interpolated value.
     let within = |points: &[ProbePoint]| -> Vec<ProbePoint> {
         let end = points.partition_point(|p| p.theta_h_deg <= max_deg);
@@ -127,7 +132,9 @@ fn panel(
         (lo.min(v), hi.max(v))
     });
     if hi <= 0.0 {
-        bail!("no positive f_r to plot below theta_h = {max_deg} deg");
+        return Err(VisualError::Data(format!(
+            "no positive f_r to plot below theta_h = {max_deg} deg"
+        )));
     }
     let (lo, hi) = (lo * 0.5, hi * 2.0);
     let mut chart = ChartBuilder::on(area)

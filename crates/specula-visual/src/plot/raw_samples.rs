@@ -7,8 +7,8 @@ use super::{
     angle_label, draw, draw_colour_bar, plot_error, unmeasured_colour, LogScale, ThetaHAxis,
     ThetaHCoord, AXIS_DESC_PX, LABEL_PX, THETA_D_DESCRIPTION, TITLE_PX,
 };
+use crate::error::VisualError;
 use crate::font;
-use anyhow::{bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
 use specula_core::Sample;
@@ -47,9 +47,9 @@ pub struct SampleGrid {
 impl SampleGrid {
     /// The samples' grid (phi_h is dropped: an isotropic BRDF); an error when there are none
     /// or one lies outside theta_h, theta_d in `[0, 90]` degrees.
-    pub fn new(samples: &[Sample]) -> Result<Self> {
+    pub fn new(samples: &[Sample]) -> Result<Self, VisualError> {
         if samples.is_empty() {
-            bail!("no samples to plot");
+            return Err(VisualError::Data(String::from("no samples to plot")));
         }
         if let Some(s) = samples.iter().find(|s| {
             ![s.theta_h_deg(), s.theta_d_deg(), s.phi_d_deg()]
@@ -58,12 +58,12 @@ impl SampleGrid {
                 || !(0.0..=90.0).contains(&s.theta_h_deg())
                 || !(0.0..=90.0).contains(&s.theta_d_deg())
         }) {
-            bail!(
+            return Err(VisualError::Data(format!(
                 "a sample lies outside theta_h, theta_d in [0, 90] deg: {} {} {}",
                 s.theta_h_deg(),
                 s.theta_d_deg(),
                 s.phi_d_deg()
-            );
+            )));
         }
         let mut theta_h: Vec<i64> = samples.iter().map(|s| key(s.theta_h_deg())).collect();
         let mut theta_d: Vec<i64> = samples.iter().map(|s| key(s.theta_d_deg())).collect();
@@ -89,10 +89,10 @@ impl SampleGrid {
             cell.1 += 1;
         }
         if sums.len() > MAX_PANELS {
-            bail!(
+            return Err(VisualError::Data(format!(
                 "{} distinct phi_d values: the raw-sample plot shows one panel per phi_d, at most {MAX_PANELS}",
                 sums.len()
-            );
+            )));
         }
         let panels = sums
             .into_iter()
@@ -143,14 +143,20 @@ fn edges(positions: &[f64], lo: f64, hi: f64) -> Vec<f64> {
 }
 
 /// The raw samples as one picture: a panel per phi_d, a shared colour bar.
-pub fn plot_raw_samples(samples: &[Sample], title: &str, axis: ThetaHAxis) -> Result<RgbImage> {
+pub fn plot_raw_samples(
+    samples: &[Sample],
+    title: &str,
+    axis: ThetaHAxis,
+) -> Result<RgbImage, VisualError> {
     let grid = SampleGrid::new(samples)?;
     let Some(scale) = LogScale::of(
         grid.panels
             .iter()
             .flat_map(|(_, g)| g.iter().flatten().flatten().copied()),
     ) else {
-        bail!("{title}: no positive sample value to show");
+        return Err(VisualError::Data(format!(
+            "{title}: no positive sample value to show"
+        )));
     };
     let h_coordinates: Vec<f64> = grid
         .theta_h_deg

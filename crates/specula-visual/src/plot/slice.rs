@@ -5,8 +5,8 @@ use super::{
     angle_label, draw, draw_colour_bar, plot_error, unmeasured_colour, LogScale, ThetaHAxis,
     ThetaHCoord, AXIS_DESC_PX, LABEL_PX, THETA_D_DESCRIPTION, TITLE_PX,
 };
+use crate::error::VisualError;
 use crate::font;
-use anyhow::{bail, Result};
 use image::RgbImage;
 use plotters::prelude::*;
 use specula_core::brdf::Brdf;
@@ -61,10 +61,16 @@ pub fn slice_values(brdf: &dyn Brdf, options: &SliceOptions) -> Vec<Vec<Option<f
 }
 
 /// The slice of `brdf` as a picture (theta_d across, theta_h up, colour bar at the right).
-pub fn plot_slice(brdf: &dyn Brdf, title: &str, options: &SliceOptions) -> Result<RgbImage> {
+pub fn plot_slice(
+    brdf: &dyn Brdf,
+    title: &str,
+    options: &SliceOptions,
+) -> Result<RgbImage, VisualError> {
     let values = slice_values(brdf, options);
     let Some(scale) = LogScale::of(values.iter().flatten().flatten().copied()) else {
-        bail!("{title}: the slice has no positive value to show");
+        return Err(VisualError::Data(format!(
+            "{title}: the slice has no positive value to show"
+        )));
     };
     draw_slice(
         &values,
@@ -83,7 +89,7 @@ pub fn plot_slices_against_truth(
     measured: (&dyn Brdf, &str),
     truth: (&dyn Brdf, &str),
     options: &SliceOptions,
-) -> Result<[RgbImage; 3]> {
+) -> Result<[RgbImage; 3], VisualError> {
     let a = slice_values(measured.0, options);
     let b = slice_values(truth.0, options);
     let difference: Vec<Vec<Option<f64>>> = a
@@ -98,7 +104,10 @@ pub fn plot_slices_against_truth(
         .collect();
     let all = a.iter().chain(&b).flatten().flatten().copied();
     let Some(scale) = LogScale::of(all) else {
-        bail!("{}: the slices have no positive value to show", measured.1);
+        return Err(VisualError::Data(format!(
+            "{}: the slices have no positive value to show",
+            measured.1
+        )));
     };
     let label = "f_r, mean of R, G, B [1/sr]";
     Ok([
@@ -121,7 +130,7 @@ fn draw_slice(
     title: &str,
     scale_label: &str,
     options: &SliceOptions,
-) -> Result<RgbImage> {
+) -> Result<RgbImage, VisualError> {
     draw(760, 600, |root| {
         let (left, right) = root.split_horizontally(630);
         let mut chart = ChartBuilder::on(&left)
