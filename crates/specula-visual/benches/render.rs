@@ -1,6 +1,6 @@
 //! The renderer's speed at the CLI's defaults: a 512 x 512 sphere under the studio environment
-//! at [`DEFAULT_SAMPLES_PER_PIXEL`] (the fewest at which renders converge, see
-//! `tests/convergence.rs`) on 2 cores, for a measured table (the `silver-925` preset tabulated
+//! at [`DEFAULT_SAMPLES_PER_PIXEL`] (where renders converge, see `tests/convergence.rs`) on
+//! 2 cores, for a measured table (the `silver-925` preset tabulated
 //! into the MERL grid, nearest-bin lookups) and for the analytic preset itself.
 //!
 //! Run: `cargo bench -p specula-visual --bench render`. On a shared machine, compare the

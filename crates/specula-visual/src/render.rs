@@ -196,10 +196,10 @@ const TILE: usize = 16;
 /// Most samples per pixel: the length of the Sobol sequence.
 pub const MAX_SAMPLES_PER_PIXEL: usize = 1 << 16;
 
-/// Samples per pixel by default: the fewest (a power of two, as the Sobol sequence wants) at
-/// which two renders of `silver-925` and `green-paint` in the studio with different seeds
-/// agree per pixel within 3 % on average and 15 % at the 99th percentile of the sphere's
-/// interior (luminance; test `tests/convergence.rs`). 64 left 5 % and 46 % for `silver-925`.
+/// Samples per pixel by default, a power of two as the Sobol sequence wants: two renders of
+/// `silver-925` and `green-paint` in the studio with different seeds agree per pixel within
+/// 3 % on average and 15 % at the 99th percentile of the sphere's interior (luminance; test
+/// `tests/convergence.rs`). 64 left 5 % and 46 % for `silver-925`; 128 was not tried.
 pub const DEFAULT_SAMPLES_PER_PIXEL: usize = 256;
 
 /// The quasi-random numbers of one pixel.
