@@ -1,6 +1,7 @@
-//! The renderer's speed target: a 512 x 512 sphere under the studio environment at
-//! 64 samples per pixel in under 5 s on 2 cores, for a measured table (the `silver-925` preset
-//! tabulated into the MERL grid, nearest-bin lookups) and for the analytic preset itself.
+//! The renderer's speed at the CLI's defaults: a 512 x 512 sphere under the studio environment
+//! at [`DEFAULT_SAMPLES_PER_PIXEL`] (where renders converge, see `tests/convergence.rs`) on
+//! 2 cores, for a measured table (the `silver-925` preset tabulated
+//! into the MERL grid, nearest-bin lookups) and for the analytic preset itself.
 //!
 //! Run: `cargo bench -p specula-visual --bench render`. On a shared machine, compare the
 //! process's CPU time too: the work is split over both cores by rows of tiles.
@@ -9,6 +10,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use specula_core::brdf::Brdf;
 use specula_core::materials::preset;
 use specula_core::tabulate::tabulate;
+use specula_visual::render::DEFAULT_SAMPLES_PER_PIXEL;
 use specula_visual::{render, Environment, Lighting, RenderSettings, Scene, ShapeKind};
 use std::sync::Arc;
 use std::time::Duration;
@@ -20,8 +22,10 @@ fn bench(c: &mut Criterion) {
         ShapeKind::Sphere,
         Lighting::Environment(Arc::new(Environment::studio())),
     );
-    let settings = RenderSettings::square(512, 64);
-    let mut group = c.benchmark_group("render 512x512 64spp studio");
+    let settings = RenderSettings::square(512, DEFAULT_SAMPLES_PER_PIXEL);
+    let mut group = c.benchmark_group(format!(
+        "render 512x512 {DEFAULT_SAMPLES_PER_PIXEL}spp studio"
+    ));
     group
         .sample_size(10)
         .measurement_time(Duration::from_secs(30));

@@ -51,8 +51,10 @@ pub(crate) struct Args {
     /// instead of an environment.
     #[arg(long, value_enum)]
     pub light: Option<LightKind>,
-    /// Camera rays per pixel. Range: a whole number from 1 to 65536.
-    #[arg(long, default_value_t = 64, value_parser = crate::range::SAMPLES_PER_PIXEL)]
+    /// Camera rays per pixel. The default converges: two seeds agree within 3 percent per pixel
+    /// on average (15 percent in the rings around highlights); fewer make quick drafts. Range: a
+    /// whole number from 1 to 65536.
+    #[arg(long, default_value_t = specula_visual::render::DEFAULT_SAMPLES_PER_PIXEL, value_parser = crate::range::SAMPLES_PER_PIXEL)]
     pub spp: usize,
     /// Width and height of the picture (of each tile with --side-by-side), pixels. Range: a
     /// whole number from 8 to 8192.
