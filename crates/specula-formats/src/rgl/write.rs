@@ -12,7 +12,7 @@
 //!    summing to 1.
 //! 3. `rgb`: the warped domain of each slice's VNDF is sampled on an `N x N` grid; at each node
 //!    the forward warp gives a normal `m`, `wo` is `wi` mirrored about it, and the node stores
-//!    `f_r(wi, wo) cos(theta_o) 4 sigma(wi) / D(m)` (the `jacobian` flag is 1, so the reader
+//!    `f_r(wo, wi) cos(theta_o) 4 sigma(wi) / D(m)` (the `jacobian` flag is 1, so the reader
 //!    multiplies by `D / (4 sigma)` again); shape `[1, T, 3, N, N]`. The interpolants of the
 //!    f32 tables themselves give `D` and `sigma` here, so a reader reproduces a node exactly.
 //! 4. `luminance`: the Rec. 709 luminance of each node (`[1, T, N, N]`), the density Mitsuba
@@ -24,6 +24,10 @@
 //!    when the slice has none, the same node of the nearest slice that has).
 //! 6. `theta_i` (radians), `phi_i = [0]`, `description`, `jacobian = [1]`, `version = [1, 0]`.
 //!
+//! The file's incident direction `wi` is the camera's and `wo` the light's, as Mitsuba 3
+//! renders the file (the module documentation of [`super`]): each node stores the source's
+//! `f_r(wo, wi)` in Specula's order (light from `wo`, seen from `wi`), so that Specula's
+//! reader gives the source back and Mitsuba renders the file as Specula renders the source.
 //! The source is evaluated with `wi` in the plane `phi_i = 0`; an anisotropic source is thus
 //! written as its isotropic slice there.
 
@@ -418,7 +422,7 @@ fn sample_slice(
         rgb.push(if below {
             Some([0.0; 3])
         } else {
-            brdf.eval(wi, wo)
+            brdf.eval(wo, wi)
                 .map(|f| (f * wo.z * four_sigma / ndf.eval(u_m)).to_array())
         });
     }
