@@ -215,8 +215,7 @@ impl RglTables {
                     brdf,
                     &warp,
                     (&visible[k], &vndf_grids[k]),
-                    &ndf_grid,
-                    &sigma_grid,
+                    (&ndf_grid, &sigma_grid),
                     k,
                     elevations[k],
                     s_count,
@@ -424,13 +423,13 @@ fn mixed_with_uniform(vndf: &Grid, n: usize) -> Grid {
 }
 
 /// Evaluates the source at every sample node of slice `k`; `(vndf, mixed)` are the slice's
-/// VNDF and the warp's density.
+/// VNDF and the warp's density, `(ndf, sigma)` the microfacet distribution and its projected
+/// area.
 fn sample_slice(
     brdf: &dyn Brdf,
     warp: &VndfWarp,
     (vndf, mixed): (&Grid, &Grid),
-    ndf: &Grid,
-    sigma: &Grid,
+    (ndf, sigma): (&Grid, &Grid),
     k: usize,
     theta_i_rad: f64,
     size: usize,
