@@ -1,5 +1,5 @@
 //! Writing an RGL `.bsdf` from a MERL table (issue 18: well under 10 s on 2 cores): the
-//! tables at the default resolution (power iteration, 16 VNDF slices of 128 x 128, 16 x 64 x 64
+//! tables at the default resolution (power iteration, 16 VNDF slices of 128 x 128, 16 x 96 x 96
 //! MERL lookups) and their encoding. The table is `green-paint` tabulated into the MERL grid,
 //! so every lookup is the nearest-bin MERL evaluation of a measured file.
 

@@ -51,10 +51,11 @@ fn check(material: &str, source: &str) -> Agreement {
     let mut rows = Vec::new();
     for v in reader.deserialize::<Vector>() {
         let v = v.unwrap();
-        let wi = Spherical::from_degrees(v.theta_i, v.phi_i).to_vector();
-        let wo = Spherical::from_degrees(v.theta_o, v.phi_o).to_vector();
+        // Mitsuba's `si.wi` (theta_i, phi_i) is the camera's direction, its `wo` the light's.
+        let camera = Spherical::from_degrees(v.theta_i, v.phi_i).to_vector();
+        let light = Spherical::from_degrees(v.theta_o, v.phi_o).to_vector();
         let mitsuba = glam::DVec3::new(v.r, v.g, v.b);
-        let ours = written.eval(wi, wo).unwrap();
+        let ours = written.eval(light, camera).unwrap();
         for c in 0..3 {
             if mitsuba[c] > 1e-3 {
                 let relative = (ours[c] - mitsuba[c]).abs() / mitsuba[c];
@@ -65,8 +66,8 @@ fn check(material: &str, source: &str) -> Agreement {
                 );
             }
         }
-        let truth = brdf.eval(wi, wo).unwrap();
-        rows.push((luminance(truth) * wo.z, luminance(mitsuba) * wo.z));
+        let truth = brdf.eval(light, camera).unwrap();
+        rows.push((luminance(truth) * light.z, luminance(mitsuba) * light.z));
     }
     assert!(
         rows.len() >= 2000,

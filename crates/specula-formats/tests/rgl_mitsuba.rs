@@ -1,6 +1,8 @@
 //! The RGL `.bsdf` reader against Mitsuba 3.9.1's `measured` plugin (vectors made by
 //! `tools/rgl_vectors.py`): f_r within 1e-3 relative wherever Mitsuba's value exceeds 1e-3,
 //! and within 1e-6 absolute of Mitsuba's value clamped at zero (as `powitacq` clamps) below.
+//! A vector's `(theta_i, phi_i)` is Mitsuba's `si.wi`, the camera's direction, and `(theta_o,
+//! phi_o)` the light's: Specula's `eval` takes the light first.
 
 mod common;
 
@@ -20,9 +22,9 @@ fn rgl_reader_matches_mitsuba_measured_plugin() {
         let (mut rows, mut compared, mut worst, mut worst_small) = (0, 0, 0.0f64, 0.0f64);
         for v in reader.deserialize::<Vector>() {
             let v = v.unwrap();
-            let wi = Spherical::from_degrees(v.theta_i, v.phi_i).to_vector();
-            let wo = Spherical::from_degrees(v.theta_o, v.phi_o).to_vector();
-            let ours = brdf.eval(wi, wo).unwrap();
+            let camera = Spherical::from_degrees(v.theta_i, v.phi_i).to_vector();
+            let light = Spherical::from_degrees(v.theta_o, v.phi_o).to_vector();
+            let ours = brdf.eval(light, camera).unwrap();
             rows += 1;
             for (c, reference) in [v.r, v.g, v.b].into_iter().enumerate() {
                 assert!(ours[c] >= 0.0, "{material}: negative f_r {ours}");

@@ -31,7 +31,7 @@ use std::path::PathBuf;
   specula convert gold.binary gold.bin
   specula convert samples.csv binned.binary
   specula convert measured.binary measured.bsdf
-  specula convert green-paint paint.bsdf --rgl-sample-size 96
+  specula convert green-paint paint.bsdf --rgl-sample-size 128
   specula convert nbrdf:chrome chrome.csv --grid utia")]
 pub(crate) struct Args {
     /// The BRDF to convert: a .binary, .bin, .bsdf or .csv file, a preset or a model:name fit.

@@ -2,8 +2,9 @@
 //! Parameterization for Efficient Material Acquisition and Rendering", ACM TOG 37(6), 2018.
 //!
 //! The measured RGB values sit on a 2-D domain warped by the material's own visible normal
-//! distribution (VNDF), one slice per incident elevation. Evaluating f_r(wi, wo), as the
-//! reference loader (`powitacq_rgb`) and Mitsuba 3's `measured` plugin do:
+//! distribution (VNDF), one slice per incident elevation. Evaluating the file at its incident
+//! direction `wi` and outgoing direction `wo`, as the reference loader (`powitacq_rgb`) and
+//! Mitsuba 3's `measured` plugin do:
 //!
 //! 1. `h = normalize(wi + wo)`; elevations and azimuths of `wi` and `h`, and the unit
 //!    coordinates `u(theta) = sqrt(2 theta / pi)`, `u(phi) = (phi + pi) / (2 pi)`; for an
@@ -15,7 +16,16 @@
 //!    `D(u(h)) / (4 sigma(u(wi)))`, the NDF over the projected area.
 //!
 //! The result is the measured quantity f_r cos(theta_o) (Mitsuba's `eval` returns exactly
-//! it); [`RglBsdf`] divides by `cos(theta_o)` to give f_r in 1/sr. Colour: the files hold an
+//! it); [`RglBsdf`] divides by `cos(theta_o)` to give f_r in 1/sr.
+//!
+//! Which slot is the camera: Mitsuba 3 passes the direction towards the camera (its `si.wi`)
+//! as the file's incident direction and the direction towards the light as the outgoing one
+//! (`tools/rgl_convention_check.py`: at the nodes of a real file Mitsuba reproduces the
+//! tabulated value in that order, median 4e-7, and not in the other, median 9 %: the measured
+//! files are not reciprocal). Specula follows it, so a file renders in Specula as in Mitsuba:
+//! [`Brdf::eval`]`(wi, wo)`, with `wi` towards the light and `wo` towards the camera, looks
+//! the file up at incident `wo` and outgoing `wi`, and the writer ([`write`]) stores a
+//! source's `f_r(light, camera)` the same way. Colour: the files hold an
 //! `rgb` field and no spectra, and Mitsuba's RGB variants read that field as three channels
 //! with no spectral integration; so does this reader. Checked against Mitsuba 3.9.1 by
 //! `tools/rgl_vectors.py` and `tests/rgl_mitsuba.rs`.
@@ -127,8 +137,10 @@ impl RglBsdf {
         &self.description
     }
 
-    /// The stored quantity f_r cos(theta_o) (what Mitsuba's `eval` returns), RGB; zero when
-    /// a direction is at or below the horizon.
+    /// The stored quantity f_r cos(theta_o) at the file's incident direction `wi` (towards the
+    /// camera, Mitsuba's `si.wi`) and outgoing direction `wo` (towards the light): what
+    /// Mitsuba's `eval(si, wo)` returns, RGB; zero when a direction is at or below the
+    /// horizon.
     pub fn eval_projected(&self, wi: DVec3, wo: DVec3) -> Rgb {
         if !both_above_surface(wi, wo) {
             return Rgb::ZERO;
@@ -157,12 +169,14 @@ impl RglBsdf {
 }
 
 impl Brdf for RglBsdf {
-    /// f_r in 1/sr: the stored f_r cos(theta_o) divided by cos(theta_o).
+    /// f_r in 1/sr for light from `wi` seen from `wo`: the file at incident `wo` (the camera)
+    /// and outgoing `wi` (the light), as Mitsuba renders it (module documentation), divided
+    /// by the cosine of the light.
     fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
         if !both_above_surface(wi, wo) {
             return Some(Rgb::ZERO);
         }
-        Some(self.eval_projected(wi, wo) / wo.normalize().z)
+        Some(self.eval_projected(wo, wi) / wi.normalize().z)
     }
 
     fn name(&self) -> String {

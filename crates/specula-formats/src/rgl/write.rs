@@ -8,22 +8,30 @@
 //!    azimuth rows, `n` elevations at `u = sqrt(2 theta / pi)`).
 //! 2. `vndf`: per incident elevation `theta_i`, the density of visible normals
 //!    `D(m) <wi . m> / sigma(wi)` over the unit square `(u(theta_m), u(phi_m - phi_i))`, times
-//!    the Jacobian `2 pi^2 u sin(theta_m)` of that square; shape `[1, T, n, n]`, each slice
-//!    summing to 1.
+//!    the Jacobian `2 pi^2 u sin(theta_m)` of that square, mixed with a uniform density over
+//!    the square ([`UNIFORM_WARP_SHARE`]); shape `[1, T, n, n]`, each slice summing to 1.
+//!    A reader only uses this field to place the sample grid (and Mitsuba to sample), so any
+//!    positive density is exact; the uniform share puts nodes in the BRDF's tail, far from
+//!    the mirror direction, which the VNDF alone leaves to a few wide cells.
 //! 3. `rgb`: the warped domain of each slice's VNDF is sampled on an `N x N` grid; at each node
 //!    the forward warp gives a normal `m`, `wo` is `wi` mirrored about it, and the node stores
-//!    `f_r(wi, wo) cos(theta_o) 4 sigma(wi) / D(m)` (the `jacobian` flag is 1, so the reader
+//!    `f_r(wo, wi) cos(theta_o) 4 sigma(wi) / D(m)` (the `jacobian` flag is 1, so the reader
 //!    multiplies by `D / (4 sigma)` again); shape `[1, T, 3, N, N]`. The interpolants of the
 //!    f32 tables themselves give `D` and `sigma` here, so a reader reproduces a node exactly.
-//! 4. `luminance`: the Rec. 709 luminance of each node (`[1, T, N, N]`), the density Mitsuba
-//!    samples before the VNDF warp; raised to [`LUMINANCE_FLOOR`] of each slice's peak so that
-//!    every direction stays reachable.
+//! 4. `luminance`: the Rec. 709 luminance of each node times the VNDF over the mixed density
+//!    at its normal (`[1, T, N, N]`), the density Mitsuba samples before the warp, so that
+//!    sampling follows `f_r cos(theta_o)` as with the pure VNDF warp; raised to
+//!    [`LUMINANCE_FLOOR`] of each slice's peak so that every direction stays reachable.
 //! 5. `valid`: one bit per `rgb` node (`[T][row][column]`, most significant bit first, as the
 //!    RGL files pack it): 0 where `wo` falls below the horizon (stored 0) or the source has not
 //!    measured `f_r` (stored as the nearest measured node of the same slice, in grid steps, or
 //!    when the slice has none, the same node of the nearest slice that has).
 //! 6. `theta_i` (radians), `phi_i = [0]`, `description`, `jacobian = [1]`, `version = [1, 0]`.
 //!
+//! The file's incident direction `wi` is the camera's and `wo` the light's, as Mitsuba 3
+//! renders the file (the module documentation of [`super`]): each node stores the source's
+//! `f_r(wo, wi)` in Specula's order (light from `wo`, seen from `wi`), so that Specula's
+//! reader gives the source back and Mitsuba renders the file as Specula renders the source.
 //! The source is evaluated with `wi` in the plane `phi_i = 0`; an anisotropic source is thus
 //! written as its isotropic slice there.
 
@@ -48,6 +56,11 @@ pub const SAMPLE_SIZE_RANGE: RangeInclusive<usize> = 4..=256;
 pub const LAST_ELEVATION_DEG: f64 = 89.9;
 /// Floor of the `luminance` sampling density, relative to each slice's peak.
 pub const LUMINANCE_FLOOR: f64 = 1e-3;
+/// Share of each slice's warp density spread evenly over the unit square; the rest follows
+/// the VNDF. Measured on the real RGL film `cc_ibiza_sunset_rgb` at the default resolution,
+/// Mitsuba's render of the written file against its render of the original under a point
+/// light (README, "Rendering in Mitsuba 3 and pbrt-v4").
+pub const UNIFORM_WARP_SHARE: f64 = 0.3;
 
 /// The table sizes of a written file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,14 +75,15 @@ pub struct RglResolution {
 }
 
 impl RglResolution {
-    /// 16 elevations, 128 x 128 normals and 64 x 64 samples per elevation: the RGL database's
-    /// `ndf` size with twice its 8 elevations and 32 x 32 samples; about 2.1 MB. The finer
-    /// sample grid resolves sharp coats over a diffuse base, whose retro-reflection puts most
-    /// of the distribution's mass in the diffuse tail (README, RGL export accuracy).
+    /// 16 elevations, 128 x 128 normals and 96 x 96 samples per elevation: the RGL database's
+    /// `ndf` size with twice its 8 elevations and three times its 32 x 32 samples; about
+    /// 3.4 MB. The finer sample grid resolves sharp coats over a diffuse base, whose
+    /// retro-reflection puts most of the distribution's mass in the diffuse tail, and the
+    /// tails of measured files (README, "Rendering in Mitsuba 3 and pbrt-v4").
     pub const DEFAULT: Self = Self {
         elevations: 16,
         ndf_size: 128,
-        sample_size: 64,
+        sample_size: 96,
     };
 }
 
@@ -127,6 +141,8 @@ pub struct RglTables {
 struct Slice {
     rgb: Vec<Option<[f64; 3]>>,
     below_horizon: Vec<bool>,
+    /// The VNDF over the warp's mixed density at each node's normal.
+    vndf_share: Vec<f64>,
 }
 
 impl Slice {
@@ -174,10 +190,11 @@ impl RglTables {
             .map(|k| elevation_rad(k, t_count) as f32)
             .collect();
 
-        let vndf_grids: Vec<Grid> = theta_i_rad
+        let visible: Vec<Grid> = theta_i_rad
             .iter()
             .map(|t| vndf_grid(&ndf_grid, *t as f64, n))
             .collect();
+        let vndf_grids: Vec<Grid> = visible.iter().map(|g| mixed_with_uniform(g, n)).collect();
         let vndf: Vec<f32> = vndf_grids
             .iter()
             .flat_map(|g| g.values().iter().map(|v| *v as f32).collect::<Vec<_>>())
@@ -197,8 +214,8 @@ impl RglTables {
                 sample_slice(
                     brdf,
                     &warp,
-                    &ndf_grid,
-                    &sigma_grid,
+                    (&visible[k], &vndf_grids[k]),
+                    (&ndf_grid, &sigma_grid),
                     k,
                     elevations[k],
                     s_count,
@@ -254,7 +271,8 @@ impl RglTables {
         }
         let lum: Vec<f64> = stored
             .iter()
-            .map(|v| luminance(DVec3::from_array(*v)).max(0.0))
+            .zip(&slice.vndf_share)
+            .map(|(v, share)| luminance(DVec3::from_array(*v)).max(0.0) * share)
             .collect();
         let peak = lum.iter().cloned().fold(0.0, f64::max);
         let floor = if peak > 0.0 {
@@ -392,12 +410,26 @@ fn vndf_grid(ndf: &Grid, theta_i_rad: f64, n: usize) -> Grid {
     Grid::new(n, n, values)
 }
 
-/// Evaluates the source at every sample node of slice `k`.
+/// The warp density of an `n x n` VNDF slice: `1 - UNIFORM_WARP_SHARE` of it and the rest
+/// uniform, summing to 1.
+fn mixed_with_uniform(vndf: &Grid, n: usize) -> Grid {
+    let uniform = 1.0 / (n * n) as f64;
+    let mixed = vndf
+        .values()
+        .iter()
+        .map(|v| (1.0 - UNIFORM_WARP_SHARE) * v + UNIFORM_WARP_SHARE * uniform)
+        .collect();
+    Grid::new(n, n, mixed)
+}
+
+/// Evaluates the source at every sample node of slice `k`; `(vndf, mixed)` are the slice's
+/// VNDF and the warp's density, `(ndf, sigma)` the microfacet distribution and its projected
+/// area.
 fn sample_slice(
     brdf: &dyn Brdf,
     warp: &VndfWarp,
-    ndf: &Grid,
-    sigma: &Grid,
+    (vndf, mixed): (&Grid, &Grid),
+    (ndf, sigma): (&Grid, &Grid),
     k: usize,
     theta_i_rad: f64,
     size: usize,
@@ -408,9 +440,11 @@ fn sample_slice(
     let step = 1.0 / (size - 1) as f64;
     let mut rgb = Vec::with_capacity(size * size);
     let mut below_horizon = Vec::with_capacity(size * size);
+    let mut vndf_share = Vec::with_capacity(size * size);
     for i in 0..size * size {
         let s = DVec2::new((i % size) as f64 * step, (i / size) as f64 * step);
         let u_m = warp.sample_slice(k, s);
+        vndf_share.push(vndf.eval(u_m) / mixed.eval(u_m));
         let m = normal_at(u_m);
         let wo = 2.0 * wi.dot(m) * m - wi;
         let below = wo.z <= 0.0;
@@ -418,11 +452,15 @@ fn sample_slice(
         rgb.push(if below {
             Some([0.0; 3])
         } else {
-            brdf.eval(wi, wo)
+            brdf.eval(wo, wi)
                 .map(|f| (f * wo.z * four_sigma / ndf.eval(u_m)).to_array())
         });
     }
-    Slice { rgb, below_horizon }
+    Slice {
+        rgb,
+        below_horizon,
+        vndf_share,
+    }
 }
 
 /// The index of the measured node nearest to node `i` on a `size x size` grid.
