@@ -4,7 +4,7 @@
 //!
 //!     cargo run --release -p specula-reconstruct --example accuracy_study -- \
 //!         [--set rgl] [--set nbrdf-rgl] [--set builtin] [--set sgd] [--set abc] [--set nbrdf]
-//!         [--every N] [--plan HxDxP]... [--trust W,S2]...
+//!         [--every N] [--plan HxDxP]... [--trust W,S2]... [--breakdown]
 //!
 //! Configurations: `paper` (the paper's pipeline), `paper-plan+lobe` and `paper-plan+log`
 //! (the same samples, reconstructed by the `lobe` and `log` methods) and, for each
@@ -16,6 +16,10 @@
 //! variance S2 given instead of chosen by cross-validation. Sets: `rgl` (the real RGL measurements in the
 //! measured data directory's `rgl_bsdf/`), `nbrdf-rgl` (their 51 neural fits), `builtin`,
 //! `sgd`, `abc`, `nbrdf` (the MERL-100 fits); default builtin, sgd and abc.
+//!
+//! `--breakdown` also prints, after each material's row, where its squared error sits
+//! (`specula_reconstruct::breakdown`): rows `breakdown,set,material,config,region,cells,
+//! share,rel_within` for each region of each partition.
 //!
 //! Prints one CSV row per material and configuration, then the mean of each configuration
 //! per set and over all sets with the ratio of each mean to the paper pipeline's, then the
@@ -32,6 +36,7 @@ use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_reconstruct::accuracy::{
     evaluate, measure, reached_by, Accuracy, Measurement, PlanSettings,
 };
+use specula_reconstruct::breakdown::{error_by_region, Partition};
 use specula_reconstruct::budget::graded_theta_d_deg;
 use specula_reconstruct::prior::PriorBasis;
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
@@ -218,6 +223,7 @@ fn main() -> anyhow::Result<()> {
     let mut every = 1usize;
     let mut plans = Vec::new();
     let mut trusts = Vec::new();
+    let mut breakdown = false;
     let mut i = 0;
     while i < args.len() {
         match args[i].as_str() {
@@ -242,6 +248,7 @@ fn main() -> anyhow::Result<()> {
                 trusts.push((w, s2));
                 i += 1;
             }
+            "--breakdown" => breakdown = true,
             "--plan" => {
                 plans.push(args.get(i + 1).cloned().unwrap_or_default());
                 i += 1;
@@ -268,12 +275,13 @@ fn main() -> anyhow::Result<()> {
             let mut paper_figures = None;
             for config in &configs {
                 let (count, samples, k) = config.measure(truth.as_ref(), &device)?;
-                let a = match config.method {
-                    Recon::Method(method) => evaluate(&samples, method, &table, 75.0)?.1,
+                let (reconstruction, a) = match config.method {
+                    Recon::Method(method) => evaluate(&samples, method, &table, 75.0)?,
                     Recon::Prior(given) => {
                         let (r, trust) = reconstruct_with_prior(&samples, &basis, "prior", given)?;
                         eprintln!("{}: {trust:?}", truth.name());
-                        Accuracy::of(&r.brdf, &table, 75.0)
+                        let a = Accuracy::of(&r.brdf, &table, 75.0);
+                        (r, a)
                     }
                 };
                 let f = figures(&a);
@@ -295,6 +303,28 @@ fn main() -> anyhow::Result<()> {
                     f[4],
                     f[5]
                 );
+                if breakdown {
+                    for partition in Partition::ALL {
+                        let regions = error_by_region(
+                            &reconstruction.brdf,
+                            &table,
+                            &reconstruction.provenance,
+                            75.0,
+                            partition,
+                        );
+                        for r in regions {
+                            println!(
+                                "breakdown,{set},{},{},{},{},{:.4},{:.5}",
+                                truth.name(),
+                                config.name,
+                                r.name,
+                                r.cells,
+                                r.share,
+                                r.relative_rmse
+                            );
+                        }
+                    }
+                }
                 for key in [set.clone(), "all".into()] {
                     sums.entry((key, config.name.clone()))
                         .or_default()
