@@ -4,7 +4,7 @@
 //!
 //!     cargo run --release -p specula-reconstruct --example accuracy_study -- \
 //!         [--set rgl] [--set nbrdf-rgl] [--set builtin] [--set sgd] [--set abc] [--set nbrdf]
-//!         [--every N] [--plan HxDxP]... [--trust W,S2]... [--breakdown]
+//!         [--every N] [--plan HxDxP]... [--trust W,S2]... [--breakdown] [--no-prior]
 //!
 //! Configurations: `paper` (the paper's pipeline), `paper-plan+lobe` and `paper-plan+log`
 //! (the same samples, reconstructed by the `lobe` and `log` methods) and, for each
@@ -16,6 +16,10 @@
 //! variance S2 given instead of chosen by cross-validation. Sets: `rgl` (the real RGL measurements in the
 //! measured data directory's `rgl_bsdf/`), `nbrdf-rgl` (their 51 neural fits), `builtin`,
 //! `sgd`, `abc`, `nbrdf` (the MERL-100 fits); default builtin, sgd and abc.
+//!
+//! `P` may end in `h` (e.g. `16x3:1@60x30h`): phi_d every P degrees over the half turn 0 to
+//! 180 (`specula_reconstruct::budget::half_turn_phi_d_deg`), the halves reconstructed apart
+//! (`specula_reconstruct::phi_d_halves`). `--no-prior` leaves out the `prior` configurations.
 //!
 //! `--breakdown` also prints, after each material's row, where its squared error sits
 //! (`specula_reconstruct::breakdown`): rows `breakdown,set,material,config,region,cells,
@@ -37,7 +41,8 @@ use specula_reconstruct::accuracy::{
     evaluate, measure, reached_by, Accuracy, Measurement, PlanSettings,
 };
 use specula_reconstruct::breakdown::{error_by_region, Partition};
-use specula_reconstruct::budget::graded_theta_d_deg;
+use specula_reconstruct::budget::{graded_theta_d_deg, half_turn_phi_d_deg};
+use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::prior::PriorBasis;
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
@@ -61,6 +66,8 @@ struct Config {
     plan: PlanSettings,
     /// theta_d from `(step, grazing step, grazing from)` degrees instead of the plan's step.
     graded: Option<(f64, f64, f64)>,
+    /// phi_d over the half turn, the halves reconstructed apart.
+    half_turn: bool,
     method: Recon,
 }
 
@@ -71,43 +78,56 @@ impl Config {
         truth: &dyn Brdf,
         device: &Device,
     ) -> anyhow::Result<(usize, Vec<Sample>, Option<f64>)> {
-        let Some((step, grazing_step, from)) = self.graded else {
+        if self.graded.is_none() && !self.half_turn {
             let m = Measurement::simulate(truth, &self.plan, device)?;
             return Ok((m.samples.len(), m.samples, m.k));
-        };
+        }
         let (mut grid, k) = self.plan.grid(truth)?;
-        grid.theta_d_deg = graded_theta_d_deg(step, grazing_step, from);
+        if let Some((step, grazing_step, from)) = self.graded {
+            grid.theta_d_deg = graded_theta_d_deg(step, grazing_step, from);
+        }
+        if self.half_turn {
+            grid.phi_d_deg = half_turn_phi_d_deg(self.plan.phi_d_step_deg);
+        }
         let samples = measure(truth, &reached_by(&grid, device));
         Ok((samples.len(), samples, k))
     }
 }
 
 /// The paper's pipeline, our method on its samples, and our method on each smaller plan.
-fn configs(plans: &[String], trusts: &[(f64, f64)]) -> anyhow::Result<Vec<Config>> {
+fn configs(
+    plans: &[String],
+    trusts: &[(f64, f64)],
+    with_prior: bool,
+) -> anyhow::Result<Vec<Config>> {
     let paper = PlanSettings::paper();
     let mut out = vec![
         Config {
             name: "paper".into(),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Method(Method::LINEAR),
         },
         Config {
             name: "paper-plan+lobe".into(),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Method(Method::LOBE),
         },
         Config {
             name: "paper-plan+log".into(),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Method(Method::LOG),
         },
         Config {
             name: "paper-plan+prior".into(),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Prior(None),
         },
     ];
@@ -116,11 +136,16 @@ fn configs(plans: &[String], trusts: &[(f64, f64)]) -> anyhow::Result<Vec<Config
             name: format!("paper-plan+prior-w{w}-s{s2}"),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Prior(Some((w, s2))),
         });
     }
+    if !with_prior {
+        out.retain(|c| !matches!(c.method, Recon::Prior(_)));
+    }
     for spec in plans {
-        let parts: Vec<&str> = spec.split('x').collect();
+        let half_turn = spec.ends_with('h');
+        let parts: Vec<&str> = spec.trim_end_matches('h').split('x').collect();
         let number = |v: &str| v.parse::<f64>().ok();
         let (Some(theta_h), Some(phi_d), Some(theta_d_spec)) = (
             parts.first().and_then(|v| number(v)),
@@ -149,14 +174,18 @@ fn configs(plans: &[String], trusts: &[(f64, f64)]) -> anyhow::Result<Vec<Config
             name: format!("lobe-{spec}"),
             plan,
             graded,
+            half_turn,
             method: Recon::Method(Method::LOBE),
         });
-        out.push(Config {
-            name: format!("prior-{spec}"),
-            plan,
-            graded,
-            method: Recon::Prior(None),
-        });
+        if with_prior && !half_turn {
+            out.push(Config {
+                name: format!("prior-{spec}"),
+                plan,
+                graded,
+                half_turn,
+                method: Recon::Prior(None),
+            });
+        }
     }
     Ok(out)
 }
@@ -224,6 +253,7 @@ fn main() -> anyhow::Result<()> {
     let mut plans = Vec::new();
     let mut trusts = Vec::new();
     let mut breakdown = false;
+    let mut with_prior = true;
     let mut i = 0;
     while i < args.len() {
         match args[i].as_str() {
@@ -249,6 +279,7 @@ fn main() -> anyhow::Result<()> {
                 i += 1;
             }
             "--breakdown" => breakdown = true,
+            "--no-prior" => with_prior = false,
             "--plan" => {
                 plans.push(args.get(i + 1).cloned().unwrap_or_default());
                 i += 1;
@@ -261,8 +292,12 @@ fn main() -> anyhow::Result<()> {
         sets = vec!["builtin".into(), "sgd".into(), "abc".into()];
     }
     let device = Device::utia();
-    let configs = configs(&plans, &trusts)?;
-    let basis = PriorBasis::merl()?;
+    let configs = configs(&plans, &trusts, with_prior)?;
+    let basis = if with_prior {
+        Some(PriorBasis::merl()?)
+    } else {
+        None
+    };
     let mut sums: BTreeMap<(String, String), Sums> = BTreeMap::new();
     // Per set and configuration, each material's ratios to the paper pipeline's figures.
     let mut ratios: BTreeMap<(String, String), Vec<[f64; 4]>> = BTreeMap::new();
@@ -276,9 +311,15 @@ fn main() -> anyhow::Result<()> {
             for config in &configs {
                 let (count, samples, k) = config.measure(truth.as_ref(), &device)?;
                 let (reconstruction, a) = match config.method {
+                    Recon::Method(method) if config.half_turn => {
+                        let r = reconstruct_halves(&samples, method, "reconstruction", None)?;
+                        let a = Accuracy::of(&r.brdf, &table, 75.0);
+                        (r, a)
+                    }
                     Recon::Method(method) => evaluate(&samples, method, &table, 75.0)?,
                     Recon::Prior(given) => {
-                        let (r, trust) = reconstruct_with_prior(&samples, &basis, "prior", given)?;
+                        let basis = basis.as_ref().expect("prior configurations need the basis");
+                        let (r, trust) = reconstruct_with_prior(&samples, basis, "prior", given)?;
                         eprintln!("{}: {trust:?}", truth.name());
                         let a = Accuracy::of(&r.brdf, &table, 75.0);
                         (r, a)

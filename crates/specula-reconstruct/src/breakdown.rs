@@ -7,11 +7,12 @@
 //! Partitions ([`Partition`]): the cells' origin in the reconstruction (reached by the
 //! samples, measured or interpolated, vs extrapolated beyond them, [`crate::provenance`]),
 //! theta_d bands, theta_h bands (the specular peak vs off-peak) and phi_d bands (folded into
-//! `[0, 90]` deg by reciprocity and isotropy, [`crate::sample::fold_phi_d_rad`]).
+//! `[0, 90]` deg by reciprocity and isotropy, [`crate::sample::fold_phi_d_rad`]) and the two
+//! halves of the MERL phi_d range, which a folded reconstruction makes equal.
 
 use crate::provenance::Provenance;
 use crate::sample::fold_phi_d_rad;
-use specula_core::merl::{theta_h_centre_deg, Bin, MerlBrdf, CELLS};
+use specula_core::merl::{theta_h_centre_deg, Bin, MerlBrdf, CELLS, PHI_D_BINS};
 
 /// A way to split the MERL cells into regions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -24,6 +25,9 @@ pub enum Partition {
     ThetaH,
     /// Folded phi_d bands, [`PHI_D_BANDS_DEG`].
     PhiD,
+    /// The halves of the MERL phi_d range, below and above 90 deg: a configuration and its
+    /// light/camera swap, equal for a reciprocal BRDF ([`crate::phi_d_halves`]).
+    PhiDHalf,
 }
 
 /// Lower edges (degrees) of the theta_d bands of [`Partition::ThetaD`]: retro-reflection
@@ -37,11 +41,12 @@ pub const PHI_D_BANDS_DEG: [f64; 3] = [0.0, 30.0, 60.0];
 
 impl Partition {
     /// Every partition, in the order a report lists them.
-    pub const ALL: [Partition; 4] = [
+    pub const ALL: [Partition; 5] = [
         Partition::Origin,
         Partition::ThetaD,
         Partition::ThetaH,
         Partition::PhiD,
+        Partition::PhiDHalf,
     ];
 
     /// The regions' names, in region order.
@@ -61,6 +66,7 @@ impl Partition {
             Partition::ThetaD => bands("theta_d", &THETA_D_BANDS_DEG),
             Partition::ThetaH => bands("theta_h", &THETA_H_BANDS_DEG),
             Partition::PhiD => bands("phi_d", &PHI_D_BANDS_DEG),
+            Partition::PhiDHalf => vec!["phi_d half 0-90".into(), "phi_d half 90-180".into()],
         }
     }
 
@@ -77,6 +83,7 @@ impl Partition {
                 &PHI_D_BANDS_DEG,
                 fold_phi_d_rad((bin.phi_d_i as f64 + 0.5).to_radians()).to_degrees(),
             ),
+            Partition::PhiDHalf => usize::from(bin.phi_d_i >= PHI_D_BINS / 2),
         }
     }
 }
@@ -182,6 +189,8 @@ mod tests {
         // theta_d < 5 holds the large error: its share is far above its share of cells.
         let cells: usize = theta_d.iter().map(|r| r.cells).sum();
         assert!(theta_d[0].share > 5.0 * theta_d[0].cells as f64 / cells as f64);
+        let halves = error_by_region(&wrong, &truth, &provenance, 75.0, Partition::PhiDHalf);
+        assert_eq!(halves[0].cells, halves[1].cells);
         let origin = error_by_region(&wrong, &truth, &provenance, 75.0, Partition::Origin);
         assert_eq!((origin[0].share, origin[1].cells), (1.0, 0));
     }
