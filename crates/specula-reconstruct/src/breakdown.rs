@@ -91,6 +91,7 @@ impl Partition {
 /// One region's part of the error.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RegionError {
+    /// The region, as [`Partition::region_names`] names it.
     pub name: String,
     /// Cells within the elevation limit in the region.
     pub cells: usize,
