@@ -19,9 +19,9 @@ use std::path::{Path, PathBuf};
 /// f(180 - phi_d)), unless the samples measure both halves of phi_d (0 to 90 and 90 to 180
 /// deg, at two positions each at least): then each half is reconstructed from its own
 /// samples, which keeps a measured material that is not reciprocal as it was measured (the
-/// real RGL files are not, near grazing: README, issue 20). The lattice nodes the device did not reach are extrapolated from the
-/// nearest measured node along theta_d, then theta_h, then phi_d (in the method's domain);
-/// every MERL bin centre is then interpolated.
+/// real RGL files are not, near grazing: README, issue 20). The lattice nodes the device did
+/// not reach are extrapolated from the nearest measured node along theta_d, then theta_h,
+/// then phi_d (in the method's domain); every MERL bin centre is then interpolated.
 ///
 /// Methods: lobe (default, ours): the log ratio of the samples to a microfacet lobe fitted to
 /// them, monotone cubic in MERL's theta_h coordinate; log: ln f, the same interpolation;
