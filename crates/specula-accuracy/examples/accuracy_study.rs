@@ -4,7 +4,7 @@
 //!
 //!     cargo run --release -p specula-accuracy --example accuracy_study -- \
 //!         [--set rgl] [--set nbrdf-rgl] [--set builtin] [--set sgd] [--set abc] [--set nbrdf]
-//!         [--every N] [--plan HxDxP]... [--trust W,S2]...
+//!         [--every N] [--plan HxDxP]... [--trust W,S2]... [--breakdown] [--no-prior]
 //!
 //! Configurations: `paper` (the paper's pipeline), `paper-plan+lobe` and `paper-plan+log`
 //! (the same samples, reconstructed by the `lobe` and `log` methods) and, for each
@@ -16,6 +16,14 @@
 //! variance S2 given instead of chosen by cross-validation. Sets: `rgl` (the real RGL measurements in the
 //! measured data directory's `rgl_bsdf/`), `nbrdf-rgl` (their 51 neural fits), `builtin`,
 //! `sgd`, `abc`, `nbrdf` (the MERL-100 fits); default builtin, sgd and abc.
+//!
+//! `P` may end in `h` (e.g. `16x3:1@60x30h`): phi_d every P degrees over the half turn 0 to
+//! 180 (`specula_reconstruct::budget::half_turn_phi_d_deg`), the halves reconstructed apart
+//! (`specula_reconstruct::phi_d_halves`). `--no-prior` leaves out the `prior` configurations.
+//!
+//! `--breakdown` also prints, after each material's row, where its squared error sits
+//! (`specula_reconstruct::breakdown`): rows `breakdown,set,material,config,region,cells,
+//! share,rel_within` for each region of each partition.
 //!
 //! Prints one CSV row per material and configuration, then the mean of each configuration
 //! per set and over all sets with the ratio of each mean to the paper pipeline's, then the
@@ -32,7 +40,9 @@ use specula_formats::fits::{load_model, FitModel};
 use specula_formats::input::measured_data_dir;
 use specula_formats::load_brdfs;
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
-use specula_reconstruct::budget::graded_theta_d_deg;
+use specula_reconstruct::breakdown::{error_by_region, Partition};
+use specula_reconstruct::budget::{graded_theta_d_deg, half_turn_phi_d_deg};
+use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
 use specula_sampling::analysis::median;
@@ -55,6 +65,8 @@ struct Config {
     plan: PlanSettings,
     /// theta_d from `(step, grazing step, grazing from)` degrees instead of the plan's step.
     graded: Option<(f64, f64, f64)>,
+    /// phi_d over the half turn, the halves reconstructed apart.
+    half_turn: bool,
     method: Recon,
 }
 
@@ -65,43 +77,56 @@ type Measured = (usize, Vec<Sample>, Option<f64>);
 impl Config {
     /// The material measured on this configuration's plan.
     fn measure(&self, truth: &dyn Brdf, device: &Device) -> Result<Measured, Box<dyn Error>> {
-        let Some((step, grazing_step, from)) = self.graded else {
+        if self.graded.is_none() && !self.half_turn {
             let m = Measurement::simulate(truth, &self.plan, device)?;
             return Ok((m.samples.len(), m.samples, m.k));
-        };
+        }
         let (mut grid, k) = self.plan.grid(truth)?;
-        grid.theta_d_deg = graded_theta_d_deg(step, grazing_step, from);
+        if let Some((step, grazing_step, from)) = self.graded {
+            grid.theta_d_deg = graded_theta_d_deg(step, grazing_step, from);
+        }
+        if self.half_turn {
+            grid.phi_d_deg = half_turn_phi_d_deg(self.plan.grid.phi_d_step_deg);
+        }
         let samples = measure(truth, &reached_by(&grid, device));
         Ok((samples.len(), samples, k))
     }
 }
 
 /// The paper's pipeline, our method on its samples, and our method on each smaller plan.
-fn configs(plans: &[String], trusts: &[(f64, f64)]) -> Result<Vec<Config>, Box<dyn Error>> {
+fn configs(
+    plans: &[String],
+    trusts: &[(f64, f64)],
+    with_prior: bool,
+) -> Result<Vec<Config>, Box<dyn Error>> {
     let paper = PlanSettings::paper();
     let mut out = vec![
         Config {
             name: "paper".into(),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Method(Method::LINEAR),
         },
         Config {
             name: "paper-plan+lobe".into(),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Method(Method::LOBE),
         },
         Config {
             name: "paper-plan+log".into(),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Method(Method::LOG),
         },
         Config {
             name: "paper-plan+prior".into(),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Prior(None),
         },
     ];
@@ -110,11 +135,16 @@ fn configs(plans: &[String], trusts: &[(f64, f64)]) -> Result<Vec<Config>, Box<d
             name: format!("paper-plan+prior-w{w}-s{s2}"),
             plan: paper,
             graded: None,
+            half_turn: false,
             method: Recon::Prior(Some((w, s2))),
         });
     }
+    if !with_prior {
+        out.retain(|c| !matches!(c.method, Recon::Prior(_)));
+    }
     for spec in plans {
-        let parts: Vec<&str> = spec.split('x').collect();
+        let half_turn = spec.ends_with('h');
+        let parts: Vec<&str> = spec.trim_end_matches('h').split('x').collect();
         let number = |v: &str| v.parse::<f64>().ok();
         let (Some(theta_h), Some(phi_d), Some(theta_d_spec)) = (
             parts.first().and_then(|v| number(v)),
@@ -149,14 +179,18 @@ fn configs(plans: &[String], trusts: &[(f64, f64)]) -> Result<Vec<Config>, Box<d
             name: format!("lobe-{spec}"),
             plan,
             graded,
+            half_turn,
             method: Recon::Method(Method::LOBE),
         });
-        out.push(Config {
-            name: format!("prior-{spec}"),
-            plan,
-            graded,
-            method: Recon::Prior(None),
-        });
+        if with_prior && !half_turn {
+            out.push(Config {
+                name: format!("prior-{spec}"),
+                plan,
+                graded,
+                half_turn,
+                method: Recon::Prior(None),
+            });
+        }
     }
     Ok(out)
 }
@@ -227,6 +261,8 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut every = 1usize;
     let mut plans = Vec::new();
     let mut trusts = Vec::new();
+    let mut breakdown = false;
+    let mut with_prior = true;
     let mut i = 0;
     while i < args.len() {
         match args[i].as_str() {
@@ -251,6 +287,8 @@ fn main() -> Result<(), Box<dyn Error>> {
                 trusts.push((w, s2));
                 i += 1;
             }
+            "--breakdown" => breakdown = true,
+            "--no-prior" => with_prior = false,
             "--plan" => {
                 plans.push(args.get(i + 1).cloned().unwrap_or_default());
                 i += 1;
@@ -263,8 +301,12 @@ fn main() -> Result<(), Box<dyn Error>> {
         sets = vec!["builtin".into(), "sgd".into(), "abc".into()];
     }
     let device = Device::utia();
-    let configs = configs(&plans, &trusts)?;
-    let basis = merl_prior()?;
+    let configs = configs(&plans, &trusts, with_prior)?;
+    let basis = if with_prior {
+        Some(merl_prior()?)
+    } else {
+        None
+    };
     let mut sums: BTreeMap<(String, String), Sums> = BTreeMap::new();
     // Per set and configuration, each material's ratios to the paper pipeline's figures.
     let mut ratios: BTreeMap<(String, String), Vec<[f64; 4]>> = BTreeMap::new();
@@ -280,12 +322,19 @@ fn main() -> Result<(), Box<dyn Error>> {
             let mut paper_figures = None;
             for config in &configs {
                 let (count, samples, k) = config.measure(truth.as_ref(), &device)?;
-                let a = match config.method {
-                    Recon::Method(method) => evaluate(&samples, method, &table, 75.0)?.1,
+                let (reconstruction, a) = match config.method {
+                    Recon::Method(method) if config.half_turn => {
+                        let r = reconstruct_halves(&samples, method, "reconstruction", None)?;
+                        let a = Accuracy::of(&r.brdf, &table, 75.0);
+                        (r, a)
+                    }
+                    Recon::Method(method) => evaluate(&samples, method, &table, 75.0)?,
                     Recon::Prior(given) => {
-                        let (r, trust) = reconstruct_with_prior(&samples, &basis, "prior", given)?;
+                        let basis = basis.as_ref().expect("prior configurations need the basis");
+                        let (r, trust) = reconstruct_with_prior(&samples, basis, "prior", given)?;
                         eprintln!("{}: {trust:?}", truth.name());
-                        Accuracy::of(&r.brdf, &table, 75.0)
+                        let a = Accuracy::of(&r.brdf, &table, 75.0);
+                        (r, a)
                     }
                 };
                 let f = figures(&a);
@@ -307,6 +356,28 @@ fn main() -> Result<(), Box<dyn Error>> {
                     f[4],
                     f[5]
                 );
+                if breakdown {
+                    for partition in Partition::ALL {
+                        let regions = error_by_region(
+                            &reconstruction.brdf,
+                            &table,
+                            &reconstruction.provenance,
+                            75.0,
+                            partition,
+                        );
+                        for r in regions {
+                            println!(
+                                "breakdown,{set},{},{},{},{},{:.4},{:.5}",
+                                truth.name(),
+                                config.name,
+                                r.name,
+                                r.cells,
+                                r.share,
+                                r.relative_rmse
+                            );
+                        }
+                    }
+                }
                 for key in [set.clone(), "all".into()] {
                     sums.entry((key, config.name.clone()))
                         .or_default()

@@ -20,9 +20,24 @@ pub fn graded_theta_d_deg(step_deg: f64, grazing_step_deg: f64, grazing_from_deg
     out
 }
 
+/// phi_d positions (degrees) over the half turn, `0, step, ...` up to 180 inclusive: both
+/// halves of phi_d, a configuration and its light/camera swap, which the reconstruction keeps
+/// apart ([`crate::phi_d_halves`]) for measured materials that are not reciprocal.
+pub fn half_turn_phi_d_deg(step_deg: f64) -> Vec<f64> {
+    let n = (180.0 / step_deg + 1e-9).floor() as usize;
+    (0..=n).map(|i| i as f64 * step_deg).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_half_turn_ends_at_180() {
+        assert_eq!(half_turn_phi_d_deg(45.0), [0.0, 45.0, 90.0, 135.0, 180.0]);
+        assert_eq!(half_turn_phi_d_deg(30.0).len(), 7);
+        assert_eq!(*half_turn_phi_d_deg(40.0).last().unwrap(), 160.0);
+    }
 
     #[test]
     fn the_step_changes_at_the_grazing_threshold() {

@@ -9,6 +9,7 @@
 //! [`kernel`]) and record each cell's [`provenance`].
 
 pub mod axis;
+pub mod breakdown;
 pub mod budget;
 pub mod deblur;
 pub mod domain;
@@ -18,6 +19,7 @@ pub mod kernel;
 pub mod lattice;
 pub mod lobe;
 pub mod method;
+pub mod phi_d_halves;
 pub mod prior;
 pub mod prior_reconstruct;
 pub mod provenance;

@@ -5,8 +5,9 @@ use specula_acquisition::calibration::Calibration;
 use specula_acquisition::response::InstrumentResponse;
 use specula_core::Sample;
 use specula_formats::samples_csv::SampleSet;
+use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::provenance::sidecar_path;
-use specula_reconstruct::{reconstruct_through, Method};
+use specula_reconstruct::Method;
 use specula_session::journal::Journal;
 use specula_session::workflow::{measured_samples, STAGE_MAIN};
 use std::path::{Path, PathBuf};
@@ -16,9 +17,12 @@ use std::path::{Path, PathBuf};
 ///
 /// The samples may lie on any grid, non-uniform in theta_h as the paper's plan, or be
 /// scattered. phi_d is folded by reciprocity and the mirror symmetry (f(phi_d) =
-/// f(180 - phi_d)); the lattice nodes the device did not reach are extrapolated from the
-/// nearest measured node along theta_d, then theta_h, then phi_d (in the method's domain);
-/// every MERL bin centre is then interpolated.
+/// f(180 - phi_d)), unless the samples measure both halves of phi_d (0 to 90 and 90 to 180
+/// deg, at two positions each at least): then each half is reconstructed from its own
+/// samples, which keeps a measured material that is not reciprocal as it was measured (the
+/// real RGL files are not, near grazing: README, issue 20). The lattice nodes the device did
+/// not reach are extrapolated from the nearest measured node along theta_d, then theta_h,
+/// then phi_d (in the method's domain); every MERL bin centre is then interpolated.
 ///
 /// Methods: lobe (default, ours): the log ratio of the samples to a microfacet lobe fitted to
 /// them, monotone cubic in MERL's theta_h coordinate; log: ln f, the same interpolation;
@@ -77,7 +81,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         |s| s.to_string_lossy().into_owned(),
     );
     let spinner = crate::progress::spinner("reconstructing");
-    let result = reconstruct_through(&samples, args.method, &name, response.as_ref());
+    let result = reconstruct_halves(&samples, args.method, &name, response.as_ref());
     spinner.finish_and_clear();
     let r = result.with_context(|| input.display().to_string())?;
     r.brdf.write(&args.out)?;

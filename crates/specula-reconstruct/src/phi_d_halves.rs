@@ -1,0 +1,190 @@
+//! Reconstruction that keeps the two halves of phi_d apart (issue 20).
+//!
+//! The lattice ([`crate::lattice`]) folds phi_d into `[0, 90]` deg, assuming reciprocity
+//! (`f(phi_d) = f(phi_d + 180)`) and the mirror symmetry of an isotropic surface
+//! (`f(phi_d) = f(-phi_d)`); together they make a MERL cell at phi_d and its partner at
+//! `180 - phi_d` equal. Real measurements need not be: a configuration at `180 - phi_d` is the
+//! one at phi_d with light and camera swapped, and on the RGL files (Dupuy & Jakob 2018) the
+//! two differ by up to ten times at grazing theta_d near the peak (satin_rosaline,
+//! colodur_napoli_4f), where most of the folded reconstruction's error sits.
+//!
+//! When the samples measure both halves, phi_d in `[0, 90]` and in `[90, 180]` (after the
+//! mirror fold `phi_d -> |phi_d|` into `[0, 180]`, which keeps light and camera apart), each
+//! half is reconstructed from its own samples by the usual pipeline
+//! ([`crate::reconstruct_through`]), the second half with phi_d mapped to `180 - phi_d`, and the
+//! MERL cells of phi_d below 90 deg come from the first, the others from the second. The
+//! samples at phi_d = 90 belong to both, so the halves meet on measured values. Samples of one
+//! half only are reconstructed as before.
+
+use crate::provenance::Provenance;
+use crate::{reconstruct_through, ReconstructError, Reconstruction};
+use specula_core::capture::CaptureResponse;
+use specula_core::merl::{MerlBrdf, CELLS, PHI_D_BINS};
+use specula_core::{HalfDiff, Sample};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// Angles closer than this (radians) to 90 deg belong to both halves.
+const SEAM_TOLERANCE_RAD: f64 = 1e-6;
+
+/// phi_d folded into `[0, pi]` by the mirror symmetry alone (`f(phi_d) = f(-phi_d)`).
+pub fn mirror_fold_phi_d_rad(phi_d_rad: f64) -> f64 {
+    let turn = phi_d_rad.rem_euclid(TAU);
+    if turn > PI {
+        TAU - turn
+    } else {
+        turn
+    }
+}
+
+/// The samples of each half: `[0, 90]` deg as they are, `[90, 180]` deg with phi_d mapped
+/// to `180 - phi_d` (see the module documentation).
+fn halves(samples: &[Sample]) -> [Vec<Sample>; 2] {
+    let mut first = Vec::new();
+    let mut second = Vec::new();
+    for s in samples {
+        let phi_d = mirror_fold_phi_d_rad(s.hd.phi_d);
+        if phi_d <= FRAC_PI_2 + SEAM_TOLERANCE_RAD {
+            first.push(Sample::new(HalfDiff { phi_d, ..s.hd }, s.value));
+        }
+        if phi_d >= FRAC_PI_2 - SEAM_TOLERANCE_RAD {
+            let hd = HalfDiff {
+                phi_d: (PI - phi_d).max(0.0),
+                ..s.hd
+            };
+            second.push(Sample::new(hd, s.value));
+        }
+    }
+    [first, second]
+}
+
+/// Whether each half of phi_d holds samples at two phi_d positions at least (one of them may
+/// be the seam at 90 deg): then [`reconstruct_halves`] reconstructs the halves apart.
+pub fn measures_both_halves(samples: &[Sample]) -> bool {
+    halves(samples).iter().all(|half| {
+        let mut phi_d: Vec<f64> = half.iter().map(|s| s.hd.phi_d).collect();
+        phi_d.sort_by(f64::total_cmp);
+        phi_d.dedup_by(|a, b| (*a - *b).abs() < SEAM_TOLERANCE_RAD);
+        phi_d.len() >= 2
+    })
+}
+
+/// Reconstructs the table named `name` with each half of phi_d from its own samples when
+/// they measure both ([`measures_both_halves`]; see the module documentation), otherwise as
+/// [`reconstruct_through`]. The lobe, resolution and lattice figures reported are the first
+/// half's; the node counts are the two halves' sums.
+pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
+    samples: &[Sample],
+    method: crate::Method,
+    name: &str,
+    response: Option<&R>,
+) -> Result<Reconstruction, ReconstructError> {
+    if !measures_both_halves(samples) {
+        return reconstruct_through(samples, method, name, response);
+    }
+    let [first, second] = halves(samples);
+    let first = reconstruct_through(&first, method, name, response)?;
+    let second = reconstruct_through(&second, method, name, response)?;
+    let in_second = |index: usize| index % PHI_D_BINS >= PHI_D_BINS / 2;
+    let brdf = MerlBrdf::from_fn(name, |index| {
+        if in_second(index) {
+            second.brdf.cell(index)
+        } else {
+            first.brdf.cell(index)
+        }
+    });
+    let cells = (0..CELLS)
+        .map(|index| {
+            if in_second(index) {
+                second.provenance.cells[index]
+            } else {
+                first.provenance.cells[index]
+            }
+        })
+        .collect();
+    Ok(Reconstruction {
+        brdf,
+        provenance: Provenance { cells },
+        lobe: first.lobe,
+        resolution_deg: first.resolution_deg,
+        lattice_shape: first.lattice_shape,
+        measured_nodes: first.measured_nodes + second.measured_nodes,
+        filled_nodes: first.filled_nodes + second.filled_nodes,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Method;
+    use specula_core::merl::Bin;
+    use specula_core::Rgb;
+
+    /// A surface that is not reciprocal: f rises with cos(phi_d) from 1 to 3, so a
+    /// configuration and its partner at 180 - phi_d differ, and f(phi_d) = f(-phi_d).
+    fn tilted(hd: HalfDiff) -> Rgb {
+        Rgb::splat(2.0 + hd.phi_d.cos())
+    }
+
+    fn samples(phi_d_deg: &[f64]) -> Vec<Sample> {
+        let mut out = Vec::new();
+        for h in [0.0, 5.0, 20.0, 40.0] {
+            for d in [5.0, 25.0, 45.0, 65.0] {
+                for &p in phi_d_deg {
+                    let hd = HalfDiff::from_degrees(h, 45.0, d, p);
+                    out.push(Sample::new(hd, tilted(hd)));
+                }
+            }
+        }
+        out
+    }
+
+    fn value_at(brdf: &MerlBrdf, phi_d_i: usize) -> f64 {
+        let bin = Bin {
+            theta_h_i: 20,
+            theta_d_i: 30,
+            phi_d_i,
+        };
+        brdf.cell(bin.index()).unwrap().x
+    }
+
+    #[test]
+    fn the_mirror_fold_keeps_the_half_turn() {
+        let deg = |v: f64| mirror_fold_phi_d_rad(v.to_radians()).to_degrees();
+        assert!((deg(135.0) - 135.0).abs() < 1e-9);
+        assert!((deg(-135.0) - 135.0).abs() < 1e-9);
+        assert!((deg(200.0) - 160.0).abs() < 1e-9);
+        assert!((deg(360.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn both_halves_measured_keep_a_surface_that_is_not_reciprocal() {
+        let both = samples(&[0.0, 45.0, 90.0, 135.0, 180.0]);
+        assert!(measures_both_halves(&both));
+        let r = reconstruct_halves(&both, Method::LINEAR, "t", None).unwrap();
+        // Linear between the nodes of each half: cos(phi_d) interpolated at 22.5 and 157.5
+        // deg (bins 22 and 157 hold 22.5 and 157.5).
+        let expect = |p0: f64, p1: f64, p: f64| {
+            let t = (p - p0) / (p1 - p0);
+            2.0 + (1.0 - t) * p0.to_radians().cos() + t * p1.to_radians().cos()
+        };
+        assert!((value_at(&r.brdf, 22) - expect(0.0, 45.0, 22.5)).abs() < 1e-9);
+        assert!((value_at(&r.brdf, 157) - expect(135.0, 180.0, 157.5)).abs() < 1e-9);
+        // Folded, the two halves are averaged into one value, 2 at both.
+        let folded = crate::reconstruct(&both, Method::LINEAR, "f").unwrap();
+        assert!((value_at(&folded.brdf, 22) - value_at(&folded.brdf, 157)).abs() < 1e-12);
+        assert!((value_at(&folded.brdf, 22) - 2.0).abs() < 1e-9);
+        // The cells beside the seam come from measured nodes on both sides.
+        let seam = [89, 90].map(|k| value_at(&r.brdf, k));
+        assert!((seam[0] - seam[1]).abs() < 0.05, "{seam:?}");
+    }
+
+    #[test]
+    fn one_half_measured_is_reconstructed_as_before() {
+        let quarter = samples(&[0.0, 45.0, 90.0]);
+        assert!(!measures_both_halves(&quarter));
+        let a = reconstruct_halves(&quarter, Method::LOBE, "a", None).unwrap();
+        let b = crate::reconstruct(&quarter, Method::LOBE, "b").unwrap();
+        assert!((0..CELLS).all(|i| a.brdf.cell(i) == b.brdf.cell(i)));
+        assert_eq!(a.provenance, b.provenance);
+    }
+}
