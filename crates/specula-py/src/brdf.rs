@@ -68,15 +68,7 @@ impl PyBrdf {
         let values = py.detach(|| {
             check_unit(wi, "wi")?;
             check_unit(wo, "wo")?;
-            let mut out = vec![0.0; wi.len()];
-            out.par_chunks_mut(3)
-                .zip(wi.par_chunks(3).zip(wo.par_chunks(3)))
-                .with_min_len(4096)
-                .for_each(|(out, (i, o))| {
-                    let value = brdf.eval(vector(i), vector(o));
-                    out.copy_from_slice(&rgb_or_nan(value));
-                });
-            Ok::<_, PyErr>(out)
+            Ok::<_, PyErr>(eval_pairs(brdf, wi, wo))
         })?;
         let n = values.len() / 3;
         Ok(Array2::from_shape_vec((n, 3), values)
@@ -150,6 +142,35 @@ impl PyBrdf {
         let table = py.detach(|| tabulate(brdf, phi_h_deg.to_radians()));
         to_array(py, table)
     }
+}
+
+/// Direction pairs a rayon task evaluates in one [`Brdf::eval_pairs`] call: enough to
+/// amortise the scheduling, few enough that the task's buffers stay in cache.
+const PAIRS_PER_TASK: usize = 2048;
+
+/// f_r at the direction pairs of `wi` and `wo` (3 values a row), R, G, B a row, NaN where
+/// the BRDF does not answer: [`Brdf::eval_pairs`] on blocks of rows, in parallel.
+fn eval_pairs(brdf: &dyn Brdf, wi: &[f64], wo: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; wi.len()];
+    let block = 3 * PAIRS_PER_TASK;
+    out.par_chunks_mut(block)
+        .zip(wi.par_chunks(block).zip(wo.par_chunks(block)))
+        .for_each_init(
+            || (Vec::new(), Vec::new(), Vec::new()),
+            |(wi_block, wo_block, values), (out, (wi, wo))| {
+                wi_block.clear();
+                wi_block.extend(wi.chunks_exact(3).map(vector));
+                wo_block.clear();
+                wo_block.extend(wo.chunks_exact(3).map(vector));
+                values.clear();
+                values.resize(wi_block.len(), None);
+                brdf.eval_pairs(wi_block, wo_block, values);
+                for (out, value) in out.chunks_exact_mut(3).zip(values.iter()) {
+                    out.copy_from_slice(&rgb_or_nan(*value));
+                }
+            },
+        );
+    out
 }
 
 fn vector(xyz: &[f64]) -> glam::DVec3 {
