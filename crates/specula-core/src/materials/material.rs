@@ -130,12 +130,23 @@ impl Brdf for Material {
     }
 
     /// Without a scratch lobe the base's model is chosen once for the whole batch, and each
-    /// pair goes straight from its directions to the cosines the model needs; a scratch lobe
+    /// pair goes straight from its directions to the cosines the model needs (a conductor
+    /// then evaluates them together, [`RoughConductor::eval_cosines_many`]); a scratch lobe
     /// is evaluated pair by pair.
     fn eval_pairs(&self, wi: &[DVec3], wo: &[DVec3], out: &mut [Option<Rgb>]) {
         match (&self.base, &self.scratch) {
             (Base::Conductor(conductor), None) => {
-                eval_isotropic_pairs(wi, wo, out, |c| conductor.eval_cosines(c))
+                assert_pairs(wi, wo, out);
+                let cosines: Vec<_> = wi
+                    .iter()
+                    .zip(wo)
+                    .map(|(wi, wo)| IsotropicCosines::from_directions(*wi, *wo))
+                    .collect();
+                let mut values = vec![Rgb::ZERO; cosines.len()];
+                conductor.eval_cosines_many(&cosines, &mut values);
+                for (out, value) in out.iter_mut().zip(values) {
+                    *out = Some(value);
+                }
             }
             (Base::ClearCoat(coat), None) => {
                 eval_isotropic_pairs(wi, wo, out, |c| coat.eval_cosines(c))
