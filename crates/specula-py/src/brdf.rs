@@ -181,18 +181,28 @@ fn rgb_or_nan(value: Option<specula_core::Rgb>) -> [f64; 3] {
     value.map_or([f64::NAN; 3], |v| v.to_array())
 }
 
-/// Rejects a row of `xyz` (3 values a row) whose length is not 1.
+/// Rejects a row of `xyz` (3 values a row) whose length is not 1, naming the first. Blocks
+/// of rows are scanned in parallel, each in a plain loop (a search per row would cost as
+/// much as evaluating the BRDF).
 fn check_unit(xyz: &[f64], name: &str) -> PyResult<()> {
-    let bad = xyz
-        .par_chunks(3)
-        .position_first(|v| (vector(v).length() - 1.0).abs() > UNIT_TOLERANCE);
-    match bad {
-        Some(row) => Err(invalid(format!(
-            "{name}[{row}] = {:?} is not a unit vector",
-            &xyz[3 * row..3 * row + 3]
-        ))),
-        None => Ok(()),
-    }
+    let block = 3 * PAIRS_PER_TASK;
+    let not_unit = |v: &[f64]| (vector(v).length() - 1.0).abs() > UNIT_TOLERANCE;
+    let bad_block = xyz
+        .par_chunks(block)
+        .position_first(|rows| rows.chunks_exact(3).any(not_unit));
+    let Some(bad_block) = bad_block else {
+        return Ok(());
+    };
+    let rows = &xyz[bad_block * block..];
+    let row = rows
+        .chunks_exact(3)
+        .position(not_unit)
+        .expect("the block holds a row that is not a unit vector");
+    let row = bad_block * PAIRS_PER_TASK + row;
+    Err(invalid(format!(
+        "{name}[{row}] = {:?} is not a unit vector",
+        &xyz[3 * row..3 * row + 3]
+    )))
 }
 
 /// The common shape of arrays under numpy's broadcasting rules.

@@ -131,6 +131,11 @@ def test_eval_rejects_bad_directions():
         brdf.eval([[0.0, 0.0, 2.0]], [[0.0, 0.0, 1.0]])
     with pytest.raises(specula.SpeculaError, match=r"\(N, 3\)"):
         brdf.eval(np.zeros((4, 3)), np.zeros((5, 3)))
+    # The first bad row is named, in whichever block of rows it falls.
+    wo = np.tile([0.0, 0.0, 1.0], (9000, 1))
+    wo[[4500, 4700, 8000]] = [[0.0, 0.0, 0.5], [0.0, 0.0, 2.0], [1.0, 1.0, 0.0]]
+    with pytest.raises(specula.SpeculaError, match=r"^wo\[4500\] = \[0\.0, 0\.0, 0\.5\] is not"):
+        brdf.eval(np.tile([0.0, 0.0, 1.0], (9000, 1)), wo)
 
 
 def test_compare_matches_the_cli(cli, silver_binary):
