@@ -7,6 +7,9 @@
 2. Evaluating 10^6 direction pairs of `silver-925` (GGX alpha 0.04 rough conductor, exact
    Fresnel, separable Smith G): `Brdf.eval` against the same model vectorised in numpy
    (the model of tools/tabulate_numpy.py, from directions); the two are checked equal.
+3. `Brdf.eval` of other sources, which evaluate pair by pair (`Brdf::eval_pairs`' default):
+   a MERL table, an RGL `.bsdf` file (when the shared data set is there) and an NBRDF fit,
+   10^5 pairs each (crates/specula-py/tests check them against `specula eval`).
 
 Best and median of the runs, page cache warm. Needs the package (`pip install
 ./crates/specula-py`):
@@ -48,6 +51,9 @@ def numpy_eval(wi, wo):
     return (fresnel_conductor(cos_d) * microfacet).T
 
 
+RGL_FILE = "/work/shared/data/measured/rgl_bsdf/satin_rosaline_rgb.bsdf"
+
+
 def timed(function, runs):
     times = []
     for _ in range(runs):
@@ -81,7 +87,20 @@ def main():
     theirs = timed(lambda: numpy_eval(wi, wo), 5)
     print(f"Brdf.eval, 10^6 pairs: best {ours[0] * 1e3:.1f} ms, median {ours[1] * 1e3:.1f} ms")
     print(f"numpy eval, 10^6 pairs: best {theirs[0] * 1e3:.1f} ms, median {theirs[1] * 1e3:.1f} ms")
-    print(f"speed-up (medians): {theirs[1] / ours[1]:.1f}x")
+    print(f"speed-up: {theirs[0] / ours[0]:.1f}x (best), {theirs[1] / ours[1]:.1f}x (medians)")
+
+    with tempfile.TemporaryDirectory() as tmp:
+        table = os.path.join(tmp, "silver-925.binary")
+        specula.write_merl(table, brdf.tabulate())
+        n = 100_000
+        wi, wo = wi[:n].copy(), wo[:n].copy()
+        for source in [table, RGL_FILE, "nbrdf:alum-bronze"]:
+            if not os.path.exists(source) and source != "nbrdf:alum-bronze":
+                print(f"{source}: not found, skipped")
+                continue
+            other = specula.load(source)
+            best, median = timed(lambda: other.eval(wi, wo), 3)
+            print(f"Brdf.eval of {other.name}, 10^5 pairs: best {best * 1e3:.1f} ms, median {median * 1e3:.1f} ms")
 
 
 if __name__ == "__main__":

@@ -306,32 +306,33 @@ fn cell(value: Option<f64>) -> String {
     value.map_or_else(String::new, |v| format!("{v:.4}"))
 }
 
+/// The figures in [`csv_header`]'s order after `source` (`None` where unknown): the
+/// columns of the CSV and of the Python package's `specula.appearance`.
+pub fn column_values(figures: &Appearance, differences: Option<&Differences>) -> Vec<Option<f64>> {
+    let mut values: Vec<Option<f64>> = figures.gloss.iter().map(|v| Some(*v)).collect();
+    values.extend([figures.haze, figures.doi, figures.haze_20].map(Some));
+    for lab in &figures.colour {
+        values.extend((0..3).map(|i| lab.map(|c| c[i])));
+    }
+    values.push(figures.flop_index);
+    if let Some(d) = differences {
+        values.extend(d.gloss.map(Some));
+        values.extend([d.haze, d.doi, d.haze_20].map(Some));
+        values.push(d.flop_index);
+        values.extend(d.delta_e00.iter().copied());
+    }
+    values
+}
+
 /// One CSV row matching [`csv_header`].
 pub fn csv_row(
     source: &str,
     figures: &Appearance,
     differences: Option<&Differences>,
 ) -> Vec<String> {
-    let mut row = vec![source.to_string()];
-    for v in figures.gloss {
-        row.push(cell(Some(v)));
-    }
-    row.extend([figures.haze, figures.doi, figures.haze_20].map(|v| cell(Some(v))));
-    for lab in &figures.colour {
-        for i in 0..3 {
-            row.push(cell(lab.map(|c| c[i])));
-        }
-    }
-    row.push(cell(figures.flop_index));
-    if let Some(d) = differences {
-        for v in d.gloss {
-            row.push(cell(Some(v)));
-        }
-        row.extend([d.haze, d.doi, d.haze_20].map(|v| cell(Some(v))));
-        row.push(cell(d.flop_index));
-        row.extend(d.delta_e00.iter().map(|v| cell(*v)));
-    }
-    row
+    std::iter::once(source.to_string())
+        .chain(column_values(figures, differences).into_iter().map(cell))
+        .collect()
 }
 
 /// The rows of the text table, one per figure: its label, then its value per material;

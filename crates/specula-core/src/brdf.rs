@@ -36,6 +36,14 @@ pub trait Brdf: Send + Sync {
         eval_phi_d_row_per_cell(self, row, out);
     }
 
+    /// f_r at many direction pairs at once: `out[k] = self.eval(wi[k], wo[k])`, the three
+    /// slices of the same length. Batched callers (the Python package's `Brdf.eval` on
+    /// `(N, 3)` arrays) use it; the default evaluates pair by pair, and analytic materials
+    /// override it to decide once, not per pair, which model and which of their terms apply.
+    fn eval_pairs(&self, wi: &[DVec3], wo: &[DVec3], out: &mut [Option<Rgb>]) {
+        eval_pairs_one_by_one(self, wi, wo, out);
+    }
+
     /// A short human-readable name (a preset, a file name, a fit's material).
     fn name(&self) -> String;
 }
@@ -63,6 +71,30 @@ pub fn eval_phi_d_row_per_cell<B: Brdf + ?Sized>(brdf: &B, row: &PhiDRow, out: &
     }
 }
 
+/// [`Brdf::eval_pairs`] one pair at a time, for BRDFs with no shortcut.
+pub fn eval_pairs_one_by_one<B: Brdf + ?Sized>(
+    brdf: &B,
+    wi: &[DVec3],
+    wo: &[DVec3],
+    out: &mut [Option<Rgb>],
+) {
+    assert_pairs(wi, wo, out);
+    for ((wi, wo), out) in wi.iter().zip(wo).zip(out) {
+        *out = brdf.eval(*wi, *wo);
+    }
+}
+
+/// Panics unless the slices of a batch ([`Brdf::eval_pairs`]) have the same length.
+pub fn assert_pairs(wi: &[DVec3], wo: &[DVec3], out: &[Option<Rgb>]) {
+    assert!(
+        wi.len() == wo.len() && wo.len() == out.len(),
+        "eval_pairs: {} wi, {} wo and {} outputs",
+        wi.len(),
+        wo.len(),
+        out.len()
+    );
+}
+
 /// A smart pointer to a BRDF is the BRDF: every method goes to the pointee (its own
 /// shortcuts included, which the trait's defaults would otherwise hide).
 macro_rules! brdf_through_pointer {
@@ -76,6 +108,9 @@ macro_rules! brdf_through_pointer {
             }
             fn eval_phi_d_row(&self, row: &PhiDRow, out: &mut [Option<Rgb>]) {
                 (**self).eval_phi_d_row(row, out)
+            }
+            fn eval_pairs(&self, wi: &[DVec3], wo: &[DVec3], out: &mut [Option<Rgb>]) {
+                (**self).eval_pairs(wi, wo, out)
             }
             fn name(&self) -> String {
                 (**self).name()

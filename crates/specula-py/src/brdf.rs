@@ -68,15 +68,7 @@ impl PyBrdf {
         let values = py.detach(|| {
             check_unit(wi, "wi")?;
             check_unit(wo, "wo")?;
-            let mut out = vec![0.0; wi.len()];
-            out.par_chunks_mut(3)
-                .zip(wi.par_chunks(3).zip(wo.par_chunks(3)))
-                .with_min_len(4096)
-                .for_each(|(out, (i, o))| {
-                    let value = brdf.eval(vector(i), vector(o));
-                    out.copy_from_slice(&rgb_or_nan(value));
-                });
-            Ok::<_, PyErr>(out)
+            Ok::<_, PyErr>(eval_pairs(brdf, wi, wo))
         })?;
         let n = values.len() / 3;
         Ok(Array2::from_shape_vec((n, 3), values)
@@ -152,6 +144,35 @@ impl PyBrdf {
     }
 }
 
+/// Direction pairs a rayon task evaluates in one [`Brdf::eval_pairs`] call: enough to
+/// amortise the scheduling, few enough that the task's buffers stay in cache.
+const PAIRS_PER_TASK: usize = 2048;
+
+/// f_r at the direction pairs of `wi` and `wo` (3 values a row), R, G, B a row, NaN where
+/// the BRDF does not answer: [`Brdf::eval_pairs`] on blocks of rows, in parallel.
+fn eval_pairs(brdf: &dyn Brdf, wi: &[f64], wo: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; wi.len()];
+    let block = 3 * PAIRS_PER_TASK;
+    out.par_chunks_mut(block)
+        .zip(wi.par_chunks(block).zip(wo.par_chunks(block)))
+        .for_each_init(
+            || (Vec::new(), Vec::new(), Vec::new()),
+            |(wi_block, wo_block, values), (out, (wi, wo))| {
+                wi_block.clear();
+                wi_block.extend(wi.chunks_exact(3).map(vector));
+                wo_block.clear();
+                wo_block.extend(wo.chunks_exact(3).map(vector));
+                values.clear();
+                values.resize(wi_block.len(), None);
+                brdf.eval_pairs(wi_block, wo_block, values);
+                for (out, value) in out.chunks_exact_mut(3).zip(values.iter()) {
+                    out.copy_from_slice(&rgb_or_nan(*value));
+                }
+            },
+        );
+    out
+}
+
 fn vector(xyz: &[f64]) -> glam::DVec3 {
     glam::DVec3::new(xyz[0], xyz[1], xyz[2])
 }
@@ -160,18 +181,28 @@ fn rgb_or_nan(value: Option<specula_core::Rgb>) -> [f64; 3] {
     value.map_or([f64::NAN; 3], |v| v.to_array())
 }
 
-/// Rejects a row of `xyz` (3 values a row) whose length is not 1.
+/// Rejects a row of `xyz` (3 values a row) whose length is not 1, naming the first. Blocks
+/// of rows are scanned in parallel, each in a plain loop (a search per row would cost as
+/// much as evaluating the BRDF).
 fn check_unit(xyz: &[f64], name: &str) -> PyResult<()> {
-    let bad = xyz
-        .par_chunks(3)
-        .position_first(|v| (vector(v).length() - 1.0).abs() > UNIT_TOLERANCE);
-    match bad {
-        Some(row) => Err(invalid(format!(
-            "{name}[{row}] = {:?} is not a unit vector",
-            &xyz[3 * row..3 * row + 3]
-        ))),
-        None => Ok(()),
-    }
+    let block = 3 * PAIRS_PER_TASK;
+    let not_unit = |v: &[f64]| (vector(v).length() - 1.0).abs() > UNIT_TOLERANCE;
+    let bad_block = xyz
+        .par_chunks(block)
+        .position_first(|rows| rows.chunks_exact(3).any(not_unit));
+    let Some(bad_block) = bad_block else {
+        return Ok(());
+    };
+    let rows = &xyz[bad_block * block..];
+    let row = rows
+        .chunks_exact(3)
+        .position(not_unit)
+        .expect("the block holds a row that is not a unit vector");
+    let row = bad_block * PAIRS_PER_TASK + row;
+    Err(invalid(format!(
+        "{name}[{row}] = {:?} is not a unit vector",
+        &xyz[3 * row..3 * row + 3]
+    )))
 }
 
 /// The common shape of arrays under numpy's broadcasting rules.

@@ -7,6 +7,7 @@
 //! 1/sr per RGB channel; a MERL table is a `(90, 90, 180, 3)` float64 array indexed
 //! `[theta_h_i, theta_d_i, phi_d_i, channel]`, NaN where a cell is not measured.
 
+mod appearance;
 mod brdf;
 mod errors;
 mod interrupt;
@@ -26,6 +27,7 @@ fn _specula(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(brdf::load, m)?)?;
     m.add_function(wrap_pyfunction!(brdf::compare, m)?)?;
     m.add_function(wrap_pyfunction!(brdf::materials, m)?)?;
+    m.add_function(wrap_pyfunction!(appearance::appearance, m)?)?;
     m.add_function(wrap_pyfunction!(table::read_merl, m)?)?;
     m.add_function(wrap_pyfunction!(table::write_merl, m)?)?;
     m.add_function(wrap_pyfunction!(sampling::probe, m)?)?;

@@ -51,6 +51,35 @@ impl RoughConductor {
         self.fresnel(c.cos_d) * self.microfacet.reflection_isotropic(c)
     }
 
+    /// [`RoughConductor::eval_cosines`] at many configurations, zero where there is none
+    /// (a direction at or below the horizon), into `out`: the microfacet factor pair by pair,
+    /// then the Fresnel reflectance one channel at a time over a block of `cos_d` (a loop
+    /// the compiler turns into vector instructions; the same values, bit for bit).
+    pub fn eval_cosines_many(&self, cosines: &[Option<IsotropicCosines>], out: &mut [Rgb]) {
+        const BLOCK: usize = 64;
+        assert_eq!(cosines.len(), out.len(), "one output per configuration");
+        for (cosines, out) in cosines.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
+            let n = cosines.len();
+            let (mut cos_d, mut factor) = ([1.0; BLOCK], [0.0; BLOCK]);
+            for (k, c) in cosines.iter().enumerate() {
+                if let Some(c) = c {
+                    cos_d[k] = c.cos_d;
+                    factor[k] = self.microfacet.reflection_isotropic(*c);
+                }
+            }
+            let mut channels = [[0.0; BLOCK]; 3];
+            for (channel, column) in channels.iter_mut().enumerate() {
+                let (eta, k) = (self.eta[channel], self.k[channel]);
+                for ((value, cos_d), factor) in column[..n].iter_mut().zip(&cos_d).zip(&factor) {
+                    *value = fresnel::conductor(*cos_d, eta, k) * factor;
+                }
+            }
+            for (k, out) in out.iter_mut().enumerate() {
+                *out = Rgb::new(channels[0][k], channels[1][k], channels[2][k]);
+            }
+        }
+    }
+
     /// f_r in 1/sr as a function of `cos(phi_d)` along a row of constant theta_h and theta_d:
     /// `F D` depends on the row alone, so only the masking term is left per phi_d.
     pub fn along_row(&self, row: IsotropicRow) -> impl Fn(f64) -> Rgb + '_ {

@@ -12,7 +12,9 @@ use super::clearcoat::ClearCoat;
 use super::conductor::RoughConductor;
 use super::microfacet::{IsotropicCosines, IsotropicRow};
 use super::scratch::ScratchLobe;
-use crate::brdf::{eval_phi_d_row_per_cell, Brdf, PhiDRow, Rgb};
+use crate::brdf::{
+    assert_pairs, eval_pairs_one_by_one, eval_phi_d_row_per_cell, Brdf, PhiDRow, Rgb,
+};
 use crate::geometry::HalfDiff;
 use glam::DVec3;
 
@@ -130,7 +132,47 @@ impl Brdf for Material {
         self.base.eval_row(cosines, row.cos_phi_d, out);
     }
 
+    /// Without a scratch lobe the base's model is chosen once for the whole batch, and each
+    /// pair goes straight from its directions to the cosines the model needs (a conductor
+    /// then evaluates them together, [`RoughConductor::eval_cosines_many`]); a scratch lobe
+    /// is evaluated pair by pair.
+    fn eval_pairs(&self, wi: &[DVec3], wo: &[DVec3], out: &mut [Option<Rgb>]) {
+        match (&self.base, &self.scratch) {
+            (Base::Conductor(conductor), None) => {
+                assert_pairs(wi, wo, out);
+                let cosines: Vec<_> = wi
+                    .iter()
+                    .zip(wo)
+                    .map(|(wi, wo)| IsotropicCosines::from_directions(*wi, *wo))
+                    .collect();
+                let mut values = vec![Rgb::ZERO; cosines.len()];
+                conductor.eval_cosines_many(&cosines, &mut values);
+                for (out, value) in out.iter_mut().zip(values) {
+                    *out = Some(value);
+                }
+            }
+            (Base::ClearCoat(coat), None) => {
+                eval_isotropic_pairs(wi, wo, out, |c| coat.eval_cosines(c))
+            }
+            (_, Some(_)) => eval_pairs_one_by_one(self, wi, wo, out),
+        }
+    }
+
     fn name(&self) -> String {
         self.name.clone()
+    }
+}
+
+/// An isotropic model `f` of the cosines at each direction pair, zero at or below the
+/// horizon ([`Material::eval_rgb`] without a scratch lobe).
+fn eval_isotropic_pairs(
+    wi: &[DVec3],
+    wo: &[DVec3],
+    out: &mut [Option<Rgb>],
+    f: impl Fn(IsotropicCosines) -> Rgb,
+) {
+    assert_pairs(wi, wo, out);
+    for ((wi, wo), out) in wi.iter().zip(wo).zip(out) {
+        *out = Some(IsotropicCosines::from_directions(*wi, *wo).map_or(Rgb::ZERO, &f));
     }
 }

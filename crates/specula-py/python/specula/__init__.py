@@ -9,6 +9,7 @@ See ``docs/python.md`` for a tutorial.
 from ._specula import (
     Brdf,
     SpeculaError,
+    appearance,
     compare,
     evaluate,
     fit_k,
@@ -27,6 +28,7 @@ from ._specula import (
 __all__ = [
     "Brdf",
     "SpeculaError",
+    "appearance",
     "compare",
     "evaluate",
     "fit_k",

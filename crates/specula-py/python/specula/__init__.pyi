@@ -1,7 +1,7 @@
 """Type stubs of the ``specula`` package (the native module ``specula._specula``)."""
 
 import os
-from typing import Any, Mapping, Optional, Sequence, TypedDict, Union
+from typing import Any, Mapping, Optional, Sequence, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -88,6 +88,20 @@ def materials() -> list[str]:
 
 def compare(a: BrdfLike, b: BrdfLike, max_elevation_deg: float = 75.0) -> Comparison:
     """`specula compare A B`: relative_rmse, log_rmse, slice_mae over all cells and within."""
+
+@overload
+def appearance(
+    brdf: BrdfLike, against: Optional[BrdfLike] = None, resolution_deg: Optional[float] = None
+) -> dict[str, Any]:
+    """`specula appearance --csv` as a dict keyed by its columns (gloss_20 ... flop_index,
+    d_* and de00_* with `against`), plus `name` and `warnings`; None where unknown."""
+@overload
+def appearance(
+    brdf: Sequence[BrdfLike],
+    against: Optional[BrdfLike] = None,
+    resolution_deg: Optional[float] = None,
+) -> list[dict[str, Any]]:
+    """The figures of each BRDF of a list, as for one."""
 
 def probe(
     brdf: BrdfLike,
