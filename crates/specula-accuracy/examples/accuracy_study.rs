@@ -32,6 +32,7 @@
 use specula_accuracy::merl_prior::merl_prior;
 use specula_accuracy::{evaluate, measure, reached_by, Accuracy, Measurement, PlanSettings};
 use specula_acquisition::device::Device;
+use specula_core::capture::CaptureResponse;
 use specula_core::materials::builtin_database;
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
@@ -324,7 +325,12 @@ fn main() -> Result<(), Box<dyn Error>> {
                 let (count, samples, k) = config.measure(truth.as_ref(), &device)?;
                 let (reconstruction, a) = match config.method {
                     Recon::Method(method) if config.half_turn => {
-                        let r = reconstruct_halves(&samples, method, "reconstruction", None)?;
+                        let r = reconstruct_halves(
+                            &samples,
+                            method,
+                            "reconstruction",
+                            None::<&dyn CaptureResponse>,
+                        )?;
                         let a = Accuracy::of(&r.brdf, &table, 75.0);
                         (r, a)
                     }

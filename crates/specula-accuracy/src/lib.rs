@@ -24,7 +24,9 @@ use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
 use specula_core::compare::{compare, ErrorFigures};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, GridSpec, HalfDiff, MerlBrdf, ProbeSpec, Sample};
-use specula_reconstruct::{reconstruct, reconstruct_through, Method, ReconstructError, Reconstruction};
+use specula_reconstruct::{
+    reconstruct, reconstruct_through, Method, ReconstructError, Reconstruction,
+};
 use specula_sampling::deblur::deblur_probe;
 use specula_sampling::error::SamplingError;
 use specula_sampling::{fit_k, place_theta_h, Probe};

@@ -28,7 +28,7 @@ use std::sync::Arc;
 /// A figure that cannot be given (a colour reading on an unmeasured cell) is None.
 #[pyfunction]
 #[pyo3(signature = (brdf, against = None, resolution_deg = None))]
-pub fn appearance<'py>(
+pub(crate) fn appearance<'py>(
     py: Python<'py>,
     brdf: &Bound<'py, PyAny>,
     against: Option<&Bound<'py, PyAny>>,

@@ -160,7 +160,8 @@ mod tests {
     fn both_halves_measured_keep_a_surface_that_is_not_reciprocal() {
         let both = samples(&[0.0, 45.0, 90.0, 135.0, 180.0]);
         assert!(measures_both_halves(&both));
-        let r = reconstruct_halves(&both, Method::LINEAR, "t", None).unwrap();
+        let r =
+            reconstruct_halves(&both, Method::LINEAR, "t", None::<&dyn CaptureResponse>).unwrap();
         // Linear between the nodes of each half: cos(phi_d) interpolated at 22.5 and 157.5
         // deg (bins 22 and 157 hold 22.5 and 157.5).
         let expect = |p0: f64, p1: f64, p: f64| {
@@ -182,7 +183,8 @@ mod tests {
     fn one_half_measured_is_reconstructed_as_before() {
         let quarter = samples(&[0.0, 45.0, 90.0]);
         assert!(!measures_both_halves(&quarter));
-        let a = reconstruct_halves(&quarter, Method::LOBE, "a", None).unwrap();
+        let a =
+            reconstruct_halves(&quarter, Method::LOBE, "a", None::<&dyn CaptureResponse>).unwrap();
         let b = crate::reconstruct(&quarter, Method::LOBE, "b").unwrap();
         assert!((0..CELLS).all(|i| a.brdf.cell(i) == b.brdf.cell(i)));
         assert_eq!(a.provenance, b.provenance);
