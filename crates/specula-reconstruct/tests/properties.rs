@@ -84,8 +84,11 @@ proptest! {
                 let mirror = Bin { phi_d_i: 179 - bin.phi_d_i, ..bin };
                 let (va, vb) = (a.brdf.cell(index).unwrap(), b.brdf.cell(index).unwrap());
                 let vm = a.brdf.cell(mirror.index()).unwrap();
-                prop_assert!((va - vm).abs().max_element() <= 1e-12 * va.max_element(), "{method}: {va} vs mirror {vm}");
-                prop_assert!((va - vb).abs().max_element() <= 1e-9 * va.max_element(), "{method}: {va} vs {vb}");
+                // Relative to the larger value, with a floor far below the data's scale (f >= 1
+                // here): a cell that underflows to 0 on one side and 2.7e-20 on the other agrees.
+                let scale = |x: Rgb, y: Rgb| x.max_element().max(y.max_element()).max(1e-3);
+                prop_assert!((va - vm).abs().max_element() <= 1e-12 * scale(va, vm), "{method}: {va} vs mirror {vm}");
+                prop_assert!((va - vb).abs().max_element() <= 1e-9 * scale(va, vb), "{method}: {va} vs {vb}");
             }
             prop_assert_eq!(&a.provenance, &b.provenance);
         }
