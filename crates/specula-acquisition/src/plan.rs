@@ -56,6 +56,7 @@ pub struct PlannedSample {
     pub wi: DVec3,
     /// Direction to the camera, sample frame.
     pub wo: DVec3,
+    /// Whether the sample can be measured (paper 5.3: limits and occlusion).
     pub status: Status,
     /// The position used, for an `ok` sample.
     pub axes: Option<AxisPositions>,
@@ -71,6 +72,7 @@ pub struct PlannedSample {
 /// Samples in execution order with their device positions and step times.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
+    /// Every sample of the plan: the measurable ones in execution order, then the excluded ones.
     pub samples: Vec<PlannedSample>,
     /// The time model the step times come from.
     pub time_model: TimeModel,
@@ -79,9 +81,13 @@ pub struct Plan {
 /// Counts and times of a plan.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlanSummary {
+    /// Samples in the plan.
     pub total: usize,
+    /// Samples with status `ok`.
     pub measurable: usize,
+    /// Samples out of the axes' ranges (status `limit`).
     pub limit: usize,
+    /// Samples blocked at every reachable position (status `occluded`).
     pub occluded: usize,
     /// Occluded samples by what blocks them (see [`Blockage::describe`]).
     pub occluded_by: BTreeMap<String, usize>,
