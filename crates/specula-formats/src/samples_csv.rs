@@ -23,6 +23,7 @@ pub const HEADER: [&str; 7] = ["theta_h", "phi_h", "theta_d", "phi_d", "r", "g",
 /// One measured value at half-difference angles.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
+    /// Half-difference angles of the sample, in rad (the file holds degrees).
     pub angles: HalfDiff,
     /// f_r in 1/sr.
     pub value: Rgb,
@@ -189,6 +190,7 @@ impl SampleSet {
         Ok(())
     }
 
+    /// The samples, in file order.
     pub fn samples(&self) -> &[Sample] {
         &self.samples
     }
