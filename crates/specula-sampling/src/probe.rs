@@ -13,8 +13,11 @@ use std::path::Path;
 /// Where and how densely the probe is taken (defaults: the paper's 5.2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProbeSettings {
+    /// The difference angle theta_d of the probe, deg (40 by default, paper 5.2).
     pub theta_d_deg: f64,
+    /// The difference azimuth phi_d of the probe, deg (90 by default).
     pub phi_d_deg: f64,
+    /// The half-vector azimuth phi_h of the probe, deg (45 by default).
     pub phi_h_deg: f64,
     /// Number of theta_h samples, placed by the square-root mapping over `[0, 90]`.
     pub samples: usize,
@@ -106,10 +109,12 @@ impl Probe {
         })
     }
 
+    /// The sample positions theta_h, deg, increasing.
     pub fn theta_h_deg(&self) -> &[f64] {
         &self.theta_h_deg
     }
 
+    /// The measured f_r per sample, 1/sr, in the order of [`Probe::theta_h_deg`].
     pub fn rgb(&self) -> &[Rgb] {
         &self.rgb
     }
@@ -123,6 +128,7 @@ impl Probe {
             .collect()
     }
 
+    /// Number of samples (at least two).
     pub fn len(&self) -> usize {
         self.rgb.len()
     }
