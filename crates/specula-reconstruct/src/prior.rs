@@ -48,8 +48,10 @@ pub const MERL_COMPONENTS: usize = 24;
 /// Why the prior cannot be built.
 #[derive(Debug, thiserror::Error)]
 pub enum PriorError {
+    /// The training materials could not be loaded.
     #[error("loading the training materials: {0}")]
     Training(specula_formats::input::FormatError),
+    /// No more training vectors (the first count) than components (the second).
     #[error("{0} training vectors: need more than the {1} components")]
     TooFewMaterials(usize, usize),
 }

@@ -8,11 +8,14 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// One measured BRDF value (1/sr per channel) at half-difference angles.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
+    /// The sample's half-difference angles, rad.
     pub hd: HalfDiff,
+    /// f_r per channel, 1/sr.
     pub value: Rgb,
 }
 
 impl Sample {
+    /// A sample of `value` at `hd`.
     pub fn new(hd: HalfDiff, value: Rgb) -> Self {
         Self { hd, value }
     }
