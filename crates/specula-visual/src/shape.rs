@@ -12,7 +12,9 @@ const SHADOW_BIAS: f64 = 1e-4;
 /// Which object to render.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ShapeKind {
+    /// The unit sphere at the origin.
     Sphere,
+    /// The speedshape, a curved teardrop like paint makers' test objects (paper Fig. 1).
     Speedshape,
 }
 
@@ -32,6 +34,7 @@ impl std::str::FromStr for ShapeKind {
 /// A ray's first intersection with the object.
 #[derive(Debug, Clone, Copy)]
 pub struct Hit {
+    /// The intersection point, world frame.
     pub position: DVec3,
     /// The shading frame: outward normal and tangent.
     pub frame: Frame,
@@ -42,11 +45,13 @@ pub struct Hit {
 pub enum Shape {
     /// The unit sphere at the origin.
     Sphere,
+    /// The speedshape (see [`crate::speedshape`]).
     Speedshape(Speedshape),
 }
 
 impl Shape {
-    pub fn new(kind: ShapeKind) -> Self {
+    /// The object of `kind` in its standard placement.
+    pub(crate) fn new(kind: ShapeKind) -> Self {
         match kind {
             ShapeKind::Sphere => Shape::Sphere,
             ShapeKind::Speedshape => Shape::Speedshape(Speedshape::standard()),

@@ -18,8 +18,11 @@ use std::collections::BTreeMap;
 /// One measured value.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RawSample {
+    /// theta_h, deg.
     pub theta_h_deg: f64,
+    /// theta_d, deg.
     pub theta_d_deg: f64,
+    /// phi_d, deg.
     pub phi_d_deg: f64,
     /// f_r in 1/sr.
     pub value: Rgb,
@@ -61,7 +64,9 @@ fn degrees(key: i64) -> f64 {
 /// and per phi_d (folded into `[0, 180)` by reciprocity) the mean value of each measured cell.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SampleGrid {
+    /// The distinct theta_h of the samples, deg, ascending.
     pub theta_h_deg: Vec<f64>,
+    /// The distinct theta_d of the samples, deg, ascending.
     pub theta_d_deg: Vec<f64>,
     /// `(phi_d_deg, cells)`, `cells[i][j]` for theta_h `i`, theta_d `j`: the mean of R, G, B
     /// in 1/sr, `None` where the plan has no sample.
@@ -69,6 +74,7 @@ pub struct SampleGrid {
 }
 
 impl SampleGrid {
+    /// The grid of `samples`; an error when there are none.
     pub fn new(samples: &[RawSample]) -> Result<Self, VisualError> {
         if samples.is_empty() {
             return Err(VisualError::Data(String::from("no samples to plot")));
