@@ -35,9 +35,13 @@ use specula_sampling::{fit_k, place_theta_h, Probe};
 /// at one phi_h, theta_h outermost and phi_d innermost (the paper's nested loops, 5.3).
 #[derive(Debug, Clone, PartialEq)]
 pub struct GridPlan {
+    /// The theta_h positions, deg, outermost loop.
     pub theta_h_deg: Vec<f64>,
+    /// The theta_d positions, deg.
     pub theta_d_deg: Vec<f64>,
+    /// The phi_d positions, deg, innermost loop.
     pub phi_d_deg: Vec<f64>,
+    /// The half-vector azimuth phi_h shared by every configuration, deg.
     pub phi_h_deg: f64,
 }
 
@@ -73,10 +77,12 @@ impl GridPlan {
         out
     }
 
+    /// Number of configurations: the product of the three position counts.
     pub fn len(&self) -> usize {
         self.theta_h_deg.len() * self.theta_d_deg.len() * self.phi_d_deg.len()
     }
 
+    /// Whether the plan has no configuration (an axis without positions).
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -103,6 +109,7 @@ pub enum ThetaHPlacement {
 /// A plan on a grid, decided per material (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanSettings {
+    /// How the theta_h positions are chosen.
     pub placement: ThetaHPlacement,
     /// The grid: theta_h count, theta_d and phi_d steps, phi_h.
     pub grid: GridSpec,
@@ -188,9 +195,11 @@ impl PlacementError {
 /// A material measured on its plan, without noise.
 #[derive(Debug, Clone)]
 pub struct Measurement {
+    /// The plan the material was measured on.
     pub grid: GridPlan,
     /// k of the sampling function, when one placed theta_h.
     pub k: Option<f64>,
+    /// The measured values, one per configuration of the plan.
     pub samples: Vec<Sample>,
 }
 

@@ -36,6 +36,7 @@ use std::path::Path;
 /// A Lambertian reference target: `f_r = reflectance / pi` per channel.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DiffuseTarget {
+    /// The target's name, as its BRDF reports it ([`Brdf::name`]).
     pub name: String,
     /// Diffuse reflectance (albedo) per channel.
     pub reflectance: Rgb,
@@ -93,15 +94,29 @@ pub fn mount_in_simulator(
 /// Why a calibration failed or could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum CalibrationError {
+    /// The instrument failed while a calibration measured.
     #[error("device: {0}")]
     Instrument(#[from] InstrumentError),
+    /// A fit could not be made from the measurements (too few, or degenerate); the message
+    /// says why.
     #[error("calibration: {0}")]
     Fit(String),
+    /// A calibration file cannot be read, written or parsed.
     #[error("{path}: {message}")]
-    File { path: String, message: String },
+    File {
+        /// The calibration file.
+        path: String,
+        /// What went wrong reading, writing or parsing it.
+        message: String,
+    },
     /// A value of a calibration file lies outside its range.
     #[error("{path}: {problem}")]
-    Range { path: String, problem: OutOfRange },
+    Range {
+        /// The calibration file.
+        path: String,
+        /// The value and the range it should lie in.
+        problem: OutOfRange,
+    },
 }
 
 /// A calibration value outside its range: `field must be RANGE, got VALUE`.
@@ -163,6 +178,8 @@ pub struct Calibration {
     pub colour_rms_error: f64,
     /// The colour reference used.
     pub colour_reference: String,
+    /// The camera's noise model, measured from dark and flat frames (EMVA 1288,
+    /// [`measure_noise_model`]).
     pub noise: NoiseModel,
     /// The instrument's response measured with the reference mirror
     /// ([`response::measure_response`]); absent in files made before it was measured.

@@ -58,9 +58,13 @@ pub struct Axis {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParkPosition {
+    /// Turntable angle, degrees.
     pub turntable_deg: f64,
+    /// Camera arm angle from the zenith, degrees.
     pub camera_deg: f64,
+    /// Light arm azimuth about the lab z axis, degrees.
     pub light_azimuth_deg: f64,
+    /// Light arm elevation (angle from the zenith), degrees.
     pub light_elevation_deg: f64,
 }
 
@@ -86,9 +90,13 @@ pub struct Cone {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Part {
+    /// The part's name (e.g. `lens`), as occlusion reports name it.
     pub name: String,
+    /// One end of the capsule's axis `[u, v]`, metres.
     pub from_m: [f64; 2],
+    /// The other end of the capsule's axis `[u, v]`, metres.
     pub to_m: [f64; 2],
+    /// The capsule's radius, metres.
     pub radius_m: f64,
 }
 
@@ -124,7 +132,9 @@ pub struct LightArm {
     /// edge, linear in between; empty (the default) for a uniform disk.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub emission_profile: Vec<f64>,
+    /// The light arm's azimuth axis, about the lab z axis.
     pub azimuth: Axis,
+    /// The light arm's elevation axis, about a horizontal axis (angle from the zenith).
     pub elevation: Axis,
     /// Light head and arm.
     pub parts: Vec<Part>,
@@ -133,23 +143,38 @@ pub struct LightArm {
 /// A device file that cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum DeviceError {
+    /// The device file cannot be read.
     #[error("cannot read device file {path}: {source}")]
     Read {
+        /// The device file's path.
         path: String,
+        /// The I/O error.
         source: std::io::Error,
     },
+    /// The device file is not valid TOML for a device.
     #[error("device file {path}, line {line}: {message}")]
     Parse {
+        /// The device file's path.
         path: String,
+        /// The 1-based line of the error (1 when the parser gives no position).
         line: usize,
+        /// What the parser found wrong.
         message: String,
     },
+    /// The device file parses but a value is out of range or inconsistent.
     #[error("device file {path}: {problem}")]
-    Invalid { path: String, problem: String },
+    Invalid {
+        /// The device file's path.
+        path: String,
+        /// The value out of its range or inconsistent with another.
+        problem: String,
+    },
     /// The capture bracket of a device file is unusable.
     #[error("device file {path}: {problem}")]
     Capture {
+        /// The device file's path.
         path: String,
+        /// What is wrong with the bracket.
         problem: crate::capture_bracket::CaptureProblem,
     },
 }

@@ -205,7 +205,9 @@ impl HdrSettings {
 /// A light level and an exposure.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Exposure {
+    /// Light level, fraction of full power in (0, 1].
     pub light_level: f64,
+    /// Exposure time, seconds.
     pub exposure_s: f64,
 }
 
@@ -244,15 +246,20 @@ impl CaptureStats {
 /// One sample's captures and their merged value.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HdrMeasurement {
+    /// The merged value (see [`merge`]).
     pub value: HdrValue,
+    /// The captures it was merged from, in the order they were taken.
     pub captures: Vec<Capture>,
 }
 
 /// Takes HDR measurements and keeps count (see the module documentation).
 #[derive(Debug, Clone)]
 pub struct HdrCapturer {
+    /// How exposures are chosen.
     pub settings: HdrSettings,
+    /// The camera's noise model, which weights the captures in the merge.
     pub noise: NoiseModel,
+    /// Counts of the captures taken so far.
     pub stats: CaptureStats,
     /// The light level last set, if known.
     light_level: Option<f64>,
@@ -262,6 +269,7 @@ pub struct HdrCapturer {
 const SATURATED_STEP: f64 = 6.0;
 
 impl HdrCapturer {
+    /// A capturer with no captures counted and the light level unknown.
     pub fn new(settings: HdrSettings, noise: NoiseModel) -> Self {
         Self {
             settings,

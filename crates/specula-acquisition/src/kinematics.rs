@@ -43,6 +43,7 @@ pub struct AxisPositions {
 pub const AXIS_NAMES: [&str; 4] = ["turntable", "camera", "light_azimuth", "light_elevation"];
 
 impl AxisPositions {
+    /// Axis positions from the four angles, radians.
     pub fn new(
         turntable_rad: f64,
         camera_rad: f64,

@@ -21,12 +21,20 @@ use glam::DVec3;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Blockage {
     /// A part of the light (its head or its arm) is in the camera's view of the sample.
-    View { light_part: usize },
+    View {
+        /// Index of the part in `device.light.parts`.
+        light_part: usize,
+    },
     /// A part of the camera (lens, body or arm) is in the light's beam.
-    Beam { camera_part: usize },
+    Beam {
+        /// Index of the part in `device.camera.parts`.
+        camera_part: usize,
+    },
     /// A light part and a camera part overlap: the arms would collide.
     Collision {
+        /// Index of the light part in `device.light.parts`.
         light_part: usize,
+        /// Index of the camera part in `device.camera.parts`.
         camera_part: usize,
     },
 }

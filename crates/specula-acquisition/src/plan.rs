@@ -105,6 +105,7 @@ impl PlannedSample {
 /// Samples in execution order with their device positions and step times.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
+    /// Every sample of the plan: the measurable ones in execution order, then the excluded ones.
     pub samples: Vec<PlannedSample>,
     /// The time model the step times come from.
     pub time_model: TimeModel,
@@ -113,9 +114,13 @@ pub struct Plan {
 /// Counts and times of a plan.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlanSummary {
+    /// Samples in the plan.
     pub total: usize,
+    /// Samples with status `ok`.
     pub measurable: usize,
+    /// Samples out of the axes' ranges (status `limit`).
     pub limit: usize,
+    /// Samples blocked at every reachable position (status `occluded`).
     pub occluded: usize,
     /// Occluded samples by what blocks them (see [`Blockage::describe`]).
     pub occluded_by: BTreeMap<String, usize>,

@@ -111,6 +111,7 @@ impl LightProfile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InstrumentResponse {
+    /// The light's angular profile seen from the sample.
     pub light: LightProfile,
     /// Angular radius of the camera's entrance pupil seen from the sample, degrees.
     pub camera_aperture_deg: f64,
@@ -119,6 +120,7 @@ pub struct InstrumentResponse {
     /// Light and camera distances from the sample, metres (they turn the footprint into
     /// angles).
     pub light_distance_m: f64,
+    /// Camera distance from the sample, metres.
     pub camera_distance_m: f64,
 }
 
@@ -239,7 +241,9 @@ impl CaptureResponse for InstrumentResponse {
 /// The accuracy harness measures its truths through it, so that methods are compared on
 /// the samples a device gives.
 pub struct ThroughResponse<'a> {
+    /// The BRDF being measured.
     pub truth: &'a dyn Brdf,
+    /// The capture's quadrature nodes ([`InstrumentResponse::capture_nodes`]).
     pub nodes: Vec<CaptureNode>,
 }
 

@@ -58,13 +58,16 @@ pub struct TimeModel {
 /// The parts of one step's time, seconds.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct StepTime {
+    /// Moving the axes (the slowest axis's trapezoidal profile).
     pub move_s: f64,
+    /// Settling after the move.
     pub settle_s: f64,
+    /// The capture.
     pub capture_s: f64,
 }
 
 impl StepTime {
-    pub fn total_s(&self) -> f64 {
+    pub(crate) fn total_s(&self) -> f64 {
         self.move_s + self.settle_s + self.capture_s
     }
 }

@@ -104,9 +104,13 @@ impl FileFormat {
 
 /// A BRDF read from a file of a known format, or from any other source.
 pub enum Loaded {
+    /// A MERL binary (`.binary`): 90 x 90 x 180 f_r values in 1/sr on the half-difference grid.
     Merl(MerlBrdf),
+    /// A UTIA binary (`.bin`): 6 x 48 x 6 x 48 f_r values in 1/sr at incident and outgoing angles.
     Utia(UtiaBrdf),
+    /// An RGL `.bsdf` file of Dupuy & Jakob's adaptive parameterisation.
     Rgl(Box<RglBsdf>),
+    /// A CSV file of samples at half-difference angles (degrees) with f_r in 1/sr.
     Samples(SampleSet),
     /// A preset, a material file or a model fit.
     Other(BrdfSource),
@@ -190,6 +194,7 @@ pub struct ConvertOptions {
 /// What a conversion did.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Conversion {
+    /// The format written.
     pub target: FileFormat,
     /// How the values were obtained (copied, binned, evaluated at the target's nodes).
     pub method: &'static str,

@@ -191,7 +191,9 @@ pub fn measured_data_dir() -> PathBuf {
 
 /// A file of the measured data: where it was read from (for messages) and its bytes.
 pub struct DataFile {
+    /// Where the file was read from: its path in the data directory, or `(built-in) NAME`.
     pub path: PathBuf,
+    /// The file's contents.
     pub bytes: Cow<'static, [u8]>,
 }
 

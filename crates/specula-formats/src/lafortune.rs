@@ -21,6 +21,7 @@ pub const TABLE: &str = "merl_fits_ngan2005_lafortune/merl_lafortune_ngan2005.cs
 /// One fitted Lafortune lobe.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lafortune {
+    /// The MERL material the fit is of.
     pub name: String,
     /// Diffuse albedo per channel.
     pub rho_d: Rgb,

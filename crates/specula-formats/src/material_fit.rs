@@ -108,6 +108,7 @@ fn logistic(t: f64) -> f64 {
 /// A fitted material and how well it matches its source.
 #[derive(Debug, Clone)]
 pub struct MaterialFit {
+    /// The analytic model that was fitted.
     pub model: FitModel,
     /// The fitted material (GGX, no scratch lobe), named after the source.
     pub material: Material,
@@ -123,8 +124,11 @@ pub struct MaterialFit {
 /// Why a fit failed.
 #[derive(Debug, thiserror::Error)]
 pub enum FitError {
+    /// The source has fewer measured cells (the count) within the elevation limit than the
+    /// fit needs.
     #[error("the source has only {0} measured cells within the elevation limit; at least 100 are needed")]
     TooFewCells(usize),
+    /// The optimiser stopped with an error (its message).
     #[error("the optimiser failed: {0}")]
     Optimiser(String),
 }

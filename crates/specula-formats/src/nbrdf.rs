@@ -34,7 +34,8 @@ pub enum NbrdfSet {
 }
 
 impl NbrdfSet {
-    pub const ALL: [NbrdfSet; 3] = [Self::Merl100, Self::RglIsotropic, Self::Nielsen2015];
+    /// Every set, in the order they are listed.
+    pub(crate) const ALL: [NbrdfSet; 3] = [Self::Merl100, Self::RglIsotropic, Self::Nielsen2015];
 
     /// The `model:` prefix naming this set in BRDF arguments.
     pub fn prefix(self) -> &'static str {

@@ -50,10 +50,12 @@ pub fn mitsuba_warning(material: &Material) -> Option<String> {
 /// Why a material cannot be written for a renderer.
 #[derive(Debug, thiserror::Error)]
 pub enum ExportError {
+    /// The material (named) has a scratch lobe, which no renderer's analytic material has.
     #[error(
         "material '{0}' has a scratch lobe, which none of the renderers' analytic materials has"
     )]
     Scratched(String),
+    /// The material (named) uses the Beckmann distribution; the renderer (named) is GGX only.
     #[error("material '{0}' uses the Beckmann distribution; {1} materials are GGX only")]
     NotGgx(String, &'static str),
 }

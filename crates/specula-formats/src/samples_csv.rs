@@ -177,6 +177,7 @@ impl SampleSet {
         Ok(())
     }
 
+    /// The samples, in file order.
     pub fn samples(&self) -> &[Sample] {
         &self.samples
     }

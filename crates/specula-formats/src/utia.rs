@@ -43,9 +43,13 @@ pub const NOT_MEASURED: f64 = -1.0;
 /// Indices of one node: `(theta_i, phi_i, theta_v, phi_v)`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Node {
+    /// Index of the incident elevation, `theta_i = 15 deg * theta_i`.
     pub theta_i: usize,
+    /// Index of the incident azimuth, `phi_i = 7.5 deg * phi_i`.
     pub phi_i: usize,
+    /// Index of the viewing elevation, `theta_v = 15 deg * theta_v`.
     pub theta_v: usize,
+    /// Index of the viewing azimuth, `phi_v = 7.5 deg * phi_v`.
     pub phi_v: usize,
 }
 
@@ -232,6 +236,7 @@ impl UtiaBrdf {
         (weight_sum > 0.0).then(|| sum / weight_sum)
     }
 
+    /// Renames the BRDF (the name reports and messages show).
     pub fn set_name(&mut self, name: impl Into<String>) {
         self.name = name.into();
     }

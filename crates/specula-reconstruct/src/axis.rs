@@ -6,14 +6,18 @@
 /// fraction `t`, or clamped to an end node (`outside`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bracket {
+    /// Index of the node at or below the target.
     pub lower: usize,
+    /// Fraction of the way from node `lower` to node `lower + 1`, in `[0, 1]`.
     pub t: f64,
+    /// Whether the target lies beyond the end nodes and was clamped.
     pub outside: bool,
 }
 
 /// The nodes of one axis, ascending, degrees.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Axis {
+    /// The node angles, deg, ascending.
     pub nodes: Vec<f64>,
 }
 
@@ -56,10 +60,12 @@ impl Axis {
         }
     }
 
+    /// Number of nodes.
     pub fn len(&self) -> usize {
         self.nodes.len()
     }
 
+    /// Whether the axis has no node.
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }

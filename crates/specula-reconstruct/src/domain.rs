@@ -16,8 +16,11 @@ pub const LOG_OFFSET: f64 = 1e-4;
 /// See the module documentation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Domain {
+    /// f itself (the paper's baseline, 5.3).
     Linear,
+    /// `ln(f + eps)`.
     Log,
+    /// `ln((f + eps) / (m + eps))`, the log ratio to a fitted microfacet lobe `m`.
     LobeResidual,
 }
 
@@ -41,7 +44,8 @@ impl Domain {
         f.max(0.0)
     }
 
-    pub fn uses_lobe(self) -> bool {
+    /// Whether the domain needs a fitted lobe (only `LobeResidual`).
+    pub(crate) fn uses_lobe(self) -> bool {
         self == Domain::LobeResidual
     }
 }

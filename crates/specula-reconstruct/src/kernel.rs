@@ -13,13 +13,16 @@ use crate::axis::Bracket;
 /// How values are interpolated between the nodes of one axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kernel {
+    /// Piecewise linear (the paper's baseline, 5.3).
     Linear,
+    /// Monotone piecewise cubic (Fritsch-Carlson / PCHIP).
     MonotoneCubic,
 }
 
 /// An axis' nodes with what the kernel needs to know about its ends.
 #[derive(Debug, Clone)]
 pub struct Line<'a> {
+    /// The node angles, deg, ascending.
     pub nodes: &'a [f64],
     /// Whether the first and the last node lie on a symmetry point (slope zero there).
     pub even_ends: [bool; 2],

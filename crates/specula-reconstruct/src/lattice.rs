@@ -32,10 +32,15 @@ pub enum NodeStatus {
 /// The tensor lattice of node values, one plane per channel, index `(h * nd + d) * np + p`.
 #[derive(Debug, Clone)]
 pub struct Lattice {
+    /// The theta_h axis, deg.
     pub theta_h: Axis,
+    /// The theta_d axis, deg.
     pub theta_d: Axis,
+    /// The folded phi_d axis, deg, in `[0, 90]`.
     pub phi_d: Axis,
+    /// Node values per channel in the method's value domain, index `(h * nd + d) * np + p`.
     pub values: [Vec<f64>; 3],
+    /// Where each node's value comes from, same index.
     pub status: Vec<NodeStatus>,
 }
 

@@ -44,10 +44,13 @@ use std::f64::consts::PI;
 /// The angles of one configuration the lobe needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Geometry {
+    /// cos theta_h, the half vector's angle from the normal.
     pub cos_theta_h: f64,
+    /// cos theta_d, the angle between the light and the half vector.
     pub cos_theta_d: f64,
-    /// cos of the light's and the camera's angle from the normal.
+    /// cos of the light's angle from the normal.
     pub cos_i: f64,
+    /// cos of the camera's angle from the normal.
     pub cos_o: f64,
 }
 
@@ -74,7 +77,8 @@ impl Geometry {
         }
     }
 
-    pub fn of(hd: HalfDiff) -> Self {
+    /// From half-difference angles (rad).
+    pub(crate) fn of(hd: HalfDiff) -> Self {
         let (sin_h, cos_h) = hd.theta_h.sin_cos();
         let (sin_d, cos_d) = hd.theta_d.sin_cos();
         Self::from_trig(sin_h, cos_h, sin_d, cos_d, hd.phi_d.cos())
@@ -134,6 +138,7 @@ impl Shape {
 /// A fitted lobe (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lobe {
+    /// The shape of the distribution of normals.
     pub shape: Shape,
     /// kd per channel.
     pub diffuse: Rgb,
@@ -232,7 +237,8 @@ pub struct LobeOnGrid {
 }
 
 impl LobeOnGrid {
-    pub fn new(lobe: Lobe) -> Self {
+    /// Tabulates the lobe's factors at every MERL bin centre.
+    pub(crate) fn new(lobe: Lobe) -> Self {
         let trig = |deg: f64| deg.to_radians().sin_cos();
         let theta_h = (0..THETA_H_BINS)
             .map(|i| {

@@ -7,7 +7,9 @@ use crate::kernel::Kernel;
 /// How samples become a full table (see [`crate::reconstruct`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Method {
+    /// The value domain the lattice is interpolated in.
     pub domain: Domain,
+    /// The interpolation kernel along each axis.
     pub kernel: Kernel,
 }
 
@@ -42,6 +44,7 @@ impl Method {
         ),
     ];
 
+    /// The method's name, as accepted by [`Method::from_str`].
     pub fn name(&self) -> &'static str {
         match *self {
             Method::LINEAR => "linear",

@@ -46,6 +46,7 @@ pub const NODES: usize = THETA_H_NODES * THETA_D_NODES * PHI_D_NODES;
 /// Why the prior cannot be built.
 #[derive(Debug, thiserror::Error)]
 pub enum PriorError {
+    /// No more training vectors (the first count) than components (the second).
     #[error("{0} training vectors: need more than the {1} components")]
     TooFewMaterials(usize, usize),
 }

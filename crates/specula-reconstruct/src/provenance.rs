@@ -22,9 +22,13 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[repr(u8)]
 pub enum CellOrigin {
+    /// A sample lies in the cell's bin (directly or through the phi_d symmetry).
     Measured = 0,
+    /// Interpolated from measured lattice nodes only.
     Interpolated = 1,
+    /// Beyond the lattice, or bracketed by an extrapolated node.
     Extrapolated = 2,
+    /// As `Extrapolated`, but taken from the data-driven prior and the lobe.
     Prior = 3,
 }
 
@@ -48,19 +52,29 @@ impl CellOrigin {
 /// The origin of every MERL cell, in cell order.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Provenance {
+    /// The origin of each cell, in MERL cell order.
     pub cells: Vec<CellOrigin>,
 }
 
 /// What is wrong with a provenance file.
 #[derive(Debug, thiserror::Error)]
 pub enum ProvenanceError {
+    /// The file could not be read or written.
     #[error("{path}: {source}")]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The I/O error.
         source: std::io::Error,
     },
+    /// The file's contents are not a provenance array.
     #[error("{path}: {problem}")]
-    Invalid { path: PathBuf, problem: NpyProblem },
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with its bytes.
+        problem: NpyProblem,
+    },
 }
 
 /// What is wrong with the bytes of a provenance `.npy` file.
@@ -212,6 +226,7 @@ impl Provenance {
         }
     }
 
+    /// Writes the provenance as a `.npy` file at `path`.
     pub fn write(&self, path: &Path) -> Result<(), ProvenanceError> {
         specula_core::atomic_file::write_bytes(path, &self.to_npy()).map_err(|source| {
             ProvenanceError::Io {
@@ -221,6 +236,7 @@ impl Provenance {
         })
     }
 
+    /// Reads a provenance `.npy` file.
     pub fn read(path: &Path) -> Result<Self, ProvenanceError> {
         let bytes = std::fs::read(path).map_err(|source| ProvenanceError::Io {
             path: path.to_path_buf(),

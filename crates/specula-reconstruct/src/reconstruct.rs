@@ -17,8 +17,10 @@ use specula_core::{HalfDiff, Rgb};
 /// Why samples cannot be reconstructed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ReconstructError {
+    /// There are no samples.
     #[error("no samples to reconstruct from")]
     NoSamples,
+    /// No sample has both light and camera above the surface, so no lobe can be fitted.
     #[error("no sample has both light and camera above the surface: cannot fit a lobe")]
     NoLobe,
 }
@@ -26,7 +28,9 @@ pub enum ReconstructError {
 /// A reconstructed table with what it was made from.
 #[derive(Debug, Clone)]
 pub struct Reconstruction {
+    /// The reconstructed table, f_r in 1/sr per MERL cell.
     pub brdf: MerlBrdf,
+    /// Where each cell's value comes from.
     pub provenance: Provenance,
     /// The fitted lobe of the `lobe` method.
     pub lobe: Option<Lobe>,
@@ -37,6 +41,7 @@ pub struct Reconstruction {
     pub lattice_shape: [usize; 3],
     /// Lattice nodes measured and extrapolated.
     pub measured_nodes: usize,
+    /// Lattice nodes filled by extrapolation.
     pub filled_nodes: usize,
 }
 

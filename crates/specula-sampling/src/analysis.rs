@@ -20,8 +20,12 @@ use std::path::Path;
 /// fitted k and the slice error (NaN where the column had too few measured cells).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaterialAnalysis {
+    /// The material's name.
     pub name: String,
+    /// `k[f][j]`: k-hat of family `Family::ALL[f]` fitted to column theta_d = j degrees
+    /// (paper eq. 3).
     pub k: [Vec<f64>; 3],
+    /// `error[f][j]`: the slice error of that fit, 1/sr (NaN where the column is not measured).
     pub error: [Vec<f64>; 3],
 }
 
@@ -86,6 +90,7 @@ fn fit_columns(
 pub struct DatabaseSummary {
     /// `mean[f][j]`: family `Family::ALL[f]`, column theta_d = j degrees, 1/sr.
     pub mean: [Vec<f64>; 3],
+    /// `median[f][j]`: the median over the materials, same layout, 1/sr.
     pub median: [Vec<f64>; 3],
     /// Materials that entered each figure (those with the column measured).
     pub materials: [Vec<usize>; 3],
@@ -94,13 +99,18 @@ pub struct DatabaseSummary {
 /// The best (family, column) pair: the lowest mean error.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BestPair {
+    /// The sampling-function family of the pair.
     pub family: Family,
+    /// The theta_d column of the pair, deg.
     pub theta_d_deg: usize,
+    /// Mean over the materials of the slice error, 1/sr.
     pub mean: f64,
+    /// Median over the materials of the slice error, 1/sr.
     pub median: f64,
 }
 
 impl DatabaseSummary {
+    /// The mean and median over `analyses` per family and column, skipping unmeasured (NaN) ones.
     pub fn of(analyses: &[MaterialAnalysis]) -> Self {
         let mut summary = Self {
             mean: Default::default(),

@@ -20,8 +20,10 @@ pub enum Interpolation {
 }
 
 impl Interpolation {
+    /// Both interpolations, linear first.
     pub const ALL: [Interpolation; 2] = [Interpolation::Linear, Interpolation::Log];
 
+    /// The interpolation's name in tables and file names.
     pub fn name(self) -> &'static str {
         match self {
             Interpolation::Linear => "linear",
@@ -50,14 +52,28 @@ pub struct Column {
 /// Why a column cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ColumnError {
+    /// The column has fewer than two samples (the count).
     #[error("a column needs at least 2 samples, got {0}")]
     TooShort(usize),
+    /// theta_h does not increase strictly between two consecutive samples.
     #[error("theta_h must increase strictly: {previous_deg} deg is followed by {next_deg} deg")]
-    NotIncreasing { previous_deg: f64, next_deg: f64 },
+    NotIncreasing {
+        /// The earlier position, deg.
+        previous_deg: f64,
+        /// The position after it, not larger, deg.
+        next_deg: f64,
+    },
+    /// A theta_h position (deg) lies outside `[0, 90]`.
     #[error("theta_h {0} deg is outside [0, 90]")]
     OutOfRange(f64),
+    /// A value is negative, infinite or NaN.
     #[error("the value {value} at theta_h {theta_h_deg} deg is not a finite non-negative number")]
-    BadValue { theta_h_deg: f64, value: f64 },
+    BadValue {
+        /// The position of the value, deg.
+        theta_h_deg: f64,
+        /// The value, 1/sr.
+        value: f64,
+    },
 }
 
 impl Column {
@@ -103,14 +119,17 @@ impl Column {
         Self::new(xs, ys).ok()
     }
 
+    /// The sample positions theta_h, deg, increasing.
     pub fn theta_h_deg(&self) -> &[f64] {
         &self.theta_h_deg
     }
 
+    /// The values at [`Column::theta_h_deg`], one per position.
     pub fn values(&self) -> &[f64] {
         &self.values
     }
 
+    /// Number of samples (at least two).
     pub fn len(&self) -> usize {
         self.values.len()
     }
@@ -303,6 +322,7 @@ impl Resampling {
         }
     }
 
+    /// The positions the columns are sampled at, deg.
     pub fn positions_deg(&self) -> &[f64] {
         &self.positions_deg
     }

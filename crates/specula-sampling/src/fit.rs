@@ -56,6 +56,7 @@ pub const K_RANGE: (f64, f64) = (0.02, 40.0);
 /// k-hat and its fit error.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KFit {
+    /// The sampling function with the fitted k-hat.
     pub function: SamplingFunction,
     /// The fit error at k-hat, 1/sr (DESIGN.md's definition).
     pub error: f64,
@@ -66,6 +67,7 @@ pub struct KFit {
 /// Why a fit is impossible.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FitError {
+    /// A sampling function has fewer than two samples (the count).
     #[error("need at least 2 samples per sampling function, got {0}")]
     TooFewSamples(usize),
     /// Every value of the column is 0: any k rebuilds it exactly, so k-hat would be made

@@ -31,14 +31,20 @@ use specula_core::sampling::{Family, SamplingFunction};
 /// A way to place the samples.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {
+    /// The square-root mapping of paper eq. 1.
     SquareRoot,
+    /// The paper's exponential mapping with k-hat fitted to the probe (eq. 3).
     PaperExponential,
+    /// Dynamic programming over the probe's own theta_h samples.
     ProbeSamples,
+    /// Dynamic programming on the probe's log-spline model (this project's placement).
     Ours,
+    /// Dynamic programming per column on the true slice (an oracle, for reference).
     Oracle,
 }
 
 impl Method {
+    /// Every method, in table order.
     pub const ALL: [Method; 5] = [
         Method::SquareRoot,
         Method::PaperExponential,
@@ -47,6 +53,7 @@ impl Method {
         Method::Oracle,
     ];
 
+    /// The method's description in tables and plots.
     pub fn label(self) -> &'static str {
         match self {
             Method::SquareRoot => "square root (eq. 1)",
@@ -77,9 +84,11 @@ pub fn evaluated_columns() -> impl Iterator<Item = usize> {
 /// One material's slice error per method, in [`Method::ALL`] order, 1/sr.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaterialPlacement {
+    /// The material's name.
     pub name: String,
     /// The paper's k-hat, fitted to the probe.
     pub k_hat: f64,
+    /// The slice error of each method, in [`Method::ALL`] order, 1/sr.
     pub error: [f64; 5],
     /// The mean value of the evaluated cells, 1/sr: the scale of the errors.
     pub mean_value: f64,
@@ -125,6 +134,7 @@ pub fn study_slice(
 /// One row of the comparison table.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MethodSummary {
+    /// The method of the row.
     pub method: Method,
     /// Mean over the materials of the slice error, 1/sr.
     pub mean_error: f64,

@@ -80,10 +80,12 @@ impl Probe {
         })
     }
 
+    /// The sample positions theta_h, deg, increasing.
     pub fn theta_h_deg(&self) -> &[f64] {
         &self.theta_h_deg
     }
 
+    /// The measured f_r per sample, 1/sr, in the order of [`Probe::theta_h_deg`].
     pub fn rgb(&self) -> &[Rgb] {
         &self.rgb
     }
@@ -97,6 +99,7 @@ impl Probe {
             .collect()
     }
 
+    /// Number of samples (at least two).
     pub fn len(&self) -> usize {
         self.rgb.len()
     }

@@ -69,10 +69,12 @@ impl CharacteristicSlice {
         Self::from_grid(brdf.name(), theta_h_deg, values)
     }
 
+    /// The name of the BRDF the slice was taken from.
     pub fn name(&self) -> &str {
         &self.name
     }
 
+    /// The theta_h nodes shared by every column, deg.
     pub fn theta_h_deg(&self) -> &[f64] {
         &self.theta_h_deg
     }

@@ -30,7 +30,9 @@ pub enum HdrMode {
     Predicted,
     /// The paper's way: every exposure at every light level (the device file's `[capture]`).
     Bracket {
+        /// Exposure times of the bracket, seconds.
         exposures_s: Vec<f64>,
+        /// Light levels of the bracket, fractions of full power.
         light_levels: Vec<f64>,
     },
 }
@@ -40,6 +42,7 @@ pub enum HdrMode {
 pub struct EngineSettings {
     /// Tries per sample before the run stops.
     pub max_attempts: u32,
+    /// How each sample's HDR captures are chosen.
     pub hdr: HdrMode,
 }
 
@@ -55,13 +58,19 @@ impl Default for EngineSettings {
 /// Why a stage stopped early.
 #[derive(Debug, thiserror::Error)]
 pub enum EngineError {
+    /// The journal could not be read or written.
     #[error(transparent)]
     Journal(#[from] JournalError),
+    /// The device failed on a sample as many times as the settings allow.
     #[error("{stage} sample {seq}: {error} (after {attempts} tries); the journal holds every sample before it: run the same command again to resume")]
     Device {
+        /// The stage being measured (e.g. `probe`, `main`).
         stage: String,
+        /// The failing sample's position in the stage's execution order.
         seq: u32,
+        /// Tries made on the sample.
         attempts: u32,
+        /// The device's error on the last try.
         error: InstrumentError,
     },
 }
@@ -80,6 +89,7 @@ pub struct StageOutcome {
 }
 
 impl StageOutcome {
+    /// True when every planned sample is in the journal (resumed or measured).
     pub fn complete(&self) -> bool {
         self.resumed + self.measured == self.planned
     }
@@ -88,7 +98,9 @@ impl StageOutcome {
 /// Progress after each sample, for a progress bar.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Progress {
+    /// Samples of the stage in the journal, resumed ones included.
     pub done: usize,
+    /// Samples in the stage's plan.
     pub planned: usize,
     /// Device time of this stage's finished samples, seconds.
     pub device_s_done: f64,
@@ -122,10 +134,15 @@ pub fn is_retryable(error: &InstrumentError) -> bool {
 
 /// Runs stages of a session on an instrument.
 pub struct Engine<'a> {
+    /// The device the samples are measured on.
     pub instrument: &'a mut dyn Instrument,
+    /// The session journal the plan is read from and the samples written to.
     pub journal: &'a mut Journal,
+    /// Takes the HDR captures and counts them.
     pub hdr: &'a mut HdrCapturer,
+    /// Turns merged raw rates into BRDF values, 1/sr.
     pub calibration: &'a Calibration,
+    /// Tries per sample and the HDR mode.
     pub settings: EngineSettings,
     /// Raised (by Ctrl-C) to stop after the sample in progress.
     pub stop: Arc<AtomicBool>,

@@ -18,6 +18,7 @@ pub struct NoiselessSimulator {
 }
 
 impl NoiselessSimulator {
+    /// Wraps `inner`, starting at its device's park position with the light at full power.
     pub fn new(inner: Simulator) -> Self {
         let commanded = inner.device().park_axes();
         Self {
@@ -27,6 +28,7 @@ impl NoiselessSimulator {
         }
     }
 
+    /// The wrapped simulator.
     pub fn simulator(&self) -> &Simulator {
         &self.inner
     }

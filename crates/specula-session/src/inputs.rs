@@ -28,7 +28,9 @@ pub struct InputHashes {
 /// Who the device is: what it says in `hello` (`None` for an in-process device) and `info`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DeviceIdentity {
+    /// The server's name from `hello`; `None` for an in-process device.
     pub server: Option<String>,
+    /// The device's `info` reply.
     pub info: InstrumentInfo,
 }
 
@@ -43,10 +45,17 @@ impl Record for DeviceIdentity {
 /// Why a session cannot go on with these inputs.
 #[derive(Debug, thiserror::Error)]
 pub enum InputsError {
+    /// The journal could not be read or written.
     #[error(transparent)]
     Journal(#[from] JournalError),
+    /// An input's content differs from the one the session was measured from.
     #[error("{path}: this session was measured from other inputs: {changes}; give the same inputs or use another --session")]
-    Changed { path: String, changes: String },
+    Changed {
+        /// The session journal.
+        path: String,
+        /// Which inputs differ from the ones the session was started with.
+        changes: String,
+    },
 }
 
 /// SHA-256 of bytes, hex.

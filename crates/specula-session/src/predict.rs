@@ -84,6 +84,7 @@ pub fn cos_theta_i(row: &PlannedRow) -> f64 {
 }
 
 impl Predictor {
+    /// A predictor from the calibration and, once the probe is fitted, its model.
     pub fn new(calibration: Calibration, model: Option<ProbeModel>) -> Self {
         Self { calibration, model }
     }

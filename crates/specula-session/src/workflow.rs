@@ -68,14 +68,18 @@ use std::sync::Arc;
 pub enum Source {
     /// The simulated device with a ground-truth BRDF.
     Simulated {
+        /// The BRDF the simulated device measures.
         truth: Arc<dyn Brdf>,
         /// Runs the simulated clock in real time divided by this (rehearsals, tests).
         speedup: Option<f64>,
     },
     /// A device behind the driver protocol, with its calibration.
     Remote {
+        /// Where the device's driver listens.
         endpoint: Endpoint,
+        /// How the connection waits, retries and authenticates, and the ranges replies must lie in.
         client: ClientSettings,
+        /// The device's calibration (`specula calibrate`).
         calibration: Box<Calibration>,
     },
 }
@@ -147,7 +151,9 @@ pub trait Observer {
     fn step(&mut self, message: &str);
     /// A stage of samples starts, `done` of `planned` already in the journal.
     fn stage_started(&mut self, stage: &str, planned: usize, done: usize);
+    /// A sample of the current stage is in the journal.
     fn sample(&mut self, progress: &Progress);
+    /// The current stage ends, complete or stopped.
     fn stage_finished(&mut self, stage: &str, outcome: &StageOutcome);
 }
 
@@ -164,17 +170,29 @@ impl Observer for Quiet {
 /// What a finished measurement reports (the summary file, `key=value` lines).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Summary {
+    /// What was measured: the simulated truth's name or the device's model and serial.
     pub source: String,
+    /// The session journal.
     pub session: PathBuf,
+    /// The reconstructed BRDF table written.
     pub out: PathBuf,
+    /// The fitted k of the theta_h sampling function (paper 5.2).
     pub k_hat: f64,
+    /// The fit error of k (DESIGN.md, "Fitting k"), 1/sr.
     pub fit_error: f64,
+    /// The sampling function's family (paper 5.1).
     pub family: Family,
+    /// The alignment and orientation checks' results, when they ran.
     pub checks: Option<ChecksRecord>,
+    /// The main plan's counts.
     pub plan: PlanRecord,
+    /// Probe samples measured (paper 5.2).
     pub probe_samples: usize,
+    /// Main samples measured.
     pub measured_samples: usize,
+    /// Raw captures of the main measurement.
     pub captures: usize,
+    /// Main samples that are only lower bounds (saturated in every capture).
     pub lower_bounds: usize,
     /// Device time of checks, probe and main measurement, seconds.
     pub device_s: f64,
@@ -182,6 +200,7 @@ pub struct Summary {
     pub main_device_s: f64,
     /// True when the device time is a simulated clock.
     pub simulated: bool,
+    /// The reconstruction method.
     pub method: Method,
     /// The instrument's response the reconstruction went through, if any.
     pub deblur: Option<DeblurRecord>,
@@ -318,11 +337,15 @@ impl DeblurRecord {
 /// How a call to [`measure`] ended.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeasureOutcome {
+    /// Every stage finished and the table was written.
     Complete(Box<Summary>),
     /// Stopped by the stop flag; the same call resumes.
     Stopped {
+        /// The stage that was running.
         stage: String,
+        /// Its samples in the journal.
         done: usize,
+        /// Samples in its plan.
         planned: usize,
     },
 }

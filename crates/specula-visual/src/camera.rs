@@ -9,12 +9,15 @@ use glam::DVec3;
 /// A ray `origin + t dir`, `dir` of unit length.
 #[derive(Debug, Clone, Copy)]
 pub struct Ray {
+    /// The ray's start, world frame.
     pub origin: DVec3,
+    /// The ray's direction, unit length, world frame.
     pub dir: DVec3,
 }
 
 impl Ray {
-    pub fn at(&self, t: f64) -> DVec3 {
+    /// The point at distance `t` along the ray, in scene units.
+    pub(crate) fn at(&self, t: f64) -> DVec3 {
         self.origin + t * self.dir
     }
 }
@@ -73,10 +76,12 @@ impl Camera {
         )
     }
 
+    /// Image width, pixels.
     pub fn width(&self) -> usize {
         self.width
     }
 
+    /// Image height, pixels.
     pub fn height(&self) -> usize {
         self.height
     }

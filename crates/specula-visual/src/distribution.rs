@@ -107,10 +107,12 @@ impl Distribution1D {
         }
     }
 
+    /// Number of cells.
     pub fn len(&self) -> usize {
         self.guide.len()
     }
 
+    /// Whether the distribution has no cell.
     pub fn is_empty(&self) -> bool {
         self.guide.is_empty()
     }

@@ -149,6 +149,7 @@ impl Environment {
         Self::from_file(path)
     }
 
+    /// The environment's name: `studio`, `constant`, or the file's stem.
     pub fn name(&self) -> &str {
         &self.name
     }
@@ -225,6 +226,7 @@ impl Environment {
 /// A direction drawn from an environment.
 #[derive(Debug, Clone, Copy)]
 pub struct EnvironmentSample {
+    /// The drawn direction, unit length, world frame.
     pub dir: DVec3,
     /// Density per steradian.
     pub pdf: f64,

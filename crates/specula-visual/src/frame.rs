@@ -6,8 +6,11 @@ use glam::DVec3;
 /// An orthonormal frame `(tangent, bitangent, normal)`.
 #[derive(Debug, Clone, Copy)]
 pub struct Frame {
+    /// The tangent, fixing the azimuth phi = 0.
     pub tangent: DVec3,
+    /// `normal x tangent`, completing the right-handed frame.
     pub bitangent: DVec3,
+    /// The surface normal, the frame's z axis.
     pub normal: DVec3,
 }
 

@@ -17,7 +17,9 @@ const MAX_COLUMNS: usize = 4;
 /// One labelled picture of a grid.
 #[derive(Debug, Clone)]
 pub struct Tile {
+    /// The caption drawn with the picture.
     pub label: String,
+    /// The picture.
     pub image: RgbImage,
 }
 

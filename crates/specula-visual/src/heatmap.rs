@@ -14,6 +14,7 @@ use std::path::Path;
 /// What to draw.
 #[derive(Debug, Clone)]
 pub struct Heatmap {
+    /// The title above the map.
     pub title: String,
     /// Caption of the x axis.
     pub x_label: String,

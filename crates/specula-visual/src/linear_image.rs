@@ -10,7 +10,9 @@ use std::path::Path;
 /// A width x height grid of linear RGB values, row by row from the top.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearImage {
+    /// Width, pixels.
     pub width: usize,
+    /// Height, pixels.
     pub height: usize,
     /// `width * height` pixels, row-major, top row first.
     pub pixels: Vec<DVec3>,
@@ -52,6 +54,7 @@ impl LinearImage {
         }
     }
 
+    /// The pixel at column `x`, row `y` from the top.
     pub fn get(&self, x: usize, y: usize) -> DVec3 {
         self.pixels[y * self.width + x]
     }

@@ -26,7 +26,9 @@ const SPECULAR_PROBABILITY_RANGE: (f64, f64) = (0.1, 0.99);
 /// A GGX lobe of roughness `alpha` chosen with `specular_probability`, else a cosine lobe.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProxyLobe {
+    /// GGX roughness of the specular part.
     pub alpha: f64,
+    /// Probability of sampling the GGX part rather than the cosine part.
     pub specular_probability: f64,
 }
 

@@ -45,7 +45,12 @@ use std::sync::Arc;
 #[derive(Debug, Clone)]
 pub enum Lighting {
     /// An isotropic point light: `intensity` in W/sr (per RGB channel) at `position`.
-    Point { position: DVec3, intensity: DVec3 },
+    Point {
+        /// Where the light is, world frame.
+        position: DVec3,
+        /// Radiant intensity per channel, W/sr.
+        intensity: DVec3,
+    },
     /// Light from every direction; also the backdrop.
     Environment(Arc<Environment>),
 }
@@ -64,11 +69,14 @@ impl Lighting {
 /// What to render and how.
 #[derive(Debug, Clone)]
 pub struct Scene {
+    /// The object rendered.
     pub shape: Shape,
+    /// The light on it.
     pub lighting: Lighting,
 }
 
 impl Scene {
+    /// A scene of the object `shape` under `lighting`.
     pub fn new(shape: ShapeKind, lighting: Lighting) -> Self {
         Self {
             shape: Shape::new(shape),
@@ -80,7 +88,9 @@ impl Scene {
 /// Image size and sampling.
 #[derive(Debug, Clone, Copy)]
 pub struct RenderSettings {
+    /// Image width, pixels.
     pub width: usize,
+    /// Image height, pixels.
     pub height: usize,
     /// Camera rays per pixel.
     pub samples_per_pixel: usize,

@@ -16,6 +16,7 @@ use std::path::Path;
 /// What the material is.
 #[derive(Debug, Clone, Default)]
 pub struct MaterialSection {
+    /// The material's name.
     pub name: String,
     /// Where it was read from (a path, a preset name).
     pub source: String,
@@ -28,6 +29,7 @@ pub struct MaterialSection {
 pub struct KHatSection {
     /// The sampling function's family (the paper's is exponential).
     pub family: String,
+    /// k-hat, the fitted k of the sampling function (paper eq. 3).
     pub k: f64,
     /// The fit error at k-hat, 1/sr.
     pub fit_error: f64,
@@ -59,6 +61,7 @@ pub struct DurationSection {
 pub struct ErrorSection {
     /// The truth compared against.
     pub truth: String,
+    /// The error figures, one row per set of cells.
     pub rows: Vec<ErrorRow>,
 }
 
@@ -67,8 +70,11 @@ pub struct ErrorSection {
 pub struct ErrorRow {
     /// Which cells, e.g. "all" or "light and camera within 75 deg".
     pub set: String,
+    /// Number of cells in the set.
     pub cells: usize,
+    /// Cosine-weighted relative RMSE (`specula_core::compare`).
     pub relative_rmse: f64,
+    /// RMSE of `ln(1 + f cos theta_i)` (`specula_core::compare`).
     pub log_rmse: f64,
     /// The paper's figure: mean |a - b| on the characteristic slice, 1/sr.
     pub slice_mae: f64,
@@ -78,8 +84,11 @@ pub struct ErrorRow {
 /// `specula-appearance`), with notes below it.
 #[derive(Debug, Clone, Default)]
 pub struct TableSection {
+    /// The table's title.
     pub title: String,
+    /// Column headings.
     pub header: Vec<String>,
+    /// The rows, one cell per column.
     pub rows: Vec<Vec<String>>,
     /// Paragraphs under the table (definitions, warnings).
     pub notes: Vec<String>,
@@ -88,7 +97,9 @@ pub struct TableSection {
 /// A picture with its title and caption.
 #[derive(Debug, Clone)]
 pub struct Figure {
+    /// The figure's title.
     pub title: String,
+    /// The caption below the figure.
     pub caption: String,
     /// PNG file bytes.
     pub png: Vec<u8>,
@@ -112,16 +123,23 @@ impl Figure {
 /// The whole report; every section is optional.
 #[derive(Debug, Clone, Default)]
 pub struct Report {
+    /// The report's title.
     pub title: String,
     /// Who made it, e.g. "specula 0.1.0".
     pub generator: String,
+    /// What the material is.
     pub material: Option<MaterialSection>,
+    /// k-hat of the adaptive theta_h sampling (paper 5.2).
     pub k_hat: Option<KHatSection>,
+    /// How much was measured.
     pub coverage: Option<CoverageSection>,
+    /// How long the measurement took.
     pub duration: Option<DurationSection>,
+    /// Error figures against a known truth.
     pub errors: Option<ErrorSection>,
     /// Further tables, each its own section after the error figures.
     pub tables: Vec<TableSection>,
+    /// The pictures, in order.
     pub figures: Vec<Figure>,
     /// Free remarks, one paragraph each.
     pub notes: Vec<String>,

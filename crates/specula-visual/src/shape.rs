@@ -13,7 +13,9 @@ const SHADOW_BIAS: f64 = 1e-4;
 /// Which object to render.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ShapeKind {
+    /// The unit sphere at the origin.
     Sphere,
+    /// The speedshape, a curved teardrop like paint makers' test objects (paper Fig. 1).
     Speedshape,
 }
 
@@ -35,11 +37,13 @@ impl std::str::FromStr for ShapeKind {
 pub enum Shape {
     /// The unit sphere at the origin.
     Sphere,
+    /// The speedshape (see [`crate::speedshape`]).
     Speedshape(Speedshape),
 }
 
 impl Shape {
-    pub fn new(kind: ShapeKind) -> Self {
+    /// The object of `kind` in its standard placement.
+    pub(crate) fn new(kind: ShapeKind) -> Self {
         match kind {
             ShapeKind::Sphere => Shape::Sphere,
             ShapeKind::Speedshape => Shape::Speedshape(Speedshape::standard()),

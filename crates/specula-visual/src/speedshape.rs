@@ -104,7 +104,8 @@ impl Speedshape {
         None
     }
 
-    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+    /// The ray's first intersection with the speedshape, if any.
+    pub(crate) fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let t = self.trace(ray)?;
         let position = ray.at(t);
         let normal = self.normal(position);

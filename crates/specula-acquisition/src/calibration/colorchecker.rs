@@ -17,7 +17,9 @@ use glam::{DMat3, DVec3};
 /// One patch: its name and published L*a*b* (D50).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Patch {
+    /// The patch's name, e.g. `dark skin`.
     pub name: &'static str,
+    /// Published CIE L*a*b* under D50: L* in [0, 100], then a* and b*.
     pub lab_d50: [f64; 3],
 }
 

@@ -36,9 +36,11 @@ pub struct AlignmentSettings {
     pub rotations: usize,
     /// Half-width of the coarse scan around the mirror angle, and its step, degrees.
     pub coarse_half_width_deg: f64,
+    /// Step of the coarse scan of the camera angle, degrees.
     pub coarse_step_deg: f64,
     /// Half-width of the fine scans around each half-maximum crossing, and their step.
     pub fine_half_width_deg: f64,
+    /// Step of the fine scans of the camera angle, degrees.
     pub fine_step_deg: f64,
 }
 
@@ -58,6 +60,7 @@ impl Default for AlignmentSettings {
 /// The highlight at one turntable rotation.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct HighlightPeak {
+    /// The turntable rotation the highlight was scanned at, degrees.
     pub turntable_deg: f64,
     /// Midpoint of the half-maximum crossings, camera angle, degrees.
     pub camera_deg: f64,
@@ -81,7 +84,9 @@ pub struct TiltFit {
 /// The result of the alignment check.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct AlignmentReport {
+    /// The highlight found at each turntable rotation, in scan order.
     pub peaks: Vec<HighlightPeak>,
+    /// The tilt fitted to the peaks' camera angles ([`fit_tilt`]).
     pub fit: TiltFit,
     /// HDR measurements taken.
     pub measurements: usize,

@@ -48,6 +48,8 @@ impl Default for FlareSettings {
 /// The judgement of one capture.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct FlareVerdict {
+    /// True when the block's shift is both significant (over `threshold_sigma`) and large
+    /// (over `min_chroma_shift`): the capture shows flare.
     pub flagged: bool,
     /// The largest chromaticity difference of a block from the region's median.
     pub chroma_shift: f64,
@@ -150,12 +152,18 @@ pub fn judge(
 pub enum FlareOutcome {
     /// Measured without flare at `axes`, after `retakes` flagged positions.
     Clean {
+        /// The merged HDR value of the clean capture.
         value: HdrValue,
+        /// The position it was measured at.
         axes: AxisPositions,
+        /// Positions tried before it and flagged for flare.
         retakes: usize,
     },
     /// Every free position was flagged.
-    Excluded { positions: usize },
+    Excluded {
+        /// The free positions tried, all flagged.
+        positions: usize,
+    },
 }
 
 /// Measures a sample at the first of `positions` whose capture shows no flare (see the

@@ -24,6 +24,7 @@ use glam::DVec3;
 /// Why a check could not finish.
 #[derive(Debug, thiserror::Error)]
 pub enum CheckError {
+    /// The instrument failed during the check's measurements.
     #[error("device: {0}")]
     Instrument(#[from] InstrumentError),
     /// The scan did not find what it looks for (e.g. no highlight within its range).

@@ -25,7 +25,9 @@ use specula_core::HalfDiff;
 pub struct OrientationSettings {
     /// The rings' theta_h, degrees: just off the highlight.
     pub theta_h_deg: Vec<f64>,
+    /// The rings' theta_d, degrees.
     pub theta_d_deg: f64,
+    /// The rings' phi_d, degrees.
     pub phi_d_deg: f64,
     /// Step of phi_h over [0, 180), degrees.
     pub phi_h_step_deg: f64,
@@ -57,6 +59,7 @@ pub struct OrientationReport {
     pub excess: Vec<f64>,
     /// The excess above which a phi_h counts as contaminated.
     pub threshold: f64,
+    /// For each phi_h, whether its excess is above `threshold`.
     pub contaminated: Vec<bool>,
     /// True when some phi_h is contaminated.
     pub anisotropic: bool,
@@ -65,6 +68,7 @@ pub struct OrientationReport {
     pub recommended_phi_h_deg: f64,
     /// The plan's phi_h and whether it and its neighbours are clean.
     pub planned_phi_h_deg: f64,
+    /// True when the planned phi_h and its neighbours on the ring are all clean.
     pub planned_is_clean: bool,
     /// HDR measurements taken.
     pub measurements: usize,

@@ -44,6 +44,7 @@ use std::collections::HashMap;
 pub struct SimulatorConfig {
     /// Picks the device's positioning errors and the noise of every capture.
     pub seed: u64,
+    /// The sensor: its noise and colour filters.
     pub camera: CameraModel,
     /// Light levels offered for HDR, fractions of full power, highest first. `set_light`
     /// accepts any level in `[0, 1]`; 0 is off (dark frames).
@@ -55,6 +56,7 @@ pub struct SimulatorConfig {
     /// Quadrature nodes of the response per capture: enough to integrate a mirror
     /// (alpha 0.001) over the disk smoothly.
     pub response_nodes: usize,
+    /// The repeatable positioning error of the axes.
     pub positioning: PositioningError,
     /// The lens flare, if any.
     pub flare: Option<LensFlare>,
@@ -126,14 +128,17 @@ impl Simulator {
         self.repeats.clear();
     }
 
+    /// The sample on the turntable.
     pub fn sample(&self) -> &MountedSample {
         &self.sample
     }
 
+    /// The device file the simulator was made from.
     pub fn device(&self) -> &Device {
         &self.device
     }
 
+    /// Everything else about the simulated device.
     pub fn config(&self) -> &SimulatorConfig {
         &self.config
     }

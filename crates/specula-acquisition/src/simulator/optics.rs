@@ -29,10 +29,12 @@ pub struct LensFlare {
     /// The band of off-axis angles of the light, seen from the camera, that make a ghost in
     /// the region, degrees.
     pub min_off_axis_deg: f64,
+    /// Upper end of that band, degrees.
     pub max_off_axis_deg: f64,
     /// Centre and half-width of the band of the light's azimuths about the optical axis that
     /// put the ghost in the region, degrees.
     pub azimuth_deg: f64,
+    /// Half-width of that band of azimuths, degrees.
     pub half_arc_deg: f64,
 }
 
@@ -55,6 +57,7 @@ impl Default for LensFlare {
 pub struct Ghost {
     /// Centre, pixels from the region's top-left corner (x right, y down).
     pub centre_px: DVec2,
+    /// Radius, pixels.
     pub radius_px: f64,
     /// Radiance factor added to the ghost's pixels (light level included), 1/sr.
     pub radiance: DVec3,

@@ -39,6 +39,7 @@ pub struct Tilt {
 }
 
 impl Tilt {
+    /// A tilt of `tilt_deg` towards azimuth `azimuth_deg`, degrees.
     pub fn new(tilt_deg: f64, azimuth_deg: f64) -> Self {
         Self {
             tilt_deg,
@@ -69,11 +70,14 @@ impl Tilt {
 pub struct MountedSample {
     /// A name that keys the sample's noise (two targets never share their noise).
     pub name: String,
+    /// The sample's BRDF, in its own frame.
     pub brdf: Arc<dyn Brdf>,
+    /// How the sample is misaligned on the turntable.
     pub tilt: Tilt,
 }
 
 impl MountedSample {
+    /// A sample named `name` with BRDF `brdf`, mounted with `tilt`.
     pub fn new(name: impl Into<String>, brdf: Arc<dyn Brdf>, tilt: Tilt) -> Self {
         Self {
             name: name.into(),

@@ -20,11 +20,17 @@ use std::f64::consts::PI;
 /// One material's ABC fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Abc {
+    /// The MERL material the fit is of, as in the `abc:NAME` argument.
     pub name: String,
+    /// Diffuse coefficient `kD` per channel (f_r contributes `kD / pi`, 1/sr).
     pub k_d: Rgb,
+    /// Scale `A` of the distribution `D` per channel.
     pub a: Rgb,
+    /// Width `B` of the distribution, the coefficient of `1 - cos theta_h` (non-negative).
     pub b: f64,
+    /// Falloff exponent `C` of the distribution `D = A / (1 + B (1 - cos theta_h))^C`.
     pub c: f64,
+    /// Real index of refraction of the Fresnel term (positive).
     pub ior: f64,
 }
 

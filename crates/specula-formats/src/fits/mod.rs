@@ -33,7 +33,8 @@ impl FitModel {
         }
     }
 
-    pub fn prefix(self) -> &'static str {
+    /// The `model:` prefix naming this model in BRDF arguments.
+    pub(crate) fn prefix(self) -> &'static str {
         match self {
             FitModel::Sgd => "sgd",
             FitModel::Abc => "abc",

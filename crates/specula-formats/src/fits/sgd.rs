@@ -22,17 +22,29 @@ use std::f64::consts::PI;
 /// One material's SGD fit; every parameter per channel (x red, y green, z blue).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sgd {
+    /// The MERL material the fit is of, as in the `sgd:NAME` argument.
     pub name: String,
+    /// Diffuse albedo `rhoD` (f_r contributes `rhoD / pi`, 1/sr).
     pub rho_d: Rgb,
+    /// Specular albedo `rhoS`, the weight of the microfacet term.
     pub rho_s: Rgb,
+    /// Roughness `alpha` of the shifted-gamma distribution (positive).
     pub alpha: Rgb,
+    /// Exponent `p` of `ax` in the shifted-gamma distribution `D`.
     pub p: Rgb,
+    /// Constant `f0` of the fitted Fresnel term `F = f0 - cd f1 + (1 - cd)^5 (1 - f0)`.
     pub f0: Rgb,
+    /// Linear coefficient `f1` of `cos theta_d` in the fitted Fresnel term.
     pub f1: Rgb,
+    /// Normalisation `kap` of the shifted-gamma distribution `D`.
     pub kap: Rgb,
+    /// Strength `lambda` of the shadowing term `G1`.
     pub lambda: Rgb,
+    /// Rate `c` in the exponential of the shadowing term `G1`.
     pub c: Rgb,
+    /// Exponent `k` of the elevation excess in the shadowing term `G1`.
     pub k: Rgb,
+    /// Elevation `theta0` in rad above which the shadowing term `G1` falls below one.
     pub theta0: Rgb,
 }
 

@@ -97,20 +97,37 @@ impl Default for RglResolution {
 /// Why a BRDF cannot be written as an RGL file.
 #[derive(Debug, thiserror::Error)]
 pub enum RglWriteError {
+    /// A requested table size is outside the range the format allows.
     #[error("{what} = {value} is out of range (allowed {min} to {max})")]
     Resolution {
+        /// Which table size.
         what: &'static str,
+        /// The size requested.
         value: usize,
+        /// The smallest size allowed.
         min: usize,
+        /// The largest size allowed.
         max: usize,
     },
+    /// The retro-reflection is zero or not measured at some elevation, so no microfacet
+    /// distribution can be derived from it.
     #[error("{brdf}: the retro-reflection is zero or not measured at every elevation, so no microfacet distribution can be derived from it")]
-    NoRetroReflection { brdf: String },
+    NoRetroReflection {
+        /// The BRDF's name.
+        brdf: String,
+    },
+    /// No direction pair of the RGL sample grid is measured.
     #[error("{brdf}: no direction pair of the RGL sample grid is measured")]
-    NothingMeasured { brdf: String },
+    NothingMeasured {
+        /// The BRDF's name.
+        brdf: String,
+    },
+    /// The file could not be written.
     #[error("{}: cannot write: {source}", path.display())]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The I/O error.
         source: std::io::Error,
     },
 }

@@ -129,47 +129,93 @@ pub enum JournalError {
     /// them again (as `MerlError` in specula-core).
     #[error("{path}: {cause}")]
     Sqlite {
+        /// The journal file.
         path: String,
+        /// SQLite's error.
         cause: rusqlite::Error,
     },
+    /// The journal was written with another schema version.
     #[error("{path}: journal schema version {found}, this specula reads version {expected}")]
     Version {
+        /// The journal file.
         path: String,
+        /// The schema version in the file.
         found: i64,
+        /// The schema version this build reads.
         expected: i64,
     },
+    /// Another process holds the journal's lock.
     #[error("{path}: another specula process is writing this session (lock file {lock})")]
-    Locked { path: String, lock: String },
+    Locked {
+        /// The journal file.
+        path: String,
+        /// The lock file held by the other process.
+        lock: String,
+    },
+    /// The lock file could not be created.
     #[error("{path}: cannot create the lock file: {cause}")]
-    Lock { path: String, cause: std::io::Error },
+    Lock {
+        /// The journal file.
+        path: String,
+        /// The I/O error.
+        cause: std::io::Error,
+    },
+    /// The file is an SQLite database without a Specula schema version.
     #[error("{path}: not a specula session journal (no schema version)")]
-    NotAJournal { path: String },
+    NotAJournal {
+        /// The file.
+        path: String,
+    },
+    /// A meta record holds JSON that does not parse as its type.
     #[error("{path}: meta '{key}' holds unreadable JSON: {cause}")]
     Json {
+        /// The journal file.
         path: String,
+        /// The record's key in the meta table.
         key: String,
+        /// serde_json's error.
         cause: serde_json::Error,
     },
+    /// The stage's plan in the journal is not the one asked for.
     #[error("{path}: the {stage} plan in the journal differs from the one asked for ({problem}); use a new --session file for a different measurement")]
     PlanMismatch {
+        /// The journal file.
         path: String,
+        /// The stage.
         stage: String,
+        /// The first difference found.
         problem: String,
     },
+    /// A sample was written twice.
     #[error("{path}: sample {seq} of stage {stage} is already measured")]
     Duplicate {
+        /// The journal file.
         path: String,
+        /// The sample's stage.
         stage: String,
+        /// The sample's position in the stage's execution order.
         seq: u32,
     },
+    /// The journal's integrity check failed.
     #[error("{path}: the journal is damaged ({problem}); it was changed outside specula or its disk failed: restore it from a copy or measure into a new --session")]
-    Damaged { path: String, problem: Damage },
+    Damaged {
+        /// The journal file.
+        path: String,
+        /// What the integrity check found.
+        problem: Damage,
+    },
+    /// A sample to be written holds a NaN or an infinity.
     #[error("{path}: {stage} sample {seq}: {field} is {value:e}, not a finite number; nothing was written")]
     NotFinite {
+        /// The journal file.
         path: String,
+        /// The sample's stage.
         stage: String,
+        /// The sample's position in the stage's execution order.
         seq: u32,
+        /// The field that is not finite.
         field: &'static str,
+        /// Its value.
         value: f64,
     },
 }
@@ -199,10 +245,15 @@ pub struct PlannedRow {
 /// One raw capture of a sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CaptureRecord {
+    /// Exposure time, seconds.
     pub exposure_s: f64,
+    /// Light level, fraction of full power.
     pub light_level: f64,
+    /// Mean raw value per channel (R, G, B) over the region, black level included, DN.
     pub mean_raw: [f64; 3],
+    /// Fraction of the region's pixels at the white level, per channel.
     pub saturated_fraction: [f64; 3],
+    /// Number of pixels in the region.
     pub pixel_count: u32,
     /// Whether the HDR merge used it (not saturated, above the noise).
     pub used: bool,
@@ -213,7 +264,9 @@ pub struct CaptureRecord {
 /// A finished sample with its captures.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SampleRecord {
+    /// The stage the sample belongs to (e.g. `probe`, `main`).
     pub stage: String,
+    /// Position in the stage's execution order, from 0.
     pub seq: u32,
     /// The calibrated BRDF value, 1/sr per channel.
     pub value: Rgb,
@@ -230,9 +283,11 @@ pub struct SampleRecord {
     pub device_s: f64,
     /// Wall-clock time the step took here, seconds.
     pub wall_s: f64,
+    /// When the sample was written, seconds since the Unix epoch.
     pub finished_unix_s: f64,
     /// How many tries the sample needed (1 when nothing failed).
     pub attempts: u32,
+    /// The sample's raw captures, in the order they were taken.
     pub captures: Vec<CaptureRecord>,
 }
 
@@ -304,8 +359,11 @@ impl SampleRecord {
 /// Progress of one stage.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StageStatus {
+    /// The stage's name.
     pub stage: String,
+    /// Samples in the stage's plan.
     pub planned: usize,
+    /// Samples of the stage in the journal.
     pub done: usize,
     /// Device time of the finished samples, seconds.
     pub device_s_done: f64,
@@ -315,6 +373,7 @@ pub struct StageStatus {
     pub predicted_s_done: f64,
     /// Wall-clock time of the finished samples, seconds.
     pub wall_s_done: f64,
+    /// Raw captures of the finished samples.
     pub captures: usize,
 }
 
@@ -344,7 +403,9 @@ pub fn device_s_left(predicted_s_left: f64, device_s_done: f64, predicted_s_done
 /// What `specula session status` shows.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SessionStatus {
+    /// The journal's schema version.
     pub schema_version: i64,
+    /// Progress of each stage in the journal.
     pub stages: Vec<StageStatus>,
     /// Events by kind (fault, retry, reconnect, interrupted, resumed, ...).
     pub events: BTreeMap<String, usize>,
@@ -413,7 +474,7 @@ impl Journal {
         }
     }
 
-    pub fn path(&self) -> &Path {
+    pub(crate) fn path(&self) -> &Path {
         &self.path
     }
 

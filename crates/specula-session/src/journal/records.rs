@@ -214,6 +214,7 @@ impl std::fmt::Display for HdrChoice {
 /// What a measurement is; kept in the journal, and a resumed session must ask the same.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MeasureSettings {
+    /// Seed of the simulated device's positioning errors and noise.
     pub seed: u64,
     /// Noise-free camera, exact positioning, exact calibration (simulated devices only).
     pub ideal: bool,
@@ -222,13 +223,19 @@ pub struct MeasureSettings {
     pub point_light: bool,
     /// Probe samples along theta_h (square-root placement, paper 5.2; [`ProbeSpec`]).
     pub probe_samples: usize,
+    /// The theta_h sampling function's family (paper 5.1).
     pub family: Family,
     /// The grid's numbers ([`GridSpec`], [`MeasureSettings::grid`]), kept flat in the journal.
     pub theta_h_samples: usize,
+    /// Step of theta_d over [0, 90] degrees, degrees.
     pub theta_d_step_deg: f64,
+    /// Step of phi_d over [0, 90] degrees, degrees (paper 5.3).
     pub phi_d_step_deg: f64,
+    /// The phi_h the plan uses unless the orientation check picks another, degrees.
     pub phi_h_deg: f64,
+    /// The order the main plan's samples are taken in.
     pub order: PlanOrder,
+    /// How each sample's HDR captures are chosen.
     pub hdr: HdrChoice,
     /// The reconstruction method (kept by its name: lobe, log, linear).
     #[serde(with = "method_name")]
@@ -241,6 +248,7 @@ pub struct MeasureSettings {
     pub checks: bool,
     /// The simulated sample's tilt on the turntable, degrees, and its azimuth.
     pub tilt_deg: f64,
+    /// The simulated sample's tilt azimuth in the turntable frame, degrees.
     pub tilt_azimuth_deg: f64,
 }
 
@@ -298,10 +306,13 @@ fn deblur_by_default() -> bool {
 /// The checks' results as the journal keeps them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ChecksRecord {
+    /// The tilt the alignment check fitted, degrees; `None` when it failed or was not run.
     pub tilt_deg: Option<f64>,
+    /// Azimuth towards which the normal leans, degrees; `None` as for `tilt_deg`.
     pub tilt_azimuth_deg: Option<f64>,
     /// What the operator should do about the alignment, or why the check failed.
     pub alignment: String,
+    /// Whether the orientation check found the BRDF anisotropic; `None` when it failed.
     pub anisotropic: Option<bool>,
     /// The phi_h the plan uses, degrees.
     pub plan_phi_h_deg: f64,
@@ -314,6 +325,7 @@ pub struct ChecksRecord {
 /// The fit of k as the journal keeps it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FitRecord {
+    /// The fitted theta_h sampling function: its family and k (paper 5.2).
     pub function: SamplingFunction,
     /// The fit error (DESIGN.md), 1/sr.
     pub error: f64,
@@ -322,9 +334,13 @@ pub struct FitRecord {
 /// The main plan's counts as the journal keeps them.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PlanRecord {
+    /// Samples in the main plan.
     pub total: usize,
+    /// Samples with status `ok`.
     pub measurable: usize,
+    /// Samples out of the axes' ranges (status `limit`).
     pub limit: usize,
+    /// Samples blocked at every reachable position (status `occluded`).
     pub occluded: usize,
     /// The time model's estimate of the paper's way: nested order, fixed bracket, seconds.
     pub nested_bracket_s: f64,

@@ -126,6 +126,7 @@ impl RemoteInstrument {
         self.server.as_deref()
     }
 
+    /// Where the device is reached.
     pub fn endpoint(&self) -> &Endpoint {
         &self.endpoint
     }

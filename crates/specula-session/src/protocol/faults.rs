@@ -27,6 +27,7 @@ pub struct FaultSchedule {
 }
 
 impl FaultSchedule {
+    /// A schedule without faults.
     pub fn new() -> Self {
         Self::default()
     }
@@ -42,6 +43,7 @@ impl FaultSchedule {
         self.at.get(&n).copied()
     }
 
+    /// True when no request has a fault.
     pub fn is_empty(&self) -> bool {
         self.at.is_empty()
     }

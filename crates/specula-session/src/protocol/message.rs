@@ -22,6 +22,7 @@ pub const MAX_LINE_BYTES: u64 = 64 << 20;
 pub struct Request {
     /// Chosen by the client, increasing; the reply carries it back.
     pub id: u64,
+    /// The method's name (`hello`, `info`, `move`, `light`, `capture`, ...).
     pub method: String,
     /// The method's arguments, an object (absent or `null` when it has none).
     #[serde(default, skip_serializing_if = "Value::is_null")]
@@ -49,13 +50,16 @@ pub struct Reply {
 /// `unauthorized`, `version`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WireError {
+    /// The error's kind, one of those listed above.
     pub kind: String,
+    /// A human-readable explanation.
     pub message: String,
 }
 
 /// Arguments of `hello`: the first request on every connection.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct HelloParams {
+    /// The protocol version the client speaks ([`PROTOCOL_VERSION`]).
     pub protocol: u32,
     /// The shared secret, when the server asks for one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -65,30 +69,31 @@ pub struct HelloParams {
 /// Result of `hello`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct HelloResult {
+    /// The protocol version the server speaks.
     pub protocol: u32,
     /// A free-form name of the server or adapter.
     pub server: String,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct MoveParams {
-    pub target: AxisPositions,
+pub(crate) struct MoveParams {
+    pub(crate) target: AxisPositions,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct LightParams {
-    pub level: f64,
+pub(crate) struct LightParams {
+    pub(crate) level: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct CaptureParams {
-    pub exposure_s: f64,
+pub(crate) struct CaptureParams {
+    pub(crate) exposure_s: f64,
     #[serde(default)]
-    pub with_pixels: bool,
+    pub(crate) with_pixels: bool,
 }
 
 impl WireError {
-    pub fn new(kind: &str, message: impl Into<String>) -> Self {
+    pub(crate) fn new(kind: &str, message: impl Into<String>) -> Self {
         Self {
             kind: kind.to_string(),
             message: message.into(),
@@ -122,7 +127,7 @@ impl WireError {
 }
 
 impl Reply {
-    pub fn ok(id: u64, result: Value) -> Self {
+    pub(crate) fn ok(id: u64, result: Value) -> Self {
         Self {
             id: Some(id),
             result: Some(result),
@@ -131,7 +136,7 @@ impl Reply {
         }
     }
 
-    pub fn failed(id: Option<u64>, error: WireError) -> Self {
+    pub(crate) fn failed(id: Option<u64>, error: WireError) -> Self {
         Self {
             id,
             result: None,

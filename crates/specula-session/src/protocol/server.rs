@@ -40,6 +40,7 @@ pub struct Token(String);
 /// Why a token cannot be used.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum TokenError {
+    /// The token is empty or only whitespace.
     #[error("the token is empty: give a secret of at least one non-blank character")]
     Empty,
 }

@@ -188,7 +188,9 @@ pub(crate) fn angle_label(deg: f64) -> String {
 /// A logarithmic colour scale over `[10^min_log10, 10^max_log10]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LogScale {
+    /// `log10` of the scale's smallest value.
     pub min_log10: f64,
+    /// `log10` of the scale's largest value.
     pub max_log10: f64,
 }
 

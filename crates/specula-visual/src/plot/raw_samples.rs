@@ -37,7 +37,9 @@ fn degrees(key: i64) -> f64 {
 /// and per phi_d (folded into `[0, 180)` by reciprocity) the mean value of each measured cell.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SampleGrid {
+    /// The distinct theta_h of the samples, deg, ascending.
     pub theta_h_deg: Vec<f64>,
+    /// The distinct theta_d of the samples, deg, ascending.
     pub theta_d_deg: Vec<f64>,
     /// `(phi_d_deg, cells)`, `cells[i][j]` for theta_h `i`, theta_d `j`: the mean of R, G, B
     /// in 1/sr, `None` where the plan has no sample.

@@ -16,6 +16,7 @@ use specula_core::merl::{theta_h_centre_deg, THETA_D_BINS, THETA_H_BINS};
 /// Where the slice is taken and how theta_h is laid out.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SliceOptions {
+    /// How theta_h runs along the horizontal axis.
     pub axis: ThetaHAxis,
     /// The fixed phi_d, degrees (the characteristic slice: 90).
     pub phi_d_deg: f64,
