@@ -99,30 +99,13 @@ pub enum FormatError {
     RglWrite(#[from] crate::rgl::write::RglWriteError),
 }
 
-/// What is wrong with the content of a file, in words, for the caller to put after the
-/// file's name (`truncated: 12 bytes, ...`, `row 3: theta_h is not finite`).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct Malformed(pub String);
+pub use crate::malformed::Malformed;
 
-impl std::ops::Deref for Malformed {
-    type Target = str;
-
-    /// The problem in words.
-    fn deref(&self) -> &str {
-        &self.0
-    }
-}
-
-impl From<String> for Malformed {
-    fn from(problem: String) -> Self {
-        Malformed(problem)
-    }
-}
-
-impl From<&str> for Malformed {
-    fn from(problem: &str) -> Self {
-        Malformed(problem.to_string())
+/// The one-line error `SPEC: PROBLEM` of a BRDF argument.
+pub(crate) fn argument_error(spec: &str, problem: impl Into<String>) -> FormatError {
+    FormatError::Argument {
+        spec: spec.to_string(),
+        problem: problem.into(),
     }
 }
 

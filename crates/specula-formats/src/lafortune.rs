@@ -7,8 +7,8 @@
 //! / max(|C_xy|, |C_z|))^n`.
 //! Table, parameter mapping and checks: `shared/data/measured/merl_fits_ngan2005_lafortune/`.
 
+use crate::input::argument_error;
 use crate::input::{csv_error, file_error, measured_file, read_input, Malformed, Result};
-use crate::source::argument_error;
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
 use specula_core::{Brdf, Rgb};

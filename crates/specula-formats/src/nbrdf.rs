@@ -10,8 +10,8 @@
 //! `x = [sin th, 0, cos th, sin td cos pd, sin td sin pd, cos td]`.
 //! Source and checks: `shared/data/measured/merl_nbrdf/PROVENANCE.md`.
 
+use crate::input::argument_error;
 use crate::input::{data_file, file_error, Malformed, Result};
-use crate::source::argument_error;
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
 use specula_core::{Brdf, HalfDiff, Rgb};
@@ -104,7 +104,7 @@ impl Nbrdf {
                 format!(
                     "no such material among the {} of this set{}",
                     names.len(),
-                    crate::catalog::did_you_mean(material, &names)
+                    crate::near_name::did_you_mean(material, &names)
                 ),
             )
         })?;

@@ -12,7 +12,7 @@
 //!   `nbrdf-rgl:NAME` and `nbrdf-nielsen:NAME` (of the RGL and Nielsen 2015 materials).
 
 use crate::brdf_source::BrdfSource;
-use crate::input::{FormatError, Result};
+use crate::input::{argument_error, FormatError, Result};
 use specula_core::materials::{self, Material};
 use specula_core::MerlBrdf;
 use std::path::Path;
@@ -93,17 +93,9 @@ pub fn load_brdf(spec: &str) -> Result<BrdfSource> {
                 spec,
                 format!(
                     "no such file, preset or model fit (`specula materials` lists them){}",
-                    crate::catalog::did_you_mean(spec, &crate::catalog::all_names())
+                    crate::near_name::did_you_mean(spec, &crate::catalog::all_names())
                 ),
             )),
         },
-    }
-}
-
-/// The one-line error `SPEC: PROBLEM` of a BRDF argument.
-pub(crate) fn argument_error(spec: &str, problem: impl Into<String>) -> FormatError {
-    FormatError::Argument {
-        spec: spec.to_string(),
-        problem: problem.into(),
     }
 }

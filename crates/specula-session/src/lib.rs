@@ -2,7 +2,7 @@
 //! device, for hours, without losing or repeating a sample (paper 4, 5.3).
 //!
 //! - [`journal`]: the session's SQLite file (one transaction per sample, resumable);
-//! - `journal_check`: seeing damage to a journal (integrity check, checksums, counts);
+//! - `journal::check`: seeing damage to a journal (integrity check, checksums, counts);
 //! - [`protocol`]: the JSON-lines driver protocol for real hardware (client and server);
 //! - [`engine`]: the acquisition loop: move, HDR capture, calibrate, journal; Ctrl-C;
 //! - [`predict`]: predicted exposures from the probe and the previous sample;
@@ -15,7 +15,6 @@ pub mod engine;
 pub mod ideal;
 pub mod inputs;
 pub mod journal;
-mod journal_check;
 pub mod pace;
 pub mod predict;
 pub mod protocol;

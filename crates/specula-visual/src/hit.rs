@@ -8,6 +8,7 @@ use glam::DVec3;
 /// A ray's first intersection with the object.
 #[derive(Debug, Clone, Copy)]
 pub struct Hit {
+    /// The intersection point, world frame.
     pub position: DVec3,
     /// The shading frame: outward normal and tangent.
     pub frame: Frame,

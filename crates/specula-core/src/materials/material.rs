@@ -58,12 +58,9 @@ impl Base {
     }
 }
 
-/// A named reference material (see the module documentation).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(
-    try_from = "super::material_file::MaterialFile",
-    into = "super::material_file::MaterialFile"
-)]
+/// A named reference material (see the module documentation). Its serde form is the
+/// material file's (`material_file` implements `Serialize` and `Deserialize` for it).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Material {
     /// The material's name.
     pub name: String,

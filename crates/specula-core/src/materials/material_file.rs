@@ -184,6 +184,21 @@ fn check_alpha(field: &str, alpha: f64) -> Result<(), String> {
     )
 }
 
+/// A material reads and writes as its file form: `MaterialFile`'s schema, checked by
+/// `TryFrom<MaterialFile>`.
+impl Serialize for Material {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        MaterialFile::from(self.clone()).serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for Material {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let file = MaterialFile::deserialize(deserializer)?;
+        Material::try_from(file).map_err(serde::de::Error::custom)
+    }
+}
+
 impl TryFrom<MaterialFile> for Material {
     type Error = String;
 

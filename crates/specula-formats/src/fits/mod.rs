@@ -8,8 +8,8 @@ pub mod abc;
 pub mod sgd;
 
 use crate::brdf_source::BrdfSource;
+use crate::input::argument_error;
 use crate::input::{csv_error, data_file, file_error, read_input, Malformed, Result};
-use crate::source::argument_error;
 use specula_core::Rgb;
 use std::path::Path;
 use std::sync::Arc;
@@ -118,7 +118,7 @@ pub fn load_fit(model: FitModel, material: &str) -> Result<BrdfSource> {
             format!(
                 "no such material among the {count} {} fits{}",
                 model.prefix(),
-                crate::catalog::did_you_mean(&wanted, &names)
+                crate::near_name::did_you_mean(&wanted, &names)
             ),
         )
     })

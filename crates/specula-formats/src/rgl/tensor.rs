@@ -10,7 +10,7 @@
 //! `f32` and `u8` fields can be read out. [`encode`] writes the same layout, each field's data
 //! aligned to 8 bytes (Mitsuba maps the file and reads the arrays in place).
 
-use crate::input::Malformed;
+use crate::malformed::Malformed;
 use std::collections::HashMap;
 
 /// The first 12 bytes of every tensor file.

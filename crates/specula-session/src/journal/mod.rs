@@ -11,7 +11,7 @@
 //! - `samples`: every finished sample (the calibrated BRDF value, the read-back positions, the
 //!   device time it took, the wall-clock time, the attempts), keyed by (stage, seq) so that
 //!   SQLite itself refuses a second measurement of the same sample, with a checksum of the
-//!   row (see `journal_check`) so that a value changed on disk is seen when it is read;
+//!   row (see `check`) so that a value changed on disk is seen when it is read;
 //! - `captures`: every raw capture of a sample (exposure, light level, raw statistics, time),
 //!   written in the sample's transaction;
 //! - `events`: faults, retries, reconnections, interruptions and resumptions.
@@ -26,12 +26,12 @@
 //! the journal's canonical path, so a symlink to it takes the same lock);
 //! `specula session status` reads it while a measurement runs.
 //!
-//! Damage: every open checks the file (`journal_check`: SQLite's `quick_check`, the
+//! Damage: every open checks the file (`check`: SQLite's `quick_check`, the
 //! plan numbering, samples and captures belonging to the plan) and refuses an existing empty
 //! file, so a damaged journal is an error that says so, never a silent new session.
 
-use crate::journal_check;
-pub use crate::journal_check::{ChecksumMismatch, Damage};
+mod check;
+pub use check::{ChecksumMismatch, Damage};
 use rusqlite::{params, Connection, OpenFlags, OptionalExtension, Transaction};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -434,7 +434,7 @@ impl Journal {
     /// session's lock so that no second process writes it at the same time.
     pub fn open(path: &Path) -> Result<Journal, JournalError> {
         let lock = take_lock(path)?;
-        journal_check::refuse_empty_file(path)?;
+        check::refuse_empty_file(path)?;
         let conn = Connection::open(path).map_err(|e| sql_error(path, e))?;
         let mut journal = Journal {
             conn,
@@ -442,14 +442,14 @@ impl Journal {
             lock: Some(lock),
         };
         journal.prepare()?;
-        journal_check::check_file(&journal.conn, path)?;
+        check::check_file(&journal.conn, path)?;
         Ok(journal)
     }
 
     /// Opens an existing session read-only (for `specula session status`), even while
     /// another process measures into it.
     pub fn open_read_only(path: &Path) -> Result<Journal, JournalError> {
-        journal_check::refuse_empty_file(path)?;
+        check::refuse_empty_file(path)?;
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
         let conn = Connection::open_with_flags(path, flags).map_err(|e| sql_error(path, e))?;
         let journal = Journal {
@@ -468,7 +468,7 @@ impl Journal {
                 expected: SCHEMA_VERSION,
             }),
             Some(_) => {
-                journal_check::check_file(&journal.conn, path)?;
+                check::check_file(&journal.conn, path)?;
                 Ok(journal)
             }
         }
@@ -730,7 +730,7 @@ impl Journal {
     /// Writes a finished sample and its captures in one transaction. A sample already in the
     /// journal is refused ([`JournalError::Duplicate`]) and the journal left as it was.
     pub fn record_sample(&mut self, sample: &SampleRecord) -> Result<(), JournalError> {
-        if let Some((field, value)) = journal_check::non_finite_field(sample) {
+        if let Some((field, value)) = check::non_finite_field(sample) {
             return Err(JournalError::NotFinite {
                 path: self.name(),
                 stage: sample.stage.clone(),
@@ -781,11 +781,9 @@ impl Journal {
         let mut samples = BTreeMap::new();
         for row in rows {
             let (record, checksum) = row.map_err(|e| self.err(e))?;
-            journal_check::verify_sample(&record, checksum).map_err(|problem| {
-                JournalError::Damaged {
-                    path: self.name(),
-                    problem: problem.into(),
-                }
+            check::verify_sample(&record, checksum).map_err(|problem| JournalError::Damaged {
+                path: self.name(),
+                problem: problem.into(),
             })?;
             samples.insert(record.seq, record);
         }
@@ -920,7 +918,7 @@ impl Journal {
 
 fn sql_error(path: &Path, cause: rusqlite::Error) -> JournalError {
     let path = path.display().to_string();
-    match journal_check::damage(&cause) {
+    match check::damage(&cause) {
         Some(problem) => JournalError::Damaged {
             path,
             problem: problem.into(),
@@ -974,7 +972,7 @@ fn take_lock(path: &Path) -> Result<File, JournalError> {
 /// `S.sqlite.lock` beside the journal `S.sqlite`, named after its canonical path (so that
 /// two spellings of one journal take one lock).
 fn lock_path(path: &Path) -> std::io::Result<PathBuf> {
-    let mut lock_path = journal_check::canonical_path(path)?.into_os_string();
+    let mut lock_path = check::canonical_path(path)?.into_os_string();
     lock_path.push(".lock");
     Ok(PathBuf::from(lock_path))
 }
@@ -1041,7 +1039,7 @@ fn insert_sample(tx: &Transaction, s: &SampleRecord) -> rusqlite::Result<()> {
     values.extend([
         Value::from(s.lower_bound),
         Value::from(s.attempts),
-        Value::from(journal_check::sample_checksum(s)),
+        Value::from(check::sample_checksum(s)),
     ]);
     tx.execute(&sql, rusqlite::params_from_iter(values))?;
     let mut statement = tx.prepare(

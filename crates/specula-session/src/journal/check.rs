@@ -8,7 +8,7 @@
 //! belong to a planned sample. On every read of samples: each row's checksum (SHA-256 of its
 //! values, first 8 bytes) must match, so a value changed on disk is refused.
 
-use crate::journal::{JournalError, SampleRecord};
+use super::{JournalError, SampleRecord};
 use rusqlite::Connection;
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
