@@ -21,13 +21,19 @@ pub(crate) struct Grid {
 }
 
 impl Grid {
+    /// The grid of the arguments given; `None` takes the paper's value ([`GridSpec::paper`]).
     pub(crate) fn new(
         family_name: &str,
-        theta_h_samples: usize,
-        theta_d_step_deg: f64,
-        phi_d_step_deg: f64,
-        phi_h_deg: f64,
+        theta_h_samples: Option<usize>,
+        theta_d_step_deg: Option<f64>,
+        phi_d_step_deg: Option<f64>,
+        phi_h_deg: Option<f64>,
     ) -> PyResult<Self> {
+        let paper = GridSpec::paper();
+        let theta_h_samples = theta_h_samples.unwrap_or(paper.theta_h_samples);
+        let theta_d_step_deg = theta_d_step_deg.unwrap_or(paper.theta_d_step_deg);
+        let phi_d_step_deg = phi_d_step_deg.unwrap_or(paper.phi_d_step_deg);
+        let phi_h_deg = phi_h_deg.unwrap_or(paper.phi_h_deg);
         if theta_h_samples < 2 {
             return Err(invalid("theta_h_samples must be at least 2"));
         }
@@ -77,8 +83,8 @@ pub(crate) fn device(path: Option<PathBuf>) -> PyResult<Device> {
 /// and `"summary"`: counts and times (s) of the nested and the optimized order. Ctrl-C
 /// returns at once (the ordering is not stoppable; its result is dropped).
 #[pyfunction]
-#[pyo3(signature = (k = None, theta_h_deg = None, family = "exponential", theta_h_samples = 30,
-    theta_d_step_deg = 3.0, phi_d_step_deg = 15.0, phi_h_deg = 45.0, order = "optimized",
+#[pyo3(signature = (k = None, theta_h_deg = None, family = "exponential", theta_h_samples = None,
+    theta_d_step_deg = None, phi_d_step_deg = None, phi_h_deg = None, order = "optimized",
     device = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn plan<'py>(
@@ -86,10 +92,10 @@ pub(crate) fn plan<'py>(
     k: Option<f64>,
     theta_h_deg: Option<Vec<f64>>,
     family: &str,
-    theta_h_samples: usize,
-    theta_d_step_deg: f64,
-    phi_d_step_deg: f64,
-    phi_h_deg: f64,
+    theta_h_samples: Option<usize>,
+    theta_d_step_deg: Option<f64>,
+    phi_d_step_deg: Option<f64>,
+    phi_h_deg: Option<f64>,
     order: &str,
     device: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {

@@ -150,8 +150,8 @@ pub(crate) fn reconstruct<'py>(
 /// over all, and the simulated samples (a dict for `reconstruct`). Ctrl-C returns at once.
 #[pyfunction]
 #[pyo3(signature = (truth, method = "lobe", k = None, placement = "function",
-    family = "exponential", theta_h_samples = 30, theta_d_step_deg = 3.0,
-    phi_d_step_deg = 15.0, phi_h_deg = 45.0, max_elevation_deg = 75.0, device = None))]
+    family = "exponential", theta_h_samples = None, theta_d_step_deg = None,
+    phi_d_step_deg = None, phi_h_deg = None, max_elevation_deg = 75.0, device = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate<'py>(
     py: Python<'py>,
@@ -160,10 +160,10 @@ pub(crate) fn evaluate<'py>(
     k: Option<f64>,
     placement: &str,
     family: &str,
-    theta_h_samples: usize,
-    theta_d_step_deg: f64,
-    phi_d_step_deg: f64,
-    phi_h_deg: f64,
+    theta_h_samples: Option<usize>,
+    theta_d_step_deg: Option<f64>,
+    phi_d_step_deg: Option<f64>,
+    phi_h_deg: Option<f64>,
     max_elevation_deg: f64,
     device: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {

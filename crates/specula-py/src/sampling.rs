@@ -7,7 +7,7 @@ use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use specula_core::sampling::Family;
-use specula_core::{ProbeSpec, Rgb};
+use specula_core::{GridSpec, ProbeSpec, Rgb};
 use specula_sampling::{fit_k as fit_k_hat, Probe};
 
 /// `(N, 3)` rows of R, G, B as an array.
@@ -49,24 +49,25 @@ pub(crate) fn family(name: &str) -> PyResult<Family> {
 
 /// Take the probe of paper 5.2 (`specula probe`): the dense theta_h column of `brdf` (a
 /// `Brdf`, a source or a table array) at `theta_d_deg`, `phi_d_deg`, `phi_h_deg`, with
-/// `samples` positions `theta_h = t^2 / 90` deg (MERL's square-root mapping); samples the
+/// `samples` positions (each `None`: the paper's 40, 90, 45 deg and 90 positions) `theta_h = t^2 / 90` deg (MERL's square-root mapping); samples the
 /// BRDF does not hold are left out. Returns `{"theta_h_deg": (N,), "rgb": (N, 3)}` (1/sr).
 #[pyfunction]
-#[pyo3(signature = (brdf, theta_d_deg = 40.0, phi_d_deg = 90.0, phi_h_deg = 45.0, samples = 90))]
+#[pyo3(signature = (brdf, theta_d_deg = None, phi_d_deg = None, phi_h_deg = None, samples = None))]
 pub(crate) fn probe<'py>(
     py: Python<'py>,
     brdf: &Bound<'py, PyAny>,
-    theta_d_deg: f64,
-    phi_d_deg: f64,
-    phi_h_deg: f64,
-    samples: usize,
+    theta_d_deg: Option<f64>,
+    phi_d_deg: Option<f64>,
+    phi_h_deg: Option<f64>,
+    samples: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let brdf = brdf_arg(brdf)?;
+    let paper = ProbeSpec::paper();
     let settings = ProbeSpec {
-        theta_d_deg,
-        phi_d_deg,
-        phi_h_deg,
-        samples,
+        theta_d_deg: theta_d_deg.unwrap_or(paper.theta_d_deg),
+        phi_d_deg: phi_d_deg.unwrap_or(paper.phi_d_deg),
+        phi_h_deg: phi_h_deg.unwrap_or(paper.phi_h_deg),
+        samples: samples.unwrap_or(paper.samples),
     };
     let probe = py
         .detach(|| Probe::take(brdf.as_ref(), &settings))
@@ -87,18 +88,20 @@ pub(crate) fn probe_of(probe: &Bound<'_, PyMapping>) -> PyResult<Probe> {
 
 /// Fit k of a theta_h sampling function to a probe (paper 5.2, `specula fit-k`): `probe` is
 /// a mapping with `theta_h_deg` and `rgb` (as `probe()` returns). The error of a candidate
-/// k re-interpolates the probe through the function's `samples` positions (DESIGN.md); k-hat
+/// k re-interpolates the probe through the function's `samples` positions (`None`: the
+/// paper's 30 theta_h of the main grid, `GridSpec::paper`; DESIGN.md); k-hat
 /// minimises it. Returns `{"k", "error", "family", "samples", "evaluations",
 /// "theta_h_deg"}` (the positions of k-hat, degrees, ready for `plan(theta_h_deg=...)`).
 #[pyfunction]
-#[pyo3(signature = (probe, family = "exponential", samples = 30))]
+#[pyo3(signature = (probe, family = "exponential", samples = None))]
 pub(crate) fn fit_k<'py>(
     py: Python<'py>,
     probe: &Bound<'py, PyMapping>,
     family: &str,
-    samples: usize,
+    samples: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let family = self::family(family)?;
+    let samples = samples.unwrap_or(GridSpec::paper().theta_h_samples);
     let probe = probe_of(probe)?;
     let fit = py
         .detach(|| fit_k_hat(&probe.column(), family, samples))

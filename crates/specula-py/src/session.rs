@@ -9,6 +9,7 @@ use crate::sampling::probe_dict;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use specula_core::ProbeSpec;
 use specula_reconstruct::Method;
 use specula_sampling::Probe;
 use specula_session::journal::{Journal, SourceRecord};
@@ -33,8 +34,8 @@ use std::path::PathBuf;
 /// with the same arguments) and raises `KeyboardInterrupt`.
 #[pyfunction]
 #[pyo3(signature = (truth, out, session = None, seed = 1, ideal = false, point_light = false,
-    probe_samples = 90, family = "exponential", theta_h_samples = 30, theta_d_step_deg = 3.0,
-    phi_d_step_deg = 15.0, phi_h_deg = 45.0, order = "optimized", hdr = "predicted",
+    probe_samples = None, family = "exponential", theta_h_samples = None, theta_d_step_deg = None,
+    phi_d_step_deg = None, phi_h_deg = None, order = "optimized", hdr = "predicted",
     method = "lobe", deblur = true, checks = true, tilt_deg = 0.0, tilt_azimuth_deg = 0.0, device = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn measure<'py>(
@@ -45,12 +46,12 @@ pub(crate) fn measure<'py>(
     seed: u64,
     ideal: bool,
     point_light: bool,
-    probe_samples: usize,
+    probe_samples: Option<usize>,
     family: &str,
-    theta_h_samples: usize,
-    theta_d_step_deg: f64,
-    phi_d_step_deg: f64,
-    phi_h_deg: f64,
+    theta_h_samples: Option<usize>,
+    theta_d_step_deg: Option<f64>,
+    phi_d_step_deg: Option<f64>,
+    phi_h_deg: Option<f64>,
     order: &str,
     hdr: &str,
     method: &str,
@@ -67,6 +68,7 @@ pub(crate) fn measure<'py>(
         phi_d_step_deg,
         phi_h_deg,
     )?;
+    let probe_samples = probe_samples.unwrap_or(ProbeSpec::paper().samples);
     if probe_samples < 2 {
         return Err(invalid("probe_samples must be at least 2"));
     }

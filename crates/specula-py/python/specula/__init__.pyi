@@ -105,28 +105,33 @@ def appearance(
 
 def probe(
     brdf: BrdfLike,
-    theta_d_deg: float = 40.0,
-    phi_d_deg: float = 90.0,
-    phi_h_deg: float = 45.0,
-    samples: int = 90,
+    theta_d_deg: Optional[float] = None,
+    phi_d_deg: Optional[float] = None,
+    phi_h_deg: Optional[float] = None,
+    samples: Optional[int] = None,
 ) -> ProbeDict:
-    """The probe of paper 5.2: a dense theta_h column at square-root positions."""
+    """The probe of paper 5.2: a dense theta_h column at square-root positions; `None`
+    takes the paper's theta_d 40, phi_d 90, phi_h 45 deg and 90 positions."""
 
-def fit_k(probe: Mapping[str, ArrayLike], family: str = "exponential", samples: int = 30) -> KFit:
+def fit_k(
+    probe: Mapping[str, ArrayLike], family: str = "exponential", samples: Optional[int] = None
+) -> KFit:
     """k-hat of a theta_h sampling function fitted to a probe (paper 5.2)."""
 
 def plan(
     k: Optional[float] = None,
     theta_h_deg: Optional[Sequence[float]] = None,
     family: str = "exponential",
-    theta_h_samples: int = 30,
-    theta_d_step_deg: float = 3.0,
-    phi_d_step_deg: float = 15.0,
-    phi_h_deg: float = 45.0,
+    theta_h_samples: Optional[int] = None,
+    theta_d_step_deg: Optional[float] = None,
+    phi_d_step_deg: Optional[float] = None,
+    phi_h_deg: Optional[float] = None,
     order: str = "optimized",
     device: Optional[Path] = None,
 ) -> dict[str, Any]:
-    """The paper's plan (5.3) as a dict of arrays in execution order, plus "summary"."""
+    """The paper's plan (5.3) as a dict of arrays in execution order, plus "summary"; a grid
+    argument left `None` takes the paper's value (30 theta_h, theta_d step 3, phi_d step 15,
+    phi_h 45 deg)."""
 
 def reconstruct(samples: Mapping[str, ArrayLike], method: str = "lobe") -> dict[str, Any]:
     """Sparse samples into the MERL grid: "table", "provenance" (uint8) and lattice facts."""
@@ -137,10 +142,10 @@ def evaluate(
     k: Optional[float] = None,
     placement: str = "function",
     family: str = "exponential",
-    theta_h_samples: int = 30,
-    theta_d_step_deg: float = 3.0,
-    phi_d_step_deg: float = 15.0,
-    phi_h_deg: float = 45.0,
+    theta_h_samples: Optional[int] = None,
+    theta_d_step_deg: Optional[float] = None,
+    phi_d_step_deg: Optional[float] = None,
+    phi_h_deg: Optional[float] = None,
     max_elevation_deg: float = 75.0,
     device: Optional[Path] = None,
 ) -> Evaluation:
@@ -153,12 +158,12 @@ def measure(
     seed: int = 1,
     ideal: bool = False,
     point_light: bool = False,
-    probe_samples: int = 90,
+    probe_samples: Optional[int] = None,
     family: str = "exponential",
-    theta_h_samples: int = 30,
-    theta_d_step_deg: float = 3.0,
-    phi_d_step_deg: float = 15.0,
-    phi_h_deg: float = 45.0,
+    theta_h_samples: Optional[int] = None,
+    theta_d_step_deg: Optional[float] = None,
+    phi_d_step_deg: Optional[float] = None,
+    phi_h_deg: Optional[float] = None,
     order: str = "optimized",
     hdr: str = "predicted",
     method: str = "lobe",
