@@ -1,9 +1,11 @@
 //! Samples before the instrument's blur: the lobe fitted through the response
-//! ([`Lobe::fit_through`]) times each sample's measured ratio to that lobe as measured, the
-//! same correction the `lobe` method's lattice carries ([`crate::domain`]). The probe is
+//! ([`Lobe::fit_through`]) times each sample's ratio to that lobe, deconvolved along theta_h
+//! through the response ([`crate::deconvolve`]), the same correction the `lobe` method's
+//! lattice carries ([`crate::domain`]). The probe is
 //! deblurred this way before k is fitted to it, so that the sampling adapts to the material
 //! and not to the light's disk.
 
+use crate::deconvolve::sharp_residual;
 use crate::domain::Domain;
 use crate::lobe::Lobe;
 use crate::reconstruct::{FIT_RESPONSE_NODES, RESIDUAL_RESPONSE_NODES};
@@ -21,14 +23,22 @@ pub fn deblur_samples(
     let lobe = Lobe::fit_through(samples, &response.capture_nodes(FIT_RESPONSE_NODES))?;
     let nodes = response.capture_nodes(RESIDUAL_RESPONSE_NODES);
     let domain = Domain::LobeResidual;
-    let deblurred = samples
+    let measured_ratio: Vec<Rgb> = samples
         .iter()
         .map(|s| {
             let measured = lobe.measured(&nodes, s.hd);
+            Rgb::from_array(std::array::from_fn(|c| {
+                domain.forward(s.value[c], measured[c]).exp()
+            }))
+        })
+        .collect();
+    let ratio = sharp_residual(samples, &lobe, &nodes, &measured_ratio);
+    let deblurred = samples
+        .iter()
+        .zip(&ratio)
+        .map(|(s, r)| {
             let sharp = lobe.eval(&crate::lobe::Geometry::of(s.hd));
-            let value: [f64; 3] = std::array::from_fn(|c| {
-                domain.inverse(domain.forward(s.value[c], measured[c]), sharp[c])
-            });
+            let value: [f64; 3] = std::array::from_fn(|c| domain.inverse(r[c].ln(), sharp[c]));
             Sample::new(s.hd, Rgb::from_array(value))
         })
         .collect();

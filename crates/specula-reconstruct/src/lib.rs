@@ -11,6 +11,7 @@ pub mod accuracy;
 pub mod axis;
 pub mod budget;
 pub mod deblur;
+pub mod deconvolve;
 pub mod domain;
 pub mod extrapolate;
 pub mod grid;

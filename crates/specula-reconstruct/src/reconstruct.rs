@@ -2,6 +2,7 @@
 //! samples on their lattice in the method's value domain, extrapolate the nodes the device
 //! could not reach, interpolate at every MERL bin centre, and record each cell's provenance.
 
+use crate::deconvolve::sharp_residual;
 use crate::extrapolate::fill_missing;
 use crate::grid::{extrapolated_cells, interpolate_to_merl};
 use crate::lattice::Lattice;
@@ -63,6 +64,25 @@ pub(crate) fn reciprocal_canonical(sample: &Sample) -> Sample {
     Sample::new(HalfDiff { phi_d, ..sample.hd }, sample.value)
 }
 
+/// The samples' log ratios to the lobe as measured, `domain_values`, deconvolved along
+/// theta_h through the response's `nodes` ([`sharp_residual`]): the log ratios to the lobe
+/// before the blur.
+fn deconvolved_log_ratios(
+    samples: &[Sample],
+    lobe: &Lobe,
+    nodes: &[CaptureNode],
+    domain_values: &[[f64; 3]],
+) -> Vec<[f64; 3]> {
+    let measured: Vec<Rgb> = domain_values
+        .iter()
+        .map(|v| Rgb::from_array(v.map(f64::exp)))
+        .collect();
+    sharp_residual(samples, lobe, nodes, &measured)
+        .iter()
+        .map(|r| r.to_array().map(f64::ln))
+        .collect()
+}
+
 /// Quadrature nodes of the response for the fit through the instrument: enough for lobes
 /// down to alpha 0.005 under a 1.8-degree disk.
 pub const FIT_RESPONSE_NODES: usize = 256;
@@ -109,13 +129,16 @@ pub fn reconstruct_through(
     };
     let residual_nodes =
         through.map_or_else(Vec::new, |r| r.capture_nodes(RESIDUAL_RESPONSE_NODES));
-    let domain_values: Vec<[f64; 3]> = canonical
+    let mut domain_values: Vec<[f64; 3]> = canonical
         .par_iter()
         .map(|s| {
             let model = lobe.map_or(Rgb::ZERO, |l| measured_lobe(&l, &residual_nodes, s.hd));
             std::array::from_fn(|c| method.domain.forward(s.value[c], model[c]))
         })
         .collect();
+    if let (Some(lobe), Some(_)) = (lobe, through) {
+        domain_values = deconvolved_log_ratios(&canonical, &lobe, &residual_nodes, &domain_values);
+    }
     let mut lattice = Lattice::of_samples(samples, &domain_values);
     let (measured_nodes, _, _) = lattice.status_counts();
     fill_missing(&mut lattice);
