@@ -108,7 +108,8 @@ pub fn reconstruct(
 /// Reconstructs the table from samples measured through an instrument `response`: the
 /// `lobe` method fits its lobe through the response (the forward model, see
 /// [`crate::lobe`]) and the lattice holds the samples' log ratio to the lobe *as measured*,
-/// so the table is the lobe before the blur times the measured residual. The other methods,
+/// deconvolved along theta_h through the response ([`crate::deconvolve`]), so the table is
+/// the lobe before the blur times the residual before the blur. The other methods,
 /// which have no model of the BRDF, ignore the response. `None`: as [`reconstruct`].
 pub fn reconstruct_through(
     samples: &[Sample],
