@@ -23,11 +23,13 @@
 //! from `R = rho`: positive at every step, and a constant ratio (a material of the lobe's
 //! family) is its fixed point from the start. The iteration is stopped by Morozov's
 //! discrepancy principle: when the root-mean-square log misfit `ln(rho / H R)` of the
-//! column's blurred samples falls to the noise of `ln rho`, estimated from the data
-//! themselves (the median absolute deviation of each sample from the line through its two
-//! neighbours, Donoho's robust scale), or after [`MAX_ITERATIONS`]. Fitting below the noise
-//! would turn noise into structure; the misfit is never driven below
-//! [`MODEL_LOG_ACCURACY`].
+//! column's blurred samples falls to [`DISCREPANCY_FACTOR`] times the noise of `ln rho`,
+//! estimated from the data themselves (the median absolute deviation of each sample from
+//! the line through its two neighbours), or after [`MAX_ITERATIONS`]. Fitting below the
+//! noise would turn noise into structure; the misfit is never driven below
+//! [`MODEL_LOG_ACCURACY`]. The deconvolution therefore acts only where the ratio's blurred
+//! structure stands well above the noise (a sharp coat over a broad lobe); for the
+//! analytic conductors it leaves the ratio as measured.
 
 use crate::lobe::{Geometry, Lobe, BLUR_THETA_H_DEG};
 use crate::sample::Sample;
@@ -38,6 +40,12 @@ use std::collections::BTreeMap;
 
 /// The most Richardson-Lucy iterations per column and channel.
 pub const MAX_ITERATIONS: usize = 2000;
+
+/// Morozov's safety factor: the iteration stops when the misfit falls to this many times
+/// the estimated noise. At 1 (the noise itself) 1 % noise on a GGX alpha 0.011 and a
+/// Beckmann alpha 0.015 conductor measured through the UTIA response was fitted into the
+/// peak (relative RMSE 0.009 and 0.008 without the deconvolution, 0.022 and 0.150 with it).
+pub const DISCREPANCY_FACTOR: f64 = 3.0;
 
 /// The root-mean-square log misfit the forward model is trusted to, whatever the noise:
 /// it neglects the blur across theta_d and phi_d, takes `R` linear between samples, and
@@ -99,9 +107,11 @@ fn columns_of(samples: &[Sample]) -> Vec<Vec<usize>> {
         .collect()
 }
 
-/// The noise of `ln rho` per channel, pooled over the columns: `1.4826 median |d| / s`,
-/// where `d` is a sample's deviation from the line through its two neighbours in theta_h
-/// and `s` the standard deviation that line leaves for unit noise.
+/// The noise of `ln rho` per channel, pooled over the columns: `1.4826 median |d| / s`
+/// (the median absolute deviation scaled to a Gaussian's standard deviation), where `d` is
+/// a sample's deviation from the line through its two neighbours in theta_h and `s` the
+/// standard deviation that line leaves for unit noise. On sparse columns the ratio's own
+/// curvature enters `d` too, so this errs high: the iteration then stops early.
 fn log_noise(columns: &[Vec<usize>], samples: &[Sample], ratio: &[Rgb]) -> Rgb {
     let mut deviations: [Vec<f64>; 3] = Default::default();
     for members in columns {
@@ -220,7 +230,7 @@ impl Column {
                 misfit += (r / p).ln().powi(2);
                 n += 1.0;
             }
-            if (misfit / n).sqrt() <= noise.max(MODEL_LOG_ACCURACY) {
+            if (misfit / n).sqrt() <= (DISCREPANCY_FACTOR * noise).max(MODEL_LOG_ACCURACY) {
                 break;
             }
             let mut back = vec![0.0; self.knots];
@@ -381,6 +391,41 @@ mod tests {
                 (r - Rgb::new(0.8, 1.0, 1.3)).abs().max_element() < 1e-9,
                 "{r}"
             );
+        }
+    }
+    #[test]
+    fn noise_on_a_lobe_of_the_family_is_not_fitted_into_the_peak() {
+        // A GGX alpha 0.011 column as the device measures it, with 1 % noise (a fixed
+        // pseudo-random sequence): the ratio to the true lobe is the noise alone, which the
+        // discrepancy principle must leave as measured.
+        let response = Device::utia().response();
+        let world = response.capture_nodes(SIMULATOR_RESPONSE_NODES);
+        let lobe = ggx(0.011, 0.62, 0.0);
+        let mut state = 12345u64;
+        let mut uniform = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let samples: Vec<Sample> = (0..60)
+            .map(|k| {
+                let hd = HalfDiff::from_degrees((k as f64 * 1.5).powi(2) / 90.0, 45.0, 40.0, 90.0);
+                let noise = 1.0 + 0.01 * 3f64.sqrt() * (2.0 * uniform() - 1.0);
+                Sample::new(hd, lobe.measured(&world, hd) * noise)
+            })
+            .collect();
+        let nodes = response.capture_nodes(RESIDUAL_RESPONSE_NODES);
+        let measured: Vec<Rgb> = samples
+            .iter()
+            .map(|s| {
+                let m = lobe.measured(&nodes, s.hd);
+                (s.value + Rgb::splat(LOG_OFFSET)) / (m + Rgb::splat(LOG_OFFSET))
+            })
+            .collect();
+        let sharp = sharp_residual(&samples, &lobe, &nodes, &measured);
+        for (s, m) in sharp.iter().zip(&measured) {
+            assert!((s.y / m.y - 1.0).abs() < 0.01, "{} vs {}", s.y, m.y);
         }
     }
 }
