@@ -3,24 +3,14 @@
 //! spread directions and at the edge cases: below and on the horizon, grazing, the mirror
 //! direction and normal incidence.
 
+mod common;
+
+use common::all_materials;
 use glam::DVec3;
 use specula_core::geometry::Spherical;
-use specula_core::materials::clearcoat::ClearCoat;
-use specula_core::materials::scratch::ScratchLobe;
-use specula_core::materials::{builtin_database, Base, Distribution, Material};
+use specula_core::materials::Base;
 use specula_core::{Brdf, Rgb};
 use std::sync::Arc;
-
-/// The database plus a scratched paint (the database's only scratched material is a metal).
-fn all_materials() -> Vec<Material> {
-    let coat = ClearCoat::new(Distribution::Beckmann, 0.02, 1.5, Rgb::new(0.5, 0.1, 0.1));
-    let scratch = ScratchLobe::new(Distribution::Beckmann, 0.1, 0.003, 0.3, -40.0);
-    let scratched_paint =
-        Material::new("scratched-paint", Base::ClearCoat(coat)).with_scratch(scratch);
-    let mut materials = builtin_database();
-    materials.push(scratched_paint);
-    materials
-}
 
 /// A unit direction at `theta_deg` from the normal (beyond 90: below the horizon).
 fn direction(theta_deg: f64, phi_deg: f64) -> DVec3 {

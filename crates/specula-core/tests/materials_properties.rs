@@ -2,23 +2,13 @@
 //! zero below the horizon, isotropy of the bases (no dependence on phi_h) and the scratch
 //! lobe's dependence on phi_h (paper section 4.3).
 
+mod common;
+
+use common::all_materials;
 use glam::DVec3;
 use specula_core::geometry::{rotate_z, HalfDiff, Spherical};
-use specula_core::materials::clearcoat::ClearCoat;
-use specula_core::materials::scratch::ScratchLobe;
-use specula_core::materials::{builtin_database, preset, Base, Distribution, Material};
+use specula_core::materials::{preset, Material};
 use specula_core::{Brdf, Rgb};
-
-/// The database plus a scratched paint (the database's only scratched material is a metal).
-fn all_materials() -> Vec<Material> {
-    let coat = ClearCoat::new(Distribution::Beckmann, 0.02, 1.5, Rgb::new(0.5, 0.1, 0.1));
-    let scratch = ScratchLobe::new(Distribution::Beckmann, 0.1, 0.003, 0.3, -40.0);
-    let scratched_paint =
-        Material::new("scratched-paint", Base::ClearCoat(coat)).with_scratch(scratch);
-    let mut materials = builtin_database();
-    materials.push(scratched_paint);
-    materials
-}
 
 /// Deterministic, well-spread direction pairs above the surface (golden-ratio sequences),
 /// with a third of them near the specular peak where the values are large.
