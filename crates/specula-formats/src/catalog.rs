@@ -76,8 +76,6 @@ pub fn groups() -> Result<Vec<Group>> {
     Ok(groups)
 }
 
-pub use crate::near_name::{did_you_mean, nearest};
-
 /// Every name of every group (for suggestions).
 pub fn all_names() -> Vec<String> {
     groups()
@@ -88,6 +86,7 @@ pub fn all_names() -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::near_name::{did_you_mean, nearest};
 
     #[test]
     fn a_near_name_is_suggested() {

@@ -17,24 +17,15 @@
 //! half only are reconstructed as before.
 
 use crate::provenance::Provenance;
+use crate::sample::mirror_fold_phi_d_rad;
 use crate::{reconstruct_through, ReconstructError, Reconstruction};
 use specula_core::capture::CaptureResponse;
 use specula_core::merl::{MerlBrdf, CELLS, PHI_D_BINS};
 use specula_core::{HalfDiff, Sample};
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Angles closer than this (radians) to 90 deg belong to both halves.
 const SEAM_TOLERANCE_RAD: f64 = 1e-6;
-
-/// phi_d folded into `[0, pi]` by the mirror symmetry alone (`f(phi_d) = f(-phi_d)`).
-pub fn mirror_fold_phi_d_rad(phi_d_rad: f64) -> f64 {
-    let turn = phi_d_rad.rem_euclid(TAU);
-    if turn > PI {
-        TAU - turn
-    } else {
-        turn
-    }
-}
 
 /// The samples of each half: `[0, 90]` deg as they are, `[90, 180]` deg with phi_d mapped
 /// to `180 - phi_d` (see the module documentation).
@@ -145,15 +136,6 @@ mod tests {
             phi_d_i,
         };
         brdf.cell(bin.index()).unwrap().x
-    }
-
-    #[test]
-    fn the_mirror_fold_keeps_the_half_turn() {
-        let deg = |v: f64| mirror_fold_phi_d_rad(v.to_radians()).to_degrees();
-        assert!((deg(135.0) - 135.0).abs() < 1e-9);
-        assert!((deg(-135.0) - 135.0).abs() < 1e-9);
-        assert!((deg(200.0) - 160.0).abs() < 1e-9);
-        assert!((deg(360.0)).abs() < 1e-9);
     }
 
     #[test]

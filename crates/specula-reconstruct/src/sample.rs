@@ -1,7 +1,8 @@
-//! The symmetry that folds a measured sample ([`specula_core::Sample`]) into the quarter of
-//! the phi_d range that an isotropic, reciprocal BRDF needs (paper 5.3).
+//! The symmetries that fold a measured sample's phi_d ([`specula_core::Sample`]): the mirror
+//! of an isotropic BRDF alone, into `[0, pi]`, and with reciprocity, into the quarter of the
+//! phi_d range that an isotropic, reciprocal BRDF needs (paper 5.3).
 
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Folds phi_d (radians, any value) into `[0, pi/2]`.
 ///
@@ -14,6 +15,16 @@ pub fn fold_phi_d_rad(phi_d_rad: f64) -> f64 {
         PI - half_turn
     } else {
         half_turn
+    }
+}
+
+/// phi_d folded into `[0, pi]` by the mirror symmetry alone (`f(phi_d) = f(-phi_d)`).
+pub fn mirror_fold_phi_d_rad(phi_d_rad: f64) -> f64 {
+    let turn = phi_d_rad.rem_euclid(TAU);
+    if turn > PI {
+        TAU - turn
+    } else {
+        turn
     }
 }
 
@@ -40,5 +51,14 @@ mod tests {
                 deg(input)
             );
         }
+    }
+
+    #[test]
+    fn the_mirror_fold_keeps_the_half_turn() {
+        let deg = |v: f64| mirror_fold_phi_d_rad(v.to_radians()).to_degrees();
+        assert!((deg(135.0) - 135.0).abs() < 1e-9);
+        assert!((deg(-135.0) - 135.0).abs() < 1e-9);
+        assert!((deg(200.0) - 160.0).abs() < 1e-9);
+        assert!((deg(360.0)).abs() < 1e-9);
     }
 }

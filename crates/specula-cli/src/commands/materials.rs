@@ -1,7 +1,8 @@
 //! `specula materials`: every BRDF Specula knows by name, with where it comes from.
 
 use anyhow::{bail, Result};
-use specula_formats::catalog::{self, groups};
+use specula_formats::catalog::groups;
+use specula_formats::near_name::did_you_mean;
 
 /// List the BRDFs every command takes by name: the presets, the built-in database and the
 /// published fits, each group with its provenance (model, source, licence, built in or
@@ -45,7 +46,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         let all: Vec<String> = groups.into_iter().flat_map(|g| g.names).collect();
         bail!(
             "no material name contains '{filter}'{}",
-            catalog::did_you_mean(filter, &all)
+            did_you_mean(filter, &all)
         );
     }
     Ok(())
