@@ -10,7 +10,8 @@
 #
 # Default truths: tools/instrument_truths/*.toml (GGX and Beckmann conductors, two-lobe
 # materials), green-paint, two NBRDF fits of MERL and an RGL measurement when
-# ../shared/data/measured is present.
+# ../shared/data/measured is present. Every run is on the grid preset $GRID_PRESET (default
+# paper, the grid of the figures README quotes; recommended for today's default).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${SPECULA:-$here/target/debug/specula}"
@@ -29,7 +30,7 @@ score() { # table truth -> "relative log"
 khat() { sed -n 's/^k_hat=//p' "$1"; }
 run() { # name truth out args...
     local truth="$1" out="$2"; shift 2
-    "$bin" measure --truth "$truth" --out "$out" "$@" > /dev/null 2>&1
+    "$bin" measure --truth "$truth" --grid-preset "${GRID_PRESET:-paper}" --out "$out" "$@" > /dev/null 2>&1
 }
 echo "| truth | deblurred (default) rel / log | k-hat | --no-deblur rel / log | paper's way rel / log | --point-light rel / log | point-light k-hat | ratio to the paper's way rel / log | minus point-light rel |"
 echo "|---|---|---|---|---|---|---|---|---|"

@@ -11,7 +11,9 @@
 #   tools/real_accuracy.sh [FOLDER] [-- EXTRA evaluate OPTIONS] > table.md
 #
 # Methods: $METHODS (default "lobe log linear"); the binary: $SPECULA (default
-# target/release/specula).
+# target/release/specula); the grid: $GRID_PRESET (default paper, the paper's plan above;
+# recommended for the default of `evaluate`, whose halves of phi_d every method then
+# reconstructs apart, the `linear` baseline included).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${SPECULA:-$here/target/release/specula}"
@@ -23,7 +25,7 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 # material,rel_within,log_within for one method (the per-material rows of `evaluate`).
 figures() {
-    "$bin" evaluate --truth "$folder" --method "$1" "${@:2}" 2>/dev/null |
+    "$bin" evaluate --truth "$folder" --grid-preset "${GRID_PRESET:-paper}" --method "$1" "${@:2}" 2>/dev/null |
         awk -F, '!/^#/ && $1 != "material" && $1 !~ /^mean of/ { print $1 "," $4 "," $5 }'
 }
 figures linear "$@" > "$work/linear"

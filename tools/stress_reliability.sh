@@ -22,7 +22,7 @@ work=$(mktemp -d)
 trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 failed=0
 fail() { echo "FAIL: $*"; failed=1; }
-small=(--skip-checks --probe-samples 30 --theta-h-samples 8 --theta-d-step 15 --phi-d-step 30 --seed 3)
+small=(--skip-checks --grid-preset paper --probe-samples 30 --theta-h-samples 8 --theta-d-step 15 --phi-d-step 30 --seed 3)
 
 # (1) kills at random points, then resume to the same bytes.
 "$SPECULA" measure --truth silver-925 "${small[@]}" --out "$work/ref.binary" >/dev/null 2>&1 \

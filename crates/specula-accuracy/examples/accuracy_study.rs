@@ -10,16 +10,18 @@
 //! (the same samples, reconstructed by the `lobe` and `log` methods) and, for each
 //! `--plan HxDxP`, `lobe-HxDxP`: H theta_h positions (exponential function, k-hat), theta_d
 //! step D and phi_d step P degrees (D may be `STEP:GRAZING_STEP@FROM`, graded theta_d
-//! positions, `specula_reconstruct::budget`), `lobe`, and `prior-HxDxP`, the `prior` method
+//! positions, `specula_core::grid::ThetaDSteps`), `lobe`, and `prior-HxDxP`, the `prior` method
 //! (`specula_reconstruct::prior_reconstruct`) on the same plan; `paper-plan+prior` on the
 //! paper's samples, and for each `--trust W,S2` the same with the prior weight W and noise
 //! variance S2 given instead of chosen by cross-validation. Sets: `rgl` (the real RGL measurements in the
 //! measured data directory's `rgl_bsdf/`), `nbrdf-rgl` (their 51 neural fits), `builtin`,
 //! `sgd`, `abc`, `nbrdf` (the MERL-100 fits); default builtin, sgd and abc.
 //!
-//! `P` may end in `h` (e.g. `16x3:1@60x30h`): phi_d every P degrees over the half turn 0 to
-//! 180 (`specula_reconstruct::budget::half_turn_phi_d_deg`), the halves reconstructed apart
-//! (`specula_reconstruct::phi_d_halves`). `--no-prior` leaves out the `prior` configurations.
+//! `P` may end in `h` (e.g. `16x3:1@60x30h`, `specula_core::GridSpec::recommended`): phi_d
+//! every P degrees over the half turn 0 to 180 (`specula_core::grid::PhiDSpan::HalfTurn`),
+//! the halves reconstructed apart (`specula_reconstruct::phi_d_halves`, as
+//! `specula_accuracy::evaluate` does whenever the samples measure both). `--no-prior` leaves
+//! out the `prior` configurations.
 //!
 //! `--breakdown` also prints, after each material's row, where its squared error sits
 //! (`specula_reconstruct::breakdown`): rows `breakdown,set,material,config,region,cells,
@@ -30,9 +32,9 @@
 //! median over each set's materials of the per-material ratio to the paper pipeline's.
 
 use specula_accuracy::merl_prior::merl_prior;
-use specula_accuracy::{evaluate, measure, reached_by, Accuracy, Measurement, PlanSettings};
+use specula_accuracy::{evaluate, Accuracy, Measurement, PlanSettings};
 use specula_acquisition::device::Device;
-use specula_core::capture::CaptureResponse;
+use specula_core::grid::{PhiDSpan, ThetaDSteps};
 use specula_core::materials::builtin_database;
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
@@ -42,8 +44,6 @@ use specula_formats::input::measured_data_dir;
 use specula_formats::load_brdfs;
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_reconstruct::breakdown::{error_by_region, Partition};
-use specula_reconstruct::budget::{graded_theta_d_deg, half_turn_phi_d_deg};
-use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
 use specula_sampling::analysis::median;
@@ -64,10 +64,6 @@ enum Recon {
 struct Config {
     name: String,
     plan: PlanSettings,
-    /// theta_d from `(step, grazing step, grazing from)` degrees instead of the plan's step.
-    graded: Option<(f64, f64, f64)>,
-    /// phi_d over the half turn, the halves reconstructed apart.
-    half_turn: bool,
     method: Recon,
 }
 
@@ -78,19 +74,8 @@ type Measured = (usize, Vec<Sample>, Option<f64>);
 impl Config {
     /// The material measured on this configuration's plan.
     fn measure(&self, truth: &dyn Brdf, device: &Device) -> Result<Measured, Box<dyn Error>> {
-        if self.graded.is_none() && !self.half_turn {
-            let m = Measurement::simulate(truth, &self.plan, device)?;
-            return Ok((m.samples.len(), m.samples, m.k));
-        }
-        let (mut grid, k) = self.plan.grid(truth)?;
-        if let Some((step, grazing_step, from)) = self.graded {
-            grid.theta_d_deg = graded_theta_d_deg(step, grazing_step, from);
-        }
-        if self.half_turn {
-            grid.phi_d_deg = half_turn_phi_d_deg(self.plan.grid.phi_d_step_deg);
-        }
-        let samples = measure(truth, &reached_by(&grid, device));
-        Ok((samples.len(), samples, k))
+        let m = Measurement::simulate(truth, &self.plan, device)?;
+        Ok((m.samples.len(), m.samples, m.k))
     }
 }
 
@@ -105,29 +90,21 @@ fn configs(
         Config {
             name: "paper".into(),
             plan: paper,
-            graded: None,
-            half_turn: false,
             method: Recon::Method(Method::LINEAR),
         },
         Config {
             name: "paper-plan+lobe".into(),
             plan: paper,
-            graded: None,
-            half_turn: false,
             method: Recon::Method(Method::LOBE),
         },
         Config {
             name: "paper-plan+log".into(),
             plan: paper,
-            graded: None,
-            half_turn: false,
             method: Recon::Method(Method::LOG),
         },
         Config {
             name: "paper-plan+prior".into(),
             plan: paper,
-            graded: None,
-            half_turn: false,
             method: Recon::Prior(None),
         },
     ];
@@ -135,8 +112,6 @@ fn configs(
         out.push(Config {
             name: format!("paper-plan+prior-w{w}-s{s2}"),
             plan: paper,
-            graded: None,
-            half_turn: false,
             method: Recon::Prior(Some((w, s2))),
         });
     }
@@ -144,56 +119,45 @@ fn configs(
         out.retain(|c| !matches!(c.method, Recon::Prior(_)));
     }
     for spec in plans {
-        let half_turn = spec.ends_with('h');
-        let parts: Vec<&str> = spec.trim_end_matches('h').split('x').collect();
-        let number = |v: &str| v.parse::<f64>().ok();
-        let (Some(theta_h), Some(phi_d), Some(theta_d_spec)) = (
-            parts.first().and_then(|v| number(v)),
-            parts.get(2).and_then(|v| number(v)),
-            parts.get(1),
-        ) else {
-            return Err(
-                format!("--plan {spec}: expected HxDxP, e.g. 24x4x22.5 or 16x3:1.5@60x30").into(),
-            );
-        };
-        // D is a step, or `STEP:GRAZING_STEP@FROM`.
-        let graded = theta_d_spec.split_once(':').and_then(|(step, rest)| {
-            let (grazing, from) = rest.split_once('@')?;
-            Some((number(step)?, number(grazing)?, number(from)?))
-        });
-        let theta_d = match graded {
-            Some((step, _, _)) => step,
-            None => {
-                number(theta_d_spec).ok_or_else(|| format!("--plan {spec}: bad theta_d step"))?
-            }
-        };
         let plan = PlanSettings {
-            grid: GridSpec {
-                theta_h_samples: theta_h as usize,
-                theta_d_step_deg: theta_d,
-                phi_d_step_deg: phi_d,
-                ..paper.grid
-            },
+            grid: grid_of(spec, &paper.grid)?,
             ..paper
         };
         out.push(Config {
             name: format!("lobe-{spec}"),
             plan,
-            graded,
-            half_turn,
             method: Recon::Method(Method::LOBE),
         });
-        if with_prior && !half_turn {
+        if with_prior && plan.grid.phi_d_span == PhiDSpan::Quarter {
             out.push(Config {
                 name: format!("prior-{spec}"),
                 plan,
-                graded,
-                half_turn,
                 method: Recon::Prior(None),
             });
         }
     }
     Ok(out)
+}
+
+/// The grid of a `--plan HxDxP[h]`: H theta_h, theta_d D (`STEP` or `STEP:GRAZING@FROM`),
+/// phi_d step P, over the half turn with `h`; phi_h as `base`.
+fn grid_of(spec: &str, base: &GridSpec) -> Result<GridSpec, Box<dyn Error>> {
+    let bad = || format!("--plan {spec}: expected HxDxP[h], e.g. 24x4x22.5 or 16x3:1@60x30h");
+    let (spec_p, phi_d_span) = match spec.strip_suffix('h') {
+        Some(rest) => (rest, PhiDSpan::HalfTurn),
+        None => (spec, PhiDSpan::Quarter),
+    };
+    let [h, d, p] = spec_p.split('x').collect::<Vec<_>>()[..] else {
+        return Err(bad().into());
+    };
+    let theta_d: ThetaDSteps = d.parse().map_err(|e| format!("--plan {spec}: {e}"))?;
+    Ok(GridSpec {
+        theta_h_samples: h.parse().map_err(|_| bad())?,
+        theta_d,
+        phi_d_step_deg: p.parse().map_err(|_| bad())?,
+        phi_d_span,
+        ..*base
+    })
 }
 
 fn truths(set: &str) -> Result<Vec<Arc<dyn Brdf>>, Box<dyn Error>> {
@@ -324,16 +288,6 @@ fn main() -> Result<(), Box<dyn Error>> {
             for config in &configs {
                 let (count, samples, k) = config.measure(truth.as_ref(), &device)?;
                 let (reconstruction, a) = match config.method {
-                    Recon::Method(method) if config.half_turn => {
-                        let r = reconstruct_halves(
-                            &samples,
-                            method,
-                            "reconstruction",
-                            None::<&dyn CaptureResponse>,
-                        )?;
-                        let a = Accuracy::of(&r.brdf, &table, 75.0);
-                        (r, a)
-                    }
                     Recon::Method(method) => evaluate(&samples, method, &table, 75.0)?,
                     Recon::Prior(given) => {
                         let basis = basis.as_ref().expect("prior configurations need the basis");

@@ -3,11 +3,17 @@
 //! ([`specula_core::compare`]), over the cells whose light and camera are both within the
 //! device's elevation limit and over all cells above the surface.
 //!
-//! The plan ([`PlanSettings`]) is the paper's (5.3) by default: theta_h placed by a sampling
+//! The plan ([`PlanSettings`]: [`PlanSettings::paper`], the paper's 5.3, or
+//! [`PlanSettings::recommended`], the front ends' default): theta_h placed by a sampling
 //! function whose k is fitted to the material's probe (5.2, `specula_sampling`), or by the
-//! least-error placement on the probe; a theta_d x phi_d grid at one phi_h; the samples the
-//! device cannot take are left out (`specula_acquisition::plan`). [`within_elevation`] is a
-//! simple stand-in for the device (theta_v <= 75 deg, section 5.3) for tests and benchmarks.
+//! least-error placement on the probe; a theta_d x phi_d grid at one phi_h
+//! ([`GridSpec`]); the samples the device cannot take are left out
+//! (`specula_acquisition::plan`). [`within_elevation`] is a simple stand-in for the device
+//! (theta_v <= 75 deg, section 5.3) for tests and benchmarks.
+//!
+//! [`evaluate`] and [`evaluate_through`] reconstruct as `specula reconstruct` does: each
+//! half of phi_d from its own samples when the samples measure both
+//! (`specula_reconstruct::phi_d_halves`), folded otherwise.
 //!
 //! **Through the instrument** ([`Measurement::simulate_through`], [`evaluate_through`];
 //! issue 14): the samples and the probe are what the device's captures give, the truth
@@ -24,9 +30,8 @@ use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
 use specula_core::compare::{compare, ErrorFigures};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, GridSpec, HalfDiff, MerlBrdf, ProbeSpec, Sample};
-use specula_reconstruct::{
-    reconstruct, reconstruct_through, Method, ReconstructError, Reconstruction,
-};
+use specula_reconstruct::phi_d_halves::reconstruct_halves;
+use specula_reconstruct::{Method, ReconstructError, Reconstruction};
 use specula_sampling::deblur::deblur_probe;
 use specula_sampling::error::SamplingError;
 use specula_sampling::{fit_k, place_theta_h, Probe};
@@ -46,8 +51,8 @@ pub struct GridPlan {
 }
 
 impl GridPlan {
-    /// The grid `spec` at the given theta_h positions: theta_d from 0 in steps below 90
-    /// degrees, phi_d from 0 to 90 inclusive in steps, at `spec`'s phi_h (its theta_h count
+    /// The grid `spec` at the given theta_h positions: its theta_d and phi_d positions
+    /// ([`GridSpec::theta_d_deg`], [`GridSpec::phi_d_deg`]) at its phi_h (its theta_h count
     /// is the positions').
     pub fn on(theta_h_deg: Vec<f64>, spec: &GridSpec) -> Self {
         Self {
@@ -111,7 +116,7 @@ pub enum ThetaHPlacement {
 pub struct PlanSettings {
     /// How the theta_h positions are chosen.
     pub placement: ThetaHPlacement,
-    /// The grid: theta_h count, theta_d and phi_d steps, phi_h.
+    /// The grid: theta_h count, theta_d and phi_d positions, phi_h.
     pub grid: GridSpec,
 }
 
@@ -122,6 +127,15 @@ impl PlanSettings {
         Self {
             placement: ThetaHPlacement::FittedFunction(Family::Exponential),
             grid: GridSpec::paper(),
+        }
+    }
+
+    /// The recommended plan ([`GridSpec::recommended`]): 16 theta_h of the exponential
+    /// function with k-hat, theta_d 3:1@60, phi_d every 30 deg over the half turn, phi_h 45.
+    pub fn recommended() -> Self {
+        Self {
+            placement: ThetaHPlacement::FittedFunction(Family::Exponential),
+            grid: GridSpec::recommended(),
         }
     }
 
@@ -279,20 +293,20 @@ impl Accuracy {
     }
 }
 
-/// Reconstructs the samples with a method and compares with the tabulated truth.
+/// Reconstructs the samples with a method (by halves of phi_d when they measure both,
+/// [`reconstruct_halves`]) and compares with the tabulated truth.
 pub fn evaluate(
     samples: &[Sample],
     method: Method,
     truth: &MerlBrdf,
     max_elevation_deg: f64,
 ) -> Result<(Reconstruction, Accuracy), ReconstructError> {
-    let reconstruction = reconstruct(samples, method, "reconstruction")?;
-    let accuracy = Accuracy::of(&reconstruction.brdf, truth, max_elevation_deg);
-    Ok((reconstruction, accuracy))
+    evaluate_through(samples, method, truth, max_elevation_deg, None)
 }
 
 /// [`evaluate`] for samples measured through the instrument's `response`: the method
-/// reconstructs through it ([`reconstruct_through`]). `None`: as [`evaluate`].
+/// reconstructs through it ([`reconstruct_halves`], as `specula_reconstruct::
+/// reconstruct_through` for each half). `None`: as [`evaluate`].
 pub fn evaluate_through(
     samples: &[Sample],
     method: Method,
@@ -300,7 +314,7 @@ pub fn evaluate_through(
     max_elevation_deg: f64,
     response: Option<&InstrumentResponse>,
 ) -> Result<(Reconstruction, Accuracy), ReconstructError> {
-    let reconstruction = reconstruct_through(samples, method, "reconstruction", response)?;
+    let reconstruction = reconstruct_halves(samples, method, "reconstruction", response)?;
     let accuracy = Accuracy::of(&reconstruction.brdf, truth, max_elevation_deg);
     Ok((reconstruction, accuracy))
 }
@@ -311,6 +325,7 @@ mod tests {
     use specula_core::materials::preset;
     use specula_core::sampling::{Family, SamplingFunction};
     use specula_core::tabulate::tabulate;
+    use specula_core::ThetaDSteps;
 
     #[test]
     fn the_paper_plan_has_6300_configurations() {
@@ -347,9 +362,9 @@ mod tests {
             ),
             grid: GridSpec {
                 theta_h_samples: 12,
-                theta_d_step_deg: 15.0,
+                theta_d: ThetaDSteps::even(15.0),
                 phi_d_step_deg: 45.0,
-                phi_h_deg: 45.0,
+                ..GridSpec::paper()
             },
         };
         let sharp = Measurement::simulate(&truth, &settings, &device).unwrap();

@@ -189,7 +189,7 @@ mod tests {
     }
 
     /// Options whose default differs between commands on purpose.
-    const DEFAULTS_DIFFER: [(&str, &str); 3] = [
+    const DEFAULTS_DIFFER: [(&str, &str); 4] = [
         (
             "out",
             "demo writes a folder, demo-out, by default; the others have no default",
@@ -201,6 +201,12 @@ mod tests {
         (
             "spp",
             "a report's renders take fewer rays than a picture of its own",
+        ),
+        (
+            "theta-h-samples",
+            "a plan's (plan, measure, evaluate) is its --grid-preset's, 16 for the recommended \
+             grid; the paper's analysis of 5.1 and 5.2 (analyze, placement, fit-k, plot) keeps \
+             the paper's 30",
         ),
     ];
 

@@ -5,6 +5,7 @@
 
 use clap::builder::TypedValueParser;
 use clap::error::ErrorKind;
+use specula_core::grid::ThetaDSteps;
 use specula_formats::rgl::write as rgl;
 
 /// A real number between two finite bounds, in a unit: degrees, seconds, stops, ...
@@ -122,6 +123,48 @@ impl TypedValueParser for Count {
     }
 }
 
+/// theta_d's positions of a grid, `STEP` or `STEP:GRAZING@FROM`
+/// ([`specula_core::grid::ThetaDSteps`]): both steps in [`GRID_STEP_DEG`], FROM from 0 to
+/// below 90 deg.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ThetaDStepsArg;
+
+impl ThetaDStepsArg {
+    /// The range in words, as `--help` and the error say it.
+    pub(crate) fn words() -> String {
+        format!(
+            "{}, or STEP:GRAZING@FROM with both steps from {} to {} and FROM from 0 to below 90",
+            GRID_STEP_DEG.words(),
+            GRID_STEP_DEG.min,
+            GRID_STEP_DEG.max
+        )
+    }
+}
+
+impl TypedValueParser for ThetaDStepsArg {
+    type Value = ThetaDSteps;
+
+    fn parse_ref(
+        &self,
+        _cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<ThetaDSteps, clap::Error> {
+        let text = value.to_string_lossy();
+        match text.trim().parse::<ThetaDSteps>() {
+            Ok(steps)
+                if GRID_STEP_DEG.contains(steps.step_deg)
+                    && steps
+                        .grazing
+                        .is_none_or(|g| GRID_STEP_DEG.contains(g.step_deg)) =>
+            {
+                Ok(steps)
+            }
+            _ => Err(out_of_range(arg, &text, &Self::words())),
+        }
+    }
+}
+
 /// Angles in degrees: a turntable or half-vector azimuth, either way round.
 pub(crate) const AZIMUTH_DEG: Real = Real::from_to(-360.0, 360.0, "degrees");
 /// phi_d of MERL's half-difference angles (folded by reciprocity to [0, 180]).
@@ -192,5 +235,10 @@ mod tests {
         assert!(!ELEVATION_DEG.contains(0.0) && ELEVATION_DEG.contains(90.0));
         assert!(!PHI_D_DEG.contains(f64::NAN) && !PHI_D_DEG.contains(400.0));
         assert_eq!(PROBE_SAMPLES.words(), "a whole number from 2 to 10000");
+        assert_eq!(
+            ThetaDStepsArg::words(),
+            "degrees from 0.5 to 90, or STEP:GRAZING@FROM with both steps from 0.5 to 90 and \
+             FROM from 0 to below 90"
+        );
     }
 }

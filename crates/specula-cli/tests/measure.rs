@@ -14,8 +14,11 @@ use std::time::{Duration, Instant};
 
 const SPECULA: &str = env!("CARGO_BIN_EXE_specula");
 
-/// A small plan: 30 probe samples, 8 theta_h x 6 theta_d x 4 phi_d.
-const SMALL: [&str; 8] = [
+/// A small plan on the paper's grid shape: 30 probe samples, 8 theta_h x 6 theta_d x 4 phi_d
+/// (0 to 90 deg).
+const SMALL: [&str; 10] = [
+    "--grid-preset",
+    "paper",
     "--probe-samples",
     "30",
     "--theta-h-samples",
@@ -341,4 +344,127 @@ fn bad_arguments_get_one_line_errors() {
         .unwrap();
     assert_eq!(output.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&output.stderr).contains("--token"));
+}
+
+#[test]
+fn the_default_grid_measures_both_halves_of_phi_d_and_reconstructs_them_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("halves.binary");
+    // The recommended grid's shape (graded theta_d, phi_d over the half turn), small.
+    let args: Vec<String> = [
+        "measure",
+        "--truth",
+        "green-paint",
+        "--skip-checks",
+        "--ideal",
+        "--probe-samples",
+        "30",
+        "--theta-h-samples",
+        "6",
+        "--theta-d-step",
+        "15:5@60",
+        "--phi-d-step",
+        "45",
+        "--out",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .chain([out.display().to_string()])
+    .collect();
+    let stdout = String::from_utf8_lossy(&run(&args).stdout).into_owned();
+    let grid = "6 theta_h, theta_d step 15 deg (5 deg from 60), phi_d step 45 deg over 0-180 \
+                (both halves), phi_h 45 deg";
+    assert!(stdout.contains(&format!("grid: {grid}\n")), "{stdout}");
+    assert!(stdout.contains(&format!("grid={grid}\n")), "{stdout}");
+    assert!(stdout.contains("phi_d_halves=true\n"), "{stdout}");
+    assert!(stdout.contains(&format!("planned_samples={}\n", 6 * 10 * 5)), "{stdout}");
+    let journal = Journal::open_read_only(&session_of(&out)).unwrap();
+    let beyond_90 = journal
+        .plan(STAGE_MAIN)
+        .unwrap()
+        .iter()
+        .filter(|row| row.hd.phi_d.to_degrees() > 91.0)
+        .count();
+    assert!(beyond_90 > 0);
+    drop(journal);
+    let status = Command::new(SPECULA)
+        .args(["session", "status"])
+        .arg(session_of(&out))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&status.stdout);
+    assert!(text.contains(&format!("grid: {grid}\n")), "{text}");
+}
+
+/// A settings record as a journal written before the graded theta_d and the half turn of
+/// phi_d kept it: without their keys.
+struct OldSettings(serde_json::Value);
+
+impl serde::Serialize for OldSettings {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+impl specula_session::journal::Record for OldSettings {
+    const KEY: &'static str = "settings";
+}
+
+#[test]
+fn an_old_journal_resumes_on_its_own_grid_with_the_same_command() {
+    use specula_core::grid::{GridSpec, ThetaDSteps};
+    use specula_session::workflow::{measure, MeasureSettings, Quiet, Source};
+    use std::sync::atomic::AtomicBool;
+    use std::sync::Arc;
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("old.binary");
+    // Started (and stopped at once) as before issue 20: the small plan on the paper's grid,
+    // the settings record without the new keys.
+    let settings = MeasureSettings {
+        seed: 3,
+        probe_samples: 30,
+        checks: false,
+        grid: GridSpec {
+            theta_h_samples: 8,
+            theta_d: ThetaDSteps::even(15.0),
+            phi_d_step_deg: 30.0,
+            ..GridSpec::paper()
+        },
+        ..MeasureSettings::default()
+    };
+    let truth = specula_formats::source::load_brdf("silver-925").unwrap();
+    measure(
+        Source::Simulated {
+            truth,
+            speedup: None,
+        },
+        &specula_acquisition::device::Device::utia(),
+        &settings,
+        &session_of(&out),
+        &out,
+        Arc::new(AtomicBool::new(true)),
+        &mut Quiet,
+    )
+    .unwrap();
+    let mut old = serde_json::to_value(&settings).unwrap();
+    let keys = old.as_object_mut().unwrap();
+    assert!(keys.remove("theta_d_grazing").is_some() && keys.remove("phi_d_span").is_some());
+    Journal::open(&session_of(&out))
+        .unwrap()
+        .put_record(&OldSettings(old))
+        .unwrap();
+
+    // The command of then, without --grid-preset: it resumes on the paper's quarter.
+    let then: Vec<String> = measure_args(&out, &["--truth", "silver-925"])
+        .into_iter()
+        .filter(|a| a != "--grid-preset" && a != "paper")
+        .collect();
+    let stdout = String::from_utf8_lossy(&run(&then).stdout).into_owned();
+    assert!(
+        stdout.contains("grid: 8 theta_h, theta_d step 15 deg, phi_d step 30 deg over 0-90, phi_h 45 deg"),
+        "{stdout}"
+    );
+    assert!(stdout.contains(&format!("planned_samples={}\n", 8 * 6 * 4)), "{stdout}");
+    assert!(stdout.contains("phi_d_halves=false\n"), "{stdout}");
 }

@@ -16,7 +16,8 @@ fn small_explicit_grid_in_nested_order() {
     let out = dir.path().join("plan.csv");
     specula()
         .args(["plan", "--theta-h-list", "0,10,40", "--theta-d-step", "30"])
-        .args(["--phi-d-step", "45", "--order", "nested", "--out"])
+        .args(["--phi-d-step", "45", "--phi-d-span", "quarter"])
+        .args(["--order", "nested", "--out"])
         .arg(&out)
         .assert()
         .success()

@@ -119,11 +119,13 @@ fn an_empty_token_is_refused_and_a_token_comes_from_a_file_or_the_environment() 
     server.wait().unwrap();
 }
 
-/// `measure` with a small plan and `extra`, writing `out`.
+/// `measure` with a small plan (the paper's grid shape) and `extra`, writing `out`.
 fn measure_args(out: &Path, extra: &[&str]) -> Vec<String> {
     let mut args: Vec<String> = [
         "measure",
         "--skip-checks",
+        "--grid-preset",
+        "paper",
         "--probe-samples",
         "30",
         "--theta-h-samples",

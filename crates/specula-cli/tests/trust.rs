@@ -16,8 +16,11 @@ const SPECULA: &str = env!("CARGO_BIN_EXE_specula");
 /// Size of a MERL .binary file: the header and three planes of 90 x 90 x 180 doubles.
 const MERL_BYTES: u64 = 12 + 3 * 90 * 90 * 180 * 8;
 
-/// A small plan: 30 probe samples, 8 theta_h x 6 theta_d x 3 phi_d.
-const SMALL: [&str; 8] = [
+/// A small plan on the paper's grid shape: 30 probe samples, 8 theta_h x 6 theta_d x 3 phi_d
+/// (0 to 90 deg).
+const SMALL: [&str; 10] = [
+    "--grid-preset",
+    "paper",
     "--probe-samples",
     "30",
     "--theta-h-samples",

@@ -15,7 +15,7 @@ pub mod sample;
 
 pub use brdf::{Brdf, PhiDRow, Rgb};
 pub use geometry::{HalfDiff, Spherical};
-pub use grid::GridSpec;
+pub use grid::{GrazingStep, GridSpec, PhiDSpan, ThetaDSteps};
 pub use merl::MerlBrdf;
 pub use probe::ProbeSpec;
 pub use sample::{ProbePoint, Sample};

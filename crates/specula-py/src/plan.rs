@@ -10,56 +10,76 @@ use specula_accuracy::GridPlan;
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::sampling::{Family, SamplingFunction};
-use specula_core::{GridSpec, Spherical};
+use specula_core::grid::{GridSpec, PhiDSpan, ThetaDSteps};
+use specula_core::Spherical;
 use std::path::PathBuf;
 
-/// The options of the paper's grid shared by `plan`, `evaluate` and `measure` (the CLI's
-/// `GridArgs`), checked with the same ranges.
+/// The options of a measurement grid shared by `plan`, `evaluate` and `measure` (the CLI's
+/// `GridArgs`): a preset (`"recommended"`, the default, or `"paper"`) whose values the
+/// other arguments replace one by one.
 pub(crate) struct Grid {
     pub(crate) family: Family,
     pub(crate) spec: GridSpec,
 }
 
+/// The grid arguments as given (`None`: the preset's value).
+pub(crate) struct GridArgs<'a, 'py> {
+    pub(crate) family: &'a str,
+    pub(crate) grid_preset: Option<&'a str>,
+    pub(crate) theta_h_samples: Option<usize>,
+    pub(crate) theta_d_step_deg: Option<&'a Bound<'py, PyAny>>,
+    pub(crate) phi_d_step_deg: Option<f64>,
+    pub(crate) phi_d_span: Option<&'a str>,
+    pub(crate) phi_h_deg: Option<f64>,
+}
+
 impl Grid {
-    /// The grid of the arguments given; `None` takes the paper's value ([`GridSpec::paper`]).
-    pub(crate) fn new(
-        family_name: &str,
-        theta_h_samples: Option<usize>,
-        theta_d_step_deg: Option<f64>,
-        phi_d_step_deg: Option<f64>,
-        phi_h_deg: Option<f64>,
-    ) -> PyResult<Self> {
-        let paper = GridSpec::paper();
-        let theta_h_samples = theta_h_samples.unwrap_or(paper.theta_h_samples);
-        let theta_d_step_deg = theta_d_step_deg.unwrap_or(paper.theta_d_step_deg);
-        let phi_d_step_deg = phi_d_step_deg.unwrap_or(paper.phi_d_step_deg);
-        let phi_h_deg = phi_h_deg.unwrap_or(paper.phi_h_deg);
-        if theta_h_samples < 2 {
-            return Err(invalid("theta_h_samples must be at least 2"));
-        }
-        for (name, step) in [
-            ("theta_d_step_deg", theta_d_step_deg),
-            ("phi_d_step_deg", phi_d_step_deg),
-        ] {
-            if !(step.is_finite() && step > 0.0 && step <= 90.0) {
-                return Err(invalid(format!(
-                    "{name} must be a number of degrees in (0, 90], got {step}"
-                )));
-            }
-        }
-        if !phi_h_deg.is_finite() {
-            return Err(invalid("phi_h_deg must be a number of degrees"));
-        }
-        Ok(Self {
-            family: family(family_name)?,
-            spec: GridSpec {
-                theta_h_samples,
-                theta_d_step_deg,
-                phi_d_step_deg,
-                phi_h_deg,
+    /// The grid of the arguments given, from `grid_preset`, else `resumed` (a session's own
+    /// grid), else [`GridSpec::recommended`]; checked ([`GridSpec::check`]).
+    /// `theta_d_step_deg` is a number (an even step) or a str `"STEP:GRAZING@FROM"`.
+    pub(crate) fn new(args: &GridArgs<'_, '_>, resumed: Option<GridSpec>) -> PyResult<Self> {
+        let base = match (args.grid_preset, resumed) {
+            (Some(name), _) => GridSpec::preset(name).or_raise()?,
+            (None, Some(grid)) => grid,
+            (None, None) => GridSpec::recommended(),
+        };
+        let theta_d = match args.theta_d_step_deg {
+            None => base.theta_d,
+            Some(value) => theta_d_steps(value)?,
+        };
+        let spec = GridSpec {
+            theta_h_samples: args.theta_h_samples.unwrap_or(base.theta_h_samples),
+            theta_d,
+            phi_d_step_deg: args.phi_d_step_deg.unwrap_or(base.phi_d_step_deg),
+            phi_d_span: match args.phi_d_span {
+                None => base.phi_d_span,
+                Some(name) => name.parse::<PhiDSpan>().or_raise()?,
             },
+            phi_h_deg: args.phi_h_deg.unwrap_or(base.phi_h_deg),
+        };
+        spec.check().or_raise()?;
+        Ok(Self {
+            family: family(args.family)?,
+            spec,
         })
     }
+}
+
+/// theta_d's steps from a number (an even step, degrees) or a str (`"3"`, `"3:1@60"`).
+fn theta_d_steps(value: &Bound<'_, PyAny>) -> PyResult<ThetaDSteps> {
+    let steps = match value.extract::<f64>() {
+        Ok(step_deg) => {
+            let steps = ThetaDSteps::even(step_deg);
+            steps.check().or_raise()?;
+            steps
+        }
+        Err(_) => value
+            .extract::<String>()
+            .map_err(|_| invalid("theta_d_step_deg must be a number of degrees or a str STEP:GRAZING@FROM, e.g. '3:1@60'"))?
+            .parse::<ThetaDSteps>()
+            .or_raise()?,
+    };
+    Ok(steps)
 }
 
 /// The device description at `path`, or the paper's UTIA gonioreflectometer.
@@ -72,9 +92,13 @@ pub(crate) fn device(path: Option<PathBuf>) -> PyResult<Device> {
 
 /// Plan a measurement (paper 5.3, `specula plan`): the grid of theta_h (the sampling
 /// function `family` with `k`, or the explicit `theta_h_deg` positions) x theta_d (0, step,
-/// ... below 90) x phi_d (0, step, ... up to 90) at one phi_h, as positions of `device` (a
-/// device TOML, default the paper's UTIA goniometer), classified `ok`, `limit` or
-/// `occluded`, ordered (`order`: `"optimized"` or `"nested"`) and timed.
+/// ... below 90, or `"STEP:GRAZING@FROM"`: finer from FROM) x phi_d (0, step, ... up to 90
+/// with `phi_d_span="quarter"`, up to 180 with `"half-turn"`) at one phi_h, as positions of
+/// `device` (a device TOML, default the paper's UTIA goniometer), classified `ok`, `limit`
+/// or `occluded`, ordered (`order`: `"optimized"` or `"nested"`) and timed. The grid
+/// arguments left `None` take `grid_preset`'s values: `"recommended"` (the default: 16
+/// theta_h, theta_d `"3:1@60"`, phi_d step 30 over the half turn, phi_h 45) or `"paper"` (30,
+/// 3, 15 over the quarter, 45).
 ///
 /// Returns a dict of arrays in execution order, one entry per sample, the columns of
 /// `specula plan`'s CSV: `index`, `theta_h_deg`, `phi_h_deg`, `theta_d_deg`, `phi_d_deg`,
@@ -83,28 +107,35 @@ pub(crate) fn device(path: Option<PathBuf>) -> PyResult<Device> {
 /// and `"summary"`: counts and times (s) of the nested and the optimized order. Ctrl-C
 /// returns at once (the ordering is not stoppable; its result is dropped).
 #[pyfunction]
-#[pyo3(signature = (k = None, theta_h_deg = None, family = "exponential", theta_h_samples = None,
-    theta_d_step_deg = None, phi_d_step_deg = None, phi_h_deg = None, order = "optimized",
-    device = None))]
+#[pyo3(signature = (k = None, theta_h_deg = None, family = "exponential", grid_preset = None,
+    theta_h_samples = None, theta_d_step_deg = None, phi_d_step_deg = None, phi_d_span = None,
+    phi_h_deg = None, order = "optimized", device = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn plan<'py>(
     py: Python<'py>,
     k: Option<f64>,
     theta_h_deg: Option<Vec<f64>>,
     family: &str,
+    grid_preset: Option<&str>,
     theta_h_samples: Option<usize>,
-    theta_d_step_deg: Option<f64>,
+    theta_d_step_deg: Option<&Bound<'py, PyAny>>,
     phi_d_step_deg: Option<f64>,
+    phi_d_span: Option<&str>,
     phi_h_deg: Option<f64>,
     order: &str,
     device: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = Grid::new(
-        family,
-        theta_h_samples,
-        theta_d_step_deg,
-        phi_d_step_deg,
-        phi_h_deg,
+        &GridArgs {
+            family,
+            grid_preset,
+            theta_h_samples,
+            theta_d_step_deg,
+            phi_d_step_deg,
+            phi_d_span,
+            phi_h_deg,
+        },
+        None,
     )?;
     let theta_h = match (k, theta_h_deg) {
         (Some(_), Some(_)) => return Err(invalid("give k or theta_h_deg, not both")),

@@ -4,7 +4,7 @@
 use crate::brdf::{brdf_arg, check_elevation, figures_dict};
 use crate::errors::{invalid, one_line, OrRaise};
 use crate::interrupt::{self, Stop};
-use crate::plan::{device, Grid};
+use crate::plan::{device, Grid, GridArgs};
 use crate::sampling::{rgb_array, rgb_rows};
 use crate::table::to_array;
 use numpy::ndarray::Array3;
@@ -17,7 +17,8 @@ use specula_core::sampling::SamplingFunction;
 use specula_core::tabulate::tabulate;
 use specula_core::{HalfDiff, Sample};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
-use specula_reconstruct::{reconstruct as reconstruct_samples, Method};
+use specula_reconstruct::phi_d_halves::reconstruct_halves;
+use specula_reconstruct::Method;
 use std::path::PathBuf;
 
 /// The angle columns of a samples dict, in the order of `HalfDiff::from_degrees`.
@@ -101,7 +102,9 @@ fn method(name: &str) -> PyResult<Method> {
 /// Reconstruct a full MERL table from sparse samples (paper 5.3, `specula reconstruct`):
 /// `samples` is a mapping of arrays `theta_h_deg`, `phi_h_deg`, `theta_d_deg`, `phi_d_deg`
 /// (N,) and `rgb` (N, 3) in 1/sr (as `evaluate(...)["samples"]` and `read_session`
-/// return). `method`: `"lobe"` (ours), `"log"` or `"linear"` (the paper's baseline).
+/// return). `method`: `"lobe"` (ours), `"log"` or `"linear"` (the paper's baseline). Samples
+/// that measure both halves of phi_d (0-90 and 90-180 deg, two positions each at least) are
+/// reconstructed half by half, as `specula reconstruct` does.
 ///
 /// Returns `{"table": (90, 90, 180, 3), "provenance": uint8 (90, 90, 180) (0 measured, 1
 /// interpolated, 2 extrapolated), "lattice_shape", "measured_nodes", "filled_nodes",
@@ -116,7 +119,14 @@ pub(crate) fn reconstruct<'py>(
     let method = self::method(method)?;
     let samples = samples_of(samples)?;
     let r = py
-        .detach(|| reconstruct_samples(&samples, method, "reconstruction"))
+        .detach(|| {
+            reconstruct_halves(
+                &samples,
+                method,
+                "reconstruction",
+                None::<&dyn specula_core::capture::CaptureResponse>,
+            )
+        })
         .or_raise()?;
     let dict = PyDict::new(py);
     dict.set_item("provenance", provenance_array(py, &r.provenance))?;
@@ -141,17 +151,19 @@ pub(crate) fn reconstruct<'py>(
 /// (`truth`: a `Brdf`, a source or a table array) as the paper does (5.3) — theta_h at the
 /// `theta_h_samples` positions of the `family` function with `k` (default: k-hat fitted to
 /// the material's probe), or with `placement="probe"` the least-error placement on the
-/// probe; theta_d and phi_d in steps at `phi_h_deg` — keep the samples `device` reaches,
-/// take them without noise, reconstruct with `method` and compare with the truth tabulated
-/// at the bin centres.
+/// probe; theta_d and phi_d in steps at `phi_h_deg`, the grid arguments as `plan`'s (default
+/// the recommended grid) — keep the samples `device` reaches, take them without noise,
+/// reconstruct with `method` (by halves of phi_d when the samples measure both) and compare
+/// with the truth tabulated at the bin centres.
 ///
 /// Returns `{"name", "k" (None for the probe placement), "measured", "within", "all",
 /// "samples"}`: the figures as `compare`'s, over the cells within `max_elevation_deg` and
 /// over all, and the simulated samples (a dict for `reconstruct`). Ctrl-C returns at once.
 #[pyfunction]
 #[pyo3(signature = (truth, method = "lobe", k = None, placement = "function",
-    family = "exponential", theta_h_samples = None, theta_d_step_deg = None,
-    phi_d_step_deg = None, phi_h_deg = None, max_elevation_deg = 75.0, device = None))]
+    family = "exponential", grid_preset = None, theta_h_samples = None, theta_d_step_deg = None,
+    phi_d_step_deg = None, phi_d_span = None, phi_h_deg = None, max_elevation_deg = 75.0,
+    device = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate<'py>(
     py: Python<'py>,
@@ -160,9 +172,11 @@ pub(crate) fn evaluate<'py>(
     k: Option<f64>,
     placement: &str,
     family: &str,
+    grid_preset: Option<&str>,
     theta_h_samples: Option<usize>,
-    theta_d_step_deg: Option<f64>,
+    theta_d_step_deg: Option<&Bound<'py, PyAny>>,
     phi_d_step_deg: Option<f64>,
+    phi_d_span: Option<&str>,
     phi_h_deg: Option<f64>,
     max_elevation_deg: f64,
     device: Option<PathBuf>,
@@ -170,11 +184,16 @@ pub(crate) fn evaluate<'py>(
     let method = self::method(method)?;
     check_elevation(max_elevation_deg)?;
     let grid = Grid::new(
-        family,
-        theta_h_samples,
-        theta_d_step_deg,
-        phi_d_step_deg,
-        phi_h_deg,
+        &GridArgs {
+            family,
+            grid_preset,
+            theta_h_samples,
+            theta_d_step_deg,
+            phi_d_step_deg,
+            phi_d_span,
+            phi_h_deg,
+        },
+        None,
     )?;
     let placement = match (placement, k) {
         ("function", Some(k)) => {

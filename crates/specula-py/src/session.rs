@@ -3,7 +3,7 @@
 use crate::brdf::brdf_arg;
 use crate::errors::{invalid, OrRaise};
 use crate::interrupt::{self, Stop};
-use crate::plan::{device, Grid};
+use crate::plan::{device, Grid, GridArgs};
 use crate::reconstruction::samples_dict;
 use crate::sampling::probe_dict;
 use pyo3::exceptions::PyKeyboardInterrupt;
@@ -14,28 +14,30 @@ use specula_reconstruct::Method;
 use specula_sampling::Probe;
 use specula_session::journal::{Journal, SourceRecord};
 use specula_session::workflow::{
-    default_session_path, measure as run_measurement, measured_samples, probe_samples, FitRecord,
-    HdrChoice, MeasureOutcome, MeasureSettings, PlanOrder, Quiet, Source, Summary, STAGE_MAIN,
-    STAGE_PROBE,
+    default_session_path, measure as run_measurement, measured_samples, probe_samples,
+    session_grid, FitRecord, HdrChoice, MeasureOutcome, MeasureSettings, PlanOrder, Quiet, Source,
+    Summary, STAGE_MAIN, STAGE_PROBE,
 };
 use std::path::PathBuf;
 
 /// Measure a known BRDF on the simulated device (`specula measure --truth`), the paper's
 /// whole workflow: calibration, the alignment and orientation checks (`checks`), the probe
-/// (`probe_samples`), k-hat, the plan (the grid arguments as `plan`'s), the acquisition with
-/// HDR (`hdr`: `"predicted"` or `"bracket"`) and noise (`ideal=True`: none), and the
-/// reconstruction with `method` (through the instrument's measured response unless
-/// `deblur=False`) into the MERL file `out` (with its `.provenance.npy` and
-/// `.summary.txt`). Everything is journaled in `session` (default `OUT.session.sqlite`);
-/// an existing session resumes.
+/// (`probe_samples`), k-hat, the plan (the grid arguments as `plan`'s: the recommended grid
+/// by default), the acquisition with HDR (`hdr`: `"predicted"` or `"bracket"`) and noise
+/// (`ideal=True`: none), and the reconstruction with `method` (through the instrument's
+/// measured response unless `deblur=False`; by halves of phi_d when the plan measured both)
+/// into the MERL file `out` (with its `.provenance.npy` and `.summary.txt`). Everything is
+/// journaled in `session` (default `OUT.session.sqlite`); an existing session resumes, on
+/// its own grid unless `grid_preset` is given.
 ///
 /// Returns the summary as a dict (`k_hat`, `measured_samples`, `captures`, `device_s`,
 /// ...). Ctrl-C stops after the sample in progress, leaves the journal resumable (call again
 /// with the same arguments) and raises `KeyboardInterrupt`.
 #[pyfunction]
 #[pyo3(signature = (truth, out, session = None, seed = 1, ideal = false, point_light = false,
-    probe_samples = None, family = "exponential", theta_h_samples = None, theta_d_step_deg = None,
-    phi_d_step_deg = None, phi_h_deg = None, order = "optimized", hdr = "predicted",
+    probe_samples = None, family = "exponential", grid_preset = None, theta_h_samples = None,
+    theta_d_step_deg = None, phi_d_step_deg = None, phi_d_span = None, phi_h_deg = None,
+    order = "optimized", hdr = "predicted",
     method = "lobe", deblur = true, checks = true, tilt_deg = 0.0, tilt_azimuth_deg = 0.0, device = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn measure<'py>(
@@ -48,9 +50,11 @@ pub(crate) fn measure<'py>(
     point_light: bool,
     probe_samples: Option<usize>,
     family: &str,
+    grid_preset: Option<&str>,
     theta_h_samples: Option<usize>,
-    theta_d_step_deg: Option<f64>,
+    theta_d_step_deg: Option<&Bound<'py, PyAny>>,
     phi_d_step_deg: Option<f64>,
+    phi_d_span: Option<&str>,
     phi_h_deg: Option<f64>,
     order: &str,
     hdr: &str,
@@ -61,12 +65,18 @@ pub(crate) fn measure<'py>(
     tilt_azimuth_deg: f64,
     device: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let session = session.unwrap_or_else(|| default_session_path(&out));
     let grid = Grid::new(
-        family,
-        theta_h_samples,
-        theta_d_step_deg,
-        phi_d_step_deg,
-        phi_h_deg,
+        &GridArgs {
+            family,
+            grid_preset,
+            theta_h_samples,
+            theta_d_step_deg,
+            phi_d_step_deg,
+            phi_d_span,
+            phi_h_deg,
+        },
+        session_grid(&session).or_raise()?,
     )?;
     let probe_samples = probe_samples.unwrap_or(ProbeSpec::paper().samples);
     if probe_samples < 2 {
@@ -87,10 +97,7 @@ pub(crate) fn measure<'py>(
         point_light,
         probe_samples,
         family: grid.family,
-        theta_h_samples: grid.spec.theta_h_samples,
-        theta_d_step_deg: grid.spec.theta_d_step_deg,
-        phi_d_step_deg: grid.spec.phi_d_step_deg,
-        phi_h_deg: grid.spec.phi_h_deg,
+        grid: grid.spec,
         order: match order {
             "optimized" => PlanOrder::Optimized,
             "nested" => PlanOrder::Nested,
@@ -119,7 +126,6 @@ pub(crate) fn measure<'py>(
         speedup: None,
     };
     let device = self::device(device)?;
-    let session = session.unwrap_or_else(|| default_session_path(&out));
     let outcome = interrupt::run(py, Stop::Cooperative, move |stop| {
         run_measurement(source, &device, &settings, &session, &out, stop, &mut Quiet)
             .map_err(Box::<dyn std::error::Error + Send + Sync>::from)
@@ -157,6 +163,8 @@ fn summary_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict
     dict.set_item("main_device_s", s.main_device_s)?;
     dict.set_item("simulated", s.simulated)?;
     dict.set_item("method", s.method.name())?;
+    dict.set_item("grid", s.grid.to_string())?;
+    dict.set_item("phi_d_halves", s.phi_d_halves)?;
     let events = PyDict::new(py);
     for (kind, count) in &s.events {
         events.set_item(kind, count)?;
@@ -167,8 +175,9 @@ fn summary_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict
 
 /// Read a session journal (`specula measure`'s SQLite file), read-only, as far as the
 /// session got. Returns `{"source", "simulated_truth" (the truth's name, or None for a real
-/// device), "stages": {name: {"planned", "done", "device_s_done", "predicted_s_left",
-/// "captures"}}, "events": {kind: count}, "fit": {"k", "family", "error"} or None, "probe":
+/// device), "grid" (the main plan's grid in words, or None), "stages": {name: {"planned",
+/// "done", "device_s_done", "predicted_s_left", "captures"}}, "events": {kind: count}, "fit":
+/// {"k", "family", "error"} or None, "probe":
 /// {"theta_h_deg", "rgb"} or None, "samples"}` (the main stage's measured samples in plan
 /// order, a dict for `reconstruct`). A file that is not a journal raises `SpeculaError`.
 #[pyfunction]
@@ -177,6 +186,7 @@ pub(crate) fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, 
     let status = journal.status().or_raise()?;
     let source: Option<SourceRecord> = journal.record().or_raise()?;
     let fit: Option<FitRecord> = journal.record().or_raise()?;
+    let settings: Option<MeasureSettings> = journal.record().or_raise()?;
     let has = |stage: &str| status.stages.iter().any(|s| s.stage == stage);
     let probe = if has(STAGE_PROBE) {
         let points = probe_samples(&journal).or_raise()?;
@@ -198,6 +208,7 @@ pub(crate) fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, 
         "simulated_truth",
         source.as_ref().and_then(|s| s.simulated_truth()),
     )?;
+    dict.set_item("grid", settings.map(|s| s.grid.to_string()))?;
     let stages = PyDict::new(py);
     for stage in &status.stages {
         let entry = PyDict::new(py);

@@ -9,7 +9,7 @@ import pytest
 
 import specula
 
-GRID = dict(theta_h_samples=12, theta_d_step_deg=6.0, phi_d_step_deg=15.0, probe_samples=30,
+GRID = dict(grid_preset="paper", theta_h_samples=12, theta_d_step_deg=6.0, phi_d_step_deg=15.0, probe_samples=30,
             checks=False, seed=3)
 
 

@@ -6,8 +6,9 @@ import pytest
 import specula
 from conftest import read_csv
 
-SMALL_GRID = ["--theta-h-samples", "8", "--theta-d-step", "15", "--phi-d-step", "30"]
-SMALL = dict(theta_h_samples=8, theta_d_step_deg=15.0, phi_d_step_deg=30.0)
+SMALL_GRID = ["--grid-preset", "paper", "--theta-h-samples", "8", "--theta-d-step", "15",
+              "--phi-d-step", "30"]
+SMALL = dict(grid_preset="paper", theta_h_samples=8, theta_d_step_deg=15.0, phi_d_step_deg=30.0)
 
 
 def csv_columns(path):
@@ -58,6 +59,26 @@ def test_plan_matches_the_cli(cli, tmp_path):
     assert summary["measurable"] == columns["status"].count("ok")
 
 
+def test_plan_takes_the_recommended_grid_by_default_and_its_notation():
+    graded = specula.plan(k=4.78, theta_h_samples=4, theta_d_step_deg="15:5@60",
+                          phi_d_step_deg=45.0)
+    # theta_d 0, 15, 30, 45, 60, 65, ..., 85; phi_d 0, 45, ..., 180 (the default half turn).
+    assert graded["summary"]["nested"]["total"] == 4 * 10 * 5
+    assert graded["phi_d_deg"].max() == pytest.approx(180.0)
+    assert sorted(set(np.round(graded["theta_d_deg"], 6)))[4:6] == [60.0, 65.0]
+    quarter = specula.plan(k=4.78, theta_h_samples=4, theta_d_step_deg=15.0,
+                           phi_d_span="quarter")
+    assert quarter["summary"]["nested"]["total"] == 4 * 6 * 4
+    default = specula.plan(k=4.78)["summary"]["nested"]["total"]
+    assert default == 16 * 50 * 7
+    with pytest.raises(specula.SpeculaError, match="STEP:GRAZING@FROM"):
+        specula.plan(k=4.78, theta_d_step_deg="3:1")
+    with pytest.raises(specula.SpeculaError, match="half-turn"):
+        specula.plan(k=4.78, phi_d_span="half")
+    with pytest.raises(specula.SpeculaError, match="recommended or paper"):
+        specula.plan(k=4.78, grid_preset="fine")
+
+
 def test_reconstruct_matches_the_cli(cli, tmp_path):
     samples_csv = tmp_path / "samples.csv"
     cli("evaluate", "--truth", "silver-925", "--k", "4.78", *SMALL_GRID,
@@ -101,6 +122,9 @@ def test_measure_and_read_session_agree_with_the_cli(cli, tmp_path):
     assert summary["measured_samples"] > 0 and summary["k_hat"] > 0
     journal = specula.read_session(session)
     assert journal["simulated_truth"] == "silver-925"
+    assert journal["grid"] == summary["grid"]
+    assert journal["grid"].startswith("8 theta_h, theta_d step 15 deg, phi_d step 30 deg over 0-90")
+    assert summary["phi_d_halves"] is False
     assert journal["fit"]["k"] == pytest.approx(summary["k_hat"], rel=1e-12)
     # The probe's samples the device reaches (theta_h up to about 67 deg at theta_d 40).
     probe_done = journal["stages"]["probe"]["done"]

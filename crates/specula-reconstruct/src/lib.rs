@@ -10,7 +10,6 @@
 
 pub mod axis;
 pub mod breakdown;
-pub mod budget;
 pub mod deblur;
 pub mod domain;
 pub mod extrapolate;

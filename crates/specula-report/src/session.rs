@@ -19,7 +19,8 @@ use specula_core::merl::CELLS;
 use specula_core::{MerlBrdf, ProbePoint, Sample};
 use specula_formats::BrdfSource;
 use specula_reconstruct::provenance::Provenance;
-use specula_reconstruct::{reconstruct_through, Method};
+use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
+use specula_reconstruct::Method;
 use specula_session::journal::{
     Journal, JournalError, SessionRecord, SessionStatus, SourceRecord, Stage, StageStatus,
 };
@@ -147,7 +148,7 @@ impl Session {
     fn placed_samples(&self) -> usize {
         self.settings
             .as_ref()
-            .map_or(PLACED_SAMPLES, |s| s.theta_h_samples)
+            .map_or(PLACED_SAMPLES, |s| s.grid.theta_h_samples)
     }
 
     /// Every planned stage, the main one among them, is wholly measured.
@@ -369,15 +370,11 @@ fn stage(status: &SessionStatus, stage: Stage) -> Option<&StageStatus> {
 
 fn settings_text(s: &MeasureSettings) -> String {
     format!(
-        "seed {}, {} probe samples, {} theta_h samples ({}), theta_d step {} deg, phi_d step {} \
-         deg, phi_h {} deg, order {}, exposures {}, method {}{}",
+        "seed {}, {} probe samples, grid {} ({} function), order {}, exposures {}, method {}{}",
         s.seed,
         s.probe_samples,
-        s.theta_h_samples,
+        s.grid,
         s.family,
-        s.theta_d_step_deg,
-        s.phi_d_step_deg,
-        s.phi_h_deg,
         s.order,
         s.hdr,
         s.method,
@@ -446,7 +443,8 @@ fn response_of(
 }
 
 /// The table shown: --table, or the main stage's samples reconstructed with the session's
-/// method (as `specula reconstruct --session`); with its coverage rows and where it is from.
+/// method (as `specula reconstruct --session`: each half of phi_d apart when the samples
+/// measure both); with its coverage rows and where it is from.
 struct Shown {
     table: MerlBrdf,
     provenance: Option<Provenance>,
@@ -484,7 +482,8 @@ fn shown_table(
     let method = session.settings.as_ref().map_or(Method::LOBE, |s| s.method);
     progress.start("reconstructing", None);
     let response = session.response.as_ref().map(|fit| &fit.response);
-    let result = reconstruct_through(
+    let halves = measures_both_halves(&session.main);
+    let result = reconstruct_halves(
         &session.main,
         method,
         &format!("{name}, measured"),
@@ -505,8 +504,13 @@ fn shown_table(
                 provenance: Some(r.provenance),
                 rows,
                 origin: format!(
-                    "reconstructed from the {} main samples with the {method} method{}",
+                    "reconstructed from the {} main samples with the {method} method{}{}",
                     session.main.len(),
+                    if halves {
+                        ", each half of phi_d (0-90 and 90-180 deg) from its own samples"
+                    } else {
+                        ""
+                    },
                     match (&session.response, r.resolution_deg) {
                         (Some(fit), Some(_)) => format!(
                             ", fitted through the instrument's response: {}",

@@ -8,9 +8,11 @@
 //!    uses the recommended one, as turning the sample on its holder would);
 //! 3. **probe**: the dense theta_h column at theta_d = 40, phi_d = 90 deg (section 5.2);
 //! 4. **fit k** of the sampling function to the probe;
-//! 5. **plan** the grid of 5.3 with k-hat, reachability, occlusion and ordering;
+//! 5. **plan** the grid with k-hat ([`MeasureSettings::grid`]: the recommended one by
+//!    default, the paper's 5.3 on request), reachability, occlusion and ordering;
 //! 6. **acquire** it with predicted exposures ([`crate::engine`]);
-//! 7. **reconstruct** the MERL table and write it with a summary.
+//! 7. **reconstruct** the MERL table (each half of phi_d apart when the plan measured both,
+//!    `specula_reconstruct::phi_d_halves`) and write it with a summary.
 //!
 //! Every result is kept in the session journal the first time it is made and read back
 //! afterwards, so a rerun of the same command resumes where the last one stopped and, with
@@ -55,9 +57,10 @@ use specula_acquisition::response::InstrumentResponse;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::sampling::{Family, SamplingFunction};
-use specula_core::{Brdf, HalfDiff, ProbePoint, ProbeSpec, Rgb, Sample};
+use specula_core::{Brdf, GridSpec, HalfDiff, ProbePoint, ProbeSpec, Rgb, Sample};
 use specula_reconstruct::provenance::sidecar_path;
-use specula_reconstruct::{reconstruct_through, Method};
+use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
+use specula_reconstruct::Method;
 use specula_sampling::deblur::deblur_probe;
 use specula_sampling::{fit_k, Probe};
 use std::path::{Path, PathBuf};
@@ -184,6 +187,8 @@ pub struct Summary {
     pub family: Family,
     /// The alignment and orientation checks' results, when they ran.
     pub checks: Option<ChecksRecord>,
+    /// The main plan's grid.
+    pub grid: GridSpec,
     /// The main plan's counts.
     pub plan: PlanRecord,
     /// Probe samples measured (paper 5.2).
@@ -202,6 +207,9 @@ pub struct Summary {
     pub simulated: bool,
     /// The reconstruction method.
     pub method: Method,
+    /// Whether the samples measured both halves of phi_d and were reconstructed apart
+    /// (`specula_reconstruct::phi_d_halves`).
+    pub phi_d_halves: bool,
     /// The instrument's response the reconstruction went through, if any.
     pub deblur: Option<DeblurRecord>,
     /// Events in the journal by kind (faults, retries, resumptions).
@@ -229,6 +237,7 @@ impl Summary {
         }
         let hours = |s: f64| s / 3600.0;
         lines.extend([
+            format!("grid={}", self.grid),
             format!("planned_samples={}", self.plan.total),
             format!("excluded_limit={}", self.plan.limit),
             format!("excluded_occluded={}", self.plan.occluded),
@@ -256,6 +265,7 @@ impl Summary {
             hours(self.plan.nested_bracket_s)
         ));
         lines.push(format!("method={}", self.method));
+        lines.push(format!("phi_d_halves={}", self.phi_d_halves));
         match &self.deblur {
             Some(d) => lines.extend(d.lines()),
             None => lines.push("deblurred=false".into()),
@@ -441,7 +451,7 @@ pub fn measure(
     };
     let phi_h_deg = checks
         .as_ref()
-        .map_or(settings.phi_h_deg, |c| c.plan_phi_h_deg);
+        .map_or(settings.grid.phi_h_deg, |c| c.plan_phi_h_deg);
     let mut engine = Engine {
         instrument: connected.instrument.as_mut(),
         journal: &mut journal,
@@ -507,7 +517,8 @@ pub fn measure(
     let name = out
         .file_stem()
         .map_or_else(|| "measured".into(), |s| s.to_string_lossy().into_owned());
-    let result = reconstruct_through(&samples, method, &name, response.as_ref())
+    let halves = measures_both_halves(&samples);
+    let result = reconstruct_halves(&samples, method, &name, response.as_ref())
         .map_err(|cause| WorkflowError::Reconstruct { cause })?;
     let deblur = response_fit
         .as_ref()
@@ -538,6 +549,7 @@ pub fn measure(
         plan,
         connected.simulated,
         settings,
+        halves,
         deblur,
     )?;
     let text = summary.lines().join("\n") + "\n";
@@ -551,6 +563,19 @@ pub fn measure(
     journal.log_event("complete", &format!("wrote {}", out.display()))?;
     journal.close()?;
     Ok(MeasureOutcome::Complete(Box::new(summary)))
+}
+
+/// The grid an existing session journal measures on, `None` when `session` does not exist
+/// yet or holds no settings. A front end resumes on it unless told another grid (which
+/// [`measure`] then refuses as a change of settings): a journal written before the graded
+/// theta_d and the half turn of phi_d continues on the paper's grid it started with, not on
+/// today's default.
+pub fn session_grid(session: &Path) -> Result<Option<GridSpec>, WorkflowError> {
+    if !session.exists() {
+        return Ok(None);
+    }
+    let journal = Journal::open_read_only(session)?;
+    Ok(journal.record::<MeasureSettings>()?.map(|s| s.grid))
 }
 
 /// Records the settings of a new session, or checks that a resumed one asks the same.
@@ -763,7 +788,7 @@ fn run_checks(
     observer.step(&format!("alignment: {alignment}"));
     observer.step("orientation check: rings of phi_h for the scratch lobe");
     let orientation_settings = OrientationSettings {
-        planned_phi_h_deg: settings.phi_h_deg,
+        planned_phi_h_deg: settings.grid.phi_h_deg,
         ..OrientationSettings::default()
     };
     let orientation = with_retries(journal, instrument, hdr, "orientation check", |i, h| {
@@ -780,21 +805,21 @@ fn run_checks(
                 };
                 (
                     Some(report.anisotropic),
-                    settings.phi_h_deg,
-                    format!("{what} phi_h {} deg is clean", settings.phi_h_deg),
+                    settings.grid.phi_h_deg,
+                    format!("{what} phi_h {} deg is clean", settings.grid.phi_h_deg),
                 )
             } else {
                 let chosen = report.recommended_phi_h_deg;
                 let message = format!(
                     "scratch lobe at phi_h {} deg: measuring at phi_h {chosen} deg instead (turn the sample by {:.1} deg to keep {})",
-                    settings.phi_h_deg,
+                    settings.grid.phi_h_deg,
                     report.turn_sample_deg(),
-                    settings.phi_h_deg
+                    settings.grid.phi_h_deg
                 );
                 (Some(true), chosen, message)
             }
         }
-        Err(e) => (None, settings.phi_h_deg, format!("inconclusive: {e}")),
+        Err(e) => (None, settings.grid.phi_h_deg, format!("inconclusive: {e}")),
     };
     observer.step(&format!("orientation: {orientation}"));
     let device_s = match (started.0, clock(instrument)) {
@@ -909,7 +934,7 @@ fn fit_probe(
         probe.iter().map(|p| (p.theta_h_deg, p.value)).unzip();
     let probe =
         Probe::new(theta_h, values).map_err(|cause| WorkflowError::ProbeColumn { cause })?;
-    let fit = fit_k(&probe.column(), settings.family, settings.theta_h_samples)
+    let fit = fit_k(&probe.column(), settings.family, settings.grid.theta_h_samples)
         .map_err(|cause| WorkflowError::ProbeFit { cause })?;
     Ok(FitRecord {
         function: fit.function,
@@ -951,11 +976,9 @@ fn main_plan(
         }
         return Ok(record);
     }
-    if !(settings.theta_d_step_deg > 0.0 && settings.phi_d_step_deg > 0.0) {
-        return Err(WorkflowError::Steps);
-    }
+    settings.grid.check()?;
     observer.step("planning and ordering the samples");
-    let grid = settings.grid();
+    let grid = settings.grid;
     let theta_h = function.positions_deg(grid.theta_h_samples);
     let theta_d = grid.theta_d_deg();
     let phi_d = grid.phi_d_deg();
@@ -1021,6 +1044,7 @@ fn summarise(
     plan: PlanRecord,
     simulated: bool,
     settings: &MeasureSettings,
+    phi_d_halves: bool,
     deblur: Option<DeblurRecord>,
 ) -> Result<Summary, WorkflowError> {
     let status = journal.status()?;
@@ -1047,6 +1071,7 @@ fn summarise(
         fit_error: fit.error,
         family: fit.function.family,
         checks,
+        grid: settings.grid,
         plan,
         probe_samples: probe.done,
         measured_samples: main.done,
@@ -1056,6 +1081,7 @@ fn summarise(
         main_device_s: main.device_s_done,
         simulated,
         method: settings.method,
+        phi_d_halves,
         deblur,
         events: status.events.into_iter().collect(),
     })
@@ -1067,7 +1093,11 @@ mod tests {
 
     #[test]
     fn grid_steps_match_the_paper() {
-        let grid = MeasureSettings::default().grid();
+        let grid = MeasureSettings {
+            grid: specula_core::GridSpec::paper(),
+            ..MeasureSettings::default()
+        }
+        .grid;
         let theta_d = grid.theta_d_deg();
         assert_eq!(theta_d.len(), 30);
         assert_eq!(theta_d.last(), Some(&87.0));

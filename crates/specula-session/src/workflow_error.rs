@@ -147,9 +147,9 @@ pub enum WorkflowError {
         /// The measurable samples of the plan record.
         measurable: usize,
     },
-    /// A grid step is zero or negative.
-    #[error("the theta_d and phi_d steps must be positive")]
-    Steps,
+    /// The grid cannot be stepped (a step zero or negative, ...).
+    #[error("the measurement grid: {0}")]
+    Grid(#[from] specula_core::grid::GridError),
     /// A stage the summary needs is not in the journal.
     #[error("the journal has no {0}")]
     MissingStage(&'static str),

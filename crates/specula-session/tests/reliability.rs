@@ -473,7 +473,7 @@ mod replies_and_inputs {
     use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
     use specula_acquisition::kinematics::AxisPositions;
     use specula_core::materials::preset;
-    use specula_core::{Brdf, Rgb};
+    use specula_core::{Brdf, GridSpec, Rgb, ThetaDSteps};
     use specula_session::pace::Paced;
     use specula_session::protocol::validate::ReplyRanges;
     use specula_session::protocol::{ClientSettings, Endpoint, RemoteInstrument, Server};
@@ -655,9 +655,12 @@ mod replies_and_inputs {
     ) -> Result<MeasureOutcome, specula_session::workflow_error::WorkflowError> {
         let settings = MeasureSettings {
             probe_samples: 30,
-            theta_h_samples: 8,
-            theta_d_step_deg: 15.0,
-            phi_d_step_deg: 45.0,
+            grid: GridSpec {
+                theta_h_samples: 8,
+                theta_d: ThetaDSteps::even(15.0),
+                phi_d_step_deg: 45.0,
+                ..GridSpec::paper()
+            },
             checks: false,
             ..MeasureSettings::default()
         };

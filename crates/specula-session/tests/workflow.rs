@@ -1,10 +1,16 @@
 //! The measurement workflow end to end on the simulated device, with a small plan.
 
 use specula_acquisition::device::Device;
+use glam::DVec3;
+use specula_core::grid::PhiDSpan;
 use specula_core::materials::preset;
-use specula_session::journal::Journal;
+use specula_core::merl::Bin;
+use specula_core::{Brdf, GridSpec, MerlBrdf, Rgb, ThetaDSteps};
+use specula_reconstruct::Method;
+use specula_session::journal::{Journal, Record};
 use specula_session::workflow::{
-    measure, MeasureOutcome, MeasureSettings, Quiet, Source, STAGE_MAIN, STAGE_PROBE,
+    measure, measured_samples, session_grid, MeasureOutcome, MeasureSettings, Quiet, Source,
+    STAGE_MAIN, STAGE_PROBE,
 };
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -12,9 +18,12 @@ use std::sync::Arc;
 fn small() -> MeasureSettings {
     MeasureSettings {
         probe_samples: 30,
-        theta_h_samples: 8,
-        theta_d_step_deg: 15.0,
-        phi_d_step_deg: 45.0,
+        grid: GridSpec {
+            theta_h_samples: 8,
+            theta_d: ThetaDSteps::even(15.0),
+            phi_d_step_deg: 45.0,
+            ..GridSpec::paper()
+        },
         checks: false,
         ..MeasureSettings::default()
     }
@@ -70,4 +79,154 @@ fn a_small_measurement_completes_and_summarises() {
         summary.probe_samples
     );
     assert!(out.exists());
+}
+
+/// silver-925's neighbour green-paint, made not reciprocal: brighter when the camera is
+/// nearer the normal than the light, darker the other way round, as the RGL measurements
+/// are near grazing (README, "The two halves of phi_d").
+struct NotReciprocal(specula_core::materials::Material);
+
+impl Brdf for NotReciprocal {
+    fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+        let swap = 1.0 + 0.6 * (wo.z - wi.z);
+        self.0.eval(wi, wo).map(|f| f * swap)
+    }
+    fn name(&self) -> String {
+        "not-reciprocal".into()
+    }
+}
+
+fn simulated(truth: Arc<dyn Brdf>) -> Source {
+    Source::Simulated {
+        truth,
+        speedup: None,
+    }
+}
+
+#[test]
+fn a_half_turn_plan_is_measured_and_reconstructed_by_halves() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("tilted.binary");
+    let session = dir.path().join("tilted.sqlite");
+    let truth = Arc::new(NotReciprocal(preset("green-paint").unwrap()));
+    let grid = GridSpec {
+        theta_h_samples: 8,
+        theta_d: "15:5@60".parse().unwrap(),
+        phi_d_step_deg: 45.0,
+        phi_d_span: PhiDSpan::HalfTurn,
+        ..GridSpec::recommended()
+    };
+    let settings = MeasureSettings {
+        grid,
+        ideal: true,
+        point_light: true,
+        ..small()
+    };
+    let outcome = measure(
+        simulated(truth.clone()),
+        &Device::utia(),
+        &settings,
+        &session,
+        &out,
+        Arc::new(AtomicBool::new(false)),
+        &mut Quiet,
+    )
+    .unwrap();
+    let MeasureOutcome::Complete(summary) = outcome else {
+        panic!("stopped")
+    };
+    // theta_d 0, 15, 30, 45, 60, 65, ..., 85; phi_d 0, 45, ..., 180.
+    assert_eq!(summary.plan.total, 8 * 10 * 5);
+    assert!(summary.phi_d_halves);
+    let lines = summary.lines();
+    assert!(lines.contains(&"phi_d_halves=true".to_string()), "{lines:?}");
+    assert!(lines.contains(&format!("grid={grid}")), "{lines:?}");
+    let journal = Journal::open_read_only(&session).unwrap();
+    let samples = measured_samples(
+        &journal.plan(STAGE_MAIN).unwrap(),
+        &journal.samples(STAGE_MAIN).unwrap(),
+    );
+    let beyond_90 = samples
+        .iter()
+        .filter(|s| s.hd.phi_d.to_degrees() > 91.0)
+        .count();
+    assert!(beyond_90 > samples.len() / 3, "{beyond_90} of {}", samples.len());
+
+    // A cell and its light/camera swap (phi_d 45.5 and 134.5 deg at theta_h 20, theta_d
+    // 45.5): the measured table keeps most of the truth's difference; the fold, none.
+    let table = MerlBrdf::read(&out).unwrap();
+    let cell = |phi_d_i| Bin {
+        theta_h_i: 42,
+        theta_d_i: 45,
+        phi_d_i,
+    };
+    let ratio = |f: &dyn Fn(Bin) -> f64| f(cell(45)) / f(cell(134)) - 1.0;
+    let phi_h = settings.grid.phi_h_deg.to_radians();
+    let truth_ratio = ratio(&|b| truth.eval_half_diff(b.centre(phi_h)).unwrap().y);
+    let measured_ratio = ratio(&|b| table.cell(b.index()).unwrap().y);
+    assert!(truth_ratio > 0.3, "{truth_ratio}");
+    assert!(
+        (0.7..1.3).contains(&(measured_ratio / truth_ratio)),
+        "{measured_ratio} vs {truth_ratio}"
+    );
+    let folded = specula_reconstruct::reconstruct(&samples, Method::LOBE, "folded").unwrap();
+    assert_eq!(ratio(&|b| folded.brdf.cell(b.index()).unwrap().y), 0.0);
+}
+
+/// A settings record as a journal written before the graded theta_d and the half turn of
+/// phi_d kept it: without their keys.
+struct OldSettings(serde_json::Value);
+
+impl serde::Serialize for OldSettings {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+impl Record for OldSettings {
+    const KEY: &'static str = <MeasureSettings as Record>::KEY;
+}
+
+#[test]
+fn an_old_journal_reads_as_the_paper_grid_and_resumes_on_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("silver.binary");
+    let session = dir.path().join("silver.sqlite");
+    let truth: Arc<dyn Brdf> = Arc::new(preset("silver-925").unwrap());
+    let run = |settings: &MeasureSettings, stop: bool| {
+        measure(
+            simulated(truth.clone()),
+            &Device::utia(),
+            settings,
+            &session,
+            &out,
+            Arc::new(AtomicBool::new(stop)),
+            &mut Quiet,
+        )
+    };
+    assert_eq!(session_grid(&session).unwrap(), None);
+    let stopped = run(&small(), true).unwrap();
+    assert!(matches!(stopped, MeasureOutcome::Stopped { .. }));
+    let mut old = serde_json::to_value(small()).unwrap();
+    let keys = old.as_object_mut().unwrap();
+    assert!(keys.remove("theta_d_grazing").is_some() && keys.remove("phi_d_span").is_some());
+    Journal::open(&session)
+        .unwrap()
+        .put_record(&OldSettings(old))
+        .unwrap();
+
+    // Read back as the paper's shape, the grid it was started on.
+    assert_eq!(session_grid(&session).unwrap(), Some(small().grid));
+    let today = MeasureSettings {
+        grid: GridSpec::recommended(),
+        ..small()
+    };
+    let refused = run(&today, false).unwrap_err().to_string();
+    assert!(refused.contains("phi_d_span"), "{refused}");
+    let resumed = run(&small(), false).unwrap();
+    let MeasureOutcome::Complete(summary) = resumed else {
+        panic!("stopped")
+    };
+    assert_eq!(summary.plan.total, 8 * 6 * 3);
+    assert!(!summary.phi_d_halves);
 }

@@ -7,7 +7,8 @@ use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
 use specula_report::{write_session_pictures, ReportOptions};
 use specula_session::workflow::{
-    default_session_path, measure, summary_path, MeasureOutcome, MeasureSettings, Source,
+    default_session_path, measure, session_grid, summary_path, MeasureOutcome, MeasureSettings,
+    Source,
 };
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -16,9 +17,11 @@ use std::time::Instant;
 const MATERIALS: [&str; 2] = ["silver-925", "green-paint"];
 
 /// Run the main job on the built-in default: measure silver-925 and green-paint (the paper's
-/// two materials) on the simulated device, the paper's way with our ordering and predicted
-/// exposures, and write for each the MERL table, the summary, the session journal,
-/// pictures and an HTML report; then print where everything is.
+/// two materials) on the simulated device, the paper's workflow on the recommended grid
+/// (`specula plan --help`: 16 theta_h, theta_d 3:1@60, phi_d over the half turn,
+/// reconstructed by halves of phi_d) with our ordering and predicted exposures, and write
+/// for each the MERL table, the summary, the session journal, pictures and an HTML report;
+/// then print where everything is.
 ///
 /// Per material, in OUT/MATERIAL/: MATERIAL.binary (the measured BRDF, MERL format),
 /// MATERIAL.summary.txt (k-hat, counts, captures, simulated hours), MATERIAL.session.sqlite
@@ -30,8 +33,8 @@ const MATERIALS: [&str; 2] = ["silver-925", "green-paint"];
 /// 11, on one colour scale), probe_against_the_adaptive_samples.png
 /// (Fig. 13) and raw_samples.png (the measured samples per phi_d, Fig. 15).
 ///
-/// A rerun resumes the sessions (and is quick once they are complete); Ctrl-C stops after
-/// the sample in progress. Another --seed is another measurement: it goes to OUT/seed-N/.
+/// A rerun resumes the sessions, each on the grid it started with (and is quick once they
+/// are complete); Ctrl-C stops after the sample in progress. Another --seed is another measurement: it goes to OUT/seed-N/.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// Folder for the outputs.
@@ -52,10 +55,6 @@ pub(crate) fn run(args: Args) -> Result<()> {
     std::fs::create_dir_all(&out)
         .with_context(|| format!("{}: cannot create the folder", out.display()))?;
     let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
-    let settings = MeasureSettings {
-        seed: args.seed,
-        ..MeasureSettings::default()
-    };
     let mut written = Vec::new();
     for name in MATERIALS {
         let dir = out.join(name);
@@ -64,7 +63,12 @@ pub(crate) fn run(args: Args) -> Result<()> {
         let truth = specula_formats::source::load_brdf(name)?;
         let table = dir.join(format!("{name}.binary"));
         let session = default_session_path(&table);
-        eprintln!("== {name}: measuring on the simulated device");
+        let settings = MeasureSettings {
+            seed: args.seed,
+            grid: session_grid(&session)?.unwrap_or_default(),
+            ..MeasureSettings::default()
+        };
+        eprintln!("== {name}: measuring on the simulated device, grid {}", settings.grid);
         let mut bars = Bars::default();
         let source = Source::Simulated {
             truth: truth.clone(),

@@ -10,7 +10,7 @@ use specula_acquisition::response::InstrumentResponse;
 use specula_core::materials::builtin_database;
 use specula_core::sampling::SamplingFunction;
 use specula_core::tabulate::tabulate;
-use specula_core::Brdf;
+use specula_core::{Brdf, GridSpec};
 use specula_formats::fits::{load_model, FitModel};
 use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
 use specula_formats::samples_csv::SampleSet;
@@ -20,11 +20,14 @@ use std::sync::Arc;
 
 /// Measure a known BRDF on a plan without noise, reconstruct it and print the error.
 ///
-/// The plan is the paper's (5.3) unless told otherwise: theta_h at the 30 positions of the
-/// exponential sampling function with k-hat fitted to the material's probe (5.2: theta_d 40,
-/// phi_d 90, phi_h 45 deg, 90 square-root positions), theta_d 0, 3, ..., 87 deg, phi_d 0,
-/// 15, ..., 90 deg at phi_h 45 deg; the samples the device cannot take (limits, occlusion) are
-/// left out, as a real measurement would.
+/// The plan is the recommended grid unless told otherwise (see `specula plan --help`):
+/// theta_h at the 16 positions of the exponential sampling function with k-hat fitted to the
+/// material's probe (5.2: theta_d 40, phi_d 90, phi_h 45 deg, 90 square-root positions),
+/// theta_d every 3 deg below 60 and every 1 deg from 60, phi_d 0, 30, ..., 180 deg at phi_h
+/// 45 deg; --grid-preset paper gives the paper's (5.3: 30 theta_h, theta_d 0, 3, ..., 87,
+/// phi_d 0, 15, ..., 90). The samples the device cannot take (limits, occlusion) are left
+/// out, as a real measurement would. Samples that measure both halves of phi_d are
+/// reconstructed half by half, as `specula reconstruct` does.
 ///
 /// Figures (averaged over R, G, B; see `specula compare --help`): relative_rmse
 /// (cosine-weighted), log_rmse (of ln(1 + f cos theta_i)) and slice_mae (the paper's
@@ -33,7 +36,7 @@ use std::sync::Arc;
 ///
 /// Examples:
 ///
-///   specula evaluate --truth silver-925 --method linear     # the paper's pipeline
+///   specula evaluate --truth silver-925 --grid-preset paper --method linear   # the paper's pipeline
 ///
 ///   specula evaluate --builtin --method lobe                # the built-in database, a table
 #[derive(clap::Args)]
@@ -137,7 +140,9 @@ struct Row {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
+    let grid = args.grid.grid(None)?;
     check_args(&args)?;
+    let settings = plan_settings(&args, grid)?;
     let device = match &args.device {
         Some(path) => Device::load(path)?,
         None => Device::utia(),
@@ -146,13 +151,13 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let bar = crate::progress::bar(truths.len() as u64, "evaluating");
     let mut rows = Vec::with_capacity(truths.len());
     for (set, truth) in &truths {
-        let mut row = evaluate_one(truth.as_ref(), &args, &device)?;
+        let mut row = evaluate_one(truth.as_ref(), &args, &settings, &device)?;
         row.set.clone_from(set);
         rows.push(row);
         bar.inc(1);
     }
     bar.finish_and_clear();
-    print_rows(&args, &rows);
+    print_rows(&args, &grid, &rows);
     print_set_summaries(&rows);
     Ok(())
 }
@@ -188,7 +193,6 @@ fn load_truths(args: &Args) -> Result<Vec<(String, Arc<dyn Brdf>)>> {
 }
 
 fn check_args(args: &Args) -> Result<()> {
-    args.grid.check()?;
     if let Some(k) = args.k {
         SamplingFunction::new(args.grid.family, k)?;
     }
@@ -198,8 +202,8 @@ fn check_args(args: &Args) -> Result<()> {
     Ok(())
 }
 
-/// The plan settings the flags describe.
-fn plan_settings(args: &Args) -> Result<PlanSettings> {
+/// The plan settings the flags describe, on `grid`.
+fn plan_settings(args: &Args, grid: GridSpec) -> Result<PlanSettings> {
     let placement = match (args.placement, args.k) {
         (Placement::Function, Some(k)) => {
             ThetaHPlacement::Function(SamplingFunction::new(args.grid.family, k)?)
@@ -207,23 +211,24 @@ fn plan_settings(args: &Args) -> Result<PlanSettings> {
         (Placement::Function, None) => ThetaHPlacement::FittedFunction(args.grid.family),
         (Placement::Probe, _) => ThetaHPlacement::Probe,
     };
-    Ok(PlanSettings {
-        placement,
-        grid: args.grid.spec(),
-    })
+    Ok(PlanSettings { placement, grid })
 }
 
 /// The plan for one material, its noise-free measurement, the reconstruction and the error.
-fn evaluate_one(truth: &dyn Brdf, args: &Args, device: &Device) -> Result<Row> {
+fn evaluate_one(
+    truth: &dyn Brdf,
+    args: &Args,
+    settings: &PlanSettings,
+    device: &Device,
+) -> Result<Row> {
     let name = truth.name();
     let response = instrument_response(args, device);
-    let measurement =
-        Measurement::simulate_through(truth, &plan_settings(args)?, device, response.as_ref())?;
+    let measurement = Measurement::simulate_through(truth, settings, device, response.as_ref())?;
     let samples = measurement.samples;
     if let Some(path) = &args.samples_out {
         SampleSet::new(name.clone(), samples.clone()).write(path)?;
     }
-    let table = tabulate(truth, args.grid.phi_h.to_radians());
+    let table = tabulate(truth, measurement.grid.phi_h_deg.to_radians());
     let (_, accuracy) = evaluate_through(
         &samples,
         args.method,
@@ -246,23 +251,20 @@ fn instrument_response(args: &Args, device: &Device) -> Option<InstrumentRespons
     args.through_instrument.then(|| device.response())
 }
 
-fn print_rows(args: &Args, rows: &[Row]) {
+fn print_rows(args: &Args, grid: &GridSpec, rows: &[Row]) {
     outln!(
-        "# method {}{}, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, phi_h {} deg; within = light and camera <= {} deg",
+        "# method {}{}, grid {} (theta_h by {}); within = light and camera <= {} deg",
         args.method,
         if args.through_instrument {
             " through the instrument's response"
         } else {
             ""
         },
-        args.grid.theta_h_samples,
+        grid,
         match args.placement {
-            Placement::Function => format!("{} function", args.grid.family),
+            Placement::Function => format!("the {} function", args.grid.family),
             Placement::Probe => "probe placement".to_string(),
         },
-        args.grid.theta_d_step,
-        args.grid.phi_d_step,
-        args.grid.phi_h,
         args.max_elevation
     );
     outln!("material,k,measured,rel_rmse_within,log_rmse_within,slice_mae_within,rel_rmse_all,log_rmse_all,slice_mae_all");

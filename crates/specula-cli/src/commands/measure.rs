@@ -9,12 +9,12 @@ use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
-use specula_core::ProbeSpec;
+use specula_core::{GridSpec, ProbeSpec};
 use specula_session::engine::{Progress, StageOutcome};
 use specula_session::protocol::{ClientSettings, Endpoint};
 use specula_session::workflow::{
-    default_session_path, measure, summary_path, HdrChoice, MeasureOutcome, MeasureSettings,
-    Observer, PlanOrder, Source,
+    default_session_path, measure, session_grid, summary_path, HdrChoice, MeasureOutcome,
+    MeasureSettings, Observer, PlanOrder, Source,
 };
 use std::path::PathBuf;
 use std::time::Duration;
@@ -27,13 +27,17 @@ use std::time::Duration;
 /// (up to 90 theta_h samples at theta_d = 40, phi_d = 90 deg), fitting k of the sampling
 /// function, the plan (theta_h from the fitted function x theta_d x phi_d, unreachable and
 /// occluded samples excluded, ordered for speed), the acquisition with predicted HDR
-/// exposures, and the reconstruction into OUT.binary. A summary (k_hat, counts, captures,
+/// exposures, and the reconstruction into OUT.binary. The plan's grid is the recommended one
+/// unless told otherwise (--grid-preset paper for the paper's; see `specula plan --help`);
+/// when it measures both halves of phi_d (--phi-d-span half-turn, the default) each half is
+/// reconstructed from its own samples (`specula reconstruct --help`). A summary (k_hat, counts, captures,
 /// simulated_hours, measured_samples, ...) goes to OUT.summary.txt and stdout.
 ///
 /// Everything is journaled in the session file (default OUT.session.sqlite), one transaction
 /// per sample: after Ctrl-C (which finishes the sample in progress), a crash or a power cut,
-/// run the same command again to resume. With the same --seed the result is byte-identical
-/// whether or not the run was interrupted. `specula session status` shows the progress.
+/// run the same command again to resume (a resumed session keeps its own grid, also one
+/// started before the recommended grid was the default). With the same --seed the result is
+/// byte-identical whether or not the run was interrupted. `specula session status` shows the progress.
 ///
 /// Example (simulated): specula measure --truth silver-925 --out silver.binary
 ///
@@ -138,17 +142,15 @@ pub(crate) enum HdrArg {
 }
 
 impl Args {
-    fn settings(&self) -> MeasureSettings {
+    /// The settings on `grid` ([`GridArgs::grid`]).
+    fn settings(&self, grid: GridSpec) -> MeasureSettings {
         MeasureSettings {
             seed: self.seed,
             ideal: self.ideal,
             point_light: self.point_light,
             probe_samples: self.probe_samples,
             family: self.grid.family,
-            theta_h_samples: self.grid.theta_h_samples,
-            theta_d_step_deg: self.grid.theta_d_step,
-            phi_d_step_deg: self.grid.phi_d_step,
-            phi_h_deg: self.grid.phi_h,
+            grid,
             order: match self.order {
                 Order::Optimized => PlanOrder::Optimized,
                 Order::Nested => PlanOrder::Nested,
@@ -168,7 +170,6 @@ impl Args {
     /// What the parser cannot check alone (each option's range it checks itself).
     fn check(&self) -> Result<()> {
         super::require_merl_out(&self.out)?;
-        self.grid.check()?;
         if let Some(path) = &self.device {
             let text = path.to_string_lossy();
             if text.starts_with("tcp://") || text.starts_with("exec:") {
@@ -190,13 +191,15 @@ pub(crate) fn run(args: Args) -> Result<()> {
         .session
         .clone()
         .unwrap_or_else(|| default_session_path(&args.out));
+    let grid = args.grid.grid(session_grid(&session)?)?;
     let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
     outln!("session: {}", session.display());
+    outln!("grid: {grid}");
     let mut observer = Bars::default();
     let outcome = measure(
         source,
         &device,
-        &args.settings(),
+        &args.settings(grid),
         &session,
         &args.out,
         stop,

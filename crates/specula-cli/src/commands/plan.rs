@@ -7,15 +7,19 @@ use specula_acquisition::device::Device;
 use specula_acquisition::ordering::{order, transition_time_s};
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::sampling::SamplingFunction;
+use specula_core::GridSpec;
 use std::path::PathBuf;
 
 /// Plan a measurement: turn a theta_h x theta_d x phi_d grid (paper 5.3) into goniometer
 /// positions, find which samples the device can take, order them and estimate the time.
 ///
 /// The grid: theta_h at the positions of the sampling function (--family, --k) or the
-/// explicit --theta-h-list; theta_d = 0, step, 2 step, ... below 90 deg; phi_d = 0, step, ...
-/// up to 90 deg (the rest follows by symmetry); one phi_h. The paper's plan is the default:
-/// 30 x 30 x 7 = 6300 samples.
+/// explicit --theta-h-list; theta_d = 0, step, 2 step, ... below 90 deg, optionally finer
+/// from a grazing threshold; phi_d = 0, step, ... up to 90 deg (the rest follows by
+/// symmetry) or up to 180 deg (each configuration and its light/camera swap); one phi_h.
+/// The default is the recommended grid, 16 x 50 x 7 = 5600 samples (16 theta_h, theta_d
+/// 3:1@60, phi_d every 30 deg over the half turn); --grid-preset paper gives the paper's
+/// plan, 30 x 30 x 7 = 6300 samples.
 ///
 /// A sample is `ok`, `limit` (no axis position reaches it: light or camera beyond 75 deg from
 /// the normal on the default device) or `occluded` (every reachable position has the light
@@ -78,13 +82,12 @@ pub(crate) fn run(args: Args) -> Result<()> {
         return Ok(());
     }
     let out = args.out.clone().context("--out is required")?;
-    args.grid.check()?;
-    let theta_h = theta_h_positions(&args)?;
-    let grid = args.grid.spec();
+    let grid = args.grid.grid(None)?;
+    let theta_h = theta_h_positions(&args, &grid)?;
     let theta_d = grid.theta_d_deg();
     let phi_d = grid.phi_d_deg();
 
-    let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, args.grid.phi_h, &device);
+    let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, grid.phi_h_deg, &device);
     let spinner = crate::progress::spinner("ordering");
     let optimized = order(&nested);
     spinner.finish_and_clear();
@@ -100,11 +103,14 @@ pub(crate) fn run(args: Args) -> Result<()> {
 
     outln!("device: {}", device.name);
     outln!(
-        "grid: {} theta_h x {} theta_d x {} phi_d at phi_h = {} deg",
+        "grid: {} theta_h x {} theta_d x {} phi_d at phi_h = {} deg (theta_d {}, phi_d step {} deg over the {})",
         theta_h.len(),
         theta_d.len(),
         phi_d.len(),
-        args.grid.phi_h
+        grid.phi_h_deg,
+        grid.theta_d,
+        grid.phi_d_step_deg,
+        grid.phi_d_span
     );
     print_summary(&nested.summary(&device), &optimized.summary(&device));
     outln!(
@@ -121,8 +127,8 @@ pub(crate) fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// theta_h positions: the explicit list, or the sampling function's.
-fn theta_h_positions(args: &Args) -> Result<Vec<f64>> {
+/// theta_h positions: the explicit list, or the sampling function's with the grid's count.
+fn theta_h_positions(args: &Args, grid: &GridSpec) -> Result<Vec<f64>> {
     if let Some(list) = &args.theta_h_list {
         if list.is_empty() {
             bail!("--theta-h-list needs at least one value");
@@ -131,7 +137,7 @@ fn theta_h_positions(args: &Args) -> Result<Vec<f64>> {
     }
     let k = args.k.context("give --k or --theta-h-list")?;
     let function = SamplingFunction::new(args.grid.family, k)?;
-    Ok(function.positions_deg(args.grid.theta_h_samples))
+    Ok(function.positions_deg(grid.theta_h_samples))
 }
 
 fn print_summary(nested: &PlanSummary, optimized: &PlanSummary) {

@@ -43,17 +43,15 @@ fn status(path: &std::path::Path) -> Result<()> {
     }
     if let Some(settings) = &record.settings {
         outln!(
-            "settings: seed {}, {} probe samples, {} theta_h ({}), theta_d step {} deg, phi_d step {} deg, order {}, hdr {}{}",
+            "settings: seed {}, {} probe samples, {} function, order {}, hdr {}{}",
             settings.seed,
             settings.probe_samples,
-            settings.theta_h_samples,
             settings.family,
-            settings.theta_d_step_deg,
-            settings.phi_d_step_deg,
             settings.order,
             settings.hdr,
             if settings.ideal { ", ideal" } else { "" }
         );
+        outln!("grid: {}", settings.grid);
     }
     if let Some(checks) = &record.checks {
         outln!("alignment: {}", checks.alignment);

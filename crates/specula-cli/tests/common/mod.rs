@@ -3,6 +3,7 @@
 
 use specula_acquisition::device::Device;
 use specula_core::materials::preset;
+use specula_core::{GridSpec, ThetaDSteps};
 use specula_session::engine::{Progress, StageOutcome};
 use specula_session::workflow::{measure, MeasureSettings, Observer, Source};
 use std::path::{Path, PathBuf};
@@ -38,9 +39,12 @@ pub(crate) fn measure_small(dir: &Path, stop_after: Option<(&str, usize)>) -> (P
     let settings = MeasureSettings {
         seed: 3,
         probe_samples: 30,
-        theta_h_samples: 8,
-        theta_d_step_deg: 15.0,
-        phi_d_step_deg: 45.0,
+        grid: GridSpec {
+            theta_h_samples: 8,
+            theta_d: ThetaDSteps::even(15.0),
+            phi_d_step_deg: 45.0,
+            ..GridSpec::paper()
+        },
         checks: false,
         ..MeasureSettings::default()
     };

@@ -122,19 +122,25 @@ def plan(
     k: Optional[float] = None,
     theta_h_deg: Optional[Sequence[float]] = None,
     family: str = "exponential",
+    grid_preset: Optional[str] = None,
     theta_h_samples: Optional[int] = None,
-    theta_d_step_deg: Optional[float] = None,
+    theta_d_step_deg: Optional[Union[float, str]] = None,
     phi_d_step_deg: Optional[float] = None,
+    phi_d_span: Optional[str] = None,
     phi_h_deg: Optional[float] = None,
     order: str = "optimized",
     device: Optional[Path] = None,
 ) -> dict[str, Any]:
-    """The paper's plan (5.3) as a dict of arrays in execution order, plus "summary"; a grid
-    argument left `None` takes the paper's value (30 theta_h, theta_d step 3, phi_d step 15,
-    phi_h 45 deg)."""
+    """A measurement plan (paper 5.3) as a dict of arrays in execution order, plus "summary".
+    A grid argument left `None` takes `grid_preset`'s value: "recommended" (the default: 16
+    theta_h, theta_d "3:1@60" = every 3 deg, every 1 from 60, phi_d step 30 over
+    phi_d_span "half-turn" 0-180, phi_h 45 deg) or "paper" (30, 3, 15 over "quarter" 0-90,
+    45). `theta_d_step_deg` is a number (an even step) or "STEP:GRAZING@FROM"."""
 
 def reconstruct(samples: Mapping[str, ArrayLike], method: str = "lobe") -> dict[str, Any]:
-    """Sparse samples into the MERL grid: "table", "provenance" (uint8) and lattice facts."""
+    """Sparse samples into the MERL grid: "table", "provenance" (uint8) and lattice facts;
+    samples that measure both halves of phi_d (0-90 and 90-180 deg) are reconstructed half
+    by half."""
 
 def evaluate(
     truth: BrdfLike,
@@ -142,14 +148,16 @@ def evaluate(
     k: Optional[float] = None,
     placement: str = "function",
     family: str = "exponential",
+    grid_preset: Optional[str] = None,
     theta_h_samples: Optional[int] = None,
-    theta_d_step_deg: Optional[float] = None,
+    theta_d_step_deg: Optional[Union[float, str]] = None,
     phi_d_step_deg: Optional[float] = None,
+    phi_d_span: Optional[str] = None,
     phi_h_deg: Optional[float] = None,
     max_elevation_deg: float = 75.0,
     device: Optional[Path] = None,
 ) -> Evaluation:
-    """The accuracy harness (`specula evaluate --truth`)."""
+    """The accuracy harness (`specula evaluate --truth`); the grid arguments as `plan`'s."""
 
 def measure(
     truth: BrdfLike,
@@ -160,9 +168,11 @@ def measure(
     point_light: bool = False,
     probe_samples: Optional[int] = None,
     family: str = "exponential",
+    grid_preset: Optional[str] = None,
     theta_h_samples: Optional[int] = None,
-    theta_d_step_deg: Optional[float] = None,
+    theta_d_step_deg: Optional[Union[float, str]] = None,
     phi_d_step_deg: Optional[float] = None,
+    phi_d_span: Optional[str] = None,
     phi_h_deg: Optional[float] = None,
     order: str = "optimized",
     hdr: str = "predicted",
@@ -173,9 +183,12 @@ def measure(
     tilt_azimuth_deg: float = 0.0,
     device: Optional[Path] = None,
 ) -> dict[str, Any]:
-    """A simulated measurement (`specula measure --truth`); returns its summary."""
+    """A simulated measurement (`specula measure --truth`); returns its summary (with "grid"
+    and "phi_d_halves"). The grid arguments as `plan`'s; a resumed session keeps its own grid
+    unless `grid_preset` is given."""
 
 def read_session(path: Path) -> dict[str, Any]:
-    """A session journal read-only: stages, events, fit, probe and the main samples."""
+    """A session journal read-only: its grid, stages, events, fit, probe and the main
+    samples."""
 
 __all__: list[str]

@@ -225,14 +225,12 @@ pub struct MeasureSettings {
     pub probe_samples: usize,
     /// The theta_h sampling function's family (paper 5.1).
     pub family: Family,
-    /// The grid's numbers ([`GridSpec`], [`MeasureSettings::grid`]), kept flat in the journal.
-    pub theta_h_samples: usize,
-    /// Step of theta_d over [0, 90] degrees, degrees.
-    pub theta_d_step_deg: f64,
-    /// Step of phi_d over [0, 90] degrees, degrees (paper 5.3).
-    pub phi_d_step_deg: f64,
-    /// The phi_h the plan uses unless the orientation check picks another, degrees.
-    pub phi_h_deg: f64,
+    /// The main plan's grid (paper 5.3; [`GridSpec`]), kept flat in the journal. A journal
+    /// written before the graded theta_d and the half turn of phi_d existed reads as the
+    /// paper's shape (even theta_d, phi_d to 90 deg), the grid it was measured on. The
+    /// orientation check may move the plan to another phi_h than the grid's.
+    #[serde(flatten)]
+    pub grid: GridSpec,
     /// The order the main plan's samples are taken in.
     pub order: PlanOrder,
     /// How each sample's HDR captures are chosen.
@@ -253,16 +251,6 @@ pub struct MeasureSettings {
 }
 
 impl MeasureSettings {
-    /// The measurement grid (paper 5.3) at the planned phi_h.
-    pub fn grid(&self) -> GridSpec {
-        GridSpec {
-            theta_h_samples: self.theta_h_samples,
-            theta_d_step_deg: self.theta_d_step_deg,
-            phi_d_step_deg: self.phi_d_step_deg,
-            phi_h_deg: self.phi_h_deg,
-        }
-    }
-
     /// The probe (paper 5.2) at `phi_h_deg` (the planned one, or the orientation check's).
     pub fn probe(&self, phi_h_deg: f64) -> ProbeSpec {
         ProbeSpec {
@@ -274,19 +262,16 @@ impl MeasureSettings {
 }
 
 impl Default for MeasureSettings {
-    /// The paper's measurement (5.2, 5.3) with our ordering and predicted exposures.
+    /// The paper's measurement (5.2) on the recommended grid ([`GridSpec::recommended`]),
+    /// with our ordering and predicted exposures.
     fn default() -> Self {
-        let grid = GridSpec::paper();
         Self {
             seed: 1,
             ideal: false,
             point_light: false,
             probe_samples: ProbeSpec::paper().samples,
             family: Family::Exponential,
-            theta_h_samples: grid.theta_h_samples,
-            theta_d_step_deg: grid.theta_d_step_deg,
-            phi_d_step_deg: grid.phi_d_step_deg,
-            phi_h_deg: grid.phi_h_deg,
+            grid: GridSpec::recommended(),
             order: PlanOrder::Optimized,
             hdr: HdrChoice::Predicted,
             method: Method::LOBE,
