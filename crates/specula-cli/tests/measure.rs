@@ -377,7 +377,10 @@ fn the_default_grid_measures_both_halves_of_phi_d_and_reconstructs_them_apart() 
     assert!(stdout.contains(&format!("grid: {grid}\n")), "{stdout}");
     assert!(stdout.contains(&format!("grid={grid}\n")), "{stdout}");
     assert!(stdout.contains("phi_d_halves=true\n"), "{stdout}");
-    assert!(stdout.contains(&format!("planned_samples={}\n", 6 * 10 * 5)), "{stdout}");
+    assert!(
+        stdout.contains(&format!("planned_samples={}\n", 6 * 10 * 5)),
+        "{stdout}"
+    );
     let journal = Journal::open_read_only(&session_of(&out)).unwrap();
     let beyond_90 = journal
         .plan(STAGE_MAIN)
@@ -462,9 +465,14 @@ fn an_old_journal_resumes_on_its_own_grid_with_the_same_command() {
         .collect();
     let stdout = String::from_utf8_lossy(&run(&then).stdout).into_owned();
     assert!(
-        stdout.contains("grid: 8 theta_h, theta_d step 15 deg, phi_d step 30 deg over 0-90, phi_h 45 deg"),
+        stdout.contains(
+            "grid: 8 theta_h, theta_d step 15 deg, phi_d step 30 deg over 0-90, phi_h 45 deg"
+        ),
         "{stdout}"
     );
-    assert!(stdout.contains(&format!("planned_samples={}\n", 8 * 6 * 4)), "{stdout}");
+    assert!(
+        stdout.contains(&format!("planned_samples={}\n", 8 * 6 * 4)),
+        "{stdout}"
+    );
     assert!(stdout.contains("phi_d_halves=false\n"), "{stdout}");
 }

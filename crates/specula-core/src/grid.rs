@@ -83,7 +83,9 @@ pub enum PhiDSpan {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum GridError {
     /// theta_d's steps are not written `STEP` or `STEP:GRAZING@FROM`.
-    #[error("theta_d steps '{0}': expected STEP or STEP:GRAZING@FROM in degrees, e.g. 3 or 3:1@60")]
+    #[error(
+        "theta_d steps '{0}': expected STEP or STEP:GRAZING@FROM in degrees, e.g. 3 or 3:1@60"
+    )]
     ThetaDNotation(String),
     /// A theta_d step or threshold is out of its range.
     #[error("theta_d steps '{text}': {problem}")]
@@ -294,7 +296,9 @@ impl ThetaDSteps {
         }
         if let Some(g) = self.grazing {
             if !step_ok(g.step_deg) {
-                return Err(problem("the grazing step must be above 0 and at most 90 deg"));
+                return Err(problem(
+                    "the grazing step must be above 0 and at most 90 deg",
+                ));
             }
             if !(0.0..90.0).contains(&g.from_deg) {
                 return Err(problem(
@@ -448,7 +452,10 @@ mod tests {
         assert_eq!(even_steps_deg(40.0, 90.0, true), vec![0.0, 40.0, 80.0]);
         assert_eq!(even_steps_deg(0.1, 90.0, false).len(), 900);
         assert_eq!(even_steps_deg(0.1, 90.0, true).len(), 901);
-        assert_eq!(even_steps_deg(45.0, 180.0, true), [0.0, 45.0, 90.0, 135.0, 180.0]);
+        assert_eq!(
+            even_steps_deg(45.0, 180.0, true),
+            [0.0, 45.0, 90.0, 135.0, 180.0]
+        );
         assert_eq!(*even_steps_deg(40.0, 180.0, true).last().unwrap(), 160.0);
     }
 
@@ -486,7 +493,9 @@ mod tests {
         assert_eq!(steps.to_string(), "3:1@60");
         assert_eq!(" 1.5 ".parse::<ThetaDSteps>(), Ok(ThetaDSteps::even(1.5)));
         assert_eq!(ThetaDSteps::even(1.5).to_string(), "1.5");
-        for bad in ["", "x", "3:1", "3:@60", "3:1@", "3:1@60@2", "nan", "3:inf@60"] {
+        for bad in [
+            "", "x", "3:1", "3:@60", "3:1@", "3:1@60@2", "nan", "3:inf@60",
+        ] {
             assert_eq!(
                 bad.parse::<ThetaDSteps>(),
                 Err(GridError::ThetaDNotation(bad.to_string())),

@@ -9,8 +9,8 @@ use pyo3::types::PyDict;
 use specula_accuracy::GridPlan;
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, PlanSummary};
-use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::grid::{GridSpec, PhiDSpan, ThetaDSteps};
+use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::Spherical;
 use std::path::PathBuf;
 

@@ -16,8 +16,8 @@ use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::sampling::SamplingFunction;
 use specula_core::tabulate::tabulate;
 use specula_core::{HalfDiff, Sample};
-use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
+use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_reconstruct::Method;
 use std::path::PathBuf;
 

@@ -168,14 +168,22 @@ mod tests {
         // marks both partners.
         let both = samples(&[0.0, 45.0, 90.0, 120.0, 180.0]);
         assert!(measures_both_halves(&both));
-        let r =
-            reconstruct_halves(&both, Method::LOBE, "t", None::<&dyn CaptureResponse>).unwrap();
+        let r = reconstruct_halves(&both, Method::LOBE, "t", None::<&dyn CaptureResponse>).unwrap();
         let folded = crate::reconstruct(&both, Method::LOBE, "f").unwrap();
-        let at = |phi_d_deg: f64| Bin::of(HalfDiff::from_degrees(20.0, 45.0, 25.0, phi_d_deg)).index();
+        let at =
+            |phi_d_deg: f64| Bin::of(HalfDiff::from_degrees(20.0, 45.0, 25.0, phi_d_deg)).index();
         use crate::provenance::CellOrigin::Measured;
         for (phi_d_deg, measured) in [(45.0, true), (135.0, false), (120.0, true), (60.0, false)] {
-            assert_eq!(r.provenance.cells[at(phi_d_deg)] == Measured, measured, "{phi_d_deg}");
-            assert_eq!(folded.provenance.cells[at(phi_d_deg)], Measured, "{phi_d_deg}");
+            assert_eq!(
+                r.provenance.cells[at(phi_d_deg)] == Measured,
+                measured,
+                "{phi_d_deg}"
+            );
+            assert_eq!(
+                folded.provenance.cells[at(phi_d_deg)],
+                Measured,
+                "{phi_d_deg}"
+            );
         }
         // Per (theta_h, theta_d) of the samples: the bins 0 (which 180 shares), 45, 90 and
         // 120 measured apart; folded, 60 and 135 as well.

@@ -18,8 +18,8 @@ use specula_appearance::Options;
 use specula_core::merl::CELLS;
 use specula_core::{MerlBrdf, ProbePoint, Sample};
 use specula_formats::BrdfSource;
-use specula_reconstruct::provenance::Provenance;
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
+use specula_reconstruct::provenance::Provenance;
 use specula_reconstruct::Method;
 use specula_session::journal::{
     Journal, JournalError, SessionRecord, SessionStatus, SourceRecord, Stage, StageStatus,

@@ -58,8 +58,8 @@ use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, GridSpec, HalfDiff, ProbePoint, ProbeSpec, Rgb, Sample};
-use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
+use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::Method;
 use specula_sampling::deblur::deblur_probe;
 use specula_sampling::{fit_k, Probe};
@@ -934,8 +934,12 @@ fn fit_probe(
         probe.iter().map(|p| (p.theta_h_deg, p.value)).unzip();
     let probe =
         Probe::new(theta_h, values).map_err(|cause| WorkflowError::ProbeColumn { cause })?;
-    let fit = fit_k(&probe.column(), settings.family, settings.grid.theta_h_samples)
-        .map_err(|cause| WorkflowError::ProbeFit { cause })?;
+    let fit = fit_k(
+        &probe.column(),
+        settings.family,
+        settings.grid.theta_h_samples,
+    )
+    .map_err(|cause| WorkflowError::ProbeFit { cause })?;
     Ok(FitRecord {
         function: fit.function,
         error: fit.error,

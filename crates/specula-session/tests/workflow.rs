@@ -1,7 +1,7 @@
 //! The measurement workflow end to end on the simulated device, with a small plan.
 
-use specula_acquisition::device::Device;
 use glam::DVec3;
+use specula_acquisition::device::Device;
 use specula_core::grid::PhiDSpan;
 use specula_core::materials::preset;
 use specula_core::merl::Bin;
@@ -139,7 +139,10 @@ fn a_half_turn_plan_is_measured_and_reconstructed_by_halves() {
     assert_eq!(summary.plan.total, 8 * 10 * 5);
     assert!(summary.phi_d_halves);
     let lines = summary.lines();
-    assert!(lines.contains(&"phi_d_halves=true".to_string()), "{lines:?}");
+    assert!(
+        lines.contains(&"phi_d_halves=true".to_string()),
+        "{lines:?}"
+    );
     assert!(lines.contains(&format!("grid={grid}")), "{lines:?}");
     let journal = Journal::open_read_only(&session).unwrap();
     let samples = measured_samples(
@@ -150,7 +153,11 @@ fn a_half_turn_plan_is_measured_and_reconstructed_by_halves() {
         .iter()
         .filter(|s| s.hd.phi_d.to_degrees() > 91.0)
         .count();
-    assert!(beyond_90 > samples.len() / 3, "{beyond_90} of {}", samples.len());
+    assert!(
+        beyond_90 > samples.len() / 3,
+        "{beyond_90} of {}",
+        samples.len()
+    );
 
     // A cell and its light/camera swap (phi_d 45.5 and 134.5 deg at theta_h 20, theta_d
     // 45.5): the measured table keeps most of the truth's difference; the fold, none.

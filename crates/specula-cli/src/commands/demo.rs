@@ -68,7 +68,10 @@ pub(crate) fn run(args: Args) -> Result<()> {
             grid: session_grid(&session)?.unwrap_or_default(),
             ..MeasureSettings::default()
         };
-        eprintln!("== {name}: measuring on the simulated device, grid {}", settings.grid);
+        eprintln!(
+            "== {name}: measuring on the simulated device, grid {}",
+            settings.grid
+        );
         let mut bars = Bars::default();
         let source = Source::Simulated {
             truth: truth.clone(),
