@@ -8,7 +8,8 @@ mod common;
 use common::all_materials;
 use glam::DVec3;
 use specula_core::geometry::Spherical;
-use specula_core::materials::Base;
+use specula_core::materials::conductor::RoughConductor;
+use specula_core::materials::{Base, Distribution, Material};
 use specula_core::{Brdf, Rgb};
 use std::sync::Arc;
 
@@ -125,4 +126,36 @@ fn the_batch_answers_zero_below_the_horizon_and_the_closed_form_at_the_mirror_pe
     let peak = f0 / (4.0 * std::f64::consts::PI * conductor.alpha().powi(2));
     let at_peak = out[0].expect("a material answers everywhere");
     assert!((at_peak - peak).abs().max_element() <= 1e-12 * peak.max_element());
+}
+
+/// A rough conductor's batch (`RoughConductor::eval_columns`) does the operations of its
+/// pair-by-pair evaluation in the same order, so its values are the same bit for bit, with
+/// either distribution.
+#[test]
+fn a_conductor_gives_the_same_bits_in_batch_as_pair_by_pair() {
+    let mut pairs = spread_pairs(3000);
+    pairs.extend(edge_pairs());
+    let (wi, wo): (Vec<DVec3>, Vec<DVec3>) = pairs.iter().copied().unzip();
+    let beckmann = RoughConductor::new(
+        Distribution::Beckmann,
+        0.1,
+        Rgb::new(0.2, 0.9, 1.1),
+        Rgb::new(3.9, 2.4, 1.8),
+    );
+    let mut conductors: Vec<Material> = all_materials()
+        .into_iter()
+        .filter(|m| matches!(m.base, Base::Conductor(_)) && m.scratch.is_none())
+        .collect();
+    assert!(
+        conductors.iter().any(|m| m.name == "silver-925"),
+        "a GGX conductor"
+    );
+    conductors.push(Material::new("beckmann-metal", Base::Conductor(beckmann)));
+    for material in conductors {
+        let mut batch = vec![None; pairs.len()];
+        material.eval_pairs(&wi, &wo, &mut batch);
+        for (k, (&(wi, wo), batch)) in pairs.iter().zip(&batch).enumerate() {
+            assert_eq!(*batch, material.eval(wi, wo), "{} pair {k}", material.name);
+        }
+    }
 }

@@ -2,7 +2,8 @@
 
 use crate::errors::{invalid, OrRaise};
 use crate::table::{table_of, to_array};
-use numpy::ndarray::{Array2, ArrayD, ArrayViewD, IxDyn};
+use glam::DVec3;
+use numpy::ndarray::{Array2, ArrayD, ArrayViewD, CowArray, Ix2, IxDyn};
 use numpy::{
     AllowTypeChange, IntoPyArray, PyArray2, PyArray4, PyArrayDyn, PyArrayLike2, PyArrayLikeDyn,
     PyReadonlyArray4,
@@ -60,16 +61,9 @@ impl PyBrdf {
             )));
         }
         let (wi, wo) = (wi.as_standard_layout(), wo.as_standard_layout());
-        let (wi, wo) = (
-            wi.as_slice().expect("standard layout"),
-            wo.as_slice().expect("standard layout"),
-        );
+        let (wi, wo) = (directions(&wi), directions(&wo));
         let brdf = self.inner.as_ref();
-        let values = py.detach(|| {
-            check_unit(wi, "wi")?;
-            check_unit(wo, "wo")?;
-            Ok::<_, PyErr>(eval_pairs(brdf, wi, wo))
-        })?;
+        let values = py.detach(|| eval_pairs(brdf, wi, wo))?;
         let n = values.len() / 3;
         Ok(Array2::from_shape_vec((n, 3), values)
             .expect("3 values per pair")
@@ -144,65 +138,81 @@ impl PyBrdf {
     }
 }
 
-/// Direction pairs a rayon task evaluates in one [`Brdf::eval_pairs`] call: enough to
-/// amortise the scheduling, few enough that the task's buffers stay in cache.
+/// Direction pairs a rayon task checks and evaluates in one [`Brdf::eval_pairs`] call:
+/// enough to amortise the scheduling, few enough that the task's rows stay in cache between
+/// the check and the evaluation.
 const PAIRS_PER_TASK: usize = 2048;
 
-/// f_r at the direction pairs of `wi` and `wo` (3 values a row), R, G, B a row, NaN where
-/// the BRDF does not answer: [`Brdf::eval_pairs`] on blocks of rows, in parallel.
-fn eval_pairs(brdf: &dyn Brdf, wi: &[f64], wo: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; wi.len()];
-    let block = 3 * PAIRS_PER_TASK;
-    out.par_chunks_mut(block)
-        .zip(wi.par_chunks(block).zip(wo.par_chunks(block)))
-        .for_each_init(
-            || (Vec::new(), Vec::new(), Vec::new()),
-            |(wi_block, wo_block, values), (out, (wi, wo))| {
-                wi_block.clear();
-                wi_block.extend(wi.chunks_exact(3).map(vector));
-                wo_block.clear();
-                wo_block.extend(wo.chunks_exact(3).map(vector));
-                values.clear();
-                values.resize(wi_block.len(), None);
-                brdf.eval_pairs(wi_block, wo_block, values);
-                for (out, value) in out.chunks_exact_mut(3).zip(values.iter()) {
-                    out.copy_from_slice(&rgb_or_nan(*value));
-                }
-            },
-        );
-    out
+/// The rows of a standard-layout `(N, 3)` array as vectors, in place.
+fn directions<'a>(rows: &'a CowArray<'_, f64, Ix2>) -> &'a [DVec3] {
+    bytemuck::cast_slice(rows.as_slice().expect("standard layout"))
 }
 
-fn vector(xyz: &[f64]) -> glam::DVec3 {
-    glam::DVec3::new(xyz[0], xyz[1], xyz[2])
+/// f_r at the direction pairs `(wi[k], wo[k])`, R, G, B a row, NaN where the BRDF does not
+/// answer: blocks of pairs in parallel, each checked (unit length) and then evaluated with
+/// [`Brdf::eval_pairs`] while in cache, its values written once into the result (which is
+/// not zeroed first). A direction that is not a unit vector fails the call, naming the first
+/// such row of `wi`, else of `wo`.
+fn eval_pairs(brdf: &dyn Brdf, wi: &[DVec3], wo: &[DVec3]) -> PyResult<Vec<f64>> {
+    let len = 3 * wi.len();
+    let mut out = Vec::with_capacity(len);
+    let not_unit = out.spare_capacity_mut()[..len]
+        .par_chunks_mut(3 * PAIRS_PER_TASK)
+        .zip(
+            wi.par_chunks(PAIRS_PER_TASK)
+                .zip(wo.par_chunks(PAIRS_PER_TASK)),
+        )
+        .enumerate()
+        .map_init(Vec::new, |values, (block, (out, (wi, wo)))| {
+            let first = block * PAIRS_PER_TASK;
+            let not_unit = [wi, wo].map(|rows| first_not_unit(rows).map(|row| first + row));
+            if not_unit == [None, None] {
+                values.clear();
+                values.resize(wi.len(), None);
+                brdf.eval_pairs(wi, wo, values);
+                for (out, value) in out.chunks_exact_mut(3).zip(values.iter()) {
+                    for (out, value) in out.iter_mut().zip(rgb_or_nan(*value)) {
+                        out.write(value);
+                    }
+                }
+            }
+            not_unit
+        })
+        .reduce(
+            || [None, None],
+            |a, b| [0, 1].map(|i| a[i].into_iter().chain(b[i]).min()),
+        );
+    for ((row, rows), name) in not_unit.into_iter().zip([wi, wo]).zip(["wi", "wo"]) {
+        if let Some(row) = row {
+            return Err(invalid(format!(
+                "{name}[{row}] = {:?} is not a unit vector",
+                rows[row].to_array()
+            )));
+        }
+    }
+    // SAFETY: every block passed its check (else the call failed above), so each block wrote
+    // all of its 3 values per pair, and the blocks cover the first `len` values.
+    unsafe { out.set_len(len) };
+    Ok(out)
 }
 
 fn rgb_or_nan(value: Option<specula_core::Rgb>) -> [f64; 3] {
     value.map_or([f64::NAN; 3], |v| v.to_array())
 }
 
-/// Rejects a row of `xyz` (3 values a row) whose length is not 1, naming the first. Blocks
-/// of rows are scanned in parallel, each in a plain loop (a search per row would cost as
-/// much as evaluating the BRDF).
-fn check_unit(xyz: &[f64], name: &str) -> PyResult<()> {
-    let block = 3 * PAIRS_PER_TASK;
-    let not_unit = |v: &[f64]| (vector(v).length() - 1.0).abs() > UNIT_TOLERANCE;
-    let bad_block = xyz
-        .par_chunks(block)
-        .position_first(|rows| rows.chunks_exact(3).any(not_unit));
-    let Some(bad_block) = bad_block else {
-        return Ok(());
-    };
-    let rows = &xyz[bad_block * block..];
-    let row = rows
-        .chunks_exact(3)
-        .position(not_unit)
-        .expect("the block holds a row that is not a unit vector");
-    let row = bad_block * PAIRS_PER_TASK + row;
-    Err(invalid(format!(
-        "{name}[{row}] = {:?} is not a unit vector",
-        &xyz[3 * row..3 * row + 3]
-    )))
+/// The first of `rows` whose length is not within [`UNIT_TOLERANCE`] of 1 (NaN included).
+/// The rows are scanned in one branch-free pass, then searched only when one fails.
+fn first_not_unit(rows: &[DVec3]) -> Option<usize> {
+    let (low, high) = (
+        (1.0 - UNIT_TOLERANCE).powi(2),
+        (1.0 + UNIT_TOLERANCE).powi(2),
+    );
+    let not_unit = |v: &DVec3| !(low..=high).contains(&v.length_squared());
+    if rows.iter().fold(false, |any, v| any | not_unit(v)) {
+        rows.iter().position(not_unit)
+    } else {
+        None
+    }
 }
 
 /// The common shape of arrays under numpy's broadcasting rules.

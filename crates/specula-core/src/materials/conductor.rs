@@ -7,7 +7,7 @@
 //! with `h = normalize(wi + wo)`, `F` the exact conductor Fresnel reflectance per RGB channel
 //! and `D`, `G1` from [`Microfacet`].
 
-use super::microfacet::{Distribution, IsotropicCosines, IsotropicRow, Microfacet};
+use super::microfacet::{CosineColumns, Distribution, IsotropicCosines, IsotropicRow, Microfacet};
 use crate::brdf::Rgb;
 use crate::scattering::fresnel;
 
@@ -51,32 +51,29 @@ impl RoughConductor {
         self.fresnel(c.cos_d) * self.microfacet.reflection_isotropic(c)
     }
 
-    /// [`RoughConductor::eval_cosines`] at many configurations, zero where there is none
-    /// (a direction at or below the horizon), into `out`: the microfacet factor pair by pair,
-    /// then the Fresnel reflectance one channel at a time over a block of `cos_d` (a loop
-    /// the compiler turns into vector instructions; the same values, bit for bit).
-    pub fn eval_cosines_many(&self, cosines: &[Option<IsotropicCosines>], out: &mut [Rgb]) {
-        const BLOCK: usize = 64;
-        assert_eq!(cosines.len(), out.len(), "one output per configuration");
-        for (cosines, out) in cosines.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
-            let n = cosines.len();
-            let (mut cos_d, mut factor) = ([1.0; BLOCK], [0.0; BLOCK]);
-            for (k, c) in cosines.iter().enumerate() {
-                if let Some(c) = c {
-                    cos_d[k] = c.cos_d;
-                    factor[k] = self.microfacet.reflection_isotropic(*c);
-                }
+    /// [`RoughConductor::eval_cosines`] at each pair of `columns`, zero where a direction is
+    /// at or below the horizon, into `out` (one value per pair): the microfacet factor over
+    /// the block ([`Microfacet::reflection_isotropic_columns`]), then the Fresnel reflectance
+    /// one channel at a time over the block's `cos_d`. Both loops run in vector instructions;
+    /// the values are the same, bit for bit, as pair by pair.
+    pub fn eval_columns(&self, columns: &CosineColumns, out: &mut [Rgb]) {
+        const CAPACITY: usize = CosineColumns::CAPACITY;
+        let n = columns.len();
+        assert_eq!(out.len(), n, "one output per pair");
+        let mut factor = [0.0; CAPACITY];
+        self.microfacet
+            .reflection_isotropic_columns(columns, &mut factor[..n]);
+        let mut channels = [[0.0; CAPACITY]; 3];
+        for (channel, column) in channels.iter_mut().enumerate() {
+            let (eta, k) = (self.eta[channel], self.k[channel]);
+            let (cos_d, factor) = (&columns.cos_d[..n], &factor[..n]);
+            for (j, value) in column[..n].iter_mut().enumerate() {
+                let f = fresnel::conductor(cos_d[j], eta, k) * factor[j];
+                *value = if columns.above[j] { f } else { 0.0 };
             }
-            let mut channels = [[0.0; BLOCK]; 3];
-            for (channel, column) in channels.iter_mut().enumerate() {
-                let (eta, k) = (self.eta[channel], self.k[channel]);
-                for ((value, cos_d), factor) in column[..n].iter_mut().zip(&cos_d).zip(&factor) {
-                    *value = fresnel::conductor(*cos_d, eta, k) * factor;
-                }
-            }
-            for (k, out) in out.iter_mut().enumerate() {
-                *out = Rgb::new(channels[0][k], channels[1][k], channels[2][k]);
-            }
+        }
+        for (j, out) in out.iter_mut().enumerate() {
+            *out = Rgb::new(channels[0][j], channels[1][j], channels[2][j]);
         }
     }
 

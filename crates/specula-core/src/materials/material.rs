@@ -10,7 +10,7 @@
 
 use super::clearcoat::ClearCoat;
 use super::conductor::RoughConductor;
-use super::microfacet::{IsotropicCosines, IsotropicRow};
+use super::microfacet::{CosineColumns, IsotropicCosines, IsotropicRow};
 use super::scratch::ScratchLobe;
 use crate::brdf::{
     assert_pairs, eval_pairs_one_by_one, eval_phi_d_row_per_cell, Brdf, PhiDRow, Rgb,
@@ -131,21 +131,21 @@ impl Brdf for Material {
 
     /// Without a scratch lobe the base's model is chosen once for the whole batch, and each
     /// pair goes straight from its directions to the cosines the model needs (a conductor
-    /// then evaluates them together, [`RoughConductor::eval_cosines_many`]); a scratch lobe
-    /// is evaluated pair by pair.
+    /// then evaluates blocks of them together, [`RoughConductor::eval_columns`]); a scratch
+    /// lobe is evaluated pair by pair.
     fn eval_pairs(&self, wi: &[DVec3], wo: &[DVec3], out: &mut [Option<Rgb>]) {
         match (&self.base, &self.scratch) {
             (Base::Conductor(conductor), None) => {
                 assert_pairs(wi, wo, out);
-                let cosines: Vec<_> = wi
-                    .iter()
-                    .zip(wo)
-                    .map(|(wi, wo)| IsotropicCosines::from_directions(*wi, *wo))
-                    .collect();
-                let mut values = vec![Rgb::ZERO; cosines.len()];
-                conductor.eval_cosines_many(&cosines, &mut values);
-                for (out, value) in out.iter_mut().zip(values) {
-                    *out = Some(value);
+                const CAPACITY: usize = CosineColumns::CAPACITY;
+                let (mut columns, mut values) = (CosineColumns::default(), [Rgb::ZERO; CAPACITY]);
+                let blocks = wi.chunks(CAPACITY).zip(wo.chunks(CAPACITY));
+                for ((wi, wo), out) in blocks.zip(out.chunks_mut(CAPACITY)) {
+                    columns.set_directions(wi, wo);
+                    conductor.eval_columns(&columns, &mut values[..wi.len()]);
+                    for (out, value) in out.iter_mut().zip(&values) {
+                        *out = Some(*value);
+                    }
                 }
             }
             (Base::ClearCoat(coat), None) => {

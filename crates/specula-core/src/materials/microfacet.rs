@@ -14,6 +14,7 @@
 //!
 //! The formulas themselves are in [`crate::scattering::ndf`] and [`crate::scattering::masking`].
 
+use crate::brdf::both_above_surface;
 use crate::geometry::HalfDiff;
 use crate::scattering::{masking, ndf};
 use glam::DVec3;
@@ -128,21 +129,88 @@ impl Microfacet {
 
     /// `D(h)` in 1/sr for isotropic roughness (`alpha_u`) from `cos theta_h`.
     pub fn d_isotropic(&self, cos_h: f64) -> f64 {
+        match self.distribution {
+            Distribution::Beckmann => self.beckmann_d_isotropic(cos_h),
+            Distribution::Ggx => ndf::ggx_d_isotropic(cos_h * cos_h, self.alpha_u),
+        }
+    }
+
+    /// [`Microfacet::d_isotropic`] of the Beckmann distribution.
+    fn beckmann_d_isotropic(&self, cos_h: f64) -> f64 {
         let cos2_h = cos_h * cos_h;
         let alpha2 = self.alpha_u * self.alpha_u;
-        self.d_of_scaled_tan2((1.0 - cos2_h).max(0.0) / (cos2_h * alpha2), cos2_h)
+        let scaled_tan2 = (1.0 - cos2_h).max(0.0) / (cos2_h * alpha2);
+        ndf::beckmann_d(scaled_tan2, cos2_h, self.alpha_u, self.alpha_v)
     }
 
     /// `G1(wi, h) G1(wo, h) / (4 cos_i cos_o)` for isotropic roughness (`alpha_u`): the part
     /// of [`Microfacet::reflection_isotropic`] that changes along a row of constant theta_h
     /// and theta_d.
     pub fn masking_over_cosines(&self, cos_i: f64, cos_o: f64) -> f64 {
+        match self.distribution {
+            Distribution::Beckmann => self.beckmann_masking_over_cosines(cos_i, cos_o),
+            Distribution::Ggx => self.ggx_masking_over_cosines(cos_i, cos_o),
+        }
+    }
+
+    /// [`Microfacet::masking_over_cosines`] of GGX, each `G1 / cos` in the form that takes
+    /// one division ([`masking::ggx_g1_over_cos`]).
+    fn ggx_masking_over_cosines(&self, cos_i: f64, cos_o: f64) -> f64 {
+        let alpha = self.alpha_u;
+        masking::ggx_g1_over_cos(cos_i, alpha) * masking::ggx_g1_over_cos(cos_o, alpha) / 4.0
+    }
+
+    /// [`Microfacet::masking_over_cosines`] of Beckmann.
+    fn beckmann_masking_over_cosines(&self, cos_i: f64, cos_o: f64) -> f64 {
         let alpha2 = self.alpha_u * self.alpha_u;
         let g1 = |cos_v: f64| {
             let cos2 = cos_v * cos_v;
-            self.g1_of_alpha2_tan2(alpha2 * (1.0 - cos2).max(0.0) / cos2)
+            masking::beckmann_g1(alpha2 * (1.0 - cos2).max(0.0) / cos2)
         };
         g1(cos_i) * g1(cos_o) / (4.0 * cos_i * cos_o)
+    }
+
+    /// [`Microfacet::reflection_isotropic`] at each configuration of `columns`, into `out`
+    /// (one value per configuration; where a direction is at or below the horizon, the value
+    /// at the normal, which the caller discards). The distribution is chosen once for the
+    /// block, and the loop over the columns runs in vector instructions: the same values,
+    /// bit for bit, as configuration by configuration.
+    pub fn reflection_isotropic_columns(&self, columns: &CosineColumns, out: &mut [f64]) {
+        match self.distribution {
+            Distribution::Beckmann => self.reflection_columns_by(
+                |cos_h| self.beckmann_d_isotropic(cos_h),
+                |cos_i, cos_o| self.beckmann_masking_over_cosines(cos_i, cos_o),
+                columns,
+                out,
+            ),
+            Distribution::Ggx => self.reflection_columns_by(
+                |cos_h| ndf::ggx_d_isotropic(cos_h * cos_h, self.alpha_u),
+                |cos_i, cos_o| self.ggx_masking_over_cosines(cos_i, cos_o),
+                columns,
+                out,
+            ),
+        }
+    }
+
+    /// [`Microfacet::reflection_isotropic_columns`] with the distribution's `D` of
+    /// `cos theta_h` and masking term of `cos_i`, `cos_o`.
+    fn reflection_columns_by(
+        &self,
+        d: impl Fn(f64) -> f64,
+        masking_over_cosines: impl Fn(f64, f64) -> f64,
+        columns: &CosineColumns,
+        out: &mut [f64],
+    ) {
+        let n = columns.len();
+        assert_eq!(out.len(), n, "one output per configuration");
+        let (cos_h, cos_i, cos_o) = (
+            &columns.cos_h[..n],
+            &columns.cos_i[..n],
+            &columns.cos_o[..n],
+        );
+        for (k, out) in out.iter_mut().enumerate() {
+            *out = d(cos_h[k]) * masking_over_cosines(cos_i[k], cos_o[k]);
+        }
     }
 }
 
@@ -164,22 +232,111 @@ pub struct IsotropicCosines {
 impl IsotropicCosines {
     /// From unit directions; `None` when either is at or below the horizon.
     pub fn from_directions(wi: DVec3, wo: DVec3) -> Option<Self> {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return None;
-        }
+        both_above_surface(wi, wo).then(|| Self::of_pair(wi, wo))
+    }
+
+    /// The cosines of a pair, NaN if its directions are opposite (no `h`); the caller checks
+    /// that both directions are above the surface.
+    fn of_pair(wi: DVec3, wo: DVec3) -> Self {
         let h = (wi + wo).normalize();
-        Some(Self {
+        Self {
             cos_h: h.z,
             cos_d: wi.dot(h),
             cos_i: wi.z,
             cos_o: wo.z,
-        })
+        }
     }
 
     /// From half-difference angles without building the directions (DESIGN.md frame);
     /// `None` when either direction is at or below the horizon. See [`IsotropicRow::at`].
     pub fn from_half_diff(hd: HalfDiff) -> Option<Self> {
         IsotropicRow::new(hd.theta_h, hd.theta_d).at(hd.phi_d.cos())
+    }
+}
+
+/// The cosines ([`IsotropicCosines`]) of up to [`CosineColumns::CAPACITY`] direction
+/// pairs, a column per cosine, so that a model evaluates a block of pairs in vector
+/// instructions (the batched [`crate::Brdf::eval_pairs`]). A pair with a direction at or
+/// below the horizon holds the cosines of the normal (all 1), which keep every formula
+/// finite, and is flagged in [`CosineColumns::above`]: its value is zero. One block is
+/// refilled for each run of pairs ([`CosineColumns::set_directions`]).
+#[derive(Debug, Clone)]
+pub struct CosineColumns {
+    len: usize,
+    /// The components of the block's `wi` and `wo` (x, y, z of each), a column each.
+    components: [[f64; Self::CAPACITY]; 6],
+    /// Whether both directions of each pair are strictly above the surface.
+    pub above: [bool; Self::CAPACITY],
+    /// `cos theta_h` of each pair.
+    pub cos_h: [f64; Self::CAPACITY],
+    /// `cos theta_d` (`wi . h`) of each pair.
+    pub cos_d: [f64; Self::CAPACITY],
+    /// The cosine of `wi` to the normal of each pair.
+    pub cos_i: [f64; Self::CAPACITY],
+    /// The cosine of `wo` to the normal of each pair.
+    pub cos_o: [f64; Self::CAPACITY],
+}
+
+impl Default for CosineColumns {
+    fn default() -> Self {
+        Self {
+            len: 0,
+            components: [[0.0; Self::CAPACITY]; 6],
+            above: [false; Self::CAPACITY],
+            cos_h: [1.0; Self::CAPACITY],
+            cos_d: [1.0; Self::CAPACITY],
+            cos_i: [1.0; Self::CAPACITY],
+            cos_o: [1.0; Self::CAPACITY],
+        }
+    }
+}
+
+impl CosineColumns {
+    /// Pairs a block holds: enough for the vector loops, few enough to stay in the L1 cache.
+    pub const CAPACITY: usize = 64;
+
+    /// Fills the block with the pairs `(wi[k], wo[k])`, unit directions, at most
+    /// [`CosineColumns::CAPACITY`] of them: the cosines of
+    /// [`IsotropicCosines::from_directions`], bit for bit. The directions are first split
+    /// into columns of components, so that the cosines are computed in vector
+    /// instructions. Panics if the slices differ in length or are longer than a block.
+    pub fn set_directions(&mut self, wi: &[DVec3], wo: &[DVec3]) {
+        assert!(
+            wi.len() == wo.len() && wi.len() <= Self::CAPACITY,
+            "CosineColumns: {} wi and {} wo for a block of {}",
+            wi.len(),
+            wo.len(),
+            Self::CAPACITY
+        );
+        let n = wi.len();
+        self.len = n;
+        let [wi_x, wi_y, wi_z, wo_x, wo_y, wo_z] = &mut self.components;
+        for (k, (wi, wo)) in wi.iter().zip(wo).enumerate() {
+            (wi_x[k], wi_y[k], wi_z[k]) = (wi.x, wi.y, wi.z);
+            (wo_x[k], wo_y[k], wo_z[k]) = (wo.x, wo.y, wo.z);
+        }
+        let [wi_x, wi_y, wi_z, wo_x, wo_y, wo_z] = &self.components;
+        for k in 0..n {
+            let wi = DVec3::new(wi_x[k], wi_y[k], wi_z[k]);
+            let wo = DVec3::new(wo_x[k], wo_y[k], wo_z[k]);
+            let above = both_above_surface(wi, wo);
+            let c = IsotropicCosines::of_pair(wi, wo);
+            self.above[k] = above;
+            self.cos_h[k] = if above { c.cos_h } else { 1.0 };
+            self.cos_d[k] = if above { c.cos_d } else { 1.0 };
+            self.cos_i[k] = if above { c.cos_i } else { 1.0 };
+            self.cos_o[k] = if above { c.cos_o } else { 1.0 };
+        }
+    }
+
+    /// The number of pairs.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether there is no pair.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
     }
 }
 

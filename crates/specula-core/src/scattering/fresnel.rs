@@ -21,7 +21,9 @@ use crate::brdf::Rgb;
 /// cheaper than complex square roots): with `a^2 + b^2 = |n^2 - sin^2|` and
 /// `a = Re sqrt(n^2 - sin^2)`,
 /// `R_s = (a^2 + b^2 + cos^2 - 2 a cos) / (a^2 + b^2 + cos^2 + 2 a cos)` and
-/// `R_p = R_s (t - 2 a cos sin^2) / (t + 2 a cos sin^2)`, `t = (a^2 + b^2) cos^2 + sin^4`.
+/// `R_p = R_s (t - 2 a cos sin^2) / (t + 2 a cos sin^2)`, `t = (a^2 + b^2) cos^2 + sin^4`;
+/// their mean `(R_s + R_p) / 2 = R_s t / (t + 2 a cos sin^2)` takes one division (the
+/// batched evaluations are bound by divisions and square roots).
 /// The tests check it against the complex amplitudes of the module documentation.
 pub fn conductor(cos_theta_i: f64, eta: f64, k: f64) -> f64 {
     let cos_i = cos_theta_i.clamp(0.0, 1.0);
@@ -32,11 +34,9 @@ pub fn conductor(cos_theta_i: f64, eta: f64, k: f64) -> f64 {
     let a = (0.5 * (a2_plus_b2 + temp)).max(0.0).sqrt();
     let term_1 = a2_plus_b2 + cos2;
     let term_2 = 2.0 * cos_i * a;
-    let r_s = (term_1 - term_2) / (term_1 + term_2);
     let term_3 = a2_plus_b2 * cos2 + sin2 * sin2;
     let term_4 = term_2 * sin2;
-    let r_p = r_s * (term_3 - term_4) / (term_3 + term_4);
-    0.5 * (r_s + r_p)
+    (term_1 - term_2) * term_3 / ((term_1 + term_2) * (term_3 + term_4))
 }
 
 /// [`conductor`] per RGB channel, with `eta` and `k` given per channel.
