@@ -39,6 +39,23 @@ impl GridSpec {
     pub fn phi_d_deg(&self) -> Vec<f64> {
         steps_to_90_deg(self.phi_d_step_deg, true)
     }
+
+    /// The grid's shape, `[theta_h, theta_d, phi_d]` position counts, without building it.
+    pub fn shape(&self) -> [usize; 3] {
+        [
+            self.theta_h_samples,
+            steps_to_90_count(self.theta_d_step_deg, false),
+            steps_to_90_count(self.phi_d_step_deg, true),
+        ]
+    }
+
+    /// The number of grid samples: theta_h x theta_d x phi_d positions (6300 for the
+    /// paper's), saturating at `usize::MAX`.
+    pub fn sample_count(&self) -> usize {
+        self.shape()
+            .into_iter()
+            .fold(1, |product: usize, n| product.saturating_mul(n))
+    }
 }
 
 impl Default for GridSpec {
@@ -50,17 +67,28 @@ impl Default for GridSpec {
 /// `0, step, 2 step, ...` below 90 degrees, or up to and including 90 with `include_90`
 /// (within float noise); `step_deg` must be positive. Degrees in, degrees out.
 pub fn steps_to_90_deg(step_deg: f64, include_90: bool) -> Vec<f64> {
-    let count = (90.0 / step_deg + 1e-9).floor() as usize;
-    (0..=count)
+    (0..steps_to_90_count(step_deg, include_90))
         .map(|i| i as f64 * step_deg)
-        .filter(|&v| {
-            if include_90 {
-                v <= 90.0 + 1e-9
-            } else {
-                v < 90.0 - 1e-9
-            }
-        })
         .collect()
+}
+
+/// How many positions [`steps_to_90_deg`] gives, without listing them.
+fn steps_to_90_count(step_deg: f64, include_90: bool) -> usize {
+    let kept = |i: usize| {
+        let v = i as f64 * step_deg;
+        if include_90 {
+            v <= 90.0 + 1e-9
+        } else {
+            v < 90.0 - 1e-9
+        }
+    };
+    // The positions grow with i, so the kept ones are a prefix: the last candidates are the
+    // only ones that can fall beyond 90.
+    let candidates = (90.0 / step_deg + 1e-9).floor() as usize;
+    (0..=candidates)
+        .rev()
+        .find(|&i| kept(i))
+        .map_or(0, |i| i + 1)
 }
 
 #[cfg(test)]
@@ -76,6 +104,24 @@ mod tests {
         assert_eq!(theta_d.last(), Some(&87.0));
         assert_eq!(phi_d, vec![0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0]);
         assert_eq!(paper.theta_h_samples * theta_d.len() * phi_d.len(), 6300);
+    }
+
+    #[test]
+    fn the_shape_counts_the_positions_the_grid_lists() {
+        assert_eq!(GridSpec::paper().shape(), [30, 30, 7]);
+        assert_eq!(GridSpec::paper().sample_count(), 6300);
+        for step in [0.5, 0.7, 1.2, 7.0, 12.5, 90.0 / 7.0, 45.0, 90.0] {
+            let spec = GridSpec {
+                theta_h_samples: 4,
+                theta_d_step_deg: step,
+                phi_d_step_deg: step,
+                phi_h_deg: 45.0,
+            };
+            let [_, theta_d, phi_d] = spec.shape();
+            assert_eq!(theta_d, spec.theta_d_deg().len(), "{step}");
+            assert_eq!(phi_d, spec.phi_d_deg().len(), "{step}");
+            assert_eq!(spec.sample_count(), 4 * theta_d * phi_d);
+        }
     }
 
     #[test]

@@ -2,9 +2,10 @@
 
 use specula_acquisition::device::Device;
 use specula_core::materials::preset;
-use specula_session::journal::Journal;
+use specula_session::journal::{Journal, SessionState};
 use specula_session::workflow::{
-    measure, MeasureOutcome, MeasureSettings, Quiet, Source, STAGE_MAIN, STAGE_PROBE,
+    measure, session_main_samples, MeasureOutcome, MeasureSettings, Quiet, Source, STAGE_MAIN,
+    STAGE_PROBE,
 };
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -70,4 +71,23 @@ fn a_small_measurement_completes_and_summarises() {
         summary.probe_samples
     );
     assert!(out.exists());
+    assert_eq!(journal.status().unwrap().state(), SessionState::Complete);
+    let (samples, response) = session_main_samples(&session).unwrap();
+    assert_eq!(samples.len(), summary.measured_samples);
+    assert!(
+        response.is_some(),
+        "the simulator's calibration measures its response"
+    );
+}
+
+#[test]
+fn a_session_without_main_samples_has_nothing_to_reconstruct() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("empty.sqlite");
+    drop(Journal::open(&session).unwrap());
+    let err = session_main_samples(&session).unwrap_err().to_string();
+    assert!(
+        err.contains("empty.sqlite: the session has no measured sample in its main stage"),
+        "{err}"
+    );
 }

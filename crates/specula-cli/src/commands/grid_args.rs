@@ -48,9 +48,9 @@ impl GridArgs {
     /// Rejects a grid too large to plan: the ranges of the single options are checked as
     /// they are parsed ([`crate::range`]); their product is checked here.
     pub(crate) fn check(&self) -> Result<()> {
-        let theta_d = (90.0 / self.theta_d_step).ceil() as usize;
-        let phi_d = (90.0 / self.phi_d_step).floor() as usize + 1;
-        let samples = self.theta_h_samples * theta_d * phi_d;
+        let spec = self.spec();
+        let [_, theta_d, phi_d] = spec.shape();
+        let samples = spec.sample_count();
         if samples > MAX_GRID_SAMPLES {
             bail!(
                 "--theta-h-samples {} x --theta-d-step {} x --phi-d-step {}: a grid of {samples} samples ({} x {theta_d} x {phi_d}); at most {MAX_GRID_SAMPLES}: take fewer theta_h samples or larger steps",
