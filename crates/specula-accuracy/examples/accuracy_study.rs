@@ -36,17 +36,17 @@ use specula_accuracy::{evaluate, Accuracy, Measurement, PlanSettings};
 use specula_acquisition::device::Device;
 use specula_core::grid::{PhiDSpan, ThetaDSteps};
 use specula_core::materials::builtin_database;
+use specula_core::statistics::median;
 use specula_core::tabulate::tabulate;
 use specula_core::Brdf;
 use specula_core::{GridSpec, Sample};
 use specula_formats::fits::{load_model, FitModel};
 use specula_formats::input::measured_data_dir;
 use specula_formats::load_brdfs;
-use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
+use specula_formats::nbrdf::NbrdfSet;
 use specula_reconstruct::breakdown::{error_by_region, Partition};
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
-use specula_sampling::analysis::median;
 use std::collections::BTreeMap;
 use std::error::Error;
 use std::sync::Arc;
@@ -163,27 +163,20 @@ fn grid_of(spec: &str, base: &GridSpec) -> Result<GridSpec, Box<dyn Error>> {
 fn truths(set: &str) -> Result<Vec<Arc<dyn Brdf>>, Box<dyn Error>> {
     Ok(match set {
         "rgl" => load_brdfs(&measured_data_dir().join("rgl_bsdf").to_string_lossy())?,
-        "nbrdf-rgl" => nbrdf_set(NbrdfSet::RglIsotropic)?,
+        "nbrdf-rgl" => NbrdfSet::RglIsotropic.load_all()?,
         "builtin" => builtin_database()
             .into_iter()
             .map(|m| Arc::new(m) as Arc<dyn Brdf>)
             .collect(),
         "sgd" => load_model(FitModel::Sgd)?,
         "abc" => load_model(FitModel::Abc)?,
-        "nbrdf" => nbrdf_set(NbrdfSet::Merl100)?,
+        "nbrdf" => NbrdfSet::Merl100.load_all()?,
         other => {
             return Err(
                 format!("unknown set {other} (rgl, nbrdf-rgl, builtin, sgd, abc, nbrdf)").into(),
             )
         }
     })
-}
-
-fn nbrdf_set(set: NbrdfSet) -> Result<Vec<Arc<dyn Brdf>>, Box<dyn Error>> {
-    set.names()?
-        .iter()
-        .map(|n| Ok(Arc::new(Nbrdf::load(set, n)?) as Arc<dyn Brdf>))
-        .collect()
 }
 
 #[derive(Default, Clone, Copy)]

@@ -20,8 +20,12 @@
 //! integrated over its response ([`ThroughResponse`], as many nodes as the simulator); the
 //! probe is deblurred before k is fitted and the method reconstructs through the response,
 //! as `specula measure` does, without its noise.
+//!
+//! Over several materials, [`summary`] combines the figures by their median or mean, per
+//! set of truths, the real measured ones first.
 
 pub mod merl_prior;
+pub mod summary;
 
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::Plan;
@@ -29,6 +33,7 @@ use specula_acquisition::response::{InstrumentResponse, ThroughResponse};
 use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
 use specula_core::compare::{compare, ErrorFigures};
 use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, GridSpec, HalfDiff, MerlBrdf, ProbeSpec, Sample};
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::{Method, ReconstructError, Reconstruction};
@@ -265,6 +270,24 @@ impl Measurement {
     }
 }
 
+impl Measurement {
+    /// The error of rebuilding these samples with `method`, through `response` when they
+    /// were measured through it ([`evaluate_through`]), against `truth` tabulated at the MERL
+    /// bin centres at the plan's phi_h.
+    pub fn accuracy(
+        &self,
+        truth: &dyn Brdf,
+        method: Method,
+        max_elevation_deg: f64,
+        response: Option<&InstrumentResponse>,
+    ) -> Result<Accuracy, ReconstructError> {
+        let table = tabulate(truth, self.grid.phi_h_deg.to_radians());
+        let (_, accuracy) =
+            evaluate_through(&self.samples, method, &table, max_elevation_deg, response)?;
+        Ok(accuracy)
+    }
+}
+
 /// Noise-free measurement of `truth` at each configuration; configurations the BRDF does not
 /// answer are left out.
 pub fn measure(truth: &dyn Brdf, configurations: &[HalfDiff]) -> Vec<Sample> {
@@ -386,6 +409,12 @@ mod tests {
         assert!(
             deblurred.within.relative_rmse < 0.3 * kept.within.relative_rmse,
             "{deblurred:?} vs {kept:?}"
+        );
+        assert_eq!(
+            blurred
+                .accuracy(&truth, Method::LOBE, 75.0, Some(&response))
+                .unwrap(),
+            deblurred
         );
     }
 

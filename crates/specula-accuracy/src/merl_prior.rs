@@ -8,7 +8,7 @@
 use specula_core::Brdf;
 use specula_formats::fits::{load_model, FitModel};
 use specula_formats::input::FormatError;
-use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
+use specula_formats::nbrdf::NbrdfSet;
 use specula_reconstruct::prior::{PriorBasis, PriorError};
 use std::sync::{Arc, OnceLock};
 
@@ -40,10 +40,7 @@ pub fn merl_prior() -> Result<Arc<PriorBasis>, MerlPriorError> {
 
 /// The training materials of [`merl_prior`]: MERL-100 as fitted by NBRDF, SGD and ABC.
 fn merl_training_set() -> Result<Vec<Arc<dyn Brdf>>, FormatError> {
-    let mut out: Vec<Arc<dyn Brdf>> = Vec::new();
-    for name in NbrdfSet::Merl100.names()? {
-        out.push(Arc::new(Nbrdf::load(NbrdfSet::Merl100, &name)?));
-    }
+    let mut out: Vec<Arc<dyn Brdf>> = NbrdfSet::Merl100.load_all()?;
     out.extend(load_model(FitModel::Sgd)?);
     out.extend(load_model(FitModel::Abc)?);
     Ok(out)

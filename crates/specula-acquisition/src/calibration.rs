@@ -22,6 +22,7 @@
 
 pub mod colorchecker;
 pub mod response;
+pub mod truth_check;
 
 use crate::hdr::{HdrCapturer, HdrSettings, HdrValue, NoiseModel};
 use crate::instrument::{Capture, Instrument, InstrumentError};

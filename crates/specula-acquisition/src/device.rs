@@ -226,14 +226,20 @@ impl Device {
         toml::to_string_pretty(self).expect("a device always serialises")
     }
 
+    /// The angular radius of the light's disk seen from the sample, degrees:
+    /// `atan(beam end radius / light distance)` (1.8 deg on the UTIA device).
+    pub fn light_radius_deg(&self) -> f64 {
+        (self.light.beam.end_radius_m / self.light.distance_m)
+            .atan()
+            .to_degrees()
+    }
+
     /// What one capture integrates on this device (see [`crate::response`]): the light's
     /// exit aperture and emission profile, the camera's pupil, the measured area.
     pub fn response(&self) -> InstrumentResponse {
         InstrumentResponse {
             light: LightProfile {
-                radius_deg: (self.light.beam.end_radius_m / self.light.distance_m)
-                    .atan()
-                    .to_degrees(),
+                radius_deg: self.light_radius_deg(),
                 emission: self.light.emission_profile.clone(),
             },
             camera_aperture_deg: (self.camera.aperture_radius_m / self.camera.distance_m)
@@ -360,6 +366,13 @@ mod tests {
         assert_eq!(d.camera.axis.max_deg, 75.0);
         assert_eq!(d.camera.axis.min_deg, -75.0);
         assert!(!d.camera.parts.is_empty() && !d.light.parts.is_empty());
+        // The light's disk: 1.8 deg across its radius, the response's.
+        assert!(
+            (d.light_radius_deg() - 1.82).abs() < 0.01,
+            "{}",
+            d.light_radius_deg()
+        );
+        assert_eq!(d.response().light.radius_deg, d.light_radius_deg());
     }
 
     #[test]

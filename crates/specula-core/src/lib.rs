@@ -24,4 +24,5 @@ pub mod materials;
 pub mod sampling;
 pub mod scattering;
 pub mod shown;
+pub mod statistics;
 pub mod tabulate;

@@ -162,12 +162,18 @@ impl Bin {
 
     /// The centre of this bin in index space, radians, at the given phi_h.
     pub fn centre(self, phi_h: f64) -> HalfDiff {
-        HalfDiff::from_degrees(
+        let [theta_h_deg, theta_d_deg, phi_d_deg] = self.centre_deg();
+        HalfDiff::from_degrees(theta_h_deg, phi_h.to_degrees(), theta_d_deg, phi_d_deg)
+    }
+
+    /// The centre of this bin, degrees: `[theta_h, theta_d, phi_d]` =
+    /// `[(i + 0.5)^2 / 90, j + 0.5, k + 0.5]`.
+    pub fn centre_deg(self) -> [f64; 3] {
+        [
             theta_h_centre_deg(self.theta_h_i),
-            phi_h.to_degrees(),
             self.theta_d_i as f64 + 0.5,
             self.phi_d_i as f64 + 0.5,
-        )
+        ]
     }
 }
 
@@ -643,6 +649,19 @@ mod tests {
             }
         }
         assert!(t.cell(14).is_none() && t.cell(21).is_some());
+    }
+
+    #[test]
+    fn bin_centres_in_degrees() {
+        let bin = Bin {
+            theta_h_i: 2,
+            theta_d_i: 40,
+            phi_d_i: 89,
+        };
+        assert_eq!(bin.centre_deg(), [2.5 * 2.5 / 90.0, 40.5, 89.5]);
+        let hd = bin.centre(0.0);
+        assert!((hd.theta_d.to_degrees() - 40.5).abs() < 1e-12);
+        assert_eq!(Bin::of(hd), bin);
     }
 
     #[test]

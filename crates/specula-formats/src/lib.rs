@@ -4,6 +4,7 @@
 pub mod brdf_source;
 pub mod catalog;
 pub mod convert;
+pub mod directions_csv;
 pub mod fits;
 pub mod input;
 pub mod lafortune;

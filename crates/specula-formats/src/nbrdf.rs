@@ -10,11 +10,13 @@
 //! `x = [sin th, 0, cos th, sin td cos pd, sin td sin pd, cos td]`.
 //! Source and checks: `shared/data/measured/merl_nbrdf/PROVENANCE.md`.
 
+use crate::brdf_source::BrdfSource;
 use crate::input::argument_error;
 use crate::input::{data_file, file_error, Malformed, Result};
 use glam::DVec3;
 use specula_core::brdf::both_above_surface;
 use specula_core::{Brdf, HalfDiff, Rgb};
+use std::sync::Arc;
 
 /// Number of `f32` weights of one material's network.
 pub const WEIGHTS_PER_MATERIAL: usize = 675;
@@ -79,6 +81,16 @@ impl NbrdfSet {
             .filter(|l| !l.is_empty())
             .map(String::from)
             .collect())
+    }
+}
+
+impl NbrdfSet {
+    /// Every material of this set, in the order of its weights file.
+    pub fn load_all(self) -> Result<Vec<BrdfSource>> {
+        self.names()?
+            .iter()
+            .map(|name| Ok(Arc::new(Nbrdf::load(self, name)?) as BrdfSource))
+            .collect()
     }
 }
 
@@ -216,6 +228,15 @@ mod tests {
             true,
         );
         assert_eq!(y, vec![9.0, 12.0, 0.0]);
+    }
+
+    #[test]
+    fn a_whole_set_loads_in_the_order_of_its_names() {
+        let all = NbrdfSet::Merl100.load_all().unwrap();
+        let names = NbrdfSet::Merl100.names().unwrap();
+        assert_eq!(all.len(), 100);
+        assert_eq!(all.len(), names.len());
+        assert_eq!(all[7].name(), format!("nbrdf:{}", names[7]));
     }
 
     #[test]

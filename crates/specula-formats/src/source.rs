@@ -56,6 +56,26 @@ fn is_brdf_file(path: &Path) -> Result<bool> {
         || matches!(extension.as_deref(), Some("binary" | "toml")))
 }
 
+/// Resolves a BRDF source string as [`load_brdf`] does, with its scratches turned to
+/// `scratch_orientation_deg` when one is given ([`Material::with_scratch_orientation`],
+/// paper 4.3): then `spec` must name an analytic material, a preset or a material `.toml`.
+pub fn load_brdf_scratched(spec: &str, scratch_orientation_deg: Option<f64>) -> Result<BrdfSource> {
+    let Some(orientation_deg) = scratch_orientation_deg else {
+        return load_brdf(spec);
+    };
+    let material = if spec.ends_with(".toml") && Path::new(spec).is_file() {
+        Material::from_toml_file(spec)?
+    } else if let Some(material) = materials::preset(spec) {
+        material
+    } else {
+        return Err(argument_error(
+            spec,
+            "a scratch orientation needs an analytic material (a preset name or a material .toml)",
+        ));
+    };
+    Ok(Arc::new(material.with_scratch_orientation(orientation_deg)))
+}
+
 /// Resolves a BRDF source string (see the module documentation).
 pub fn load_brdf(spec: &str) -> Result<BrdfSource> {
     if let Some((model, name)) = spec.split_once(':') {
@@ -97,5 +117,40 @@ pub fn load_brdf(spec: &str) -> Result<BrdfSource> {
                 ),
             )),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use specula_core::HalfDiff;
+
+    #[test]
+    fn scratches_turn_an_analytic_material_and_refuse_the_rest() {
+        let (wi, wo) = HalfDiff::from_degrees(3.0, 45.0, 30.0, 90.0).to_directions();
+        let expected = materials::preset("silver-925")
+            .unwrap()
+            .with_scratch_orientation(135.0)
+            .eval_rgb(wi, wo);
+        let scratched = load_brdf_scratched("silver-925", Some(135.0)).unwrap();
+        assert_eq!(scratched.eval(wi, wo), Some(expected));
+        let plain = load_brdf_scratched("silver-925", None).unwrap();
+        assert_ne!(plain.eval(wi, wo), Some(expected));
+
+        let dir = tempfile::tempdir().unwrap();
+        let toml = dir.path().join("silver.toml");
+        let material = materials::preset("silver-925").unwrap();
+        std::fs::write(&toml, material.to_toml_string()).unwrap();
+        let from_file = load_brdf_scratched(&toml.to_string_lossy(), Some(135.0)).unwrap();
+        assert_eq!(from_file.eval(wi, wo), Some(expected));
+
+        let err = load_brdf_scratched("sgd:chrome-steel", Some(30.0))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            err.starts_with("sgd:chrome-steel: ") && err.contains("analytic material"),
+            "{err}"
+        );
     }
 }

@@ -70,12 +70,23 @@ impl Node {
         }
     }
 
+    /// The node's angles, degrees: `[theta_i, phi_i, theta_v, phi_v]`.
+    pub fn angles_deg(self) -> [f64; 4] {
+        [
+            self.theta_i as f64 * THETA_STEP_DEG,
+            self.phi_i as f64 * PHI_STEP_DEG,
+            self.theta_v as f64 * THETA_STEP_DEG,
+            self.phi_v as f64 * PHI_STEP_DEG,
+        ]
+    }
+
     /// The light and camera directions of this node.
     pub fn directions(self) -> (DVec3, DVec3) {
-        let dir = |t: usize, p: usize| {
-            Spherical::from_degrees(t as f64 * THETA_STEP_DEG, p as f64 * PHI_STEP_DEG).to_vector()
-        };
-        (dir(self.theta_i, self.phi_i), dir(self.theta_v, self.phi_v))
+        let [theta_i, phi_i, theta_v, phi_v] = self.angles_deg();
+        (
+            Spherical::from_degrees(theta_i, phi_i).to_vector(),
+            Spherical::from_degrees(theta_v, phi_v).to_vector(),
+        )
     }
 }
 
@@ -308,6 +319,7 @@ mod tests {
         for index in [0, 1, 47, 48, 12_345, NODES - 1] {
             assert_eq!(Node::from_index(index).index(), index);
         }
+        assert_eq!(node.angles_deg(), [30.0, 127.5, 75.0, 300.0]);
         let (wi, wo) = node.directions();
         let (si, so) = (Spherical::from_vector(wi), Spherical::from_vector(wo));
         assert!((si.theta_rad.to_degrees() - 30.0).abs() < 1e-9);

@@ -159,6 +159,13 @@ impl Provenance {
         )
     }
 
+    /// The share of the cells extrapolated (not between samples), in `[0, 1]`: how much of
+    /// the table is made up rather than measured.
+    pub fn extrapolated_share(&self) -> f64 {
+        let (measured, interpolated, extrapolated) = self.counts();
+        extrapolated as f64 / (measured + interpolated + extrapolated).max(1) as f64
+    }
+
     /// How many cells come from the prior.
     pub fn prior_count(&self) -> usize {
         self.cells
@@ -282,6 +289,7 @@ mod tests {
         )];
         let p = Provenance::new(&samples, &extrapolated);
         assert_eq!(p.counts(), (2, CELLS - 3, 1));
+        assert_eq!(p.extrapolated_share(), 1.0 / CELLS as f64);
         let bytes = p.to_npy();
         assert_eq!((bytes.len() - CELLS) % 64, 0);
         assert_eq!(Provenance::from_npy(&bytes).unwrap(), p);

@@ -14,6 +14,7 @@ use crate::error::SamplingError;
 use crate::fit::{base_of_exponential, FitSearch, KFitter};
 use crate::slice::{mean_over_cells, CharacteristicSlice, THETA_D_COLUMNS};
 use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::statistics::{median, Statistic};
 use std::path::Path;
 
 /// One material's result: per family (in [`Family::ALL`] order) and theta_d column, the
@@ -152,6 +153,21 @@ impl DatabaseSummary {
         best
     }
 
+    /// The column of `family` with the lowest mean error, and that error: `(theta_d_deg,
+    /// mean)`, the lower theta_d on a tie; `None` when no column of the family is measured.
+    pub fn best_column(&self, family: Family) -> Option<(usize, f64)> {
+        let f = Family::ALL.iter().position(|&g| g == family)?;
+        self.mean[f]
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|(_, m)| m.is_finite())
+            .fold(None, |best: Option<(usize, f64)>, (j, m)| match best {
+                Some((_, b)) if m >= b => best,
+                _ => Some((j, m)),
+            })
+    }
+
     /// Writes `family,theta_d,mean_error,median_error,materials` (errors in 1/sr).
     pub fn write_csv(&self, path: &Path) -> Result<(), SamplingError> {
         let mut w = csv::Writer::from_writer(Vec::new());
@@ -183,6 +199,94 @@ impl DatabaseSummary {
     }
 }
 
+/// One statistic of an analysis file ([`DatabaseSummary::write_csv`]) read back: a row per
+/// family, in the order the file gives them, and a column per theta_d, increasing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ErrorTable {
+    /// The families, as the file names them.
+    pub families: Vec<String>,
+    /// The theta_d columns k was fitted on, degrees, increasing.
+    pub theta_d_deg: Vec<f64>,
+    /// `values[f][j]`: the statistic of the slice error, 1/sr (NaN where the file has no row).
+    pub values: Vec<Vec<f64>>,
+}
+
+#[derive(serde::Deserialize)]
+struct AnalysisRow {
+    family: String,
+    theta_d: f64,
+    mean_error: f64,
+    median_error: f64,
+}
+
+impl ErrorTable {
+    /// Reads the `statistic` (the mean or the median error) of an analysis file; its other
+    /// columns are passed over. A file without rows is an error.
+    pub fn read_csv(path: &Path, statistic: Statistic) -> Result<Self, SamplingError> {
+        let csv_error = |place: String| {
+            move |cause| SamplingError::Csv {
+                path: path.to_path_buf(),
+                place,
+                cause,
+            }
+        };
+        let mut reader =
+            csv::Reader::from_path(path).map_err(csv_error("cannot read".to_string()))?;
+        let mut families: Vec<String> = Vec::new();
+        let mut theta_d_deg: Vec<f64> = Vec::new();
+        let mut cells: Vec<(usize, f64, f64)> = Vec::new();
+        for (line, row) in reader.deserialize::<AnalysisRow>().enumerate() {
+            let row = row.map_err(csv_error(format!("row {}", line + 2)))?;
+            let f = match families.iter().position(|f| *f == row.family) {
+                Some(f) => f,
+                None => {
+                    families.push(row.family.clone());
+                    families.len() - 1
+                }
+            };
+            if !theta_d_deg.contains(&row.theta_d) {
+                theta_d_deg.push(row.theta_d);
+            }
+            let value = match statistic {
+                Statistic::Median => row.median_error,
+                Statistic::Mean => row.mean_error,
+            };
+            cells.push((f, row.theta_d, value));
+        }
+        if cells.is_empty() {
+            return Err(SamplingError::NoRows {
+                path: path.to_path_buf(),
+            });
+        }
+        theta_d_deg.sort_by(f64::total_cmp);
+        let mut values = vec![vec![f64::NAN; theta_d_deg.len()]; families.len()];
+        for (f, theta_d, value) in cells {
+            let j = theta_d_deg
+                .iter()
+                .position(|c| *c == theta_d)
+                .unwrap_or_default();
+            values[f][j] = value;
+        }
+        Ok(Self {
+            families,
+            theta_d_deg,
+            values,
+        })
+    }
+
+    /// The cell `(family row, theta_d column)` of the lowest finite value, the first on a
+    /// tie; `None` when no value is finite.
+    pub fn best(&self) -> Option<(usize, usize)> {
+        self.values
+            .iter()
+            .enumerate()
+            .flat_map(|(f, row)| row.iter().enumerate().map(move |(j, v)| (f, j, *v)))
+            .filter(|c| c.2.is_finite())
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+            .map(|(f, j, _)| (f, j))
+    }
+}
+
 /// Writes every material's k and error: `material,family,theta_d,k,error`.
 pub fn write_materials_csv(
     analyses: &[MaterialAnalysis],
@@ -209,20 +313,6 @@ pub fn write_materials_csv(
         .into_inner()
         .map_err(|e| SamplingError::io(path, "write")(e.into_error()))?;
     specula_core::atomic_file::write_bytes(path, &bytes).map_err(SamplingError::io(path, "write"))
-}
-
-/// The median of the values (sorted in place); NaN when empty.
-pub fn median(values: &mut [f64]) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    values.sort_by(f64::total_cmp);
-    let mid = values.len() / 2;
-    if values.len() % 2 == 1 {
-        values[mid]
-    } else {
-        0.5 * (values[mid - 1] + values[mid])
-    }
 }
 
 #[cfg(test)]
@@ -338,12 +428,47 @@ mod tests {
             .copied()
             .fold(f64::INFINITY, f64::min);
         assert_eq!(best.mean, lowest);
+        let (j, mean) = summary.best_column(best.family).unwrap();
+        assert_eq!((j, mean), (best.theta_d_deg, best.mean));
+        for family in Family::ALL {
+            let f = Family::ALL.iter().position(|&g| g == family).unwrap();
+            let (j, mean) = summary.best_column(family).unwrap();
+            assert_eq!(summary.mean[f][j], mean);
+            assert!(summary.mean[f]
+                .iter()
+                .filter(|m| m.is_finite())
+                .all(|m| *m >= mean));
+        }
     }
 
     #[test]
-    fn median_of_even_and_odd_counts() {
-        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
-        assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
-        assert!(median(&mut []).is_nan());
+    fn an_analysis_file_reads_back_as_a_table_of_one_statistic() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("analysis.csv");
+        std::fs::write(
+            &path,
+            "family,theta_d,mean_error,median_error,materials\n\
+             power,40,3,30,5\npower,2,2,20,5\nbase,40,1,10,5\n",
+        )
+        .unwrap();
+        let mean = ErrorTable::read_csv(&path, Statistic::Mean).unwrap();
+        assert_eq!(mean.families, ["power", "base"]);
+        assert_eq!(mean.theta_d_deg, [2.0, 40.0]);
+        assert_eq!(mean.values[0], [2.0, 3.0]);
+        assert!(mean.values[1][0].is_nan() && mean.values[1][1] == 1.0);
+        assert_eq!(mean.best(), Some((1, 1)));
+        let median = ErrorTable::read_csv(&path, Statistic::Median).unwrap();
+        assert_eq!(median.values[0], [20.0, 30.0]);
+
+        std::fs::write(&path, "family,theta_d,mean_error,median_error\n").unwrap();
+        let err = ErrorTable::read_csv(&path, Statistic::Mean).unwrap_err();
+        assert!(err.to_string().ends_with("analysis.csv: no rows"), "{err}");
+        std::fs::write(
+            &path,
+            "family,theta_d,mean_error,median_error\npower,x,1,1\n",
+        )
+        .unwrap();
+        let err = ErrorTable::read_csv(&path, Statistic::Mean).unwrap_err();
+        assert!(err.to_string().contains("row 2"), "{err}");
     }
 }

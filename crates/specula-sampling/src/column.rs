@@ -134,6 +134,14 @@ impl Column {
         self.values.len()
     }
 
+    /// The largest value and where it is: `(theta_h_deg, value)`, the first one on a tie.
+    pub fn peak(&self) -> (f64, f64) {
+        self.theta_h_deg.iter().zip(&self.values).fold(
+            (0.0, f64::NEG_INFINITY),
+            |best, (&x, &v)| if v > best.1 { (x, v) } else { best },
+        )
+    }
+
     /// Always false: a column has at least two samples.
     pub fn is_empty(&self) -> bool {
         false
@@ -372,6 +380,15 @@ mod tests {
 
     fn column(xs: &[f64], ys: &[f64]) -> Column {
         Column::new(xs.to_vec(), ys.to_vec()).unwrap()
+    }
+
+    #[test]
+    fn the_peak_is_the_first_largest_value() {
+        assert_eq!(
+            column(&[0.0, 1.0, 2.0, 3.0], &[1.0, 5.0, 5.0, 2.0]).peak(),
+            (1.0, 5.0)
+        );
+        assert_eq!(column(&[0.5, 1.0], &[0.0, 0.0]).peak(), (0.5, 0.0));
     }
 
     #[test]

@@ -67,6 +67,32 @@ pub enum SamplingError {
         /// The header found.
         found: String,
     },
+    /// A CSV file without a column it needs.
+    #[error("{path}: no {column} column (header: {found})")]
+    NoColumn {
+        /// The file.
+        path: PathBuf,
+        /// The column looked for.
+        column: &'static str,
+        /// The header found.
+        found: String,
+    },
+    /// A CSV cell that is not a finite number.
+    #[error("{path}: row {row}: '{text}' is not a number")]
+    NotANumber {
+        /// The file.
+        path: PathBuf,
+        /// The row, counting the header as row 1.
+        row: usize,
+        /// The cell's text.
+        text: String,
+    },
+    /// A CSV file with a header and no rows.
+    #[error("{path}: no rows")]
+    NoRows {
+        /// The file.
+        path: PathBuf,
+    },
     /// Too few probe samples asked for.
     #[error("a probe needs at least 2 samples, got {0}")]
     ProbeSamples(usize),

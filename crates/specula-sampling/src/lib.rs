@@ -1,7 +1,8 @@
 //! Adaptive theta_h sampling (paper sections 5.1 and 5.2) and placements that go beyond it.
 //!
 //! - [`probe`]: the dense theta_h column at theta_d = 40, phi_d = 90 degrees that a
-//!   measurement starts with, and its CSV file;
+//!   measurement starts with, and its CSV file; [`adaptive`]: the adaptive samples drawn
+//!   against it (Fig. 13), read from a CSV file;
 //! - [`deblur`]: the probe before the instrument's blur, for fitting k through a response;
 //! - [`fit`]: k-hat of a sampling function (paper eq. 2-4) fitted to a probe;
 //! - [`slice`](mod@slice), [`merl_slice`]: the characteristic slice (phi_d = 90) of a BRDF
@@ -13,6 +14,7 @@
 //!
 //! All values are the mean of R, G and B in 1/sr ([`column::scalar_of`]); angles are degrees.
 
+pub mod adaptive;
 pub mod analysis;
 pub mod column;
 pub mod database;

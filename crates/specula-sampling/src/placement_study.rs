@@ -27,6 +27,9 @@ use crate::fit::fit_k;
 use crate::placement::{optimal_placement, place_on_probe_column};
 use crate::slice::{mean_over_cells, CharacteristicSlice, THETA_D_COLUMNS};
 use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::statistics::median;
+use std::io::Write;
+use std::path::Path;
 
 /// A way to place the samples.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -178,10 +181,46 @@ pub fn summarize(materials: &[MaterialPlacement]) -> Vec<MethodSummary> {
                     .exp(),
                 worst_ratio: ratios.iter().copied().fold(f64::NAN, f64::max),
                 exact_materials: materials.len() - ratios.len(),
-                median_ratio: crate::analysis::median(&mut ratios),
+                median_ratio: median(&mut ratios),
             }
         })
         .collect()
+}
+
+/// Writes every material's errors per interpolation domain as CSV: the header
+/// `material,k_hat,domain,` and one column per method ([`Method::key`], in [`Method::ALL`]
+/// order), then a row per material and domain; `rows[m][d]` is material `m` interpolated in
+/// `domains[d]`, errors in 1/sr.
+pub fn write_csv(
+    path: &Path,
+    domains: &[Interpolation],
+    rows: &[Vec<MaterialPlacement>],
+) -> Result<(), SamplingError> {
+    specula_core::atomic_file::write_with(path, |out| write_rows(out, domains, rows))
+        .map_err(SamplingError::io(path, "write"))
+}
+
+fn write_rows(
+    out: &mut impl Write,
+    domains: &[Interpolation],
+    rows: &[Vec<MaterialPlacement>],
+) -> std::io::Result<()> {
+    let methods: Vec<&str> = Method::ALL.iter().map(|m| m.key()).collect();
+    writeln!(out, "material,k_hat,domain,{}", methods.join(","))?;
+    for per_domain in rows {
+        for (domain, row) in domains.iter().zip(per_domain) {
+            let errors: Vec<String> = row.error.iter().map(|e| format!("{e:e}")).collect();
+            writeln!(
+                out,
+                "{},{},{},{}",
+                row.name,
+                row.k_hat,
+                domain.name(),
+                errors.join(",")
+            )?;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -247,5 +286,46 @@ mod tests {
         assert!((ours.geometric_mean_ratio - 2f64.sqrt()).abs() < 1e-12);
         assert_eq!(ours.worst_ratio, 2.0);
         assert_eq!(table[0].median_ratio, 3.0);
+    }
+
+    #[test]
+    fn the_csv_has_a_row_per_material_and_domain() {
+        let row = |name: &str, k_hat| MaterialPlacement {
+            name: name.into(),
+            k_hat,
+            error: [0.5, 0.25, 2.0, 1e-3, 1.0],
+            mean_value: 1.0,
+        };
+        let rows = vec![
+            vec![row("a", 4.5), row("a", 4.5)],
+            vec![row("b", 6.0), row("b", 6.0)],
+        ];
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("placement.csv");
+        write_csv(&path, &Interpolation::ALL, &rows).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let keys: Vec<&str> = Method::ALL.iter().map(|m| m.key()).collect();
+        assert_eq!(
+            lines[0],
+            format!("material,k_hat,domain,{}", keys.join(","))
+        );
+        assert_eq!(lines.len(), 5);
+        assert_eq!(
+            lines[1],
+            format!(
+                "a,4.5,{},5e-1,2.5e-1,2e0,1e-3,1e0",
+                Interpolation::ALL[0].name()
+            )
+        );
+        assert!(lines[4].starts_with(&format!("b,6,{},", Interpolation::ALL[1].name())));
+        let err = write_csv(
+            &dir.path().join("no/such/x.csv"),
+            &Interpolation::ALL,
+            &rows,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("x.csv: cannot write"), "{err}");
     }
 }

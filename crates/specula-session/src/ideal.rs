@@ -1,13 +1,18 @@
 //! The ideal simulated device of `specula measure --ideal`: the simulator's geometry (arms,
 //! occlusion, the light's disk, the clock) with the axes exactly where they are told and a
 //! noise-free camera, and its exact calibration. For comparing sampling and reconstruction
-//! methods without the noise of one particular run.
+//! methods without the noise of one particular run. [`simulated_instrument`] is the
+//! simulated device `specula device serve` offers, ideal or not.
 
 use specula_acquisition::calibration::Calibration;
+use specula_acquisition::device::Device;
 use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
 use specula_acquisition::kinematics::AxisPositions;
 use specula_acquisition::simulator::camera::CameraModel;
-use specula_acquisition::simulator::Simulator;
+use specula_acquisition::simulator::sample::{MountedSample, Tilt};
+use specula_acquisition::simulator::{Simulator, SimulatorConfig};
+use specula_core::Brdf;
+use std::sync::Arc;
 
 /// A simulator whose captures are the expected values of its camera (no photon, read or
 /// dark noise). Build the simulator with a zero positioning error and an untilted sample.
@@ -85,6 +90,28 @@ impl Instrument for NoiselessSimulator {
     }
 }
 
+/// The simulated `device` with `truth` mounted untilted, as `specula device serve` offers
+/// it: with `ideal` a [`NoiselessSimulator`] with exact positioning, else the simulator with
+/// the noise and positioning error that `seed` picks.
+pub fn simulated_instrument(
+    device: Device,
+    truth: Arc<dyn Brdf>,
+    seed: u64,
+    ideal: bool,
+) -> Box<dyn Instrument> {
+    let mut config = SimulatorConfig::new(seed, &device);
+    if ideal {
+        config.positioning.sigma_deg = 0.0;
+    }
+    let sample = MountedSample::new(truth.name(), truth, Tilt::default());
+    let simulator = Simulator::new(device, sample, config);
+    if ideal {
+        Box::new(NoiselessSimulator::new(simulator))
+    } else {
+        Box::new(simulator)
+    }
+}
+
 /// The calibration that inverts a simulated camera exactly: its channel gains and the
 /// inverse of its colour crosstalk (the response is not measured).
 pub fn exact_calibration(camera: &CameraModel, device: &str) -> Calibration {
@@ -118,5 +145,20 @@ mod tests {
         let rate = camera.signal_rate_dn_s(f * cos_i);
         let back = calibration.brdf(rate, cos_i);
         assert!((back - f).length() < 1e-9 * f.length(), "{back} vs {f}");
+    }
+
+    #[test]
+    fn the_ideal_instrument_repeats_a_capture_exactly_and_the_noisy_one_does_not() {
+        let truth = Arc::new(specula_core::materials::preset("green-paint").unwrap());
+        let twice = |ideal: bool| {
+            let mut instrument = simulated_instrument(Device::utia(), truth.clone(), 3, ideal);
+            let first = instrument.capture(0.01, false).unwrap();
+            let second = instrument.capture(0.01, false).unwrap();
+            (first, second)
+        };
+        let (a, b) = twice(true);
+        assert_eq!(a, b);
+        let (a, b) = twice(false);
+        assert_ne!(a.mean_raw, b.mean_raw);
     }
 }

@@ -28,7 +28,7 @@ pub use crate::journal::{
 };
 use crate::journal::{
     DeviceRecord, Durability, Journal, JournalError, PlannedRow, SampleRecord, SourceRecord, Stage,
-    VersionRecord,
+    VersionRecord, EVENT_COMPLETE,
 };
 
 /// The probe's stage name in the journal.
@@ -560,7 +560,7 @@ pub fn measure(
             cause,
         }
     })?;
-    journal.log_event("complete", &format!("wrote {}", out.display()))?;
+    journal.log_event(EVENT_COMPLETE, &format!("wrote {}", out.display()))?;
     journal.close()?;
     Ok(MeasureOutcome::Complete(Box::new(summary)))
 }
@@ -900,6 +900,27 @@ fn rows_of(plan: &Plan) -> Vec<PlannedRow> {
             predicted_s: s.time_s,
         })
         .collect()
+}
+
+/// The measured samples of the main stage of the session at `path` (opened read-only), in
+/// plan order, and the instrument's response its calibration holds, if any: what
+/// `specula reconstruct --session` rebuilds. A session without main samples is an error.
+pub fn session_main_samples(
+    path: &Path,
+) -> Result<(Vec<Sample>, Option<InstrumentResponse>), WorkflowError> {
+    let journal = Journal::open_read_only(path)?;
+    let response = journal
+        .record::<Calibration>()?
+        .and_then(|c| c.response)
+        .map(|fit| fit.response);
+    let plan = journal.plan(STAGE_MAIN)?;
+    let samples = measured_samples(&plan, &journal.samples(STAGE_MAIN)?);
+    if samples.is_empty() {
+        return Err(WorkflowError::NoMainSamples {
+            session: path.to_path_buf(),
+        });
+    }
+    Ok((samples, response))
 }
 
 /// The probe's samples as points, in increasing theta_h.

@@ -5,7 +5,7 @@
 
 use crate::engine::EngineError;
 use crate::inputs::InputsError;
-use crate::journal::{JournalError, SourceRecord};
+use crate::journal::{JournalError, SourceRecord, Stage};
 use crate::protocol::Endpoint;
 use specula_acquisition::calibration::CalibrationError;
 use specula_acquisition::instrument::InstrumentError;
@@ -150,6 +150,12 @@ pub enum WorkflowError {
     /// The grid cannot be stepped (a step zero or negative, ...).
     #[error("the measurement grid: {0}")]
     Grid(#[from] specula_core::grid::GridError),
+    /// A session to reconstruct from whose main stage has no measured sample.
+    #[error("{session}: the session has no measured sample in its {} stage", Stage::Main.name())]
+    NoMainSamples {
+        /// The session journal.
+        session: PathBuf,
+    },
     /// A stage the summary needs is not in the journal.
     #[error("the journal has no {0}")]
     MissingStage(&'static str),

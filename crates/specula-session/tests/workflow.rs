@@ -7,10 +7,10 @@ use specula_core::materials::preset;
 use specula_core::merl::Bin;
 use specula_core::{Brdf, GridSpec, MerlBrdf, Rgb, ThetaDSteps};
 use specula_reconstruct::Method;
-use specula_session::journal::{Journal, Record};
+use specula_session::journal::{Journal, Record, SessionState};
 use specula_session::workflow::{
-    measure, measured_samples, session_grid, MeasureOutcome, MeasureSettings, Quiet, Source,
-    STAGE_MAIN, STAGE_PROBE,
+    measure, measured_samples, session_grid, session_main_samples, MeasureOutcome, MeasureSettings,
+    Quiet, Source, STAGE_MAIN, STAGE_PROBE,
 };
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -79,6 +79,25 @@ fn a_small_measurement_completes_and_summarises() {
         summary.probe_samples
     );
     assert!(out.exists());
+    assert_eq!(journal.status().unwrap().state(), SessionState::Complete);
+    let (samples, response) = session_main_samples(&session).unwrap();
+    assert_eq!(samples.len(), summary.measured_samples);
+    assert!(
+        response.is_some(),
+        "the simulator's calibration measures its response"
+    );
+}
+
+#[test]
+fn a_session_without_main_samples_has_nothing_to_reconstruct() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("empty.sqlite");
+    drop(Journal::open(&session).unwrap());
+    let err = session_main_samples(&session).unwrap_err().to_string();
+    assert!(
+        err.contains("empty.sqlite: the session has no measured sample in its main stage"),
+        "{err}"
+    );
 }
 
 /// silver-925's neighbour green-paint, made not reciprocal: brighter when the camera is

@@ -195,3 +195,25 @@ fn the_mirror_scan_recovers_the_light_disk() {
         assert_eq!(fit.scan.len(), 141);
     }
 }
+
+#[test]
+fn a_calibrated_device_measures_a_known_diffuse_sample_as_it_is() {
+    let mut sim = simulator(5);
+    let device = sim.device().clone();
+    let cal = calibrate(&mut sim, mount_in_simulator, &CalibrationOptions::default()).unwrap();
+    let grey = Arc::new(DiffuseTarget::white(0.4));
+    sim.mount(MountedSample::new("grey", grey.clone(), Tilt::default()));
+    let theta_h = truth_check::TRUTH_CHECK_THETA_H_DEG;
+    let checks =
+        truth_check::check_against_truth(&mut sim, &device, &cal, grey.as_ref(), &theta_h).unwrap();
+    assert!(checks.len() >= 4, "{checks:?}");
+    assert!(checks
+        .windows(2)
+        .all(|w| w[0].theta_h_deg < w[1].theta_h_deg));
+    for check in &checks {
+        assert!(theta_h.contains(&check.theta_h_deg));
+        assert_eq!(check.truth, Rgb::splat(0.4 / PI));
+        // A diffuse sample is not blurred by the light's disk: the calibration alone.
+        assert!((check.green_ratio() - 1.0).abs() < 0.05, "{check:?}");
+    }
+}

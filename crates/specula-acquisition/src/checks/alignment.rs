@@ -262,9 +262,8 @@ pub fn check_alignment(
 mod tests {
     use super::*;
     use crate::device::Device;
-    use crate::hdr::HdrSettings;
     use crate::simulator::sample::{MountedSample, Tilt};
-    use crate::simulator::{Simulator, SimulatorConfig};
+    use crate::simulator::Simulator;
     use specula_core::materials::preset;
     use std::sync::Arc;
 
@@ -298,13 +297,9 @@ mod tests {
     }
 
     fn tilted(tilt: Tilt, seed: u64) -> (Simulator, HdrCapturer) {
-        let device = Device::utia();
-        let config = SimulatorConfig::new(seed, &device);
         let truth = Arc::new(preset("silver-925").unwrap());
-        let mut sim = Simulator::new(device, MountedSample::new("silver", truth, tilt), config);
-        let settings = HdrSettings::for_device(&sim.info().unwrap());
-        let hdr = HdrCapturer::new(settings, sim.config().camera.noise_model());
-        (sim, hdr)
+        let sample = MountedSample::new("silver", truth, tilt);
+        Simulator::with_hdr(Device::utia(), sample, seed, None).unwrap()
     }
 
     /// Error of the estimate as a vector (tilt towards azimuth), degrees.

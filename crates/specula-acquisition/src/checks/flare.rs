@@ -253,6 +253,20 @@ pub fn check_flare(
     Ok((report, outcomes))
 }
 
+/// The most retakes any sample of [`check_flare`]'s outcomes needed before a clean capture
+/// (0 when none was retaken; excluded and unreachable samples do not count).
+pub fn most_retakes(outcomes: &[Option<FlareOutcome>]) -> usize {
+    outcomes
+        .iter()
+        .flatten()
+        .filter_map(|o| match o {
+            FlareOutcome::Clean { retakes, .. } => Some(*retakes),
+            FlareOutcome::Excluded { .. } => None,
+        })
+        .max()
+        .unwrap_or(0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -396,13 +410,15 @@ mod tests {
             report.clean_first + report.retaken + report.excluded
         );
         assert!(report.retaken >= 1, "{report:?}");
+        assert!(most_retakes(&outcomes) >= 1);
+        assert_eq!(most_retakes(&outcomes[..0]), 0);
     }
 
     #[test]
     fn without_flare_nothing_is_flagged() {
         let (mut sim, mut hdr) = simulator(false, 7);
         let device = sim.device().clone();
-        let (report, _) = check_flare(
+        let (report, outcomes) = check_flare(
             &mut sim,
             &mut hdr,
             &device,
@@ -411,6 +427,7 @@ mod tests {
         )
         .unwrap();
         assert_eq!(report.retaken + report.excluded, 0, "{report:?}");
+        assert_eq!(most_retakes(&outcomes), 0);
     }
 }
 

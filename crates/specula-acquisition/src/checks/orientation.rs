@@ -18,6 +18,7 @@ use crate::device::Device;
 use crate::hdr::HdrCapturer;
 use crate::instrument::Instrument;
 use serde::Serialize;
+use specula_core::statistics::median;
 use specula_core::HalfDiff;
 
 /// Where the rings are measured.
@@ -88,18 +89,6 @@ impl OrientationReport {
     }
 }
 
-/// Median of a slice (not empty).
-fn median(values: &[f64]) -> f64 {
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let n = sorted.len();
-    if n % 2 == 1 {
-        sorted[n / 2]
-    } else {
-        (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0
-    }
-}
-
 /// The analysis of measured rings: `rings[k][i]` is the value at `theta_h[k]`, `phi_h[i]`.
 pub fn analyse(
     phi_h_deg: &[f64],
@@ -110,10 +99,10 @@ pub fn analyse(
     let mut excess = vec![f64::MIN; n];
     let mut threshold = settings.min_excess;
     for ring in rings {
-        let baseline = median(ring);
+        let baseline = median(&mut ring.clone());
         let relative: Vec<f64> = ring.iter().map(|v| v / baseline - 1.0).collect();
-        let deviations: Vec<f64> = relative.iter().map(|r| r.abs()).collect();
-        threshold = threshold.max(5.0 * 1.4826 * median(&deviations));
+        let mut deviations: Vec<f64> = relative.iter().map(|r| r.abs()).collect();
+        threshold = threshold.max(5.0 * 1.4826 * median(&mut deviations));
         for (e, r) in excess.iter_mut().zip(&relative) {
             *e = e.max(*r);
         }
@@ -214,10 +203,8 @@ pub fn check_orientation(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::hdr::HdrSettings;
     use crate::simulator::sample::{MountedSample, Tilt};
-    use crate::simulator::{Simulator, SimulatorConfig};
-    use specula_core::materials::microfacet::Distribution;
+    use crate::simulator::Simulator;
     use specula_core::materials::preset;
     use specula_core::materials::scratch::ScratchLobe;
     use specula_core::materials::Material;
@@ -225,17 +212,15 @@ mod tests {
     use std::sync::Arc;
 
     fn scratched(orientation_deg: f64) -> Material {
-        let lobe = ScratchLobe::new(Distribution::Ggx, 0.03, 0.005, 0.15, orientation_deg);
-        preset("silver-925").unwrap().with_scratch(lobe)
+        preset("silver-925")
+            .unwrap()
+            .with_scratch(ScratchLobe::polishing(orientation_deg))
     }
 
     fn run(truth: Material, seed: u64) -> OrientationReport {
         let device = Device::utia();
-        let config = SimulatorConfig::new(seed, &device);
         let sample = MountedSample::new("silver", Arc::new(truth), Tilt::default());
-        let mut sim = Simulator::new(device.clone(), sample, config);
-        let settings = HdrSettings::for_device(&sim.info().unwrap());
-        let mut hdr = HdrCapturer::new(settings, sim.config().camera.noise_model());
+        let (mut sim, mut hdr) = Simulator::with_hdr(device.clone(), sample, seed, None).unwrap();
         check_orientation(&mut sim, &mut hdr, &device, &OrientationSettings::default()).unwrap()
     }
 

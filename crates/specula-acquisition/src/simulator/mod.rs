@@ -27,6 +27,7 @@ pub mod rng;
 pub mod sample;
 
 use crate::device::Device;
+use crate::hdr::{HdrCapturer, HdrSettings};
 use crate::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
 use crate::kinematics::{AxisPositions, AXIS_NAMES, CAMERA_AXIS};
 use crate::occlusion::{blockage, Blockage};
@@ -120,6 +121,24 @@ impl Simulator {
             captures: 0,
             faults: Vec::new(),
         }
+    }
+
+    /// The simulated `device` with `sample` mounted (`seed` picks its positioning errors and
+    /// noise; `flare` adds a lens flare), and an HDR capturer for it that uses the
+    /// simulator's own sensor model: what the practical checks (4.2, 4.3) run on, without a
+    /// calibration (`specula calibrate` measures the sensor model on a device).
+    pub fn with_hdr(
+        device: Device,
+        sample: MountedSample,
+        seed: u64,
+        flare: Option<LensFlare>,
+    ) -> Result<(Self, HdrCapturer), InstrumentError> {
+        let mut config = SimulatorConfig::new(seed, &device);
+        config.flare = flare;
+        let mut simulator = Self::new(device, sample, config);
+        let settings = HdrSettings::for_device(&simulator.info()?);
+        let noise = simulator.config().camera.noise_model();
+        Ok((simulator, HdrCapturer::new(settings, noise)))
     }
 
     /// Puts another sample (a reference target) on the turntable, as the operator would.

@@ -200,3 +200,20 @@ fn lens_flare_adds_a_reddish_spot_that_the_other_camera_side_avoids() {
     );
     assert!(excess[0] > 0.2, "{excess:?}");
 }
+
+#[test]
+fn the_checks_setup_captures_with_the_simulators_own_sensor_model() {
+    let brdf = Arc::new(preset("silver-925").unwrap());
+    let sample = MountedSample::new("silver", brdf, Tilt::default());
+    let flare = LensFlare {
+        strength_sr: 0.2,
+        ..LensFlare::default()
+    };
+    let (mut sim, hdr) =
+        Simulator::with_hdr(Device::utia(), sample, 7, Some(flare.clone())).unwrap();
+    assert_eq!(sim.config().seed, 7);
+    assert_eq!(sim.config().flare, Some(flare));
+    assert_eq!(hdr.noise, sim.config().camera.noise_model());
+    assert_eq!(hdr.settings, HdrSettings::for_device(&sim.info().unwrap()));
+    assert_eq!(hdr.stats.samples, 0);
+}

@@ -147,16 +147,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
         plain(summary.mean[f][PROBE_THETA_D_DEG]),
         plain(summary.median[f][PROBE_THETA_D_DEG])
     );
-    for (f, family) in Family::ALL.iter().enumerate() {
-        let (j, mean) = summary.mean[f]
-            .iter()
-            .copied()
-            .enumerate()
-            .filter(|(_, m)| m.is_finite())
-            .fold(
-                (0, f64::INFINITY),
-                |b, (j, m)| if m < b.1 { (j, m) } else { b },
-            );
+    for family in Family::ALL {
+        // A family without a measured column prints as column 0 with an infinite error.
+        let (j, mean) = summary.best_column(family).unwrap_or((0, f64::INFINITY));
         outln!(
             "  {family:<12} best column theta_d = {j:>2} deg: mean error {} 1/sr",
             plain(mean)

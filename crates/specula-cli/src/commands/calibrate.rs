@@ -1,15 +1,14 @@
 //! `specula calibrate`: the camera's noise model, gains to 1/sr and colour matrix on the
 //! simulated device, stored for later runs.
 
-use super::check::{load_device, load_truth};
 use anyhow::Result;
+use specula_acquisition::calibration::truth_check::{
+    check_against_truth, TRUTH_CHECK_PHI_D_DEG, TRUTH_CHECK_PHI_H_DEG, TRUTH_CHECK_THETA_D_DEG,
+    TRUTH_CHECK_THETA_H_DEG,
+};
 use specula_acquisition::calibration::{calibrate, mount_in_simulator, CalibrationOptions};
-use specula_acquisition::checks::{free_positions, measure_at};
-use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
-use specula_acquisition::instrument::Instrument;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
-use specula_core::HalfDiff;
 use specula_session::workflow::simulated_response;
 use std::path::PathBuf;
 
@@ -43,8 +42,8 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    let truth = load_truth(&args.truth, None)?;
-    let device = load_device(args.device.as_deref())?;
+    let truth = specula_formats::load_brdf(&args.truth)?;
+    let device = super::load_device(args.device.as_deref())?;
     let config = SimulatorConfig::new(args.seed, &device);
     let sample = MountedSample::new(&args.truth, truth.clone(), Tilt::default());
     let mut sim = Simulator::new(device.clone(), sample.clone(), config);
@@ -96,40 +95,36 @@ pub(crate) fn run(args: Args) -> Result<()> {
 
     // The truth back on the turntable: calibrated values against the truth.
     sim.mount(sample);
-    let mut hdr = HdrCapturer::new(HdrSettings::for_device(&sim.info()?), cal.noise);
+    let checks = check_against_truth(
+        &mut sim,
+        &device,
+        &cal,
+        truth.as_ref(),
+        &TRUTH_CHECK_THETA_H_DEG,
+    )?;
     outln!(
-        "check on {} (theta_d 30, phi_d 90, phi_h 45 deg):",
+        "check on {} (theta_d {TRUTH_CHECK_THETA_D_DEG}, phi_d {TRUTH_CHECK_PHI_D_DEG}, phi_h {TRUTH_CHECK_PHI_H_DEG} deg):",
         args.truth
     );
     outln!("theta_h_deg,measured_r,measured_g,measured_b,truth_r,truth_g,truth_b,ratio_g");
-    for theta_h in [0.0, 1.0, 3.0, 10.0, 30.0, 60.0] {
-        let hd = HalfDiff::from_degrees(theta_h, 45.0, 30.0, 90.0);
-        let (wi, wo) = hd.to_directions();
-        let Some(axes) = free_positions(&device, wi, wo, None).first().copied() else {
-            continue;
-        };
-        let value = measure_at(&mut sim, &mut hdr, &axes, None)?.value;
-        let measured = cal.brdf(value.rate_dn_s, wi.z);
-        let Some(expected) = truth.eval(wi, wo) else {
-            continue;
-        };
+    for check in &checks {
+        let (measured, expected) = (check.measured, check.truth);
         outln!(
-            "{theta_h},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4}",
+            "{},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4}",
+            check.theta_h_deg,
             measured.x,
             measured.y,
             measured.z,
             expected.x,
             expected.y,
             expected.z,
-            measured.y / expected.y
+            check.green_ratio()
         );
     }
     outln!(
         "(near the highlight the light's {:.1} deg disk blurs a sharp lobe: ratios below 1 there \
          are the source's size, not the calibration)",
-        (device.light.beam.end_radius_m / device.light.distance_m)
-            .atan()
-            .to_degrees()
+        device.light_radius_deg()
     );
     Ok(())
 }

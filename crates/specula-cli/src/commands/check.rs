@@ -1,24 +1,20 @@
 //! `specula check`: the paper's practical checks (4.2, 4.3) on the simulated device.
 
 use crate::range;
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
 use specula_acquisition::checks::flare::{
-    check_flare, simulated_ghosts, survey_samples, FlareOutcome, FlareSettings,
+    check_flare, most_retakes, simulated_ghosts, survey_samples, FlareSettings,
 };
 use specula_acquisition::checks::orientation::{check_orientation, OrientationSettings};
-use specula_acquisition::device::Device;
-use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
+use specula_acquisition::hdr::HdrCapturer;
 use specula_acquisition::instrument::Instrument;
 use specula_acquisition::simulator::optics::LensFlare;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
-use specula_acquisition::simulator::{Simulator, SimulatorConfig};
-use specula_core::materials::microfacet::Distribution;
-use specula_core::materials::scratch::ScratchLobe;
-use specula_core::materials::{preset, Material};
-use specula_core::{Brdf, GridSpec};
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use specula_acquisition::simulator::Simulator;
+use specula_core::GridSpec;
+use specula_formats::source::load_brdf_scratched;
+use std::path::PathBuf;
 
 /// Run a practical check of the paper (4.2, 4.3) on the simulated device.
 ///
@@ -109,58 +105,14 @@ pub(crate) struct FlareArgs {
     pub flare_strength_sr: f64,
 }
 
-/// The ground truth, with the scratch lobe when asked for.
-pub(crate) fn load_truth(
-    spec: &str,
-    scratch_orientation_deg: Option<f64>,
-) -> Result<Arc<dyn Brdf>> {
-    let Some(orientation) = scratch_orientation_deg else {
-        return Ok(specula_formats::load_brdf(spec)?);
-    };
-    let material = if spec.ends_with(".toml") && Path::new(spec).is_file() {
-        Material::from_toml_file(spec)
-            .with_context(|| format!("{spec}: cannot read the material"))?
-    } else if let Some(material) = preset(spec) {
-        material
-    } else {
-        bail!(
-            "{spec}: --scratch-orientation needs an analytic material as --truth (a preset \
-             name or a material .toml)"
-        );
-    };
-    let lobe = match &material.scratch {
-        Some(lobe) => ScratchLobe::new(
-            lobe.distribution(),
-            lobe.weight,
-            lobe.alpha_along(),
-            lobe.alpha_across(),
-            orientation,
-        ),
-        None => ScratchLobe::new(Distribution::Ggx, 0.03, 0.005, 0.15, orientation),
-    };
-    Ok(Arc::new(material.with_scratch(lobe)))
-}
-
-/// The device file, or the paper's device.
-pub(crate) fn load_device(path: Option<&Path>) -> Result<Device> {
-    Ok(match path {
-        Some(path) => Device::load(path)?,
-        None => Device::utia(),
-    })
-}
-
 impl Simulated {
+    /// The simulated device with the truth mounted, and its HDR capturer.
     fn build(&self, flare: Option<LensFlare>) -> Result<(Simulator, HdrCapturer)> {
-        let truth = load_truth(&self.truth, self.scratch_orientation_deg)?;
-        let device = load_device(self.device.as_deref())?;
-        let mut config = SimulatorConfig::new(self.seed, &device);
-        config.flare = flare;
+        let truth = load_brdf_scratched(&self.truth, self.scratch_orientation_deg)?;
+        let device = super::load_device(self.device.as_deref())?;
         let tilt = Tilt::new(self.tilt_deg, self.tilt_azimuth_deg);
-        let mut sim = Simulator::new(device, MountedSample::new(&self.truth, truth, tilt), config);
-        let settings = HdrSettings::for_device(&sim.info()?);
-        // The simulator's own sensor model; `specula calibrate` measures it on a device.
-        let noise = sim.config().camera.noise_model();
-        Ok((sim, HdrCapturer::new(settings, noise)))
+        let sample = MountedSample::new(&self.truth, truth, tilt);
+        Ok(Simulator::with_hdr(device, sample, self.seed, flare)?)
     }
 }
 
@@ -300,16 +252,7 @@ fn flare(args: FlareArgs) -> Result<()> {
         report.retaken
     );
     outln!("flagged everywhere, excluded: {}", report.excluded);
-    let worst_retake = outcomes
-        .iter()
-        .flatten()
-        .filter_map(|o| match o {
-            FlareOutcome::Clean { retakes, .. } => Some(*retakes),
-            FlareOutcome::Excluded { .. } => None,
-        })
-        .max()
-        .unwrap_or(0);
-    outln!("most retakes for one sample: {worst_retake}");
+    outln!("most retakes for one sample: {}", most_retakes(&outcomes));
     outln!(
         "simulated truth: a ghost in the region at {} of the {} free arm \
          positions (harmless where the sample outshines it)",

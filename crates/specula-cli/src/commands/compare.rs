@@ -1,7 +1,7 @@
 //! `specula compare`: error figures between two BRDFs.
 
 use anyhow::Result;
-use specula_core::compare::compare;
+use specula_accuracy::Accuracy;
 use specula_core::tabulate::tabulate;
 
 /// Compare BRDF A against the reference B over the MERL grid (both are tabulated at the
@@ -36,9 +36,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
     let a = tabulate(specula_formats::load_brdf(&args.a)?.as_ref(), phi_h_rad);
     let b = tabulate(specula_formats::load_brdf(&args.b)?.as_ref(), phi_h_rad);
+    let accuracy = Accuracy::of(&a, &b, args.max_elevation);
     outln!("set,cells,relative_rmse,log_rmse,slice_mae");
-    for (label, limit) in [("all", 90.0), ("within", args.max_elevation)] {
-        let e = compare(&a, &b, limit);
+    for (label, e) in [("all", accuracy.all), ("within", accuracy.within)] {
         outln!(
             "{label},{},{:.6},{:.6},{:.6e}",
             e.cells,

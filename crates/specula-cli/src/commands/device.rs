@@ -2,11 +2,7 @@
 
 use super::token_args::{TokenArgs, TOKEN_VAR};
 use anyhow::{bail, Context, Result};
-use specula_acquisition::device::Device;
-use specula_acquisition::instrument::Instrument;
-use specula_acquisition::simulator::sample::{MountedSample, Tilt};
-use specula_acquisition::simulator::{Simulator, SimulatorConfig};
-use specula_session::ideal::NoiselessSimulator;
+use specula_session::ideal::simulated_instrument;
 use specula_session::inputs::brdf_fingerprint;
 use specula_session::protocol::{FaultSchedule, Server};
 use std::net::{SocketAddr, TcpListener};
@@ -82,25 +78,12 @@ fn serve(args: ServeArgs) -> Result<()> {
         );
     }
     let faults: FaultSchedule = args.inject_faults.parse().map_err(anyhow::Error::msg)?;
-    let device = match &args.device {
-        Some(path) => Device::load(path)?,
-        None => Device::utia(),
-    };
+    let device = super::load_device(args.device.as_deref())?;
     let truth = specula_formats::source::load_brdf(&args.truth)?;
     // The truth's content hash goes in the server's name: a client reconnecting to a server
     // restarted with another truth (or an edited file of the same name) sees another device.
     let fingerprint = brdf_fingerprint(truth.as_ref());
-    let mut config = SimulatorConfig::new(args.seed, &device);
-    if args.ideal {
-        config.positioning.sigma_deg = 0.0;
-    }
-    let sample = MountedSample::new(truth.name(), truth, Tilt::default());
-    let simulator = Simulator::new(device, sample, config);
-    let instrument: Box<dyn Instrument> = if args.ideal {
-        Box::new(NoiselessSimulator::new(simulator))
-    } else {
-        Box::new(simulator)
-    };
+    let instrument = simulated_instrument(device, truth, args.seed, args.ideal);
     let name = format!(
         "specula device serve: {} (truth sha256 {})",
         args.truth,

@@ -4,15 +4,16 @@
 use super::grid_args::GridArgs;
 use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
-use specula_accuracy::{evaluate_through, Accuracy, Measurement, PlanSettings, ThetaHPlacement};
+use specula_accuracy::summary::{SetSummary, REAL_SET};
+use specula_accuracy::{Accuracy, Measurement, PlanSettings, ThetaHPlacement};
 use specula_acquisition::device::Device;
 use specula_acquisition::response::InstrumentResponse;
 use specula_core::materials::builtin_database;
 use specula_core::sampling::SamplingFunction;
-use specula_core::tabulate::tabulate;
+use specula_core::statistics::Statistic;
 use specula_core::{Brdf, GridSpec};
 use specula_formats::fits::{load_model, FitModel};
-use specula_formats::nbrdf::{Nbrdf, NbrdfSet};
+use specula_formats::nbrdf::NbrdfSet;
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::Method;
 use std::path::PathBuf;
@@ -114,11 +115,7 @@ impl MerlFits {
                 };
                 Ok(load_model(model)?)
             }
-            MerlFits::Nbrdf => NbrdfSet::Merl100
-                .names()?
-                .iter()
-                .map(|name| Ok(Arc::new(Nbrdf::load(NbrdfSet::Merl100, name)?) as Arc<dyn Brdf>))
-                .collect(),
+            MerlFits::Nbrdf => Ok(NbrdfSet::Merl100.load_all()?),
         }
     }
 }
@@ -143,10 +140,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let grid = args.grid.grid(None)?;
     check_args(&args)?;
     let settings = plan_settings(&args, grid)?;
-    let device = match &args.device {
-        Some(path) => Device::load(path)?,
-        None => Device::utia(),
-    };
+    let device = super::load_device(args.device.as_deref())?;
     let truths = load_truths(&args)?;
     let bar = crate::progress::bar(truths.len() as u64, "evaluating");
     let mut rows = Vec::with_capacity(truths.len());
@@ -168,7 +162,7 @@ fn load_truths(args: &Args) -> Result<Vec<(String, Arc<dyn Brdf>)>> {
     let mut truths = Vec::new();
     for spec in &args.truth {
         let set = if std::path::Path::new(spec).exists() && !spec.ends_with(".toml") {
-            "real"
+            REAL_SET
         } else {
             "given"
         };
@@ -224,24 +218,18 @@ fn evaluate_one(
     let name = truth.name();
     let response = instrument_response(args, device);
     let measurement = Measurement::simulate_through(truth, settings, device, response.as_ref())?;
-    let samples = measurement.samples;
+    let measured = measurement.samples.len();
     if let Some(path) = &args.samples_out {
-        SampleSet::new(name.clone(), samples.clone()).write(path)?;
+        SampleSet::new(name.clone(), measurement.samples.clone()).write(path)?;
     }
-    let table = tabulate(truth, measurement.grid.phi_h_deg.to_radians());
-    let (_, accuracy) = evaluate_through(
-        &samples,
-        args.method,
-        &table,
-        args.max_elevation,
-        response.as_ref(),
-    )
-    .with_context(|| format!("{name}: reconstructing {} samples", samples.len()))?;
+    let accuracy = measurement
+        .accuracy(truth, args.method, args.max_elevation, response.as_ref())
+        .with_context(|| format!("{name}: reconstructing {measured} samples"))?;
     Ok(Row {
         set: String::new(),
         name,
         k: measurement.k,
-        measured: samples.len(),
+        measured,
         accuracy,
     })
 }
@@ -273,17 +261,10 @@ fn print_rows(args: &Args, grid: &GridSpec, rows: &[Row]) {
         print_figures(&row.name, &k, row.measured as f64, &row.accuracy);
     }
     if rows.len() > 1 {
-        let n = rows.len() as f64;
-        let mean =
-            |f: &dyn Fn(&Accuracy) -> f64| rows.iter().map(|r| f(&r.accuracy)).sum::<f64>() / n;
-        let measured = rows.iter().map(|r| r.measured as f64).sum::<f64>() / n;
-        let mut accuracy = rows[0].accuracy;
-        accuracy.within.relative_rmse = mean(&|a| a.within.relative_rmse);
-        accuracy.within.log_rmse = mean(&|a| a.within.log_rmse);
-        accuracy.within.slice_mae = mean(&|a| a.within.slice_mae);
-        accuracy.all.relative_rmse = mean(&|a| a.all.relative_rmse);
-        accuracy.all.log_rmse = mean(&|a| a.all.log_rmse);
-        accuracy.all.slice_mae = mean(&|a| a.all.slice_mae);
+        let accuracies: Vec<Accuracy> = rows.iter().map(|r| r.accuracy).collect();
+        let accuracy = Accuracy::combined(&accuracies, Statistic::Mean);
+        let mut measured: Vec<f64> = rows.iter().map(|r| r.measured as f64).collect();
+        let measured = Statistic::Mean.of(&mut measured);
         print_figures(&format!("mean of {}", rows.len()), "", measured, &accuracy);
     }
 }
@@ -306,36 +287,20 @@ fn print_set_summaries(rows: &[Row]) {
     if rows.len() < 2 {
         return;
     }
-    let mut sets: Vec<&str> = rows.iter().map(|r| r.set.as_str()).collect();
-    sets.sort_by_key(|s| (*s != "real", *s));
-    sets.dedup();
     outln!("# per set: set,statistic,materials,rel_rmse_within,log_rmse_within,slice_mae_within,rel_rmse_all,log_rmse_all,slice_mae_all");
-    for set in sets {
-        let members: Vec<&Accuracy> = rows
-            .iter()
-            .filter(|r| r.set == set)
-            .map(|r| &r.accuracy)
-            .collect();
-        for (statistic, of) in [("median", median as fn(Vec<f64>) -> f64), ("mean", mean)] {
-            let figure = |f: fn(&Accuracy) -> f64| of(members.iter().map(|a| f(a)).collect());
-            outln!(
-                "# {set},{statistic},{},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e}",
-                members.len(),
-                figure(|a| a.within.relative_rmse),
-                figure(|a| a.within.log_rmse),
-                figure(|a| a.within.slice_mae),
-                figure(|a| a.all.relative_rmse),
-                figure(|a| a.all.log_rmse),
-                figure(|a| a.all.slice_mae)
-            );
-        }
+    for summary in SetSummary::of(rows.iter().map(|r| (r.set.as_str(), r.accuracy))) {
+        let a = &summary.accuracy;
+        outln!(
+            "# {},{},{},{:.5},{:.5},{:.4e},{:.5},{:.5},{:.4e}",
+            summary.set,
+            summary.statistic.name(),
+            summary.materials,
+            a.within.relative_rmse,
+            a.within.log_rmse,
+            a.within.slice_mae,
+            a.all.relative_rmse,
+            a.all.log_rmse,
+            a.all.slice_mae
+        );
     }
-}
-
-fn mean(values: Vec<f64>) -> f64 {
-    values.iter().sum::<f64>() / values.len() as f64
-}
-
-fn median(mut values: Vec<f64>) -> f64 {
-    specula_sampling::analysis::median(&mut values)
 }

@@ -2,9 +2,9 @@
 
 use crate::output::plain;
 use anyhow::Result;
-use specula_core::merl::{theta_h_centre_deg, Bin, MerlBrdf, CELLS};
+use specula_core::merl::{Bin, MerlBrdf, CELLS};
+use specula_core::statistics::ChannelStats;
 use specula_core::tabulate::tabulate;
-use specula_core::Rgb;
 use specula_formats::convert::Loaded;
 use specula_formats::samples_csv::SampleSet;
 use specula_formats::utia::{self, UtiaBrdf};
@@ -71,57 +71,25 @@ fn evaluated(brdf: &dyn specula_core::Brdf) {
     );
 }
 
-/// Minimum, maximum and mean per channel over `values`, and the index of the peak.
-struct Stats {
-    count: usize,
-    min: Rgb,
-    max: Rgb,
-    sum: Rgb,
-    peak: Option<(f64, usize)>,
-}
-
-impl Stats {
-    fn of(values: impl Iterator<Item = (usize, Rgb)>) -> Self {
-        let mut stats = Stats {
-            count: 0,
-            min: Rgb::splat(f64::INFINITY),
-            max: Rgb::splat(f64::NEG_INFINITY),
-            sum: Rgb::ZERO,
-            peak: None,
-        };
-        for (index, v) in values {
-            stats.count += 1;
-            stats.min = stats.min.min(v);
-            stats.max = stats.max.max(v);
-            stats.sum += v;
-            let mean = v.element_sum() / 3.0;
-            if stats.peak.is_none_or(|(best, _)| mean > best) {
-                stats.peak = Some((mean, index));
-            }
-        }
-        stats
-    }
-
-    fn print(&self) {
-        if self.count == 0 {
-            return;
-        }
-        let mean = self.sum / self.count as f64;
-        for (c, name) in ["red", "green", "blue"].iter().enumerate() {
-            outln!(
-                "{name}: min {} max {} mean {} (1/sr)",
-                plain(self.min[c]),
-                plain(self.max[c]),
-                plain(mean[c])
-            );
-        }
+/// The per-channel minimum, maximum and mean of the statistics, one line per channel.
+fn print_channels(stats: &ChannelStats) {
+    let Some(mean) = stats.mean() else {
+        return;
+    };
+    for (c, name) in ["red", "green", "blue"].iter().enumerate() {
+        outln!(
+            "{name}: min {} max {} mean {} (1/sr)",
+            plain(stats.min[c]),
+            plain(stats.max[c]),
+            plain(mean[c])
+        );
     }
 }
 
 fn describe_merl(table: &MerlBrdf, provenance: Option<&Provenance>, among: &str) {
     outln!("grid: 90 theta_h x 90 theta_d x 180 phi_d cells (MERL)");
     let chosen = |index: usize| provenance.is_none_or(|p| p.is_measured(index));
-    let stats = Stats::of(
+    let stats = ChannelStats::of(
         (0..CELLS)
             .filter(|&i| chosen(i))
             .filter_map(|i| table.cell(i).map(|v| (i, v))),
@@ -131,15 +99,14 @@ fn describe_merl(table: &MerlBrdf, provenance: Option<&Provenance>, among: &str)
         let (measured, interpolated, extrapolated) = p.counts();
         outln!("provenance: {measured} cells measured, {interpolated} interpolated, {extrapolated} extrapolated");
     }
-    stats.print();
-    if let Some((value, index)) = stats.peak {
-        let bin = Bin::from_index(index);
+    print_channels(&stats);
+    if let Some(peak) = stats.peak {
+        let bin = Bin::from_index(peak.index);
+        let [theta_h_deg, theta_d_deg, phi_d_deg] = bin.centre_deg();
         outln!(
-            "peak: {} 1/sr (mean of R, G, B) at theta_h {} deg, theta_d {} deg, phi_d {} deg (bin {}, {}, {}), among {among}",
-            plain(value),
-            plain(theta_h_centre_deg(bin.theta_h_i)),
-            bin.theta_d_i as f64 + 0.5,
-            bin.phi_d_i as f64 + 0.5,
+            "peak: {} 1/sr (mean of R, G, B) at theta_h {} deg, theta_d {theta_d_deg} deg, phi_d {phi_d_deg} deg (bin {}, {}, {}), among {among}",
+            plain(peak.mean),
+            plain(theta_h_deg),
             bin.theta_h_i,
             bin.theta_d_i,
             bin.phi_d_i
@@ -158,17 +125,13 @@ fn describe_utia(table: &UtiaBrdf) {
         table.measured_count(),
         utia::NODES
     );
-    let stats = Stats::of((0..utia::NODES).filter_map(|i| table.node(i).map(|v| (i, v))));
-    stats.print();
-    if let Some((value, index)) = stats.peak {
-        let n = utia::Node::from_index(index);
+    let stats = ChannelStats::of((0..utia::NODES).filter_map(|i| table.node(i).map(|v| (i, v))));
+    print_channels(&stats);
+    if let Some(peak) = stats.peak {
+        let [theta_i, phi_i, theta_v, phi_v] = utia::Node::from_index(peak.index).angles_deg();
         outln!(
-            "peak: {} 1/sr (mean of R, G, B) at light theta {} phi {} deg, camera theta {} phi {} deg, among the measured nodes",
-            plain(value),
-            15 * n.theta_i,
-            7.5 * n.phi_i as f64,
-            15 * n.theta_v,
-            7.5 * n.phi_v as f64
+            "peak: {} 1/sr (mean of R, G, B) at light theta {theta_i} phi {phi_i} deg, camera theta {theta_v} phi {phi_v} deg, among the measured nodes",
+            plain(peak.mean),
         );
     }
 }
@@ -178,9 +141,10 @@ fn describe_samples(set: &SampleSet) {
     outln!("grid: scattered samples (theta_h, phi_h, theta_d, phi_d)");
     let samples = set.samples();
     outln!("measured: {} samples", samples.len());
-    let stats = Stats::of(samples.iter().enumerate().map(|(i, s)| (i, s.value)));
-    stats.print();
-    if let Some((value, index)) = stats.peak {
+    let stats = ChannelStats::of(samples.iter().enumerate().map(|(i, s)| (i, s.value)));
+    print_channels(&stats);
+    if let Some(peak) = stats.peak {
+        let (value, index) = (peak.mean, peak.index);
         let a = samples[index].hd;
         outln!(
             "peak: {} 1/sr (mean of R, G, B) at theta_h {} deg, phi_h {} deg, theta_d {} deg, phi_d {} deg (row {}), among the samples",

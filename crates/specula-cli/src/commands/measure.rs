@@ -8,7 +8,6 @@ use crate::range;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
-use specula_acquisition::device::Device;
 use specula_core::{GridSpec, ProbeSpec};
 use specula_session::engine::{Progress, StageOutcome};
 use specula_session::protocol::{ClientSettings, Endpoint};
@@ -182,10 +181,7 @@ impl Args {
 
 pub(crate) fn run(args: Args) -> Result<()> {
     args.check()?;
-    let device = match &args.device {
-        Some(path) => Device::load(path)?,
-        None => Device::utia(),
-    };
+    let device = super::load_device(args.device.as_deref())?;
     let source = source(&args)?;
     let session = args
         .session

@@ -25,6 +25,17 @@ pub(crate) mod render;
 pub(crate) mod report;
 pub(crate) mod session;
 pub(crate) mod tabulate;
+pub(crate) mod token_args;
+
+/// The device description `--device` names, or the paper's UTIA gonioreflectometer.
+pub(crate) fn load_device(
+    path: Option<&std::path::Path>,
+) -> anyhow::Result<specula_acquisition::device::Device> {
+    Ok(match path {
+        Some(path) => specula_acquisition::device::Device::load(path)?,
+        None => specula_acquisition::device::Device::utia(),
+    })
+}
 
 /// Refuses an output path whose extension is not `.binary`, for the commands that write a
 /// MERL table (`specula convert` writes the other formats).
@@ -40,4 +51,3 @@ pub(crate) fn require_merl_out(path: &std::path::Path) -> anyhow::Result<()> {
     }
     Ok(())
 }
-pub(crate) mod token_args;

@@ -1,13 +1,12 @@
 //! `specula placement`: the paper's theta_h placement against ours and the oracle.
 
 use super::analyze::DatabaseArgs;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use specula_core::GridSpec;
 use specula_sampling::column::Interpolation;
-use specula_sampling::placement_study::{study_slice, summarize, MaterialPlacement, Method};
+use specula_sampling::placement_study::{study_slice, summarize, write_csv, MaterialPlacement};
 use specula_sampling::slice::DENSE_NODES;
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Compare ways of placing n theta_h samples over a database: how well each rebuilds the
 /// characteristic slice (phi_d = 90 deg, all theta_d) from one set of theta_h positions.
@@ -84,39 +83,6 @@ pub(crate) fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.out {
         write_csv(path, domains, &rows)?;
         outln!("\nwrote {}", path.display());
-    }
-    Ok(())
-}
-
-fn write_csv(
-    path: &Path,
-    domains: &[Interpolation],
-    rows: &[Vec<MaterialPlacement>],
-) -> Result<()> {
-    let name = path.display();
-    specula_core::atomic_file::write_with(path, |out| write_rows(out, domains, rows))
-        .with_context(|| format!("{name}: cannot write"))
-}
-
-fn write_rows(
-    out: &mut impl Write,
-    domains: &[Interpolation],
-    rows: &[Vec<MaterialPlacement>],
-) -> std::io::Result<()> {
-    let methods: Vec<&str> = Method::ALL.iter().map(|m| m.key()).collect();
-    writeln!(out, "material,k_hat,domain,{}", methods.join(","))?;
-    for per_domain in rows {
-        for (domain, row) in domains.iter().zip(per_domain) {
-            let errors: Vec<String> = row.error.iter().map(|e| format!("{e:e}")).collect();
-            writeln!(
-                out,
-                "{},{},{},{}",
-                row.name,
-                row.k_hat,
-                domain.name(),
-                errors.join(",")
-            )?;
-        }
     }
     Ok(())
 }

@@ -3,7 +3,6 @@
 
 use super::grid_args::GridArgs;
 use anyhow::{bail, Context, Result};
-use specula_acquisition::device::Device;
 use specula_acquisition::ordering::{order, transition_time_s};
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::sampling::SamplingFunction;
@@ -70,10 +69,7 @@ pub(crate) enum Order {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    let device = match &args.device {
-        Some(path) => Device::load(path)?,
-        None => Device::utia(),
-    };
+    let device = super::load_device(args.device.as_deref())?;
     if args.print_device {
         match &args.device {
             Some(_) => out!("{}", device.to_toml_string()),

@@ -4,7 +4,10 @@
 use crate::range;
 use anyhow::{bail, Context, Result};
 use specula_core::sampling::{Family, SamplingFunction};
-use specula_core::{GridSpec, ProbePoint, Rgb};
+use specula_core::statistics::Statistic;
+use specula_core::GridSpec;
+use specula_sampling::adaptive::AdaptiveSamples;
+use specula_sampling::analysis::ErrorTable;
 use specula_sampling::Probe;
 use specula_visual::heatmap::Heatmap;
 use specula_visual::plot::probe::{interpolate, plot_probe};
@@ -163,7 +166,10 @@ fn probe(args: ProbeArgs) -> Result<RgbImage> {
     let probe = Probe::read_csv(&args.probe)?;
     let points = probe.points();
     let adaptive = match (&args.adaptive, &args.positions, args.k) {
-        (Some(path), _, _) => read_adaptive(path, &points)?,
+        (Some(path), _, _) => match AdaptiveSamples::read_csv(path)? {
+            AdaptiveSamples::Measured(samples) => samples,
+            AdaptiveSamples::Positions(positions) => interpolate(&points, &positions),
+        },
         (None, Some(positions), _) => {
             let mut positions = positions.clone();
             positions.sort_by(f64::total_cmp);
@@ -186,119 +192,24 @@ fn probe(args: ProbeArgs) -> Result<RgbImage> {
     Ok(plot_probe(&points, &adaptive, &stem(&args.probe))?)
 }
 
-/// The adaptive samples of a CSV: theta_h, and r,g,b when present (else interpolated).
-fn read_adaptive(path: &Path, probe: &[ProbePoint]) -> Result<Vec<ProbePoint>> {
-    let name = path.display();
-    let mut reader =
-        csv::Reader::from_path(path).with_context(|| format!("{name}: cannot read"))?;
-    let headers = reader
-        .headers()
-        .with_context(|| format!("{name}: cannot read the header"))?
-        .clone();
-    let column = |wanted: &str| headers.iter().position(|h| h.trim() == wanted);
-    let Some(theta_h) = column("theta_h") else {
-        bail!(
-            "{name}: no theta_h column (header: {})",
-            headers.iter().collect::<Vec<_>>().join(",")
-        );
-    };
-    let rgb = match (column("r"), column("g"), column("b")) {
-        (Some(r), Some(g), Some(b)) => Some([r, g, b]),
-        _ => None,
-    };
-    let mut rows = Vec::new();
-    for (line, record) in reader.records().enumerate() {
-        let record = record.with_context(|| format!("{name}: row {}", line + 2))?;
-        let number = |i: usize| -> Result<f64> {
-            let text = record.get(i).unwrap_or("").trim();
-            text.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .with_context(|| format!("{name}: row {}: '{text}' is not a number", line + 2))
-        };
-        let t = number(theta_h)?;
-        let value = match rgb {
-            Some([r, g, b]) => Some(Rgb::new(number(r)?, number(g)?, number(b)?)),
-            None => None,
-        };
-        rows.push((t, value));
-    }
-    if rows.is_empty() {
-        bail!("{name}: no rows");
-    }
-    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-    Ok(match rgb {
-        Some(_) => rows
-            .into_iter()
-            .map(|(t, v)| ProbePoint::new(t, v.unwrap_or_default()))
-            .collect(),
-        None => interpolate(probe, &rows.iter().map(|r| r.0).collect::<Vec<_>>()),
-    })
-}
-
-#[derive(serde::Deserialize)]
-struct AnalysisRow {
-    family: String,
-    theta_d: f64,
-    mean_error: f64,
-    median_error: f64,
-}
-
 fn heatmap(args: HeatmapArgs) -> Result<RgbImage> {
-    let name = args.analysis.display();
-    let mut reader =
-        csv::Reader::from_path(&args.analysis).with_context(|| format!("{name}: cannot read"))?;
-    let mut families: Vec<String> = Vec::new();
-    let mut columns: Vec<f64> = Vec::new();
-    let mut cells: Vec<(usize, f64, f64)> = Vec::new();
-    for (line, row) in reader.deserialize::<AnalysisRow>().enumerate() {
-        let row = row.with_context(|| format!("{name}: row {}", line + 2))?;
-        let f = match families.iter().position(|f| *f == row.family) {
-            Some(f) => f,
-            None => {
-                families.push(row.family.clone());
-                families.len() - 1
-            }
-        };
-        if !columns.contains(&row.theta_d) {
-            columns.push(row.theta_d);
-        }
-        let value = if args.median {
-            row.median_error
-        } else {
-            row.mean_error
-        };
-        cells.push((f, row.theta_d, value));
-    }
-    if cells.is_empty() {
-        bail!("{name}: no rows");
-    }
-    columns.sort_by(f64::total_cmp);
-    let mut values = vec![vec![f64::NAN; columns.len()]; families.len()];
-    for (f, theta_d, value) in cells {
-        let j = columns
-            .iter()
-            .position(|c| *c == theta_d)
-            .unwrap_or_default();
-        values[f][j] = value;
-    }
-    let best = values
-        .iter()
-        .enumerate()
-        .flat_map(|(f, row)| row.iter().enumerate().map(move |(j, v)| (f, j, *v)))
-        .filter(|c| c.2.is_finite())
-        .min_by(|a, b| a.2.total_cmp(&b.2))
-        .map(|(f, j, _)| (f, j));
-    let statistic = if args.median { "median" } else { "mean" };
+    let statistic = if args.median {
+        Statistic::Median
+    } else {
+        Statistic::Mean
+    };
+    let table = ErrorTable::read_csv(&args.analysis, statistic)?;
+    let best = table.best();
+    let statistic = statistic.name();
     Ok(Heatmap {
         title: format!(
             "{}: {statistic} slice error by family and fitted column",
             stem(&args.analysis)
         ),
         x_label: "theta_d of the column k is fitted on (deg)".into(),
-        x_values: columns,
-        row_labels: families,
-        values,
+        x_values: table.theta_d_deg,
+        row_labels: table.families,
+        values: table.values,
         log_scale: true,
         value_label: format!("{statistic} abs. error (1/sr)"),
         highlight: best,

@@ -53,11 +53,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     };
     let probe = Probe::take(brdf.as_ref(), &settings)?;
     probe.write_csv(&args.out)?;
-    let column = probe.column();
-    let (peak_at, peak) = column.theta_h_deg().iter().zip(column.values()).fold(
-        (0.0, f64::NEG_INFINITY),
-        |best, (&x, &v)| if v > best.1 { (x, v) } else { best },
-    );
+    let (peak_at, peak) = probe.column().peak();
     outln!(
         "wrote {} samples of {} to {} (theta_d {} deg, phi_d {} deg, phi_h {} deg); peak {} 1/sr (mean of RGB) at theta_h {} deg",
         probe.len(),

@@ -1,15 +1,12 @@
 //! `specula reconstruct`: measured samples into a full MERL table with its provenance.
 
 use anyhow::{bail, Context, Result};
-use specula_acquisition::calibration::Calibration;
-use specula_acquisition::response::InstrumentResponse;
 use specula_core::Sample;
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::Method;
-use specula_session::journal::Journal;
-use specula_session::workflow::{measured_samples, STAGE_MAIN};
+use specula_session::workflow::session_main_samples;
 use std::path::{Path, PathBuf};
 
 /// Reconstruct a full BRDF in the MERL format (90 x 90 x 180 cells) from sparse samples
@@ -71,7 +68,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let (input, samples, response) = match (&args.samples, &args.session) {
         (Some(path), _) => (path, read_samples(path)?, None),
         (None, Some(path)) => {
-            let (samples, response) = session_samples(path)?;
+            let (samples, response) = session_main_samples(path)?;
             (path, samples, response.filter(|_| !args.no_deblur))
         }
         (None, None) => bail!("give --samples-csv or --session"),
@@ -114,7 +111,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         );
     }
     outln!("cells: {measured} measured, {interpolated} interpolated, {extrapolated} extrapolated");
-    let share = extrapolated as f64 / (measured + interpolated + extrapolated).max(1) as f64;
+    let share = r.provenance.extrapolated_share();
     if share > MOSTLY_EXTRAPOLATED {
         eprintln!(
             "warning: {:.2} % of the table's cells are extrapolated from {} samples: most of it is made up, not measured",
@@ -129,25 +126,6 @@ pub(crate) fn run(args: Args) -> Result<()> {
         args.method
     );
     Ok(())
-}
-
-/// The measured samples of a session's main stage, in plan order, and the instrument's
-/// response its calibration holds.
-fn session_samples(path: &Path) -> Result<(Vec<Sample>, Option<InstrumentResponse>)> {
-    let journal = Journal::open_read_only(path)?;
-    let response = journal
-        .record::<Calibration>()?
-        .and_then(|c| c.response)
-        .map(|fit| fit.response);
-    let plan = journal.plan(STAGE_MAIN)?;
-    let samples = measured_samples(&plan, &journal.samples(STAGE_MAIN)?);
-    if samples.is_empty() {
-        bail!(
-            "{}: the session has no measured sample in its {STAGE_MAIN} stage",
-            path.display()
-        );
-    }
-    Ok((samples, response))
 }
 
 /// The samples of a CSV file.

@@ -2,7 +2,7 @@
 
 use super::measure::duration_text;
 use anyhow::Result;
-use specula_session::journal::{SessionRecord, SessionStatus};
+use specula_session::journal::{SessionRecord, SessionState, SessionStatus};
 use std::path::PathBuf;
 
 /// Inspect measurement sessions (the SQLite journals of `specula measure`).
@@ -74,7 +74,6 @@ fn status(path: &std::path::Path) -> Result<()> {
             plan.occluded
         );
     }
-    let mut complete = !status.stages.is_empty();
     for stage in &status.stages {
         let percent = 100.0 * stage.done as f64 / stage.planned.max(1) as f64;
         outln!(
@@ -87,7 +86,6 @@ fn status(path: &std::path::Path) -> Result<()> {
             duration_text(stage.eta_device_s()),
             duration_text(stage.wall_s_done)
         );
-        complete &= stage.done == stage.planned;
     }
     if !status.events.is_empty() {
         let counts: Vec<String> = status
@@ -100,13 +98,13 @@ fn status(path: &std::path::Path) -> Result<()> {
             outln!("  {kind}: {message}");
         }
     }
-    let finished = status.events.contains_key("complete");
     outln!(
         "state: {}",
-        match (finished, complete) {
-            (true, _) => "complete",
-            (false, true) => "all samples measured; reconstruction not written yet",
-            (false, false) => "in progress or interrupted: run the same measure command to resume",
+        match status.state() {
+            SessionState::Complete => "complete",
+            SessionState::Measured => "all samples measured; reconstruction not written yet",
+            SessionState::InProgress =>
+                "in progress or interrupted: run the same measure command to resume",
         }
     );
     Ok(())

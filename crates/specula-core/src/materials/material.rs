@@ -88,6 +88,17 @@ impl Material {
         }
     }
 
+    /// The same material with its scratches along `orientation_deg` (paper 4.3): its own
+    /// lobe turned, keeping weight and roughness, or the polishing scratches of paper Fig. 6
+    /// ([`ScratchLobe::polishing`]) when it has none.
+    pub fn with_scratch_orientation(self, orientation_deg: f64) -> Self {
+        let lobe = match &self.scratch {
+            Some(lobe) => lobe.turned(orientation_deg),
+            None => ScratchLobe::polishing(orientation_deg),
+        };
+        self.with_scratch(lobe)
+    }
+
     /// f_r in 1/sr for unit directions; zero at or below the horizon.
     pub fn eval_rgb(&self, wi: DVec3, wo: DVec3) -> Rgb {
         let Some(c) = IsotropicCosines::from_directions(wi, wo) else {
@@ -171,5 +182,27 @@ fn eval_isotropic_pairs(
     assert_pairs(wi, wo, out);
     for ((wi, wo), out) in wi.iter().zip(wo).zip(out) {
         *out = Some(IsotropicCosines::from_directions(*wi, *wo).map_or(Rgb::ZERO, &f));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::materials::microfacet::Distribution;
+    use crate::materials::preset;
+
+    #[test]
+    fn a_scratch_orientation_turns_the_lobe_or_adds_the_polishing_one() {
+        let plain = preset("silver-925")
+            .unwrap()
+            .with_scratch_orientation(135.0);
+        assert_eq!(plain.scratch, Some(ScratchLobe::polishing(135.0)));
+        let own = ScratchLobe::new(Distribution::Beckmann, 0.2, 0.01, 0.3, 10.0);
+        let scratched = preset("silver-925")
+            .unwrap()
+            .with_scratch(own.clone())
+            .with_scratch_orientation(-20.0);
+        assert_eq!(scratched.scratch, Some(own.turned(-20.0)));
+        assert_eq!(scratched.scratch.unwrap().orientation_deg, -20.0);
     }
 }

@@ -84,12 +84,11 @@ fn silver_925() -> Material {
 /// [`silver_925`] with the polishing scratches of paper Fig. 6 and 7-c: 3 % of the surface
 /// scratched along 30 degrees, alpha 0.005 along and 0.15 across.
 fn silver_925_scratched() -> Material {
-    let lobe = ScratchLobe::new(Distribution::Ggx, 0.03, 0.005, 0.15, 30.0);
     Material {
         name: "silver-925-scratched".into(),
         ..silver_925()
     }
-    .with_scratch(lobe)
+    .with_scratch(ScratchLobe::polishing(30.0))
 }
 
 /// Green paint under a thick acrylic clear coat: a very sharp coat (GGX alpha 0.008).

@@ -42,6 +42,22 @@ impl ScratchLobe {
         }
     }
 
+    /// The polishing scratches of paper Fig. 6 and 7-c along `orientation_deg`: 3 % of the
+    /// surface, GGX alpha 0.005 along the scratches and 0.15 across (the lobe of the
+    /// `silver-925-scratched` preset, which lies along 30 degrees).
+    pub fn polishing(orientation_deg: f64) -> Self {
+        Self::new(Distribution::Ggx, 0.03, 0.005, 0.15, orientation_deg)
+    }
+
+    /// The same lobe (weight, distribution, roughness) with its scratches along
+    /// `orientation_deg`.
+    pub fn turned(&self, orientation_deg: f64) -> Self {
+        Self {
+            orientation_deg,
+            ..self.clone()
+        }
+    }
+
     /// The lobe's microfacet distribution's shape.
     pub fn distribution(&self) -> Distribution {
         self.microfacet.distribution
@@ -84,6 +100,27 @@ mod tests {
             lobe.reflection(along.0, along.1),
         );
         assert!(a > 100.0 * b, "across {a}, along {b}");
+    }
+
+    #[test]
+    fn a_turned_lobe_keeps_its_weight_and_roughness() {
+        let lobe = ScratchLobe::new(Distribution::Beckmann, 0.1, 0.02, 0.3, 0.0);
+        let turned = lobe.turned(50.0);
+        assert_eq!(turned.orientation_deg, 50.0);
+        assert_eq!(
+            (turned.weight, turned.alpha_along(), turned.alpha_across()),
+            (0.1, 0.02, 0.3)
+        );
+        assert_eq!(turned.distribution(), Distribution::Beckmann);
+        let polishing = ScratchLobe::polishing(30.0);
+        assert_eq!(
+            (
+                polishing.weight,
+                polishing.alpha_along(),
+                polishing.alpha_across()
+            ),
+            (0.03, 0.005, 0.15)
+        );
     }
 
     #[test]

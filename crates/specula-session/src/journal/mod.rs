@@ -413,6 +413,34 @@ pub struct SessionStatus {
     pub recent_events: Vec<(f64, String, String)>,
 }
 
+/// The event kind the workflow logs once it has written the reconstructed table.
+pub const EVENT_COMPLETE: &str = "complete";
+
+/// How far a session got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SessionState {
+    /// The reconstructed table is written ([`EVENT_COMPLETE`]).
+    Complete,
+    /// Every planned stage is wholly measured; the reconstruction is not written yet.
+    Measured,
+    /// Running, stopped or interrupted before every planned sample was measured, or nothing
+    /// planned yet.
+    InProgress,
+}
+
+impl SessionStatus {
+    /// How far the session got.
+    pub fn state(&self) -> SessionState {
+        if self.events.contains_key(EVENT_COMPLETE) {
+            SessionState::Complete
+        } else if !self.stages.is_empty() && self.stages.iter().all(|s| s.done == s.planned) {
+            SessionState::Measured
+        } else {
+            SessionState::InProgress
+        }
+    }
+}
+
 /// An open session journal.
 pub struct Journal {
     conn: Connection,
@@ -1145,6 +1173,23 @@ mod tests {
         assert_eq!((main.planned, main.done, main.captures), (5, 1, 2));
         assert!((main.predicted_s_left - 4.0 * 2.5).abs() < 1e-12);
         assert!((main.device_s_done - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_session_is_measured_when_every_stage_is_and_complete_once_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.sqlite");
+        let mut journal = Journal::open(&path).unwrap();
+        assert_eq!(journal.status().unwrap().state(), SessionState::InProgress);
+        journal.set_plan("probe", &[row(0)]).unwrap();
+        journal.set_plan("main", &[row(1), row(2)]).unwrap();
+        journal.record_sample(&sample("probe", 0)).unwrap();
+        journal.record_sample(&sample("main", 1)).unwrap();
+        assert_eq!(journal.status().unwrap().state(), SessionState::InProgress);
+        journal.record_sample(&sample("main", 2)).unwrap();
+        assert_eq!(journal.status().unwrap().state(), SessionState::Measured);
+        journal.log_event(EVENT_COMPLETE, "wrote x.binary").unwrap();
+        assert_eq!(journal.status().unwrap().state(), SessionState::Complete);
     }
 
     #[test]
