@@ -138,10 +138,12 @@ impl PyBrdf {
     }
 }
 
-/// Direction pairs a rayon task checks and evaluates in one [`Brdf::eval_pairs`] call:
-/// enough to amortise the scheduling, few enough that the task's rows stay in cache between
-/// the check and the evaluation.
+/// Direction pairs a rayon task takes: enough to amortise the scheduling.
 const PAIRS_PER_TASK: usize = 2048;
+
+/// Direction pairs a task checks and then evaluates in one [`Brdf::eval_pairs`] call: few
+/// enough that their rows, values and results stay in the L1 cache between the two.
+const PAIRS_PER_CALL: usize = 256;
 
 /// The rows of a standard-layout `(N, 3)` array as vectors, in place.
 fn directions<'a>(rows: &'a CowArray<'_, f64, Ix2>) -> &'a [DVec3] {
@@ -149,10 +151,10 @@ fn directions<'a>(rows: &'a CowArray<'_, f64, Ix2>) -> &'a [DVec3] {
 }
 
 /// f_r at the direction pairs `(wi[k], wo[k])`, R, G, B a row, NaN where the BRDF does not
-/// answer: blocks of pairs in parallel, each checked (unit length) and then evaluated with
-/// [`Brdf::eval_pairs`] while in cache, its values written once into the result (which is
-/// not zeroed first). A direction that is not a unit vector fails the call, naming the first
-/// such row of `wi`, else of `wo`.
+/// answer: tasks of pairs in parallel, each checking runs of pairs (unit length) and
+/// evaluating them with [`Brdf::eval_pairs`] while in cache, its values written once into
+/// the result (which is not zeroed first). A direction that is not a unit vector fails the
+/// call, naming the first such row of `wi`, else of `wo`.
 fn eval_pairs(brdf: &dyn Brdf, wi: &[DVec3], wo: &[DVec3]) -> PyResult<Vec<f64>> {
     let len = 3 * wi.len();
     let mut out = Vec::with_capacity(len);
@@ -163,20 +165,28 @@ fn eval_pairs(brdf: &dyn Brdf, wi: &[DVec3], wo: &[DVec3]) -> PyResult<Vec<f64>>
                 .zip(wo.par_chunks(PAIRS_PER_TASK)),
         )
         .enumerate()
-        .map_init(Vec::new, |values, (block, (out, (wi, wo)))| {
-            let first = block * PAIRS_PER_TASK;
-            let not_unit = [wi, wo].map(|rows| first_not_unit(rows).map(|row| first + row));
-            if not_unit == [None, None] {
+        .map_init(Vec::new, |values, (task, (out, (wi, wo)))| {
+            let runs = wi.chunks(PAIRS_PER_CALL).zip(wo.chunks(PAIRS_PER_CALL));
+            for (run, ((wi_run, wo_run), out)) in
+                runs.zip(out.chunks_mut(3 * PAIRS_PER_CALL)).enumerate()
+            {
+                if first_not_unit(wi_run).is_some() || first_not_unit(wo_run).is_some() {
+                    // The task's first rows that are not unit vectors, from this run on.
+                    let first = run * PAIRS_PER_CALL;
+                    let offset = task * PAIRS_PER_TASK + first;
+                    return [&wi[first..], &wo[first..]]
+                        .map(|rows| first_not_unit(rows).map(|row| offset + row));
+                }
                 values.clear();
-                values.resize(wi.len(), None);
-                brdf.eval_pairs(wi, wo, values);
+                values.resize(wi_run.len(), None);
+                brdf.eval_pairs(wi_run, wo_run, values);
                 for (out, value) in out.chunks_exact_mut(3).zip(values.iter()) {
                     for (out, value) in out.iter_mut().zip(rgb_or_nan(*value)) {
                         out.write(value);
                     }
                 }
             }
-            not_unit
+            [None, None]
         })
         .reduce(
             || [None, None],
@@ -190,8 +200,8 @@ fn eval_pairs(brdf: &dyn Brdf, wi: &[DVec3], wo: &[DVec3]) -> PyResult<Vec<f64>>
             )));
         }
     }
-    // SAFETY: every block passed its check (else the call failed above), so each block wrote
-    // all of its 3 values per pair, and the blocks cover the first `len` values.
+    // SAFETY: every run of pairs passed its check (else the call failed above), so each
+    // wrote all of its 3 values per pair, and the runs cover the first `len` values.
     unsafe { out.set_len(len) };
     Ok(out)
 }
