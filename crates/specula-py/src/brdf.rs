@@ -45,7 +45,8 @@ impl PyBrdf {
     /// f_r (1/sr) at direction pairs: `wi` (towards the light) and `wo` (towards the camera)
     /// are `(N, 3)` arrays of unit vectors in the sample frame (z along the normal); returns
     /// an `(N, 3)` array of R, G, B. Runs in parallel without the GIL; C-contiguous float64
-    /// inputs are read in place.
+    /// inputs are read in place. A row whose length is not within 1e-6 of 1 (NaN included)
+    /// raises `SpeculaError` naming the first.
     fn eval<'py>(
         &self,
         py: Python<'py>,

@@ -138,6 +138,14 @@ def test_eval_rejects_bad_directions():
         brdf.eval(np.tile([0.0, 0.0, 1.0], (9000, 1)), wo)
 
 
+def test_eval_rejects_nan_directions():
+    # A NaN has no length within the tolerance of 1; it is named like any other bad row.
+    wi = np.tile([0.0, 0.0, 1.0], (3000, 1))
+    wi[2500] = [np.nan, 0.0, 1.0]
+    with pytest.raises(specula.SpeculaError, match=r"^wi\[2500\] = \[NaN, 0\.0, 1\.0\] is not"):
+        specula.load("silver-925").eval(wi, np.tile([0.0, 0.0, 1.0], (3000, 1)))
+
+
 def test_compare_matches_the_cli(cli, silver_binary):
     _, out, _ = cli("compare", silver_binary, "chrome")
     rows = {r["set"]: r for r in read_csv(out)}
