@@ -130,17 +130,18 @@ impl Microfacet {
     /// `D(h)` in 1/sr for isotropic roughness (`alpha_u`) from `cos theta_h`.
     pub fn d_isotropic(&self, cos_h: f64) -> f64 {
         match self.distribution {
-            Distribution::Beckmann => self.beckmann_d_isotropic(cos_h),
-            Distribution::Ggx => ndf::ggx_d_isotropic(cos_h * cos_h, self.alpha_u),
+            Distribution::Beckmann => self.d_isotropic_by(ndf::beckmann_d, cos_h),
+            Distribution::Ggx => self.d_isotropic_by(ndf::ggx_d, cos_h),
         }
     }
 
-    /// [`Microfacet::d_isotropic`] of the Beckmann distribution.
-    fn beckmann_d_isotropic(&self, cos_h: f64) -> f64 {
+    /// [`Microfacet::d_isotropic`] by the distribution's formula `d` (`ndf::ggx_d` or
+    /// `ndf::beckmann_d`).
+    fn d_isotropic_by(&self, d: impl Fn(f64, f64, f64, f64) -> f64, cos_h: f64) -> f64 {
         let cos2_h = cos_h * cos_h;
         let alpha2 = self.alpha_u * self.alpha_u;
         let scaled_tan2 = (1.0 - cos2_h).max(0.0) / (cos2_h * alpha2);
-        ndf::beckmann_d(scaled_tan2, cos2_h, self.alpha_u, self.alpha_v)
+        d(scaled_tan2, cos2_h, self.alpha_u, self.alpha_v)
     }
 
     /// `G1(wi, h) G1(wo, h) / (4 cos_i cos_o)` for isotropic roughness (`alpha_u`): the part
@@ -148,26 +149,22 @@ impl Microfacet {
     /// and theta_d.
     pub fn masking_over_cosines(&self, cos_i: f64, cos_o: f64) -> f64 {
         match self.distribution {
-            Distribution::Beckmann => self.beckmann_masking_over_cosines(cos_i, cos_o),
-            Distribution::Ggx => self.ggx_masking_over_cosines(cos_i, cos_o),
+            Distribution::Beckmann => {
+                self.masking_over_cosines_by(masking::beckmann_g1, cos_i, cos_o)
+            }
+            Distribution::Ggx => self.masking_over_cosines_by(masking::ggx_g1, cos_i, cos_o),
         }
     }
 
-    /// [`Microfacet::masking_over_cosines`] of GGX, each `G1 / cos` in the form that takes
-    /// one division ([`masking::ggx_g1_over_cos`]).
-    fn ggx_masking_over_cosines(&self, cos_i: f64, cos_o: f64) -> f64 {
-        let alpha = self.alpha_u;
-        masking::ggx_g1_over_cos(cos_i, alpha) * masking::ggx_g1_over_cos(cos_o, alpha) / 4.0
-    }
-
-    /// [`Microfacet::masking_over_cosines`] of Beckmann.
-    fn beckmann_masking_over_cosines(&self, cos_i: f64, cos_o: f64) -> f64 {
+    /// [`Microfacet::masking_over_cosines`] by the distribution's `G1` of
+    /// `alpha^2 tan^2 theta_v` (`masking::ggx_g1` or `masking::beckmann_g1`).
+    fn masking_over_cosines_by(&self, g1: impl Fn(f64) -> f64, cos_i: f64, cos_o: f64) -> f64 {
         let alpha2 = self.alpha_u * self.alpha_u;
-        let g1 = |cos_v: f64| {
+        let g1_of_cos = |cos_v: f64| {
             let cos2 = cos_v * cos_v;
-            masking::beckmann_g1(alpha2 * (1.0 - cos2).max(0.0) / cos2)
+            g1(alpha2 * (1.0 - cos2).max(0.0) / cos2)
         };
-        g1(cos_i) * g1(cos_o) / (4.0 * cos_i * cos_o)
+        g1_of_cos(cos_i) * g1_of_cos(cos_o) / (4.0 * cos_i * cos_o)
     }
 
     /// [`Microfacet::reflection_isotropic`] at each configuration of `columns`, into `out`
@@ -178,14 +175,14 @@ impl Microfacet {
     pub fn reflection_isotropic_columns(&self, columns: &CosineColumns, out: &mut [f64]) {
         match self.distribution {
             Distribution::Beckmann => self.reflection_columns_by(
-                |cos_h| self.beckmann_d_isotropic(cos_h),
-                |cos_i, cos_o| self.beckmann_masking_over_cosines(cos_i, cos_o),
+                |cos_h| self.d_isotropic_by(ndf::beckmann_d, cos_h),
+                |cos_i, cos_o| self.masking_over_cosines_by(masking::beckmann_g1, cos_i, cos_o),
                 columns,
                 out,
             ),
             Distribution::Ggx => self.reflection_columns_by(
-                |cos_h| ndf::ggx_d_isotropic(cos_h * cos_h, self.alpha_u),
-                |cos_i, cos_o| self.ggx_masking_over_cosines(cos_i, cos_o),
+                |cos_h| self.d_isotropic_by(ndf::ggx_d, cos_h),
+                |cos_i, cos_o| self.masking_over_cosines_by(masking::ggx_g1, cos_i, cos_o),
                 columns,
                 out,
             ),

@@ -36,15 +36,6 @@ pub fn ggx_d(scaled_tan2: f64, cos2: f64, alpha_u: f64, alpha_v: f64) -> f64 {
     1.0 / (norm * (1.0 + scaled_tan2) * (1.0 + scaled_tan2))
 }
 
-/// The isotropic GGX `D` in 1/sr from `cos2 = cos^2(theta_m)` and roughness `alpha`:
-/// [`ggx_d`] with `x = tan^2 / alpha^2` multiplied out,
-/// `D = alpha^2 / (pi (alpha^2 cos^2 + sin^2)^2)`, which takes one division instead of two.
-pub fn ggx_d_isotropic(cos2: f64, alpha: f64) -> f64 {
-    let alpha2 = alpha * alpha;
-    let denominator = alpha2 * cos2 + (1.0 - cos2).max(0.0);
-    alpha2 / (PI * denominator * denominator)
-}
-
 /// The Beckmann `D` in 1/sr from `scaled_tan2 = tan^2(theta_m) / alpha^2` and
 /// `cos2 = cos^2(theta_m)` (Walter et al. 2007, eq. 25).
 pub fn beckmann_d(scaled_tan2: f64, cos2: f64, alpha_u: f64, alpha_v: f64) -> f64 {
@@ -138,22 +129,6 @@ mod tests {
             let t_large = student_t_d(tan2, c, alpha, 1e9);
             assert!((t2 / ggx - 1.0).abs() < 1e-12, "{theta_deg}: {t2} vs {ggx}");
             assert!((t_large / beckmann - 1.0).abs() < 1e-5, "{theta_deg}");
-        }
-    }
-
-    #[test]
-    fn the_isotropic_ggx_form_is_ggx() {
-        for alpha in [0.005, 0.04, 0.3, 1.0] {
-            for k in 0..900 {
-                let cos = f64::to_radians(k as f64 / 10.0).cos();
-                let cos2 = cos * cos;
-                let reference = ggx_d((1.0 - cos2) / (cos2 * alpha * alpha), cos2, alpha, alpha);
-                let d = ggx_d_isotropic(cos2, alpha);
-                assert!(
-                    (d / reference - 1.0).abs() < 1e-13,
-                    "alpha {alpha} theta {k}/10 deg: {d} vs {reference}"
-                );
-            }
         }
     }
 
