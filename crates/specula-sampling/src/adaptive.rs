@@ -18,13 +18,7 @@ pub enum AdaptiveSamples {
 impl AdaptiveSamples {
     /// Reads the file; every value must be a finite number, and there must be a row.
     pub fn read_csv(path: &Path) -> Result<Self, SamplingError> {
-        let csv_error = |place: String| {
-            move |cause| SamplingError::Csv {
-                path: path.to_path_buf(),
-                place,
-                cause,
-            }
-        };
+        let csv_error = |place: String| SamplingError::csv(path, place);
         let mut reader =
             csv::Reader::from_path(path).map_err(csv_error("cannot read".to_string()))?;
         let headers = reader

@@ -223,13 +223,7 @@ impl ErrorTable {
     /// Reads the `statistic` (the mean or the median error) of an analysis file; its other
     /// columns are passed over. A file without rows is an error.
     pub fn read_csv(path: &Path, statistic: Statistic) -> Result<Self, SamplingError> {
-        let csv_error = |place: String| {
-            move |cause| SamplingError::Csv {
-                path: path.to_path_buf(),
-                place,
-                cause,
-            }
-        };
+        let csv_error = |place: String| SamplingError::csv(path, place);
         let mut reader =
             csv::Reader::from_path(path).map_err(csv_error("cannot read".to_string()))?;
         let mut families: Vec<String> = Vec::new();

@@ -143,12 +143,20 @@ impl SamplingError {
         }
     }
 
-    /// The error of a CSV file that cannot be written.
-    pub(crate) fn csv_write(path: &std::path::Path) -> impl FnOnce(csv::Error) -> Self + '_ {
+    /// The error of the CSV file at `path`, `place` saying what was being done or where.
+    pub(crate) fn csv(
+        path: &std::path::Path,
+        place: String,
+    ) -> impl FnOnce(csv::Error) -> Self + '_ {
         move |cause| SamplingError::Csv {
             path: path.to_path_buf(),
-            place: "cannot write".to_string(),
+            place,
             cause,
         }
+    }
+
+    /// The error of a CSV file that cannot be written.
+    pub(crate) fn csv_write(path: &std::path::Path) -> impl FnOnce(csv::Error) -> Self + '_ {
+        Self::csv(path, "cannot write".to_string())
     }
 }

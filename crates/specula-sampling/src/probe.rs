@@ -143,13 +143,7 @@ impl Probe {
 
     /// Reads a CSV file written by [`Probe::write_csv`] (or by hand, or by a device).
     pub fn read_csv(path: &Path) -> Result<Self, SamplingError> {
-        let csv_error = |place: String| {
-            move |cause| SamplingError::Csv {
-                path: path.to_path_buf(),
-                place,
-                cause,
-            }
-        };
+        let csv_error = |place: String| SamplingError::csv(path, place);
         let mut reader =
             csv::Reader::from_path(path).map_err(csv_error("cannot open".to_string()))?;
         let headers = reader
