@@ -10,8 +10,9 @@
 #
 # Default truths: tools/instrument_truths/*.toml (GGX and Beckmann conductors, two-lobe
 # materials), green-paint, two NBRDF fits of MERL and an RGL measurement when
-# ../shared/data/measured is present. Every run is on the grid preset $GRID_PRESET (default
-# paper, the grid of the figures README quotes; recommended for today's default).
+# ../shared/data/measured is present. The paper's way is measured on the paper's grid; the
+# other runs on the grid preset $GRID_PRESET (default recommended, today's default of
+# `measure`; paper for the paper's grid throughout).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${SPECULA:-$here/target/debug/specula}"
@@ -28,20 +29,21 @@ score() { # table truth -> "relative log"
     "$bin" compare "$1" "$2" | awk -F, '$1 == "within" { printf "%.4f %.4f", $3, $4 }'
 }
 khat() { sed -n 's/^k_hat=//p' "$1"; }
-run() { # name truth out args...
-    local truth="$1" out="$2"; shift 2
-    "$bin" measure --truth "$truth" --grid-preset "${GRID_PRESET:-paper}" --out "$out" "$@" > /dev/null 2>&1
+run() { # truth out grid args...
+    local truth="$1" out="$2" grid="$3"; shift 3
+    "$bin" measure --truth "$truth" --grid-preset "$grid" --out "$out" "$@" > /dev/null 2>&1
 }
+grid="${GRID_PRESET:-recommended}"
 echo "| truth | deblurred (default) rel / log | k-hat | --no-deblur rel / log | paper's way rel / log | --point-light rel / log | point-light k-hat | ratio to the paper's way rel / log | minus point-light rel |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for truth in "$@"; do
     name="$(basename "$truth" .toml)"
     d="$work/$name"
     mkdir -p "$d"
-    run "$truth" "$d/default.binary"
-    run "$truth" "$d/blurred.binary" --no-deblur
-    run "$truth" "$d/paper.binary" --method linear --order nested --hdr bracket
-    run "$truth" "$d/point.binary" --point-light
+    run "$truth" "$d/default.binary" "$grid"
+    run "$truth" "$d/blurred.binary" "$grid" --no-deblur
+    run "$truth" "$d/paper.binary" paper --method linear --order nested --hdr bracket
+    run "$truth" "$d/point.binary" "$grid" --point-light
     read -r dr dl <<< "$(score "$d/default.binary" "$truth")"
     read -r br bl <<< "$(score "$d/blurred.binary" "$truth")"
     read -r pr pl <<< "$(score "$d/paper.binary" "$truth")"

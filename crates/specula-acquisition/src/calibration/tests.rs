@@ -174,10 +174,11 @@ fn measured_response(seed: u64, radius_m: f64, emission: Vec<f64>) -> (f64, resp
 
 #[test]
 fn the_mirror_scan_recovers_the_light_disk() {
-    // The issue's target: the fitted radius within 2 % of the true disk, with the
-    // simulator's noise and positioning error, for the UTIA disk and a smaller one, and for
-    // a disk whose emission falls towards its edge (the profile is known from the device
-    // file, the radius is not).
+    // The fitted radius within 0.5 % of the true disk (the issue asks 2 %; deblurring needs
+    // more: a radius 1 % off takes a GGX alpha 0.011 conductor from 0.006 to 0.027 relative
+    // RMSE), with the simulator's noise and positioning error, for the UTIA disk and a
+    // smaller one, and for a disk whose emission falls towards its edge (the profile is
+    // known from the device file, the radius is not).
     for (seed, radius_m, emission) in [
         (3, 0.035, vec![]),
         (4, 0.02, vec![]),
@@ -186,13 +187,13 @@ fn the_mirror_scan_recovers_the_light_disk() {
         let (truth, fit) = measured_response(seed, radius_m, emission);
         let fitted = fit.response.light.radius_deg;
         assert!(
-            (fitted / truth - 1.0).abs() < 0.02,
+            (fitted / truth - 1.0).abs() < 0.005,
             "radius {radius_m}: fitted {fitted} deg, true {truth} deg"
         );
         // A wrong shape (a radius off by 10 %) leaves a residual of about a third of the peak
         // at the edges; noise and the simulator's quadrature leave under a tenth.
         assert!(fit.rms_relative < 0.1, "residual {}", fit.rms_relative);
-        assert_eq!(fit.scan.len(), 141);
+        assert_eq!(fit.scan.len(), 701);
     }
 }
 
