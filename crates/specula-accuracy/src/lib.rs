@@ -254,17 +254,35 @@ impl Measurement {
             nodes: response.capture_nodes(SIMULATOR_RESPONSE_NODES),
         };
         let column = ProbeSpec::paper();
-        let (theta_h, k) = settings
-            .theta_h_deg_of_probe(|| {
-                let blurred = Probe::take(&measured, &column)?;
-                let (theta_h, values) = deblur_probe(&blurred.points(), &column, response)
-                    .into_iter()
-                    .map(|p| (p.theta_h_deg, p.value))
-                    .unzip();
-                Ok(Probe::new(theta_h, values)?)
-            })
+        let deblurred = Probe::take(&measured, &column)
+            .map(|blurred| deblur_probe(&blurred.points(), &column, response))
             .map_err(PlacementError::of(truth))?;
-        let grid = GridPlan::on(theta_h, &settings.grid);
+        let (theta_h, values) = deblurred
+            .points
+            .iter()
+            .map(|p| (p.theta_h_deg, p.value))
+            .unzip();
+        let probe = Probe::new(theta_h, values)
+            .map_err(SamplingError::from)
+            .map_err(PlacementError::of(truth))?;
+        // The grid `measure` would take (`GridSpec::for_material`).
+        let on = |grid: &GridSpec| {
+            let settings = PlanSettings {
+                grid: *grid,
+                ..*settings
+            };
+            let (theta_h, k) = settings.theta_h_deg_of_probe(|| Ok(probe.clone()))?;
+            Ok::<_, SamplingError>((GridPlan::on(theta_h, grid), k))
+        };
+        let unresolved = deblurred.peak_unresolved(response.resolution_deg());
+        let (grid, k) = settings
+            .grid
+            .for_material(
+                unresolved,
+                |grid| Ok(reached_by(&on(grid)?.0, device).len()),
+            )
+            .and_then(|grid| on(&grid))
+            .map_err(PlacementError::of(truth))?;
         let samples = measure(&measured, &reached_by(&grid, device));
         Ok(Self { grid, k, samples })
     }
@@ -345,6 +363,7 @@ pub fn evaluate_through(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use specula_core::grid::UnresolvedPeak;
     use specula_core::materials::preset;
     use specula_core::sampling::{Family, SamplingFunction};
     use specula_core::tabulate::tabulate;
@@ -416,6 +435,40 @@ mod tests {
                 .unwrap(),
             deblurred
         );
+    }
+
+    #[test]
+    fn through_the_instrument_a_hidden_peak_gets_the_grid_measure_would_take() {
+        // chrome (GGX alpha 0.01, half width 0.5 deg) is narrower than the UTIA resolution
+        // (1.09 deg): its plan takes the rule's theta_h and theta_d within the budget, as
+        // `measure` does; a small stand-in rule keeps the test quick. Without the response
+        // the grid is the one given.
+        let truth = preset("chrome").unwrap();
+        let device = Device::utia();
+        let response = device.response();
+        let rule = UnresolvedPeak {
+            theta_h_samples: 8,
+            theta_d: ThetaDSteps::even(10.0),
+            budget_samples: 400,
+        };
+        let settings = PlanSettings {
+            placement: ThetaHPlacement::FittedFunction(Family::Exponential),
+            grid: GridSpec {
+                theta_h_samples: 4,
+                theta_d: ThetaDSteps::even(15.0),
+                phi_d_step_deg: 45.0,
+                unresolved_peak: Some(rule),
+                ..GridSpec::paper()
+            },
+        };
+        let through =
+            Measurement::simulate_through(&truth, &settings, &device, Some(&response)).unwrap();
+        let theta_h = through.grid.theta_h_deg.len();
+        assert!((5..=8).contains(&theta_h), "{theta_h} theta_h");
+        assert_eq!(through.grid.theta_d_deg.len(), 9);
+        assert!(through.samples.len() <= 400, "{}", through.samples.len());
+        let sharp = Measurement::simulate(&truth, &settings, &device).unwrap();
+        assert_eq!(sharp.grid.theta_h_deg.len(), 4);
     }
 
     #[test]

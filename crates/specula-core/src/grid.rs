@@ -40,6 +40,50 @@ pub struct GridSpec {
     /// phi_h in degrees: the sample's orientation on the turntable, chosen away from
     /// scratch directions (paper 4.3).
     pub phi_h_deg: f64,
+    /// The grid a material gets when the instrument does not resolve its peak, if this grid
+    /// changes then ([`UnresolvedPeak`]); `None` (and absent from records written before it
+    /// existed): the grid is the same for every material.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unresolved_peak: Option<UnresolvedPeak>,
+}
+
+/// Values that replace a grid's own one by one ([`GridSpec::with`]; `None` keeps the
+/// grid's): what the grid options of the front ends give.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct GridOverrides {
+    /// Number of theta_h positions.
+    pub theta_h_samples: Option<usize>,
+    /// theta_d's positions.
+    pub theta_d: Option<ThetaDSteps>,
+    /// Step of phi_d, degrees.
+    pub phi_d_step_deg: Option<f64>,
+    /// How far phi_d goes.
+    pub phi_d_span: Option<PhiDSpan>,
+    /// phi_h, degrees.
+    pub phi_h_deg: Option<f64>,
+}
+
+/// The paper's measured sample count on the UTIA device (5.3: 4073 of its 6300 samples), the
+/// budget every grid of Specula's stays within.
+pub const PAPER_MEASURED_SAMPLES: usize = 4073;
+
+/// How the grid changes for a material whose specular peak the instrument does not resolve
+/// (issue 14): the half width of the lobe fitted through the response to the probe is below
+/// the instrument's resolution (`specula_acquisition::response`). The lobe before the blur
+/// is then pinned by its theta_h positions, not by the grazing theta_d rows, which the
+/// light's disk blurs: measured through the simulated UTIA disk (README, "The instrument's
+/// response"), a Beckmann chrome (alpha 0.015) scores 0.25 relative RMSE with 16 theta_h and
+/// 0.006 with 30, the green paint 0.055 and 0.022. The plan takes the most theta_h positions
+/// up to `theta_h_samples` that keep the measured samples within `budget_samples`, with
+/// theta_d as `theta_d` says; the rest of the grid is unchanged.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct UnresolvedPeak {
+    /// The most theta_h positions.
+    pub theta_h_samples: usize,
+    /// theta_d's positions for such a material.
+    pub theta_d: ThetaDSteps,
+    /// The most samples the device may measure.
+    pub budget_samples: usize,
 }
 
 /// theta_d's positions: every `step_deg` from 0, and, with a [`GrazingStep`], every
@@ -126,6 +170,7 @@ impl GridSpec {
             phi_d_step_deg: 15.0,
             phi_d_span: PhiDSpan::Quarter,
             phi_h_deg: 45.0,
+            unresolved_peak: None,
         }
     }
 
@@ -154,6 +199,74 @@ impl GridSpec {
             phi_d_step_deg: 30.0,
             phi_d_span: PhiDSpan::HalfTurn,
             phi_h_deg: 45.0,
+            unresolved_peak: Some(UnresolvedPeak {
+                theta_h_samples: 30,
+                theta_d: ThetaDSteps::even(3.0),
+                budget_samples: PAPER_MEASURED_SAMPLES,
+            }),
+        }
+    }
+
+    /// The grids to try, in order, for a material whose peak the instrument does not
+    /// resolve ([`UnresolvedPeak`]): from the most theta_h positions down to one more than
+    /// this grid's, each with the rule's theta_d and no rule of its own. Empty without a
+    /// rule; the first whose plan stays within [`UnresolvedPeak::budget_samples`] is taken,
+    /// this grid ([`GridSpec::fixed`]) when none does.
+    pub fn unresolved_peak_grids(&self) -> Vec<GridSpec> {
+        let Some(rule) = self.unresolved_peak else {
+            return Vec::new();
+        };
+        (self.theta_h_samples + 1..=rule.theta_h_samples)
+            .rev()
+            .map(|theta_h_samples| GridSpec {
+                theta_h_samples,
+                theta_d: rule.theta_d,
+                unresolved_peak: None,
+                ..*self
+            })
+            .collect()
+    }
+
+    /// The grid a material gets: this grid for every material ([`GridSpec::fixed`]), or,
+    /// where `peak_unresolved` and the grid has an [`UnresolvedPeak`] rule, the first of
+    /// [`GridSpec::unresolved_peak_grids`] whose plan stays within the rule's budget;
+    /// `measured` gives the samples a candidate's plan takes on the device (its errors pass
+    /// through).
+    pub fn for_material<E>(
+        &self,
+        peak_unresolved: bool,
+        mut measured: impl FnMut(&GridSpec) -> Result<usize, E>,
+    ) -> Result<GridSpec, E> {
+        if let (true, Some(rule)) = (peak_unresolved, self.unresolved_peak) {
+            for grid in self.unresolved_peak_grids() {
+                if measured(&grid)? <= rule.budget_samples {
+                    return Ok(grid);
+                }
+            }
+        }
+        Ok(self.fixed())
+    }
+
+    /// This grid with the values `overrides` gives in place of its own. Giving theta_h's
+    /// count or theta_d's steps fixes the grid for every material (drops its
+    /// [`UnresolvedPeak`] rule, which replaces those two); phi_d and phi_h keep it.
+    pub fn with(&self, overrides: &GridOverrides) -> GridSpec {
+        let fixes = overrides.theta_h_samples.is_some() || overrides.theta_d.is_some();
+        GridSpec {
+            theta_h_samples: overrides.theta_h_samples.unwrap_or(self.theta_h_samples),
+            theta_d: overrides.theta_d.unwrap_or(self.theta_d),
+            phi_d_step_deg: overrides.phi_d_step_deg.unwrap_or(self.phi_d_step_deg),
+            phi_d_span: overrides.phi_d_span.unwrap_or(self.phi_d_span),
+            phi_h_deg: overrides.phi_h_deg.unwrap_or(self.phi_h_deg),
+            unresolved_peak: self.unresolved_peak.filter(|_| !fixes),
+        }
+    }
+
+    /// This grid for every material: without its [`UnresolvedPeak`] rule.
+    pub fn fixed(&self) -> GridSpec {
+        GridSpec {
+            unresolved_peak: None,
+            ..*self
         }
     }
 
@@ -192,6 +305,16 @@ impl GridSpec {
         }
         if !self.phi_h_deg.is_finite() {
             return Err(range("phi_h", self.phi_h_deg, "a number of degrees"));
+        }
+        if let Some(rule) = self.unresolved_peak {
+            if rule.theta_h_samples < self.theta_h_samples {
+                return Err(range(
+                    "theta_h samples for an unresolved peak",
+                    rule.theta_h_samples as f64,
+                    "at least the grid's own",
+                ));
+            }
+            rule.theta_d.check()?;
         }
         Ok(())
     }
@@ -244,7 +367,15 @@ impl fmt::Display for GridSpec {
                 PhiDSpan::HalfTurn => " (both halves)",
             },
             self.phi_h_deg
-        )
+        )?;
+        if let Some(rule) = self.unresolved_peak {
+            write!(
+                f,
+                "; up to {} theta_h with theta_d step {} deg where the instrument does not resolve the peak",
+                rule.theta_h_samples, rule.theta_d
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -552,6 +683,12 @@ mod tests {
         assert_eq!(
             GridSpec::recommended().to_string(),
             "16 theta_h, theta_d step 3 deg (1 deg from 60), phi_d step 30 deg over 0-180 \
+             (both halves), phi_h 45 deg; up to 30 theta_h with theta_d step 3 deg where the \
+             instrument does not resolve the peak"
+        );
+        assert_eq!(
+            GridSpec::recommended().fixed().to_string(),
+            "16 theta_h, theta_d step 3 deg (1 deg from 60), phi_d step 30 deg over 0-180 \
              (both halves), phi_h 45 deg"
         );
         assert_eq!(
@@ -560,7 +697,7 @@ mod tests {
         );
         let json = toml::Value::try_from(GridSpec::recommended()).unwrap();
         let table = json.as_table().unwrap();
-        assert_eq!(table.len(), 6);
+        assert_eq!(table.len(), 7);
         for key in [
             "theta_h_samples",
             "theta_d_step_deg",
@@ -568,6 +705,7 @@ mod tests {
             "phi_d_step_deg",
             "phi_d_span",
             "phi_h_deg",
+            "unresolved_peak",
         ] {
             assert!(table.contains_key(key), "{key}: {table:?}");
         }
@@ -587,6 +725,83 @@ mod tests {
                 theta_d: ThetaDSteps::even(6.0),
                 ..GridSpec::paper()
             }
+        );
+    }
+
+    #[test]
+    fn an_unresolved_peak_gets_more_theta_h_on_an_even_theta_d() {
+        let grid = GridSpec::recommended();
+        let tried = grid.unresolved_peak_grids();
+        let counts: Vec<usize> = tried.iter().map(|g| g.theta_h_samples).collect();
+        assert_eq!(counts, (17..=30).rev().collect::<Vec<_>>());
+        for g in &tried {
+            assert_eq!(g.theta_d, ThetaDSteps::even(3.0));
+            assert_eq!(g.unresolved_peak, None);
+            assert_eq!((g.phi_d_step_deg, g.phi_d_span), (30.0, PhiDSpan::HalfTurn));
+            assert_eq!(g.check(), Ok(()));
+        }
+        assert!(GridSpec::paper().unresolved_peak_grids().is_empty());
+        assert!(grid.fixed().unresolved_peak_grids().is_empty());
+        assert_eq!(grid.fixed().theta_d, grid.theta_d);
+        let rule = grid.unresolved_peak.unwrap();
+        assert_eq!(rule.budget_samples, PAPER_MEASURED_SAMPLES);
+        let fewer = GridSpec {
+            unresolved_peak: Some(UnresolvedPeak {
+                theta_h_samples: 8,
+                ..rule
+            }),
+            ..grid
+        };
+        assert!(fewer.check().is_err());
+    }
+
+    #[test]
+    fn a_material_gets_the_most_theta_h_its_budget_allows() {
+        let grid = GridSpec::recommended();
+        // A stand-in count: 150 samples per theta_h position.
+        let count = |g: &GridSpec| Ok::<_, ()>(150 * g.theta_h_samples);
+        let unresolved = grid.for_material(true, count).unwrap();
+        assert_eq!(unresolved.theta_h_samples, 4073 / 150);
+        assert_eq!(unresolved.theta_d, ThetaDSteps::even(3.0));
+        assert_eq!(grid.for_material(false, count), Ok(grid.fixed()));
+        assert_eq!(
+            grid.for_material(true, |_| Ok::<_, ()>(5000)),
+            Ok(grid.fixed())
+        );
+        assert_eq!(grid.for_material(true, |_| Err("no plan")), Err("no plan"));
+        assert_eq!(
+            GridSpec::paper().for_material(true, count),
+            Ok(GridSpec::paper())
+        );
+    }
+
+    #[test]
+    fn overrides_replace_values_and_theta_h_or_theta_d_fix_the_grid() {
+        let grid = GridSpec::recommended();
+        assert_eq!(grid.with(&GridOverrides::default()), grid);
+        let turned = grid.with(&GridOverrides {
+            phi_d_step_deg: Some(45.0),
+            phi_d_span: Some(PhiDSpan::Quarter),
+            phi_h_deg: Some(30.0),
+            ..GridOverrides::default()
+        });
+        assert_eq!(
+            (turned.phi_d_step_deg, turned.phi_d_span, turned.phi_h_deg),
+            (45.0, PhiDSpan::Quarter, 30.0)
+        );
+        assert_eq!(turned.unresolved_peak, grid.unresolved_peak);
+        let more = grid.with(&GridOverrides {
+            theta_h_samples: Some(20),
+            ..GridOverrides::default()
+        });
+        assert_eq!((more.theta_h_samples, more.unresolved_peak), (20, None));
+        let even = grid.with(&GridOverrides {
+            theta_d: Some(ThetaDSteps::even(2.0)),
+            ..GridOverrides::default()
+        });
+        assert_eq!(
+            (even.theta_d, even.unresolved_peak),
+            (ThetaDSteps::even(2.0), None)
         );
     }
 }

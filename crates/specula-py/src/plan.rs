@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 use specula_accuracy::GridPlan;
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, PlanSummary};
-use specula_core::grid::{GridSpec, PhiDSpan, ThetaDSteps};
+use specula_core::grid::{GridOverrides, GridSpec, PhiDSpan, ThetaDSteps};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::Spherical;
 use std::path::PathBuf;
@@ -43,20 +43,18 @@ impl Grid {
             (None, Some(grid)) => grid,
             (None, None) => GridSpec::recommended(),
         };
-        let theta_d = match args.theta_d_step_deg {
-            None => base.theta_d,
-            Some(value) => theta_d_steps(value)?,
-        };
-        let spec = GridSpec {
-            theta_h_samples: args.theta_h_samples.unwrap_or(base.theta_h_samples),
+        let theta_d = args.theta_d_step_deg.map(theta_d_steps).transpose()?;
+        let spec = base.with(&GridOverrides {
+            theta_h_samples: args.theta_h_samples,
             theta_d,
-            phi_d_step_deg: args.phi_d_step_deg.unwrap_or(base.phi_d_step_deg),
-            phi_d_span: match args.phi_d_span {
-                None => base.phi_d_span,
-                Some(name) => name.parse::<PhiDSpan>().or_raise()?,
-            },
-            phi_h_deg: args.phi_h_deg.unwrap_or(base.phi_h_deg),
-        };
+            phi_d_step_deg: args.phi_d_step_deg,
+            phi_d_span: args
+                .phi_d_span
+                .map(|name| name.parse::<PhiDSpan>())
+                .transpose()
+                .or_raise()?,
+            phi_h_deg: args.phi_h_deg,
+        });
         spec.check().or_raise()?;
         Ok(Self {
             family: family(args.family)?,

@@ -61,7 +61,7 @@ use specula_core::{Brdf, GridSpec, HalfDiff, ProbePoint, ProbeSpec, Rgb, Sample}
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::Method;
-use specula_sampling::deblur::deblur_probe;
+use specula_sampling::deblur::{deblur_probe, DeblurredProbe};
 use specula_sampling::{fit_k, Probe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -481,23 +481,31 @@ pub fn measure(
     let fit = match engine.journal.record::<FitRecord>()? {
         Some(stored) => stored,
         None => {
-            let fit = fit_probe(&probe, settings, response.as_ref(), phi_h_deg)?;
+            let fit = fit_probe(&probe, settings, response.as_ref(), phi_h_deg, device)?;
             engine.journal.put_record(&fit)?;
             fit
         }
     };
+    let grid = fit.grid.unwrap_or(settings.grid);
     observer.step(&format!(
         "k-hat = {:.3} ({})",
         fit.function.k, fit.function.family
     ));
+    if grid.theta_h_samples != settings.grid.theta_h_samples {
+        observer.step(&format!(
+            "the peak is narrower than the instrument resolves: the plan takes {} theta_h positions",
+            grid.theta_h_samples
+        ));
+    }
 
     // The plan (5.3) with k-hat, then the acquisition.
     let plan = main_plan(
         engine.journal,
         device,
-        settings,
+        &grid,
         &fit.function,
         phi_h_deg,
+        settings.order,
         observer,
     )?;
     let model = ProbeModel::new(&probe);
@@ -940,40 +948,55 @@ pub fn probe_samples(journal: &Journal) -> Result<Vec<ProbePoint>, JournalError>
 }
 
 /// k-hat of the settings' family for the probe (paper 5.2), deblurred first when the
-/// response is known ([`deblur_samples`]), so that k adapts to the material.
+/// response is known ([`deblurred_probe`]), so that k adapts to the material; and the grid
+/// the plan takes ([`GridSpec::for_material`]: more theta_h where the deblurred peak is
+/// narrower than the instrument's resolution, each candidate with k fitted for its theta_h
+/// count).
 fn fit_probe(
     probe: &[ProbePoint],
     settings: &MeasureSettings,
     response: Option<&InstrumentResponse>,
     phi_h_deg: f64,
+    device: &Device,
 ) -> Result<FitRecord, WorkflowError> {
-    let probe = match response.filter(|r| !r.is_point()) {
-        Some(response) => deblurred_probe(probe, response, phi_h_deg),
-        None => probe.to_vec(),
-    };
+    let response = response.filter(|r| !r.is_point());
+    let deblurred = response.map(|r| deblurred_probe(probe, r, phi_h_deg));
+    let unresolved = deblurred
+        .as_ref()
+        .zip(response)
+        .is_some_and(|(d, r)| d.peak_unresolved(r.resolution_deg()));
+    let points = deblurred.map_or_else(|| probe.to_vec(), |d| d.points);
     let (theta_h, values): (Vec<f64>, Vec<Rgb>) =
-        probe.iter().map(|p| (p.theta_h_deg, p.value)).unzip();
+        points.iter().map(|p| (p.theta_h_deg, p.value)).unzip();
     let probe =
         Probe::new(theta_h, values).map_err(|cause| WorkflowError::ProbeColumn { cause })?;
-    let fit = fit_k(
-        &probe.column(),
-        settings.family,
-        settings.grid.theta_h_samples,
-    )
-    .map_err(|cause| WorkflowError::ProbeFit { cause })?;
-    Ok(FitRecord {
-        function: fit.function,
-        error: fit.error,
-    })
+    let fit_on = |grid: GridSpec| -> Result<FitRecord, WorkflowError> {
+        let fit = fit_k(&probe.column(), settings.family, grid.theta_h_samples)
+            .map_err(|cause| WorkflowError::ProbeFit { cause })?;
+        Ok(FitRecord {
+            function: fit.function,
+            error: fit.error,
+            grid: Some(grid),
+        })
+    };
+    let grid = settings.grid.for_material(unresolved, |grid| {
+        let fit = fit_on(*grid)?;
+        Ok::<_, WorkflowError>(
+            nested_plan(device, grid, &fit.function, phi_h_deg)
+                .measured()
+                .count(),
+        )
+    })?;
+    fit_on(grid)
 }
 
-/// The probe's points before the instrument's blur ([`deblur_probe`] on the probe's column
-/// at `phi_h_deg`: theta_d and phi_d of [`ProbeSpec::paper`], as [`probe_plan`] takes it).
+/// The probe before the instrument's blur ([`deblur_probe`] on the probe's column at
+/// `phi_h_deg`: theta_d and phi_d of [`ProbeSpec::paper`], as [`probe_plan`] takes it).
 pub fn deblurred_probe(
     probe: &[ProbePoint],
     response: &InstrumentResponse,
     phi_h_deg: f64,
-) -> Vec<ProbePoint> {
+) -> DeblurredProbe {
     let column = ProbeSpec {
         phi_h_deg,
         ..ProbeSpec::paper()
@@ -981,13 +1004,33 @@ pub fn deblurred_probe(
     deblur_probe(probe, &column, response)
 }
 
-/// The main plan (5.3): made, ordered and journaled the first time, read back afterwards.
+/// The main plan's samples on `grid` with theta_h from `function`, in the paper's nested
+/// order (5.3).
+fn nested_plan(
+    device: &Device,
+    grid: &GridSpec,
+    function: &SamplingFunction,
+    phi_h_deg: f64,
+) -> Plan {
+    let theta_h = function.positions_deg(grid.theta_h_samples);
+    Plan::from_grid(
+        &theta_h,
+        &grid.theta_d_deg(),
+        &grid.phi_d_deg(),
+        phi_h_deg,
+        device,
+    )
+}
+
+/// The main plan (5.3) on `grid`: made, ordered and journaled the first time, read back
+/// afterwards.
 fn main_plan(
     journal: &mut Journal,
     device: &Device,
-    settings: &MeasureSettings,
+    grid: &GridSpec,
     function: &SamplingFunction,
     phi_h_deg: f64,
+    plan_order: PlanOrder,
     observer: &mut dyn Observer,
 ) -> Result<PlanRecord, WorkflowError> {
     let stored_rows = journal.plan(STAGE_MAIN)?.len();
@@ -1001,14 +1044,10 @@ fn main_plan(
         }
         return Ok(record);
     }
-    settings.grid.check()?;
+    grid.check()?;
     observer.step("planning and ordering the samples");
-    let grid = settings.grid;
-    let theta_h = function.positions_deg(grid.theta_h_samples);
-    let theta_d = grid.theta_d_deg();
-    let phi_d = grid.phi_d_deg();
-    let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, phi_h_deg, device);
-    let chosen = match settings.order {
+    let nested = nested_plan(device, grid, function, phi_h_deg);
+    let chosen = match plan_order {
         PlanOrder::Optimized => order(&nested),
         PlanOrder::Nested => nested.clone(),
     };
@@ -1096,7 +1135,7 @@ fn summarise(
         fit_error: fit.error,
         family: fit.function.family,
         checks,
-        grid: settings.grid,
+        grid: fit.grid.unwrap_or(settings.grid),
         plan,
         probe_samples: probe.done,
         measured_samples: main.done,

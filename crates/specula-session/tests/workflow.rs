@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 use specula_acquisition::device::Device;
-use specula_core::grid::PhiDSpan;
+use specula_core::grid::{PhiDSpan, UnresolvedPeak};
 use specula_core::materials::preset;
 use specula_core::merl::Bin;
 use specula_core::{Brdf, GridSpec, MerlBrdf, Rgb, ThetaDSteps};
@@ -162,7 +162,12 @@ fn a_half_turn_plan_is_measured_and_reconstructed_by_halves() {
         lines.contains(&"phi_d_halves=true".to_string()),
         "{lines:?}"
     );
-    assert!(lines.contains(&format!("grid={grid}")), "{lines:?}");
+    // The summary gives the grid measured, without the rule for an unresolved peak (the
+    // point light resolves every peak).
+    assert!(
+        lines.contains(&format!("grid={}", grid.fixed())),
+        "{lines:?}"
+    );
     let journal = Journal::open_read_only(&session).unwrap();
     let samples = measured_samples(
         &journal.plan(STAGE_MAIN).unwrap(),
@@ -255,4 +260,65 @@ fn an_old_journal_reads_as_the_paper_grid_and_resumes_on_it() {
     };
     assert_eq!(summary.plan.total, 8 * 6 * 3);
     assert!(!summary.phi_d_halves);
+}
+
+/// A measurement of `truth` through the simulated light's disk (noise-free) on a small grid
+/// whose rule for an unresolved peak allows 6 theta_h positions instead of 4 within `budget`
+/// samples; the summary's grid.
+fn grid_through_the_disk(truth: &str, budget: usize) -> GridSpec {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.binary");
+    let rule = UnresolvedPeak {
+        theta_h_samples: 6,
+        theta_d: ThetaDSteps::even(15.0),
+        budget_samples: budget,
+    };
+    let settings = MeasureSettings {
+        grid: GridSpec {
+            theta_h_samples: 4,
+            theta_d: ThetaDSteps::even(30.0),
+            unresolved_peak: Some(rule),
+            ..small().grid
+        },
+        ideal: true,
+        ..small()
+    };
+    let outcome = measure(
+        simulated(Arc::new(preset(truth).unwrap())),
+        &Device::utia(),
+        &settings,
+        &dir.path().join("m.sqlite"),
+        &out,
+        Arc::new(AtomicBool::new(false)),
+        &mut Quiet,
+    )
+    .unwrap();
+    let MeasureOutcome::Complete(summary) = outcome else {
+        panic!("stopped")
+    };
+    summary.grid
+}
+
+#[test]
+fn a_peak_the_disk_hides_gets_more_theta_h_within_the_budget() {
+    // green-paint's clear coat (GGX 0.008, half width 0.3 deg) is narrower than the UTIA
+    // disk's resolution (1.09 deg): the plan takes the rule's grid, the most theta_h that
+    // fit the budget; silver-925 (GGX 0.038, 1.4 deg) keeps the grid it was given.
+    let wide = grid_through_the_disk("green-paint", 10_000);
+    assert_eq!(
+        (wide.theta_h_samples, wide.theta_d),
+        (6, ThetaDSteps::even(15.0))
+    );
+    assert_eq!(wide.unresolved_peak, None);
+    let resolved = grid_through_the_disk("silver-925", 10_000);
+    assert_eq!(
+        (resolved.theta_h_samples, resolved.theta_d),
+        (4, ThetaDSteps::even(30.0))
+    );
+    // A budget no grid of the rule fits: the grid as given.
+    let tight = grid_through_the_disk("green-paint", 1);
+    assert_eq!(
+        (tight.theta_h_samples, tight.theta_d),
+        (4, ThetaDSteps::even(30.0))
+    );
 }

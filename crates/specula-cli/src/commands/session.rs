@@ -64,6 +64,9 @@ fn status(path: &std::path::Path) -> Result<()> {
             fit.function.family,
             crate::output::plain(fit.error)
         );
+        if let Some(grid) = fit.grid {
+            outln!("planned on: {grid}");
+        }
     }
     if let Some(plan) = &record.plan {
         outln!(

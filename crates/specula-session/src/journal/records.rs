@@ -314,6 +314,10 @@ pub struct FitRecord {
     pub function: SamplingFunction,
     /// The fit error (DESIGN.md), 1/sr.
     pub error: f64,
+    /// The grid the main plan takes, chosen with the fit (`GridSpec::unresolved_peak`);
+    /// `None` in records written before the choice existed: the settings' grid.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<GridSpec>,
 }
 
 /// The main plan's counts as the journal keeps them.
