@@ -31,9 +31,9 @@
 //! per set and over all sets with the ratio of each mean to the paper pipeline's, then the
 //! median over each set's materials of the per-material ratio to the paper pipeline's.
 
-use specula_accuracy::merl_prior::merl_prior;
 use specula_accuracy::{evaluate, Accuracy, Measurement, PlanSettings};
 use specula_acquisition::device::Device;
+use specula_core::capture::CaptureResponse;
 use specula_core::grid::{PhiDSpan, ThetaDSteps};
 use specula_core::materials::builtin_database;
 use specula_core::statistics::median;
@@ -45,18 +45,20 @@ use specula_formats::input::measured_data_dir;
 use specula_formats::load_brdfs;
 use specula_formats::nbrdf::NbrdfSet;
 use specula_reconstruct::breakdown::{error_by_region, Partition};
+use specula_reconstruct::merl_prior::merl_prior;
+use specula_reconstruct::phi_d_halves::reconstruct_halves_with;
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
 use std::collections::BTreeMap;
 use std::error::Error;
 use std::sync::Arc;
 
-/// A reconstruction: a [`Method`] or the `prior` method (its trust chosen by the samples,
-/// or given as prior weight and noise variance).
+/// A reconstruction: a [`Method`] or the `prior` method with its trust given as prior
+/// weight and noise variance.
 #[derive(Clone, Copy)]
 enum Recon {
     Method(Method),
-    Prior(Option<(f64, f64)>),
+    ForcedPrior(f64, f64),
 }
 
 /// A plan and a reconstruction.
@@ -105,18 +107,23 @@ fn configs(
         Config {
             name: "paper-plan+prior".into(),
             plan: paper,
-            method: Recon::Prior(None),
+            method: Recon::Method(Method::PRIOR),
         },
     ];
     for &(w, s2) in trusts {
         out.push(Config {
             name: format!("paper-plan+prior-w{w}-s{s2}"),
             plan: paper,
-            method: Recon::Prior(Some((w, s2))),
+            method: Recon::ForcedPrior(w, s2),
         });
     }
     if !with_prior {
-        out.retain(|c| !matches!(c.method, Recon::Prior(_)));
+        out.retain(|c| {
+            !matches!(
+                c.method,
+                Recon::ForcedPrior(..) | Recon::Method(Method::PRIOR)
+            )
+        });
     }
     for spec in plans {
         let plan = PlanSettings {
@@ -128,11 +135,11 @@ fn configs(
             plan,
             method: Recon::Method(Method::LOBE),
         });
-        if with_prior && plan.grid.phi_d_span == PhiDSpan::Quarter {
+        if with_prior {
             out.push(Config {
                 name: format!("prior-{spec}"),
                 plan,
-                method: Recon::Prior(None),
+                method: Recon::Method(Method::PRIOR),
             });
         }
     }
@@ -282,10 +289,14 @@ fn main() -> Result<(), Box<dyn Error>> {
                 let (count, samples, k) = config.measure(truth.as_ref(), &device)?;
                 let (reconstruction, a) = match config.method {
                     Recon::Method(method) => evaluate(&samples, method, &table, 75.0)?,
-                    Recon::Prior(given) => {
+                    Recon::ForcedPrior(w, s2) => {
                         let basis = basis.as_ref().expect("prior configurations need the basis");
-                        let (r, trust) = reconstruct_with_prior(&samples, basis, "prior", given)?;
-                        eprintln!("{}: {trust:?}", truth.name());
+                        let r = reconstruct_halves_with(&samples, |half| {
+                            let none = None::<&dyn CaptureResponse>;
+                            let given = Some((w, s2));
+                            reconstruct_with_prior(half, basis, "prior", given, none)
+                                .map(|(r, _)| r)
+                        })?;
                         let a = Accuracy::of(&r.brdf, &table, 75.0);
                         (r, a)
                     }

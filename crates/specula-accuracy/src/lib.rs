@@ -24,7 +24,6 @@
 //! Over several materials, [`summary`] combines the figures by their median or mean, per
 //! set of truths, the real measured ones first.
 
-pub mod merl_prior;
 pub mod summary;
 
 use specula_acquisition::device::Device;

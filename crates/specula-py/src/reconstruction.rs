@@ -70,7 +70,7 @@ pub(crate) fn samples_of(samples: &Bound<'_, PyMapping>) -> PyResult<Vec<Sample>
         .collect())
 }
 
-/// Cell origins as a uint8 `(90, 90, 180)` array: 0 measured, 1 interpolated, 2 extrapolated.
+/// Cell origins as a uint8 `(90, 90, 180)` array: 0 measured, 1 interpolated, 2 extrapolated, 3 from the prior.
 fn provenance_array<'py>(py: Python<'py>, provenance: &Provenance) -> Bound<'py, PyArray3<u8>> {
     let codes: Vec<u8> = provenance.cells.iter().map(|&c| c as u8).collect();
     Array3::from_shape_vec((THETA_H_BINS, THETA_D_BINS, PHI_D_BINS), codes)
@@ -80,7 +80,7 @@ fn provenance_array<'py>(py: Python<'py>, provenance: &Provenance) -> Bound<'py,
 
 /// The provenance of a reconstructed MERL file: its `OUT.provenance.npy` sidecar (written by
 /// `specula reconstruct` and `specula measure`) as a uint8 `(90, 90, 180)` array (0 measured,
-/// 1 interpolated, 2 extrapolated), or None when the file has no sidecar.
+/// 1 interpolated, 2 extrapolated, 3 from the prior), or None when the file has no sidecar.
 #[pyfunction]
 pub(crate) fn read_provenance(
     py: Python<'_>,
@@ -102,12 +102,13 @@ fn method(name: &str) -> PyResult<Method> {
 /// Reconstruct a full MERL table from sparse samples (paper 5.3, `specula reconstruct`):
 /// `samples` is a mapping of arrays `theta_h_deg`, `phi_h_deg`, `theta_d_deg`, `phi_d_deg`
 /// (N,) and `rgb` (N, 3) in 1/sr (as `evaluate(...)["samples"]` and `read_session`
-/// return). `method`: `"lobe"` (ours), `"log"` or `"linear"` (the paper's baseline). Samples
+/// return). `method`: `"lobe"` (ours), `"prior"` (lobe blended with the MERL-100 prior as far
+/// as the samples trust it), `"log"` or `"linear"` (the paper's baseline). Samples
 /// that measure both halves of phi_d (0-90 and 90-180 deg, two positions each at least) are
 /// reconstructed half by half, as `specula reconstruct` does.
 ///
 /// Returns `{"table": (90, 90, 180, 3), "provenance": uint8 (90, 90, 180) (0 measured, 1
-/// interpolated, 2 extrapolated), "lattice_shape", "measured_nodes", "filled_nodes",
+/// interpolated, 2 extrapolated, 3 from the prior), "lattice_shape", "measured_nodes", "filled_nodes",
 /// "lobe"}` (`lobe`: the fitted lobe's `alpha`, `gamma`, `diffuse`, or None).
 #[pyfunction]
 #[pyo3(signature = (samples, method = "lobe"))]

@@ -89,7 +89,7 @@ pub(crate) fn measure<'py>(
     }
     let method: Method = method
         .parse()
-        .map_err(|_| invalid(format!("method {method}: expected lobe, log or linear")))?;
+        .map_err(|e: String| invalid(format!("method {method}: {e}")))?;
     let settings = MeasureSettings {
         deblur,
         seed,

@@ -17,6 +17,7 @@ pub mod grid;
 pub mod kernel;
 pub mod lattice;
 pub mod lobe;
+pub mod merl_prior;
 pub mod method;
 pub mod phi_d_halves;
 pub mod prior;

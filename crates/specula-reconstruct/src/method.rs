@@ -1,5 +1,6 @@
 //! Reconstruction methods: the value domain and the interpolation kernel used between the
-//! lattice nodes (angles in degrees on every axis).
+//! lattice nodes (angles in degrees on every axis), and whether the model the residual is
+//! taken to blends in the data-driven prior.
 
 use crate::domain::Domain;
 use crate::kernel::Kernel;
@@ -11,6 +12,10 @@ pub struct Method {
     pub domain: Domain,
     /// The interpolation kernel along each axis.
     pub kernel: Kernel,
+    /// Whether the model of the `LobeResidual` domain is the lobe blended with the MERL-100
+    /// prior by a trust the samples choose ([`crate::prior_reconstruct`]), not the lobe
+    /// alone.
+    pub prior: bool,
 }
 
 impl Method {
@@ -19,20 +24,30 @@ impl Method {
     pub const LINEAR: Method = Method {
         domain: Domain::Linear,
         kernel: Kernel::Linear,
+        prior: false,
     };
     /// ln f, monotone cubic.
     pub const LOG: Method = Method {
         domain: Domain::Log,
         kernel: Kernel::MonotoneCubic,
+        prior: false,
     };
     /// The log ratio to a fitted microfacet lobe, monotone cubic.
     pub const LOBE: Method = Method {
         domain: Domain::LobeResidual,
         kernel: Kernel::MonotoneCubic,
+        prior: false,
+    };
+    /// The log ratio to the lobe blended with the MERL-100 prior, monotone cubic
+    /// ([`crate::prior_reconstruct`]).
+    pub const PRIOR: Method = Method {
+        domain: Domain::LobeResidual,
+        kernel: Kernel::MonotoneCubic,
+        prior: true,
     };
 
     /// The names accepted by [`Method::from_str`], with what each does.
-    pub const NAMES: [(&'static str, &'static str); 3] = [
+    pub const NAMES: [(&'static str, &'static str); 4] = [
         (
             "linear",
             "the paper's baseline: f linear in theta_h, theta_d, phi_d",
@@ -42,6 +57,10 @@ impl Method {
             "lobe",
             "ln of f over a fitted microfacet lobe, monotone cubic",
         ),
+        (
+            "prior",
+            "as lobe, over the lobe blended with a MERL-100 prior as far as the samples trust it",
+        ),
     ];
 
     /// The method's name, as accepted by [`Method::from_str`].
@@ -49,6 +68,7 @@ impl Method {
         match *self {
             Method::LINEAR => "linear",
             Method::LOG => "log",
+            Method::PRIOR => "prior",
             _ => "lobe",
         }
     }
@@ -61,6 +81,7 @@ impl std::str::FromStr for Method {
             "linear" => Ok(Method::LINEAR),
             "log" => Ok(Method::LOG),
             "lobe" => Ok(Method::LOBE),
+            "prior" => Ok(Method::PRIOR),
             other => Err(format!(
                 "unknown reconstruction method '{other}' (expected {})",
                 Method::NAMES.map(|(n, _)| n).join(", ")
@@ -88,6 +109,6 @@ mod tests {
         assert!("cubic"
             .parse::<Method>()
             .unwrap_err()
-            .contains("expected linear, log, lobe"));
+            .contains("expected linear, log, lobe, prior"));
     }
 }

@@ -69,14 +69,31 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
     name: &str,
     response: Option<&R>,
 ) -> Result<Reconstruction, ReconstructError> {
+    reconstruct_halves_with(samples, |half| {
+        reconstruct_through(half, method, name, response)
+    })
+}
+
+/// As [`reconstruct_halves`], with `reconstruct_half` turning the samples of one half (or of
+/// both, when they do not measure both halves) into a table: any reconstruction, e.g. the
+/// `prior` method's ([`crate::prior_reconstruct`]).
+pub fn reconstruct_halves_with<E>(
+    samples: &[Sample],
+    reconstruct_half: impl Fn(&[Sample]) -> Result<Reconstruction, E>,
+) -> Result<Reconstruction, E> {
     if !measures_both_halves(samples) {
-        return reconstruct_through(samples, method, name, response);
+        return reconstruct_half(samples);
     }
     let [first, second] = halves(samples);
-    let first = reconstruct_through(&first, method, name, response)?;
-    let second = reconstruct_through(&second, method, name, response)?;
+    let first = reconstruct_half(&first)?;
+    let second = reconstruct_half(&second)?;
+    Ok(joined(first, second))
+}
+
+/// The table whose cells of phi_d below 90 deg are `first`'s and the others `second`'s.
+fn joined(first: Reconstruction, second: Reconstruction) -> Reconstruction {
     let in_second = |index: usize| index % PHI_D_BINS >= PHI_D_BINS / 2;
-    let brdf = MerlBrdf::from_fn(name, |index| {
+    let brdf = MerlBrdf::from_fn(specula_core::Brdf::name(&first.brdf), |index| {
         if in_second(index) {
             second.brdf.cell(index)
         } else {
@@ -92,7 +109,7 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
             }
         })
         .collect();
-    Ok(Reconstruction {
+    Reconstruction {
         brdf,
         provenance: Provenance { cells },
         lobe: first.lobe,
@@ -100,7 +117,7 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
         lattice_shape: first.lattice_shape,
         measured_nodes: first.measured_nodes + second.measured_nodes,
         filled_nodes: first.filled_nodes + second.filled_nodes,
-    })
+    }
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@
 //!
 //! **Training** ([`PriorBasis::derive`]): any set of BRDFs, each channel one training
 //! vector. The accuracy study's basis is the 100 MERL materials as fitted by three published
-//! models (`specula_accuracy::merl_prior`).
+//! models ([`crate::merl_prior`]).
 
 use crate::sample::fold_phi_d_rad;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};

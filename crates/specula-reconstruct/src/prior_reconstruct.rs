@@ -25,11 +25,15 @@ use crate::grid::{extrapolated_cells, interpolate_to_merl};
 use crate::kernel::Kernel;
 use crate::lattice::{sample_coordinates, Lattice, NodeStatus};
 use crate::lobe::{Geometry, Lobe, LobeOnGrid};
+use crate::merl_prior::merl_prior;
 use crate::prior::{PriorBasis, PriorFit};
 use crate::provenance::Provenance;
-use crate::reconstruct::reciprocal_canonical;
+use crate::reconstruct::{
+    measured_lobe, reciprocal_canonical, FIT_RESPONSE_NODES, RESIDUAL_RESPONSE_NODES,
+};
 use crate::{ReconstructError, Reconstruction};
 use rayon::prelude::*;
+use specula_core::capture::CaptureResponse;
 use specula_core::merl::MerlBrdf;
 use specula_core::Sample;
 use specula_core::{HalfDiff, Rgb};
@@ -76,19 +80,36 @@ impl Model<'_> {
 }
 
 /// Reconstructs the full MERL table named `name` with the `prior` method (see the module
+/// documentation) and the MERL-100 basis ([`crate::merl_prior`]), through an instrument's
+/// `response` when one is known (as [`crate::reconstruct_through`] does for `lobe`).
+pub fn reconstruct_prior_through<R: CaptureResponse + ?Sized>(
+    samples: &[Sample],
+    name: &str,
+    response: Option<&R>,
+) -> Result<Reconstruction, ReconstructError> {
+    let basis = merl_prior().map_err(|e| ReconstructError::Prior(e.to_string()))?;
+    reconstruct_with_prior(samples, &basis, name, None, response).map(|(r, _)| r)
+}
+
+/// Reconstructs the full MERL table named `name` with the `prior` method (see the module
 /// documentation), and the trust it used: the one given as `(prior weight, noise
-/// variance)`, else the one the samples choose ([`choose_trust`]).
-pub fn reconstruct_with_prior(
+/// variance)`, else the one the samples choose ([`choose_trust`]). With a `response` the lobe
+/// is fitted through it and the residual is taken to the model as measured: the lobe as
+/// the instrument captures it, blended with the prior (a basis of sharp tables).
+pub fn reconstruct_with_prior<R: CaptureResponse + ?Sized>(
     samples: &[Sample],
     basis: &PriorBasis,
     name: &str,
     given: Option<(f64, f64)>,
+    response: Option<&R>,
 ) -> Result<(Reconstruction, Trust), ReconstructError> {
     if samples.is_empty() {
         return Err(ReconstructError::NoSamples);
     }
     let canonical: Vec<Sample> = samples.iter().map(reciprocal_canonical).collect();
-    let lobe = Lobe::fit(&canonical).ok_or(ReconstructError::NoLobe)?;
+    let through = response.filter(|r| !r.is_point());
+    let fit_nodes = through.map_or_else(Vec::new, |r| r.capture_nodes(FIT_RESPONSE_NODES));
+    let lobe = Lobe::fit_through(&canonical, &fit_nodes).ok_or(ReconstructError::NoLobe)?;
     let trust = match given {
         Some((prior_weight, noise_variance)) => Trust {
             prior_weight,
@@ -103,11 +124,14 @@ pub fn reconstruct_with_prior(
         prior: &prior,
         weight: trust.prior_weight,
     };
+    let residual_nodes =
+        through.map_or_else(Vec::new, |r| r.capture_nodes(RESIDUAL_RESPONSE_NODES));
     let domain = Domain::LobeResidual;
     let residuals: Vec<[f64; 3]> = canonical
         .par_iter()
         .map(|s| {
-            let m = model.eval(s.hd);
+            let captured = measured_lobe(&lobe, &residual_nodes, s.hd);
+            let m = model.blend(captured, prior.eval(s.hd));
             std::array::from_fn(|c| domain.forward(s.value[c], m[c]))
         })
         .collect();
@@ -134,7 +158,7 @@ pub fn reconstruct_with_prior(
             Provenance::new(samples, &extrapolated)
         },
         lobe: Some(lobe),
-        resolution_deg: None,
+        resolution_deg: through.map(|r| r.resolution_deg()),
         lattice_shape: lattice.shape(),
         measured_nodes,
         filled_nodes: lattice.status.len() - measured_nodes,
@@ -376,7 +400,9 @@ mod tests {
             .collect();
         let basis = PriorBasis::derive(&training, 4).unwrap();
         let samples = samples_of(&Lambertian);
-        let (chosen, trust) = reconstruct_with_prior(&samples, &basis, "t", None).unwrap();
+        let (chosen, trust) =
+            reconstruct_with_prior(&samples, &basis, "t", None, None::<&dyn CaptureResponse>)
+                .unwrap();
         assert_eq!(trust.prior_weight, 0.0, "{trust:?}");
         // No prior weight: the unreached cells are extrapolated, none from the prior.
         assert_eq!(chosen.provenance.prior_count(), 0);
@@ -387,8 +413,47 @@ mod tests {
             "{at_peak:?}"
         );
         // The prior forced on it: the peak the specular basis brings, and cells marked.
-        let (forced, _) = reconstruct_with_prior(&samples, &basis, "t", Some((1.0, 1.0))).unwrap();
+        let (forced, _) = reconstruct_with_prior(
+            &samples,
+            &basis,
+            "t",
+            Some((1.0, 1.0)),
+            None::<&dyn CaptureResponse>,
+        )
+        .unwrap();
         assert!(forced.provenance.prior_count() > 0);
         assert!(forced.provenance.cells.contains(&CellOrigin::Prior));
+    }
+
+    #[test]
+    fn without_the_prior_s_weight_it_is_the_lobe_method() {
+        // w = 0 makes the model the lobe alone: the table must be the `lobe` method's, with a
+        // point light and through the UTIA device's response (the lobe fitted through it).
+        let training: Vec<Arc<dyn Brdf>> = ["chrome", "green-paint", "steel"]
+            .iter()
+            .map(|n| Arc::new(preset(n).unwrap()) as Arc<dyn Brdf>)
+            .collect();
+        let basis = PriorBasis::derive(&training, 4).unwrap();
+        let samples = samples_of(&preset("silver-925").unwrap());
+        let utia = specula_acquisition::device::Device::utia().response();
+        for response in [None, Some(&utia)] {
+            let (prior, _) =
+                reconstruct_with_prior(&samples, &basis, "p", Some((0.0, 0.1)), response).unwrap();
+            let lobe =
+                crate::reconstruct_through(&samples, crate::Method::LOBE, "l", response).unwrap();
+            assert_eq!(prior.resolution_deg, lobe.resolution_deg);
+            assert_eq!(prior.provenance, lobe.provenance);
+            for index in (0..specula_core::merl::CELLS).step_by(997) {
+                let (a, b) = (
+                    prior.brdf.cell(index).unwrap(),
+                    lobe.brdf.cell(index).unwrap(),
+                );
+                let scale = b.abs().max_element().max(1e-6);
+                assert!(
+                    (a - b).abs().max_element() < 1e-9 * scale,
+                    "cell {index}: {a:?} against {b:?}"
+                );
+            }
+        }
     }
 }

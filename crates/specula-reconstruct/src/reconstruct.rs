@@ -7,6 +7,7 @@ use crate::grid::{extrapolated_cells, interpolate_to_merl};
 use crate::lattice::Lattice;
 use crate::lobe::{Geometry, Lobe, LobeOnGrid, BLUR_THETA_H_DEG};
 use crate::method::Method;
+use crate::prior_reconstruct::reconstruct_prior_through;
 use crate::provenance::Provenance;
 use rayon::prelude::*;
 use specula_core::capture::{CaptureNode, CaptureResponse};
@@ -23,6 +24,9 @@ pub enum ReconstructError {
     /// No sample has both light and camera above the surface, so no lobe can be fitted.
     #[error("no sample has both light and camera above the surface: cannot fit a lobe")]
     NoLobe,
+    /// The `prior` method's basis could not be derived (the message says why).
+    #[error("the prior method's MERL-100 basis: {0}")]
+    Prior(String),
 }
 
 /// A reconstructed table with what it was made from.
@@ -47,7 +51,7 @@ pub struct Reconstruction {
 
 /// The lobe as a capture at `hd` measures it: through the nodes near the peak, where the fit
 /// used them ([`crate::lobe::BLUR_THETA_H_DEG`]), else the lobe itself.
-fn measured_lobe(lobe: &Lobe, nodes: &[CaptureNode], hd: HalfDiff) -> Rgb {
+pub(crate) fn measured_lobe(lobe: &Lobe, nodes: &[CaptureNode], hd: HalfDiff) -> Rgb {
     if hd.theta_h.to_degrees() < BLUR_THETA_H_DEG {
         lobe.measured(nodes, hd)
     } else {
@@ -94,13 +98,17 @@ pub fn reconstruct(
 /// `lobe` method fits its lobe through the response (the forward model, see
 /// [`crate::lobe`]) and the lattice holds the samples' log ratio to the lobe *as measured*,
 /// so the table is the lobe before the blur times the measured residual. The other methods,
-/// which have no model of the BRDF, ignore the response. `None`: as [`reconstruct`].
+/// which have no model of the BRDF, ignore the response; `prior` fits its lobe through it
+/// too ([`crate::prior_reconstruct`]). `None`: as [`reconstruct`].
 pub fn reconstruct_through<R: CaptureResponse + ?Sized>(
     samples: &[Sample],
     method: Method,
     name: &str,
     response: Option<&R>,
 ) -> Result<Reconstruction, ReconstructError> {
+    if method.prior {
+        return reconstruct_prior_through(samples, name, response);
+    }
     if samples.is_empty() {
         return Err(ReconstructError::NoSamples);
     }

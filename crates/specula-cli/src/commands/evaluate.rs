@@ -58,10 +58,12 @@ pub(crate) struct Args {
     /// several.
     #[arg(long, value_enum)]
     pub merl_fits: Vec<MerlFits>,
-    /// Reconstruction method: lobe (ours: log ratio to a fitted microfacet lobe), log, or
+    /// Reconstruction method: lobe (ours: log ratio to a fitted microfacet lobe), prior (lobe
+    /// blended with a MERL-100 data-driven prior as far as the samples trust it), log, or
     /// linear (the paper's baseline). lobe is the default because it is the best measured on
-    /// real data: on the five RGL files, median 0.83 times the paper pipeline's relative RMSE
-    /// on the paper's samples (README, "Real measured truths first").
+    /// real data: on the five RGL files, median 0.18 times the paper pipeline's relative RMSE
+    /// on the default grid, 0.83 on the paper's samples; prior is no better there (README,
+    /// "Real measured truths first").
     #[arg(long, default_value = "lobe")]
     pub method: Method,
     /// k of the theta_h sampling function; default: k-hat fitted to each material's probe.

@@ -96,8 +96,7 @@ fn describe_merl(table: &MerlBrdf, provenance: Option<&Provenance>, among: &str)
     );
     outln!("measured: {} of {CELLS} cells", table.measured_count());
     if let Some(p) = provenance {
-        let (measured, interpolated, extrapolated) = p.counts();
-        outln!("provenance: {measured} cells measured, {interpolated} interpolated, {extrapolated} extrapolated");
+        outln!("provenance: cells {}", p.summary());
     }
     print_channels(&stats);
     if let Some(peak) = stats.peak {

@@ -90,7 +90,7 @@ pub(crate) struct Args {
     /// two captures) or bracket (the device file's fixed bracket, the paper's way).
     #[arg(long, value_enum, default_value_t = HdrArg::Predicted)]
     pub hdr: HdrArg,
-    /// Reconstruction method: lobe, log or linear (see `specula reconstruct --help`).
+    /// Reconstruction method: lobe, prior, log or linear (see `specula reconstruct --help`).
     #[arg(long, default_value = "lobe")]
     pub method: specula_reconstruct::Method,
     /// Do not fit through the instrument's response: the BRDF as measured, blurred by the

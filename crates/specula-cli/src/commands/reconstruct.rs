@@ -43,9 +43,12 @@ pub(crate) struct Args {
     /// the measured samples of its main stage.
     #[arg(long)]
     pub session: Option<PathBuf>,
-    /// Reconstruction method: lobe, log or linear (the paper's baseline). lobe is the
-    /// default, the best measured on real RGL measurements (`specula evaluate --help`);
-    /// log and linear stay for comparison.
+    /// Reconstruction method: lobe, prior, log or linear (the paper's baseline). lobe is the
+    /// default, the best measured on real RGL measurements (`specula evaluate --help`).
+    /// prior blends a data-driven prior (the MERL-100 fits) into lobe's model as far as the
+    /// material's own samples trust it, so the cells the device cannot reach follow it
+    /// (provenance code 3); it derives its basis first (about 20 s) and measured no better
+    /// than lobe on real data. log and linear stay for comparison.
     #[arg(long, default_value = "lobe")]
     pub method: Method,
     /// With --session: do not fit the lobe through the instrument's response that the
@@ -85,7 +88,6 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let sidecar = sidecar_path(&args.out);
     r.provenance.write(&sidecar)?;
     let [nh, nd, np] = r.lattice_shape;
-    let (measured, interpolated, extrapolated) = r.provenance.counts();
     outln!("samples: {} on a lattice of {nh} theta_h x {nd} theta_d x {np} phi_d ({} nodes measured, {} extrapolated)", samples.len(), r.measured_nodes, r.filled_nodes);
     if let Some(lobe) = r.lobe {
         outln!(
@@ -110,7 +112,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
             }
         );
     }
-    outln!("cells: {measured} measured, {interpolated} interpolated, {extrapolated} extrapolated");
+    outln!("cells: {}", r.provenance.summary());
     let share = r.provenance.extrapolated_share();
     if share > MOSTLY_EXTRAPOLATED {
         eprintln!(

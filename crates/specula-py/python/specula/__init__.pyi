@@ -138,9 +138,11 @@ def plan(
     45). `theta_d_step_deg` is a number (an even step) or "STEP:GRAZING@FROM"."""
 
 def reconstruct(samples: Mapping[str, ArrayLike], method: str = "lobe") -> dict[str, Any]:
-    """Sparse samples into the MERL grid: "table", "provenance" (uint8) and lattice facts;
-    samples that measure both halves of phi_d (0-90 and 90-180 deg) are reconstructed half
-    by half."""
+    """Sparse samples into the MERL grid: "table", "provenance" (uint8: 0 measured, 1
+    interpolated, 2 extrapolated, 3 from the prior) and lattice facts. `method`: "lobe"
+    (default), "prior" (lobe blended with the MERL-100 prior as far as the samples trust it),
+    "log" or "linear". Samples that measure both halves of phi_d (0-90 and 90-180 deg) are
+    reconstructed half by half."""
 
 def evaluate(
     truth: BrdfLike,

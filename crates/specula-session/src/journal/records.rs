@@ -157,7 +157,7 @@ impl Record for PlanRecord {
     const KEY: &'static str = "plan";
 }
 
-/// A reconstruction [`Method`] kept by its name ("lobe", "log", "linear").
+/// A reconstruction [`Method`] kept by its name ("lobe", "prior", "log", "linear").
 mod method_name {
     use specula_reconstruct::Method;
 
@@ -235,7 +235,7 @@ pub struct MeasureSettings {
     pub order: PlanOrder,
     /// How each sample's HDR captures are chosen.
     pub hdr: HdrChoice,
-    /// The reconstruction method (kept by its name: lobe, log, linear).
+    /// The reconstruction method (kept by its name: lobe, prior, log, linear).
     #[serde(with = "method_name")]
     pub method: Method,
     /// Fit the reconstruction and the probe through the instrument's response when it is

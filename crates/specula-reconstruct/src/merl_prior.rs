@@ -5,11 +5,11 @@
 //! are test data. The training set comes from `specula-formats`, which the reconstruction
 //! does not depend on.
 
+use crate::prior::{PriorBasis, PriorError};
 use specula_core::Brdf;
 use specula_formats::fits::{load_model, FitModel};
 use specula_formats::input::FormatError;
 use specula_formats::nbrdf::NbrdfSet;
-use specula_reconstruct::prior::{PriorBasis, PriorError};
 use std::sync::{Arc, OnceLock};
 
 /// Why the MERL-100 prior could not be derived.
