@@ -4,6 +4,7 @@
 
 use assert_cmd::Command;
 use predicates::prelude::*;
+use specula_reconstruct::provenance::{CellOrigin, Provenance};
 use std::path::Path;
 
 fn specula() -> Command {
@@ -12,13 +13,6 @@ fn specula() -> Command {
 
 fn text(path: &Path) -> &str {
     path.to_str().expect("a UTF-8 temporary path")
-}
-
-/// The cell codes of a provenance sidecar (a uint8 `.npy`: the codes follow its header).
-fn codes(sidecar: &Path) -> Vec<u8> {
-    let bytes = std::fs::read(sidecar).expect("the sidecar is written");
-    let cells = 90 * 90 * 180;
-    bytes[bytes.len() - cells..].to_vec()
 }
 
 #[test]
@@ -53,10 +47,8 @@ fn the_prior_method_marks_the_cells_it_fills() {
             .success()
             .stdout(predicate::str::contains(format!("(method {method})")));
         let stdout = String::from_utf8_lossy(&assert.get_output().stdout).into_owned();
-        (
-            stdout,
-            codes(&dir.path().join(format!("{method}.provenance.npy"))),
-        )
+        let sidecar = dir.path().join(format!("{method}.provenance.npy"));
+        (stdout, Provenance::read(&sidecar).unwrap().cells)
     };
     let (prior_summary, prior) = reconstruct("prior");
     let (lobe_summary, lobe) = reconstruct("lobe");
@@ -66,9 +58,9 @@ fn the_prior_method_marks_the_cells_it_fills() {
     );
     assert!(!lobe_summary.contains("from the prior"), "{lobe_summary}");
     // The same cells lie beyond the measured nodes; the prior's are marked 3, the lobe's 2.
-    assert!(prior.contains(&3) && !lobe.contains(&3));
+    assert!(prior.contains(&CellOrigin::Prior) && !lobe.contains(&CellOrigin::Prior));
     for (p, l) in prior.iter().zip(&lobe) {
-        assert_eq!(*p == 3 || *p == 2, *l == 2);
+        assert_eq!(p.is_extrapolated(), *l == CellOrigin::Extrapolated);
     }
     specula()
         .args(["info", text(&dir.path().join("prior.binary"))])

@@ -87,9 +87,7 @@ pub(crate) fn measure<'py>(
             "tilt_deg and tilt_azimuth_deg must be numbers of degrees",
         ));
     }
-    let method: Method = method
-        .parse()
-        .map_err(|e: String| invalid(format!("method {method}: {e}")))?;
+    let method: Method = method.parse().map_err(invalid)?;
     let settings = MeasureSettings {
         deblur,
         seed,

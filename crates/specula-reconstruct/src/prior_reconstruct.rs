@@ -20,21 +20,16 @@
 //! predicts held-out samples worse than the lobe, keeps `w` near 0.
 
 use crate::domain::{Domain, LOG_OFFSET};
-use crate::extrapolate::fill_missing;
-use crate::grid::{extrapolated_cells, interpolate_to_merl};
-use crate::kernel::Kernel;
 use crate::lattice::{sample_coordinates, Lattice, NodeStatus};
 use crate::lobe::{Geometry, Lobe, LobeOnGrid};
 use crate::merl_prior::merl_prior;
 use crate::prior::{PriorBasis, PriorFit};
-use crate::provenance::Provenance;
 use crate::reconstruct::{
-    measured_lobe, reciprocal_canonical, FIT_RESPONSE_NODES, RESIDUAL_RESPONSE_NODES,
+    measured_lobe, reciprocal_canonical, table_of_domain_values, ResponseNodes,
 };
-use crate::{ReconstructError, Reconstruction};
+use crate::{Method, ReconstructError, Reconstruction};
 use rayon::prelude::*;
 use specula_core::capture::CaptureResponse;
-use specula_core::merl::MerlBrdf;
 use specula_core::Sample;
 use specula_core::{HalfDiff, Rgb};
 
@@ -107,9 +102,8 @@ pub fn reconstruct_with_prior<R: CaptureResponse + ?Sized>(
         return Err(ReconstructError::NoSamples);
     }
     let canonical: Vec<Sample> = samples.iter().map(reciprocal_canonical).collect();
-    let through = response.filter(|r| !r.is_point());
-    let fit_nodes = through.map_or_else(Vec::new, |r| r.capture_nodes(FIT_RESPONSE_NODES));
-    let lobe = Lobe::fit_through(&canonical, &fit_nodes).ok_or(ReconstructError::NoLobe)?;
+    let nodes = ResponseNodes::of(response);
+    let lobe = Lobe::fit_through(&canonical, &nodes.fit).ok_or(ReconstructError::NoLobe)?;
     let trust = match given {
         Some((prior_weight, noise_variance)) => Trust {
             prior_weight,
@@ -124,44 +118,28 @@ pub fn reconstruct_with_prior<R: CaptureResponse + ?Sized>(
         prior: &prior,
         weight: trust.prior_weight,
     };
-    let residual_nodes =
-        through.map_or_else(Vec::new, |r| r.capture_nodes(RESIDUAL_RESPONSE_NODES));
-    let domain = Domain::LobeResidual;
+    let domain = Method::PRIOR.domain;
     let residuals: Vec<[f64; 3]> = canonical
         .par_iter()
         .map(|s| {
-            let captured = measured_lobe(&lobe, &residual_nodes, s.hd);
+            let captured = measured_lobe(&lobe, &nodes.residual, s.hd);
             let m = model.blend(captured, prior.eval(s.hd));
             std::array::from_fn(|c| domain.forward(s.value[c], m[c]))
         })
         .collect();
-    let mut lattice = Lattice::of_samples(samples, &residuals);
-    let (measured_nodes, _, _) = lattice.status_counts();
-    fill_missing(&mut lattice);
-    let planes = interpolate_to_merl(&lattice, Kernel::MonotoneCubic);
-    let extrapolated = extrapolated_cells(&lattice);
     let lobe_on_grid = LobeOnGrid::new(lobe);
     let prior_on_grid = prior.on_merl_grid();
-    let brdf = MerlBrdf::from_fn(name, |index| {
-        let m = model.blend(lobe_on_grid.at(index), prior_on_grid[index]);
-        Some(Rgb::new(
-            domain.inverse(planes[0][index], m.x),
-            domain.inverse(planes[1][index], m.y),
-            domain.inverse(planes[2][index], m.z),
-        ))
-    });
+    let mut reconstruction =
+        table_of_domain_values(samples, &residuals, Method::PRIOR, name, |index| {
+            model.blend(lobe_on_grid.at(index), prior_on_grid[index])
+        });
+    if trust.prior_weight > 0.0 {
+        reconstruction.provenance.mark_prior();
+    }
     let reconstruction = Reconstruction {
-        brdf,
-        provenance: if trust.prior_weight > 0.0 {
-            Provenance::with_prior(samples, &extrapolated)
-        } else {
-            Provenance::new(samples, &extrapolated)
-        },
         lobe: Some(lobe),
-        resolution_deg: through.map(|r| r.resolution_deg()),
-        lattice_shape: lattice.shape(),
-        measured_nodes,
-        filled_nodes: lattice.status.len() - measured_nodes,
+        resolution_deg: nodes.resolution_deg,
+        ..reconstruction
     };
     Ok((reconstruction, trust))
 }
@@ -372,6 +350,15 @@ mod tests {
         }
     }
 
+    /// A basis of four components derived from built-in presets.
+    fn basis_of(presets: &[&str]) -> PriorBasis {
+        let training: Vec<Arc<dyn Brdf>> = presets
+            .iter()
+            .map(|n| Arc::new(preset(n).unwrap()) as Arc<dyn Brdf>)
+            .collect();
+        PriorBasis::derive(&training, 4).unwrap()
+    }
+
     fn samples_of(truth: &dyn Brdf) -> Vec<Sample> {
         let mut configurations = Vec::new();
         for h in [0.0, 0.5, 2.0, 5.0, 10.0, 20.0, 35.0, 55.0] {
@@ -394,11 +381,7 @@ mod tests {
 
     #[test]
     fn a_diffuse_material_does_not_trust_a_specular_prior() {
-        let training: Vec<Arc<dyn Brdf>> = ["chrome", "silver-925", "steel"]
-            .iter()
-            .map(|n| Arc::new(preset(n).unwrap()) as Arc<dyn Brdf>)
-            .collect();
-        let basis = PriorBasis::derive(&training, 4).unwrap();
+        let basis = basis_of(&["chrome", "silver-925", "steel"]);
         let samples = samples_of(&Lambertian);
         let (chosen, trust) =
             reconstruct_with_prior(&samples, &basis, "t", None, None::<&dyn CaptureResponse>)
@@ -429,11 +412,7 @@ mod tests {
     fn without_the_prior_s_weight_it_is_the_lobe_method() {
         // w = 0 makes the model the lobe alone: the table must be the `lobe` method's, with a
         // point light and through the UTIA device's response (the lobe fitted through it).
-        let training: Vec<Arc<dyn Brdf>> = ["chrome", "green-paint", "steel"]
-            .iter()
-            .map(|n| Arc::new(preset(n).unwrap()) as Arc<dyn Brdf>)
-            .collect();
-        let basis = PriorBasis::derive(&training, 4).unwrap();
+        let basis = basis_of(&["chrome", "green-paint", "steel"]);
         let samples = samples_of(&preset("silver-925").unwrap());
         let utia = specula_acquisition::device::Device::utia().response();
         for response in [None, Some(&utia)] {

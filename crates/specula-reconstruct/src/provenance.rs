@@ -136,16 +136,13 @@ impl Provenance {
         Self { cells }
     }
 
-    /// As [`Provenance::new`], with the extrapolated cells filled from the prior
-    /// ([`CellOrigin::Prior`]).
-    pub fn with_prior(samples: &[Sample], extrapolated: &[bool]) -> Self {
-        let mut provenance = Self::new(samples, extrapolated);
-        for cell in &mut provenance.cells {
+    /// Marks the extrapolated cells as filled from the prior ([`CellOrigin::Prior`]).
+    pub fn mark_prior(&mut self) {
+        for cell in &mut self.cells {
             if *cell == CellOrigin::Extrapolated {
                 *cell = CellOrigin::Prior;
             }
         }
-        provenance
     }
 
     /// The counts of [`Provenance::counts`] in words, e.g. "1205 measured, 600900
@@ -323,7 +320,8 @@ mod tests {
                 CellOrigin::Interpolated
             )
         );
-        let prior = Provenance::with_prior(&samples, &extrapolated);
+        let mut prior = Provenance::new(&samples, &extrapolated);
+        prior.mark_prior();
         assert_eq!(
             (prior.counts(), prior.prior_count()),
             ((2, CELLS - 3, 1), 1)

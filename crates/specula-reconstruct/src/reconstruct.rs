@@ -113,43 +113,86 @@ pub fn reconstruct_through<R: CaptureResponse + ?Sized>(
         return Err(ReconstructError::NoSamples);
     }
     let canonical: Vec<Sample> = samples.iter().map(reciprocal_canonical).collect();
-    let through = response.filter(|r| method.domain.uses_lobe() && !r.is_point());
-    let nodes = through.map_or_else(Vec::new, |r| r.capture_nodes(FIT_RESPONSE_NODES));
+    let nodes = ResponseNodes::of(response.filter(|_| method.domain.uses_lobe()));
     let lobe = if method.domain.uses_lobe() {
-        Some(Lobe::fit_through(&canonical, &nodes).ok_or(ReconstructError::NoLobe)?)
+        Some(Lobe::fit_through(&canonical, &nodes.fit).ok_or(ReconstructError::NoLobe)?)
     } else {
         None
     };
-    let residual_nodes =
-        through.map_or_else(Vec::new, |r| r.capture_nodes(RESIDUAL_RESPONSE_NODES));
     let domain_values: Vec<[f64; 3]> = canonical
         .par_iter()
         .map(|s| {
-            let model = lobe.map_or(Rgb::ZERO, |l| measured_lobe(&l, &residual_nodes, s.hd));
+            let model = lobe.map_or(Rgb::ZERO, |l| measured_lobe(&l, &nodes.residual, s.hd));
             std::array::from_fn(|c| method.domain.forward(s.value[c], model[c]))
         })
         .collect();
-    let mut lattice = Lattice::of_samples(samples, &domain_values);
+    let lobe_on_grid = lobe.map(LobeOnGrid::new);
+    let table = table_of_domain_values(samples, &domain_values, method, name, |index| {
+        lobe_on_grid.as_ref().map_or(Rgb::ZERO, |l| l.at(index))
+    });
+    Ok(Reconstruction {
+        lobe,
+        resolution_deg: nodes.resolution_deg,
+        ..table
+    })
+}
+
+/// The capture nodes of an instrument's response for a lobe fitted through it
+/// ([`FIT_RESPONSE_NODES`] for the fit, [`RESIDUAL_RESPONSE_NODES`] for each sample's ratio to
+/// the lobe as measured) and its resolution; empty (a point light) without a response or
+/// with a point one.
+pub(crate) struct ResponseNodes {
+    /// The nodes of the lobe's fit.
+    pub(crate) fit: Vec<CaptureNode>,
+    /// The nodes of each sample's ratio to the lobe.
+    pub(crate) residual: Vec<CaptureNode>,
+    /// The response's resolution in theta_h (degrees).
+    pub(crate) resolution_deg: Option<f64>,
+}
+
+impl ResponseNodes {
+    pub(crate) fn of<R: CaptureResponse + ?Sized>(response: Option<&R>) -> Self {
+        let through = response.filter(|r| !r.is_point());
+        Self {
+            fit: through.map_or_else(Vec::new, |r| r.capture_nodes(FIT_RESPONSE_NODES)),
+            residual: through.map_or_else(Vec::new, |r| r.capture_nodes(RESIDUAL_RESPONSE_NODES)),
+            resolution_deg: through.map(|r| r.resolution_deg()),
+        }
+    }
+}
+
+/// The steps every method shares once each sample has its value in `method`'s domain: the
+/// lattice, its missing nodes extrapolated ([`crate::extrapolate`]), interpolation at every
+/// MERL bin centre with the method's kernel, and the way back from the domain over `model`
+/// (the model's value at a MERL cell index; zero for the methods without one). No lobe and
+/// no resolution: the caller adds its own.
+pub(crate) fn table_of_domain_values(
+    samples: &[Sample],
+    domain_values: &[[f64; 3]],
+    method: Method,
+    name: &str,
+    model: impl Fn(usize) -> Rgb + Sync,
+) -> Reconstruction {
+    let mut lattice = Lattice::of_samples(samples, domain_values);
     let (measured_nodes, _, _) = lattice.status_counts();
     fill_missing(&mut lattice);
     let planes = interpolate_to_merl(&lattice, method.kernel);
-    let lobe_on_grid = lobe.map(LobeOnGrid::new);
     let domain = method.domain;
     let brdf = MerlBrdf::from_fn(name, |index| {
-        let model = lobe_on_grid.as_ref().map_or(Rgb::ZERO, |l| l.at(index));
+        let m = model(index);
         Some(Rgb::new(
-            domain.inverse(planes[0][index], model.x),
-            domain.inverse(planes[1][index], model.y),
-            domain.inverse(planes[2][index], model.z),
+            domain.inverse(planes[0][index], m.x),
+            domain.inverse(planes[1][index], m.y),
+            domain.inverse(planes[2][index], m.z),
         ))
     });
-    Ok(Reconstruction {
+    Reconstruction {
         brdf,
         provenance: Provenance::new(samples, &extrapolated_cells(&lattice)),
-        lobe,
-        resolution_deg: through.map(|r| r.resolution_deg()),
+        lobe: None,
+        resolution_deg: None,
         lattice_shape: lattice.shape(),
         measured_nodes,
         filled_nodes: lattice.status.len() - measured_nodes,
-    })
+    }
 }
