@@ -9,9 +9,18 @@
 //!   nodes the lobe supplies the shape, the lattice only the slowly varying correction.
 //!
 //! `eps` = [`LOG_OFFSET`] keeps zero values finite; back-transformed values are clamped at 0.
+//! A measured value below zero (camera noise about a dark configuration, after the dark
+//! frame is subtracted) means "zero within the noise": the log domains take it as 0, so that
+//! no sample's logarithm is undefined.
 
 /// The offset `eps` in 1/sr of the log domains, far below any diffuse reflectance.
 pub const LOG_OFFSET: f64 = 1e-4;
+
+/// `ln(max(f, 0) + eps)`: the logarithm of a measured value, which noise may have taken
+/// below zero (see the module documentation).
+pub fn log_of_measured(f: f64) -> f64 {
+    (f.max(0.0) + LOG_OFFSET).ln()
+}
 
 /// See the module documentation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,8 +38,8 @@ impl Domain {
     pub fn forward(self, f: f64, model: f64) -> f64 {
         match self {
             Domain::Linear => f,
-            Domain::Log => (f + LOG_OFFSET).ln(),
-            Domain::LobeResidual => ((f + LOG_OFFSET) / (model + LOG_OFFSET)).ln(),
+            Domain::Log => log_of_measured(f),
+            Domain::LobeResidual => log_of_measured(f) - log_of_measured(model),
         }
     }
 
@@ -63,5 +72,16 @@ mod tests {
             }
         }
         assert_eq!(Domain::Linear.inverse(-0.5, 0.0), 0.0);
+    }
+
+    #[test]
+    fn a_value_noise_took_below_zero_has_a_logarithm() {
+        // The dark frame subtracted, a configuration that reflects nothing measures a little
+        // below zero now and then; its logarithm is that of zero, in both log domains.
+        for d in [Domain::Log, Domain::LobeResidual] {
+            let v = d.forward(-3e-4, 0.5);
+            assert!(v.is_finite(), "{d:?}");
+            assert_eq!(v, d.forward(0.0, 0.5), "{d:?}");
+        }
     }
 }

@@ -31,7 +31,7 @@
 //! grid (scored on every fourth sample) and then a compass search in (ln alpha,
 //! ln(gamma - 1)) on all samples.
 
-use crate::domain::LOG_OFFSET;
+use crate::domain::{log_of_measured, LOG_OFFSET};
 use glam::DVec3;
 use rayon::prelude::*;
 use specula_core::capture::{self, orthonormal_basis, CaptureNode};
@@ -376,8 +376,11 @@ impl FitPoint {
         Some(Self {
             geometry,
             value: sample.value.to_array(),
-            weight: sample.value.to_array().map(|f| (f + LOG_OFFSET).powi(-2)),
-            log_value: sample.value.to_array().map(|f| (f + LOG_OFFSET).ln()),
+            weight: sample
+                .value
+                .to_array()
+                .map(|f| (f.max(0.0) + LOG_OFFSET).powi(-2)),
+            log_value: sample.value.to_array().map(log_of_measured),
         })
     }
 
@@ -596,6 +599,41 @@ mod tests {
                 .max_element();
             assert!(rel < 0.05, "{:?}: {m} vs {}", s.hd, s.value);
         }
+    }
+
+    #[test]
+    fn a_sample_noise_took_below_zero_does_not_derail_the_fit() {
+        // A lobe with no diffuse red and its samples, plus one dark configuration whose red
+        // camera noise left it below zero (-3e-4 1/sr after the dark frame, as the simulated
+        // device measures the RGL clear coats). Its logarithm once made every cost NaN, and the
+        // search then kept whichever shape of its grid the reduction met first (on a real
+        // clear coat alpha 0.0005: a spike of 4000 1/sr where the material has 3).
+        let truth = Lobe {
+            shape: Shape {
+                alpha: 0.045,
+                gamma: 2.5,
+            },
+            diffuse: Rgb::new(0.0, 0.1, 0.02),
+            specular: Rgb::new(0.05, 0.8, 0.5),
+            grazing: Rgb::new(1.0, 0.2, 0.5),
+        };
+        let mut samples = Vec::new();
+        for h in [0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 30.0, 50.0] {
+            for d in [0.0, 20.0, 40.0, 60.0, 70.0] {
+                let hd = HalfDiff::from_degrees(h, 45.0, d, 90.0);
+                let g = Geometry::of(hd);
+                if g.above_surface() {
+                    samples.push(Sample::new(hd, truth.eval(&g)));
+                }
+            }
+        }
+        let dark = HalfDiff::from_degrees(60.0, 45.0, 5.0, 90.0);
+        samples.push(Sample::new(dark, Rgb::new(-3e-4, 1e-3, 1e-3)));
+        let fit = Lobe::fit(&samples).unwrap();
+        assert!(
+            (fit.shape.alpha / truth.shape.alpha - 1.0).abs() < 0.05,
+            "{fit:?}"
+        );
     }
 
     #[test]
