@@ -87,6 +87,20 @@ pub(crate) fn run(args: Args) -> Result<()> {
         outln!("{}: {}", fit.model.label(), parameters(fit));
     }
     let best = &fits[0].material;
+    let exporting =
+        args.out.is_some() || args.mitsuba.is_some() || args.pbrt.is_some() || args.gltf.is_some();
+    if exporting {
+        let why = if fits.len() > 1 {
+            format!(
+                ", the lower log_rmse within {} deg of the {} models fitted",
+                args.max_elevation,
+                fits.len()
+            )
+        } else {
+            String::new()
+        };
+        outln!("exported model: {}{why}", fits[0].model.label());
+    }
     if let Some(path) = &args.out {
         save(path, &best.to_toml_string())?;
     }

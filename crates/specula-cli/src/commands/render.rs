@@ -33,7 +33,8 @@ use std::time::Instant;
 ///   specula render silver-925 chrome --side-by-side --out compare.png
 #[derive(clap::Args)]
 pub(crate) struct Args {
-    /// The BRDFs: preset names, material .toml files, MERL .binary files or model:name fits.
+    /// The BRDFs: preset names, material .toml files, MERL .binary files, RGL .bsdf files or
+    /// model:name fits.
     #[arg(required = true)]
     pub brdfs: Vec<String>,
     /// The picture to write: .png (tone-mapped) or .exr (linear radiance).
