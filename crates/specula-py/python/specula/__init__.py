@@ -7,11 +7,14 @@ See ``docs/python.md`` for a tutorial.
 """
 
 from ._specula import (
+    __version__,
     Brdf,
     SpeculaError,
     appearance,
     compare,
+    convert,
     evaluate,
+    fit,
     fit_k,
     load,
     materials,
@@ -26,11 +29,14 @@ from ._specula import (
 )
 
 __all__ = [
+    "__version__",
     "Brdf",
     "SpeculaError",
     "appearance",
     "compare",
+    "convert",
     "evaluate",
+    "fit",
     "fit_k",
     "load",
     "materials",

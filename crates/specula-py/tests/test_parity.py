@@ -1,0 +1,57 @@
+"""The Python package does what the CLI does: its version, one direction as well as
+arrays, conversion, fitting and the through-instrument evaluation."""
+
+import numpy as np
+import pytest
+
+import specula
+from conftest import read_csv
+
+GRID = {"theta_h_samples": 8, "theta_d_step_deg": 15.0, "phi_d_step_deg": 30.0,
+        "phi_d_span": "quarter"}
+GRID_ARGS = ["--theta-h-samples", "8", "--theta-d-step", "15", "--phi-d-step", "30",
+             "--phi-d-span", "quarter"]
+
+
+def test_version_is_the_crates(cli):
+    _, out, _ = cli("--version")
+    assert out.split() == ["specula", specula.__version__]
+
+
+def test_eval_takes_one_direction_as_well_as_arrays():
+    brdf = specula.load("green-paint")
+    wi = np.array([0.3, 0.1, np.sqrt(1 - 0.1)])
+    wo = np.array([-0.2, 0.0, np.sqrt(1 - 0.04)])
+    one = brdf.eval(wi, wo)
+    assert one.shape == (3,)
+    np.testing.assert_array_equal(one, brdf.eval(wi[None, :], wo[None, :])[0])
+    with pytest.raises(specula.SpeculaError, match=r"\(3,\) directions or \(N, 3\) arrays"):
+        brdf.eval(wi[:2], wo[:2])
+
+
+def test_convert_writes_what_the_cli_writes(cli, tmp_path):
+    ours, theirs = tmp_path / "py.binary", tmp_path / "cli.binary"
+    done = specula.convert("green-paint", ours)
+    cli("convert", "green-paint", theirs)
+    assert ours.read_bytes() == theirs.read_bytes()
+    assert done["format"] == "MERL .binary" and done["measured"] > 0
+
+
+def test_fit_exports_the_model_it_names(cli, tmp_path):
+    got = specula.fit("chrome", model="conductor", out=tmp_path / "py.toml")
+    _, out, _ = cli("fit", "chrome", "--model", "conductor", "--out", tmp_path / "cli.toml")
+    assert got["exported"] == "conductor" == got["fits"][0]["model"]
+    assert "exported model: conductor" in out
+    assert (tmp_path / "py.toml").read_text() == (tmp_path / "cli.toml").read_text()
+    assert got["fits"][0]["material"] == (tmp_path / "py.toml").read_text()
+
+
+def test_evaluate_through_the_instrument_matches_the_cli(cli):
+    _, out, _ = cli("evaluate", "--truth", "chrome", "--method", "log", "--through-instrument",
+                    *GRID_ARGS)
+    row = read_csv("\n".join(out.splitlines()[1:]))[0]
+    through = specula.evaluate("chrome", method="log", through_instrument=True, **GRID)
+    plain = specula.evaluate("chrome", method="log", **GRID)
+    assert through["within"]["relative_rmse"] == pytest.approx(float(row["rel_rmse_within"]),
+                                                               abs=6e-6)
+    assert through["within"]["relative_rmse"] != plain["within"]["relative_rmse"]
