@@ -12,6 +12,7 @@ mod brdf;
 mod errors;
 mod export;
 mod interrupt;
+mod picture;
 mod plan;
 mod reconstruction;
 mod sampling;
@@ -31,6 +32,8 @@ fn _specula(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(brdf::materials, m)?)?;
     m.add_function(wrap_pyfunction!(export::convert, m)?)?;
     m.add_function(wrap_pyfunction!(export::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(picture::render, m)?)?;
+    m.add_function(wrap_pyfunction!(picture::report, m)?)?;
     m.add_function(wrap_pyfunction!(appearance::appearance, m)?)?;
     m.add_function(wrap_pyfunction!(table::read_merl, m)?)?;
     m.add_function(wrap_pyfunction!(table::write_merl, m)?)?;

@@ -55,3 +55,24 @@ def test_evaluate_through_the_instrument_matches_the_cli(cli):
     assert through["within"]["relative_rmse"] == pytest.approx(float(row["rel_rmse_within"]),
                                                                abs=6e-6)
     assert through["within"]["relative_rmse"] != plain["within"]["relative_rmse"]
+
+
+def test_render_returns_the_radiance_and_writes_what_the_cli_writes(cli, tmp_path):
+    radiance = specula.render("chrome", out=tmp_path / "py.png", size=16, spp=2)
+    cli("render", "chrome", "--out", tmp_path / "cli.png", "--size", "16", "--spp", "2")
+    assert radiance.shape == (16, 16, 3) and np.isfinite(radiance).all() and radiance.max() > 0
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    with pytest.raises(specula.SpeculaError, match="choose one light"):
+        specula.render("chrome", light="point", env="studio", size=16, spp=1)
+
+
+def test_report_writes_the_page_the_cli_writes(cli, tmp_path):
+    table = tmp_path / "paint.binary"
+    specula.convert("green-paint", table)
+    written = specula.report(table, tmp_path / "py.html", size=16, spp=1, title="paint")
+    cli("report", table, "--out", tmp_path / "cli.html", "--size", "16", "--spp", "1",
+        "--title", "paint")
+    assert written == tmp_path / "py.html"
+    page = written.read_text()
+    assert page.startswith("<!DOCTYPE html>") and "paint" in page
+    assert page == (tmp_path / "cli.html").read_text()

@@ -25,6 +25,8 @@ from ._specula import (
     read_provenance,
     read_session,
     reconstruct,
+    render,
+    report,
     write_merl,
 )
 
@@ -47,5 +49,7 @@ __all__ = [
     "read_provenance",
     "read_session",
     "reconstruct",
+    "render",
+    "report",
     "write_merl",
 ]

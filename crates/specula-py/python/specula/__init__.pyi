@@ -107,6 +107,31 @@ def fit(
 ) -> dict[str, Any]:
     """`specula fit`: analytic materials fitted, the best exported; {"exported", "fits"}."""
 
+def render(
+    brdf: BrdfLike,
+    out: Optional[Path] = None,
+    shape: str = "sphere",
+    env: Optional[str] = None,
+    light: Optional[str] = None,
+    spp: int = 256,
+    size: int = 512,
+    exposure: float = 0.0,
+    seed: int = 1,
+) -> FloatArray:
+    """`specula render`: the linear radiance as (size, size, 3); `out` written as the CLI does."""
+
+def report(
+    source: Path,
+    out: Path,
+    truth: Optional[str] = None,
+    samples_csv: Optional[Path] = None,
+    table: Optional[Path] = None,
+    size: int = 320,
+    spp: int = 32,
+    title: Optional[str] = None,
+) -> Path:
+    """`specula report`: one self-contained HTML page about a measured BRDF; returns `out`."""
+
 def materials() -> list[str]:
     """Names of the built-in material database (presets first), each a source for load()."""
 
