@@ -11,9 +11,8 @@ use numpy::ndarray::Array3;
 use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
-use specula_accuracy::{Measurement, PlanSettings, ThetaHPlacement};
+use specula_accuracy::{Measurement, PlacementChoice, PlanSettings};
 use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
-use specula_core::sampling::SamplingFunction;
 use specula_core::{HalfDiff, Sample};
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
@@ -198,18 +197,11 @@ pub(crate) fn evaluate<'py>(
         },
         None,
     )?;
-    let placement = match (placement, k) {
-        ("function", Some(k)) => {
-            ThetaHPlacement::Function(SamplingFunction::new(grid.family, k).or_raise()?)
-        }
-        ("function", None) => ThetaHPlacement::FittedFunction(grid.family),
-        ("probe", _) => ThetaHPlacement::Probe,
-        (other, _) => {
-            return Err(invalid(format!(
-                "placement must be 'function' or 'probe', got '{other}'"
-            )))
-        }
-    };
+    let placement = placement
+        .parse::<PlacementChoice>()
+        .or_raise()?
+        .placement(grid.family, k)
+        .or_raise()?;
     let settings = PlanSettings {
         placement,
         grid: grid.spec,
