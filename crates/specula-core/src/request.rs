@@ -1,7 +1,9 @@
 //! What a user asks of a measurement grid and of the probe, as the front ends (the CLI's
 //! options, the Python package's arguments) fill it in, with every range checked in one
 //! place ([`GridRequest::validate`], [`ProbeRequest::validate`]): both front ends refuse
-//! the same values with the same words.
+//! the same values with the same words. The errors name the Python argument
+//! (`theta_h_samples`); the CLI's option parsers check the same ranges while the command line
+//! is read and name the flag (`--theta-h-samples`).
 
 use crate::grid::{GridOverrides, GridSpec, ThetaDSteps};
 use crate::range::{CountRange, RangeError, RealRange};
