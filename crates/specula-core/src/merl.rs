@@ -150,12 +150,17 @@ impl Bin {
     /// to degrees), so that angles of whole degrees such as 15 land in bin 15 and not 14; the
     /// boundary rules are [`Bin::of_degrees`]'s.
     pub fn of(hd: HalfDiff) -> Self {
-        use std::f64::consts::{FRAC_PI_2, PI};
-        Self::of_degrees(
-            hd.theta_h / FRAC_PI_2 * THETA_H_BINS as f64,
-            hd.theta_d / FRAC_PI_2 * THETA_D_BINS as f64,
-            hd.phi_d.rem_euclid(PI) / PI * PHI_D_BINS as f64,
-        )
+        let [theta_h_deg, theta_d_deg, phi_d_deg] = reader_degrees(hd);
+        Self::of_degrees(theta_h_deg, theta_d_deg, phi_d_deg)
+    }
+
+    /// The bin of `hd`'s mirror image across the plane of incidence (phi_d to 180 - phi_d,
+    /// the configuration an isotropic material shares with it), with [`Bin::of`]'s
+    /// arithmetic: a configuration on a bin boundary mirrors onto a boundary (45 deg onto
+    /// 135, which starts bin 135).
+    pub fn of_mirror(hd: HalfDiff) -> Self {
+        let [theta_h_deg, theta_d_deg, phi_d_deg] = reader_degrees(hd);
+        Self::of_degrees(theta_h_deg, theta_d_deg, 180.0 - phi_d_deg)
     }
 
     /// The bin of half-difference angles in degrees, by the rules of MERL's reference reader:
@@ -239,6 +244,18 @@ fn stored_values(value: Option<Rgb>) -> [f64; 3] {
         Some(v) => std::array::from_fn(|c| v[c] / CHANNEL_SCALE[c]),
         None => [NOT_MEASURED; 3],
     }
+}
+
+/// The half-difference angles in degrees as MERL's reference reader computes them from
+/// radians (`angle / (pi/2) * 90`, phi_d folded into `[0, 180]` first): `[theta_h, theta_d,
+/// phi_d]`.
+fn reader_degrees(hd: HalfDiff) -> [f64; 3] {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    [
+        hd.theta_h / FRAC_PI_2 * THETA_H_BINS as f64,
+        hd.theta_d / FRAC_PI_2 * THETA_D_BINS as f64,
+        hd.phi_d.rem_euclid(PI) / PI * PHI_D_BINS as f64,
+    ]
 }
 
 /// Centre of theta_h bin `i` in degrees: `(i + 0.5)^2 / 90`.
@@ -717,6 +734,9 @@ mod tests {
         let through_radians = |d: f64| Bin::of(HalfDiff::from_degrees(1.0, 0.0, d, d));
         assert_eq!(through_radians(15.0), Bin::of_degrees(1.0, 15.0, 15.0));
         assert_eq!(through_radians(39.0), Bin::of_degrees(1.0, 38.5, 38.5));
+        // The mirror of a boundary is a boundary; of a bin's inside, the mirror bin 179 - k.
+        let mirror = |d: f64| Bin::of_mirror(HalfDiff::from_degrees(1.0, 0.0, 40.0, d)).phi_d_i;
+        assert_eq!((mirror(45.0), mirror(45.5), mirror(0.0)), (135, 134, 0));
     }
 
     #[test]

@@ -127,15 +127,9 @@ impl Provenance {
             })
             .collect();
         for s in samples {
-            // The sample's bin as MERL's reader bins it, and that bin's mirror image in phi_d
-            // (isotropy: phi_d and 180 - phi_d agree, so [k, k + 1) mirrors to bin 179 - k).
-            let bin = Bin::of(s.hd);
-            let mirror = Bin {
-                phi_d_i: PHI_D_BINS - 1 - bin.phi_d_i,
-                ..bin
-            };
-            for b in [bin, mirror] {
-                cells[b.index()] = CellOrigin::Measured;
+            // The sample's bin as MERL's reader bins it, and its mirror's (isotropy).
+            for bin in [Bin::of(s.hd), Bin::of_mirror(s.hd)] {
+                cells[bin.index()] = CellOrigin::Measured;
             }
         }
         Self { cells }
@@ -313,7 +307,7 @@ mod tests {
         let bytes = p.to_npy();
         assert_eq!((bytes.len() - CELLS) % 64, 0);
         assert_eq!(Provenance::from_npy(&bytes).unwrap(), p);
-        // The sample (theta_h 1 deg -> bin 9, theta_d 40, phi_d 15) and its mirror bin 164.
+        // The sample (theta_h 1 deg -> bin 9, theta_d 40, phi_d 15) and its mirror 165.
         let at = |k| {
             p.cells[Bin {
                 theta_h_i: 9,
@@ -323,7 +317,7 @@ mod tests {
             .index()]
         };
         assert_eq!(
-            (at(15), at(164), at(16)),
+            (at(15), at(165), at(16)),
             (
                 CellOrigin::Measured,
                 CellOrigin::Measured,
