@@ -9,7 +9,7 @@ use specula_core::atomic_file::write_bytes;
 use specula_core::tabulate::tabulate;
 use specula_core::GridSpec;
 use specula_formats::convert::{convert as convert_file, ConvertOptions, CsvGrid};
-use specula_formats::material_fit::{fit_models, FitModel};
+use specula_formats::material_fit::{fit_models, FitChoice};
 use specula_formats::renderer_export::{gltf_document, mitsuba_scene, pbrt_material};
 use specula_formats::rgl::RglResolution;
 use std::path::{Path, PathBuf};
@@ -95,16 +95,7 @@ pub(crate) fn fit<'py>(
     gltf: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
     check_elevation(max_elevation_deg)?;
-    let models: &[FitModel] = match model {
-        "conductor" => &[FitModel::Conductor],
-        "coat" => &[FitModel::Coat],
-        "both" => &[FitModel::Conductor, FitModel::Coat],
-        other => {
-            return Err(invalid(format!(
-                "model '{other}': expected one of conductor, coat, both"
-            )))
-        }
-    };
+    let models = model.parse::<FitChoice>().or_raise()?.models();
     let brdf = brdf_arg(brdf)?;
     let fits = py
         .detach(|| {

@@ -44,6 +44,11 @@ def test_fit_exports_the_model_it_names(cli, tmp_path):
     assert "exported model: conductor" in out
     assert (tmp_path / "py.toml").read_text() == (tmp_path / "cli.toml").read_text()
     assert got["fits"][0]["material"] == (tmp_path / "py.toml").read_text()
+    words = "model 'gold': expected one of conductor, coat, both"
+    with pytest.raises(specula.SpeculaError, match=words):
+        specula.fit("chrome", model="gold")
+    status, _, stderr = cli("fit", "chrome", "--model", "gold", check=False)
+    assert status == 2 and words in stderr
 
 
 def test_evaluate_through_the_instrument_matches_the_cli(cli):
