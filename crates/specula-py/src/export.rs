@@ -43,15 +43,7 @@ pub(crate) fn convert<'py>(
             .check("phi_h_deg", phi_h_deg)
             .or_raise()?
             .to_radians(),
-        csv_grid: match grid {
-            "merl" => CsvGrid::Merl,
-            "utia" => CsvGrid::Utia,
-            other => {
-                return Err(invalid(format!(
-                    "grid '{other}': expected one of merl, utia"
-                )))
-            }
-        },
+        csv_grid: grid.parse::<CsvGrid>().or_raise()?,
         rgl: RglResolution {
             elevations: rgl_elevations,
             ndf_size: rgl_ndf_size,
