@@ -97,12 +97,14 @@ pub enum SamplingError {
     #[error("a probe needs at least 2 samples, got {0}")]
     ProbeSamples(usize),
     /// A probe angle outside its range.
-    #[error("{what} = {value_deg} deg is outside [0, {max_deg}]")]
+    #[error("{what} = {value_deg} deg is outside [{min_deg}, {max_deg}]")]
     ProbeAngle {
         /// `theta_d`, `phi_d` or `phi_h`.
         what: &'static str,
         /// The angle, degrees.
         value_deg: f64,
+        /// The smallest accepted angle, degrees.
+        min_deg: f64,
         /// The largest accepted angle, degrees.
         max_deg: f64,
     },

@@ -52,15 +52,18 @@ impl Probe {
         if settings.samples < 2 {
             return Err(SamplingError::ProbeSamples(settings.samples));
         }
-        for (what, value, max) in [
-            ("theta_d", settings.theta_d_deg, 90.0),
-            ("phi_d", settings.phi_d_deg, 360.0),
-            ("phi_h", settings.phi_h_deg, 360.0),
+        // phi_h is an azimuth either way round, as the front ends accept it.
+        let azimuth = specula_core::request::AZIMUTH_DEG;
+        for (what, value, min, max) in [
+            ("theta_d", settings.theta_d_deg, 0.0, 90.0),
+            ("phi_d", settings.phi_d_deg, 0.0, 360.0),
+            ("phi_h", settings.phi_h_deg, azimuth.min, azimuth.max),
         ] {
-            if !(0.0..=max).contains(&value) {
+            if !(min..=max).contains(&value) {
                 return Err(SamplingError::ProbeAngle {
                     what,
                     value_deg: value,
+                    min_deg: min,
                     max_deg: max,
                 });
             }

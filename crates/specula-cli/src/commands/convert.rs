@@ -47,8 +47,8 @@ pub(crate) struct Args {
     pub phi_h_deg: f64,
     /// Where to sample a continuous source (RGL file, fit, preset) written as CSV: `merl`,
     /// the 1,458,000 MERL bin centres, or `utia`, the 82,944 UTIA nodes.
-    #[arg(long, value_enum, default_value_t = Grid::Merl)]
-    pub grid: Grid,
+    #[arg(long, default_value_t = CsvGrid::Merl)]
+    pub grid: CsvGrid,
     /// RGL output: incident elevations (slices), evenly spaced in cos(theta_i) from the
     /// normal to 89.9 deg. Each adds ndf-size^2 + 4 sample-size^2 floats to the file. Range: a
     /// whole number from 2 to 90.
@@ -66,19 +66,10 @@ pub(crate) struct Args {
 }
 
 /// Sample placement for continuous sources written as CSV.
-#[derive(Clone, Copy, clap::ValueEnum)]
-pub(crate) enum Grid {
-    Merl,
-    Utia,
-}
-
 pub(crate) fn run(args: Args) -> Result<()> {
     let options = ConvertOptions {
         phi_h_rad: args.phi_h_deg.to_radians(),
-        csv_grid: match args.grid {
-            Grid::Merl => CsvGrid::Merl,
-            Grid::Utia => CsvGrid::Utia,
-        },
+        csv_grid: args.grid,
         rgl: RglResolution {
             elevations: args.rgl_elevations,
             ndf_size: args.rgl_ndf_size,
