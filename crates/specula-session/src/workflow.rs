@@ -101,10 +101,12 @@ enum Reached {
 }
 
 impl Reached {
+    /// Reaches the device; a remote device's waits end early once `stop` is raised.
     fn reach(
         source: Source,
         device: &Device,
         settings: &MeasureSettings,
+        stop: &Arc<AtomicBool>,
     ) -> Result<Self, WorkflowError> {
         Ok(match source {
             Source::Simulated { truth, speedup } => Reached::Simulated { truth, speedup },
@@ -120,13 +122,12 @@ impl Reached {
                     ranges: ReplyRanges::for_device(device),
                     ..client
                 };
-                let remote =
-                    RemoteInstrument::connect(endpoint.clone(), client).map_err(|cause| {
-                        WorkflowError::Unreachable {
-                            endpoint: endpoint.clone(),
-                            cause,
-                        }
-                    })?;
+                let mut remote =
+                    RemoteInstrument::new(endpoint.clone(), client).with_stop(stop.clone());
+                remote.info().map_err(|cause| WorkflowError::Unreachable {
+                    endpoint: endpoint.clone(),
+                    cause,
+                })?;
                 Reached::Remote {
                     remote: Box::new(remote),
                     calibration,
@@ -413,7 +414,7 @@ pub fn measure(
         Source::Remote { .. } => None,
     };
     let hashes = input_hashes(&source, device);
-    let reached = Reached::reach(source, device, settings)?;
+    let reached = Reached::reach(source, device, settings, &stop)?;
     let mut journal = Journal::open(session)?;
     if truth.is_some() {
         journal.set_durability(Durability::Crash)?;

@@ -11,6 +11,10 @@
 //! decision. A reply outside the protocol's ranges ([`super::validate`]) counts as a failure
 //! too: it is asked again, and if the device keeps answering so the call fails as a device
 //! fault (camera fault for a capture, motor fault for a move) naming the field.
+//!
+//! With a stop flag ([`RemoteInstrument::with_stop`]) every wait (for a reply, between tries)
+//! looks at the flag every [`STOP_POLL`]: once it is raised the call fails at once, as
+//! disconnected "stopped by the user", and the link is not reopened.
 
 use super::link::{Endpoint, Link, LinkError};
 use super::message::{
@@ -18,10 +22,12 @@ use super::message::{
     PROTOCOL_VERSION,
 };
 use super::validate::{ReplyProblem, ReplyRanges};
+use crate::pace::STOP_POLL;
 use serde::de::DeserializeOwned;
 use serde_json::{json, Value};
 use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
 use specula_acquisition::kinematics::AxisPositions;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -82,6 +88,8 @@ enum AttemptError {
     /// The server refused us (token, protocol version) or does not understand us: another
     /// try would fail the same way.
     Refused(String),
+    /// The stop flag was raised while waiting.
+    Stopped,
 }
 
 /// A device reached through the driver protocol.
@@ -93,6 +101,7 @@ pub struct RemoteInstrument {
     clock_s: Option<f64>,
     notes: LinkNotes,
     server: Option<String>,
+    stop: Option<Arc<AtomicBool>>,
 }
 
 impl RemoteInstrument {
@@ -106,7 +115,39 @@ impl RemoteInstrument {
             clock_s: None,
             notes: LinkNotes::default(),
             server: None,
+            stop: None,
         }
+    }
+
+    /// Cuts every wait short once `stop` is raised (see the module documentation).
+    pub fn with_stop(mut self, stop: Arc<AtomicBool>) -> Self {
+        self.stop = Some(stop);
+        self
+    }
+
+    /// Whether the stop flag is raised.
+    fn stopped(&self) -> bool {
+        self.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst))
+    }
+
+    /// Sleeps `pause`, in slices of [`STOP_POLL`]; false when the stop flag cut it short.
+    fn pause(&self, pause: Duration) -> bool {
+        let end = Instant::now() + pause;
+        loop {
+            if self.stopped() {
+                return false;
+            }
+            let left = end.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return true;
+            }
+            std::thread::sleep(left.min(STOP_POLL));
+        }
+    }
+
+    /// The error of a call the stop flag ended.
+    fn stopped_error(&self, method: &str) -> InstrumentError {
+        InstrumentError::Disconnected(format!("{}: {method}: stopped by the user", self.endpoint))
     }
 
     /// Opens the link now and checks the server (protocol version, token).
@@ -169,12 +210,18 @@ impl RemoteInstrument {
                             self.link = None;
                             let pause = self.settings.backoff(failures);
                             self.note("retry", format!("{message}; asking again"));
-                            std::thread::sleep(pause);
+                            if !self.pause(pause) {
+                                return Err(self.stopped_error(method));
+                            }
                             continue;
                         }
                     }
                 }
                 Err(AttemptError::Device(error)) => return Err(error),
+                Err(AttemptError::Stopped) => {
+                    self.link = None;
+                    return Err(self.stopped_error(method));
+                }
                 Err(AttemptError::Refused(why)) => {
                     self.link = None;
                     return Err(InstrumentError::Disconnected(format!(
@@ -206,12 +253,17 @@ impl RemoteInstrument {
                     pause.as_secs_f64()
                 ),
             );
-            std::thread::sleep(pause);
+            if !self.pause(pause) {
+                return Err(self.stopped_error(method));
+            }
         }
     }
 
     /// One try: open the link if needed, send, wait for the reply with our id.
     fn attempt(&mut self, method: &str, params: &Value) -> Result<Value, AttemptError> {
+        if self.stopped() {
+            return Err(AttemptError::Stopped);
+        }
         if self.link.is_none() {
             self.open()?;
         }
@@ -294,8 +346,10 @@ impl RemoteInstrument {
         Ok(())
     }
 
-    /// Sends a request and waits for its reply, skipping stale replies to earlier requests.
+    /// Sends a request and waits for its reply, skipping stale replies to earlier requests;
+    /// the wait looks at the stop flag every [`STOP_POLL`].
     fn exchange(&mut self, request: &Request) -> Result<Reply, AttemptError> {
+        let stop = self.stop.clone();
         let link = self.link.as_mut().expect("the link is open");
         let line = serde_json::to_string(request).expect("requests serialise");
         let transport = |timeout: bool, why: String| AttemptError::Transport { timeout, why };
@@ -306,7 +360,21 @@ impl RemoteInstrument {
         let deadline = Instant::now() + self.settings.reply_timeout;
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
-            let line = link.receive(left).map_err(|e| match e {
+            let slice = if stop.is_some() {
+                left.min(STOP_POLL)
+            } else {
+                left
+            };
+            let line = match link.receive(slice) {
+                Err(LinkError::Timeout) if slice < left => {
+                    if stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)) {
+                        return Err(AttemptError::Stopped);
+                    }
+                    continue;
+                }
+                received => received,
+            };
+            let line = line.map_err(|e| match e {
                 LinkError::Timeout => transport(
                     true,
                     format!(
