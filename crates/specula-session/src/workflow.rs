@@ -27,8 +27,8 @@ pub use crate::journal::{
     ChecksRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder, PlanRecord,
 };
 use crate::journal::{
-    DeviceRecord, Durability, Journal, JournalError, PlannedRow, SampleRecord, SourceRecord, Stage,
-    VersionRecord, EVENT_COMPLETE,
+    DeviceRecord, Durability, Journal, JournalError, NewestVersionRecord, PlannedRow, SampleRecord,
+    SourceRecord, Stage, VersionRecord, EVENT_COMPLETE,
 };
 
 /// The probe's stage name in the journal.
@@ -416,6 +416,7 @@ pub fn measure(
     let hashes = input_hashes(&source, device);
     let reached = Reached::reach(source, device, settings, &stop)?;
     let mut journal = Journal::open(session)?;
+    check_version(&journal)?;
     if truth.is_some() {
         journal.set_durability(Durability::Crash)?;
     }
@@ -614,8 +615,55 @@ fn start_session(
     if stored_device.0 != device.to_toml_string() {
         return Err(WorkflowError::DeviceModel { session });
     }
-    journal.record_or_insert(|| VersionRecord(env!("CARGO_PKG_VERSION").to_string()))?;
+    journal.record_or_insert(|| VersionRecord(THIS_VERSION.to_string()))?;
     Ok(())
+}
+
+/// This build's version.
+const THIS_VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// Refuses a session written by a newer specula (same schema, but an older build may measure
+/// or reconstruct it differently); a session from an older one is resumed, and this build
+/// recorded as its newest writer (with an event saying so).
+fn check_version(journal: &Journal) -> Result<(), WorkflowError> {
+    let newest = match journal.record::<NewestVersionRecord>()? {
+        Some(NewestVersionRecord(v)) => Some(v),
+        None => journal.record::<VersionRecord>()?.map(|VersionRecord(v)| v),
+    };
+    match newest.as_deref() {
+        Some(v) if v == THIS_VERSION => return Ok(()),
+        Some(v) if !is_older_version(v, THIS_VERSION) => {
+            return Err(WorkflowError::NewerVersion {
+                session: journal.path().display().to_string(),
+                journal: v.to_string(),
+                this: THIS_VERSION.to_string(),
+            })
+        }
+        Some(v) => journal.log_event(
+            "version",
+            &format!("resumed by specula {THIS_VERSION}; last written by specula {v}"),
+        )?,
+        None => {}
+    }
+    journal.put_record(&NewestVersionRecord(THIS_VERSION.to_string()))?;
+    Ok(())
+}
+
+/// Whether version `a` comes before `b` (dotted numbers, compared number by number; a
+/// pre-release or build suffix after `-` or `+` is ignored). A version that does not read
+/// as dotted numbers is not older.
+fn is_older_version(a: &str, b: &str) -> bool {
+    let numbers = |v: &str| -> Option<Vec<u64>> {
+        v.split(['-', '+'])
+            .next()?
+            .split('.')
+            .map(|n| n.parse().ok())
+            .collect()
+    };
+    match (numbers(a), numbers(b)) {
+        (Some(a), Some(b)) => a < b,
+        _ => false,
+    }
 }
 
 /// The settings that differ, as `name: stored vs asked`.
