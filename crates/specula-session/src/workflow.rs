@@ -579,11 +579,13 @@ pub fn measure(
 /// yet or holds no settings. A front end resumes on it unless told another grid (which
 /// [`measure`] then refuses as a change of settings): a journal written before the graded
 /// theta_d and the half turn of phi_d continues on the paper's grid it started with, not on
-/// today's default.
+/// today's default. A session another process is writing is refused
+/// ([`Journal::refuse_in_use`]).
 pub fn session_grid(session: &Path) -> Result<Option<GridSpec>, WorkflowError> {
     if !session.exists() {
         return Ok(None);
     }
+    Journal::refuse_in_use(session)?;
     let journal = Journal::open_read_only(session)?;
     Ok(journal.record::<MeasureSettings>()?.map(|s| s.grid))
 }

@@ -48,8 +48,9 @@ use std::time::{SystemTime, UNIX_EPOCH};
 mod records;
 
 pub use records::{
-    ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder,
-    NewestVersionRecord, PlanRecord, Record, SessionRecord, SourceRecord, Stage, VersionRecord,
+    ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice, MeasureSettings,
+    NewestVersionRecord, PlanOrder, PlanRecord, Record, SessionRecord, SourceRecord, Stage,
+    VersionRecord,
 };
 
 /// The version of the tables below; a journal of another version is refused.
@@ -528,6 +529,14 @@ impl Journal {
                 Ok(journal)
             }
         }
+    }
+
+    /// Refuses a journal file another process is writing, under any name (a hard link
+    /// included; its writer's newest samples may be in a `-wal` file named after the other
+    /// name, out of this name's sight). Call it before reading a session to resume it.
+    pub fn refuse_in_use(path: &Path) -> Result<(), JournalError> {
+        check::refuse_directory(path)?;
+        lock_identity(path).map(drop)
     }
 
     pub(crate) fn path(&self) -> &Path {
