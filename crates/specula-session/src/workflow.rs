@@ -1221,6 +1221,20 @@ mod tests {
     }
 
     #[test]
+    fn versions_compare_number_by_number() {
+        assert!(is_older_version("0.1.0", "0.2.0"));
+        assert!(is_older_version("0.9.9", "0.10.0"));
+        assert!(is_older_version("1.2", "1.2.1"));
+        assert!(!is_older_version("0.2.0", "0.1.0"));
+        assert!(!is_older_version("0.1.0", "0.1.0"));
+        assert!(!is_older_version("0.1.0-rc1+x", "0.1.0"));
+        assert!(
+            !is_older_version("garbage", "0.1.0"),
+            "unreadable: not older"
+        );
+    }
+
+    #[test]
     fn settings_differences_name_the_field() {
         let a = MeasureSettings::default();
         let b = MeasureSettings {

@@ -267,6 +267,41 @@ mod tests {
         }
     }
 
+    /// The processes whose command line contains `marker`.
+    #[cfg(target_os = "linux")]
+    fn processes_with(marker: &str) -> Vec<String> {
+        std::fs::read_dir("/proc")
+            .unwrap()
+            .filter_map(|e| {
+                let cmdline = std::fs::read(e.ok()?.path().join("cmdline")).ok()?;
+                let cmdline = String::from_utf8_lossy(&cmdline).replace('\0', " ");
+                cmdline.contains(marker).then_some(cmdline)
+            })
+            .collect()
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_dropped_exec_link_leaves_no_process_of_its_adapter() {
+        // Sleeps with a unique duration: in the background, and in a new session (setsid),
+        // out of the adapter's process group.
+        let marker = format!("900.{}07", std::process::id());
+        let command =
+            format!("setsid sh -c 'sleep {marker}' & (sleep {marker} &) ; exec sleep {marker}");
+        let link = Link::open(&Endpoint::Exec(command), Duration::from_secs(1)).unwrap();
+        let started = std::time::Instant::now();
+        while processes_with(&marker).len() < 4 && started.elapsed() < Duration::from_secs(10) {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert!(
+            processes_with(&marker).len() >= 4,
+            "{:?}",
+            processes_with(&marker)
+        );
+        drop(link);
+        assert_eq!(processes_with(&marker), Vec::<String>::new());
+    }
+
     #[test]
     fn exec_link_exchanges_lines_and_times_out() {
         // `cat` echoes every line back.
