@@ -101,14 +101,15 @@ unsafe fn guard(lifeline: RawFd, adapter: libc::pid_t) -> ! {
 
 /// Closes every descriptor from `first` up.
 unsafe fn close_all_from(first: RawFd) {
-    let first = first as libc::c_uint;
-    if libc::close_range(first, libc::c_uint::MAX, 0) == 0 {
+    #[cfg(target_env = "gnu")]
+    if libc::close_range(first as libc::c_uint, libc::c_uint::MAX, 0) == 0 {
         return;
     }
-    // Kernels before 5.9: one by one, up to the descriptor limit.
-    let limit = libc::sysconf(libc::_SC_OPEN_MAX).clamp(0, 1 << 20) as libc::c_uint;
+    // Without close_range (another C library, a kernel before 5.9): one by one, up to the
+    // descriptor limit.
+    let limit = libc::sysconf(libc::_SC_OPEN_MAX).clamp(0, 1 << 20) as RawFd;
     for fd in first..limit {
-        libc::close(fd as RawFd);
+        libc::close(fd);
     }
 }
 
