@@ -112,6 +112,12 @@ echo "empty token: exit $rc: $(cat "$work/t.err")"
 [ "$rc" -eq 1 ] || fail "an empty token was accepted"
 
 ms_since() { echo $(( ($(date +%s%N) - $1) / 1000000 )); }
+# Waits for background job $1 at most $2 s (then kills it); its exit code.
+wait_bounded() {
+    for _ in $(seq $(($2 * 10))); do kill -0 "$1" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL "$1" 2>/dev/null
+    wait "$1" 2>/dev/null
+}
 # Processes whose command line holds the marker $1 (grep's own holds it with an escaped dot).
 marked() { grep -ls -- "${1//./\\.}" /proc/[0-9]*/cmdline 2>/dev/null | wc -l; }
 
@@ -130,7 +136,7 @@ for how in KILL INT2 TERM; do
         INT2) kill -INT "$pid"; sleep 0.05; kill -INT "$pid" 2>/dev/null ;;
         TERM) kill -TERM "$pid" ;;
     esac
-    wait "$pid" 2>/dev/null
+    wait_bounded "$pid" 10
     ended=$(ms_since "$start")
     for _ in $(seq 50); do [ "$(marked "$marker")" -eq 0 ] && break; sleep 0.1; done
     left=$(marked "$marker")
@@ -147,7 +153,7 @@ pid=$!
 sleep 3
 start=$(date +%s%N)
 kill -INT "$pid"
-wait "$pid"; rc=$?
+wait_bounded "$pid" 10; rc=$?
 ms=$(ms_since "$start")
 echo "one SIGINT while the device hangs (60 s reply timeout): exit $rc after $ms ms: $(tail -1 "$work/hang2.err")"
 [ "$rc" -eq 130 ] && [ "$ms" -lt 5000 ] || fail "a stop waited for the hanging device"
