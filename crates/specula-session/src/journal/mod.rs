@@ -1297,6 +1297,30 @@ mod tests {
         assert!(err.contains("3 samples stored, 2 asked for"), "{err}");
     }
 
+    #[cfg(unix)]
+    #[test]
+    fn a_hard_link_to_an_open_journal_is_refused_before_sqlite_opens_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("x.sqlite");
+        let writer = Journal::open(&path).unwrap();
+        let link = dir.path().join("h.sqlite");
+        std::fs::hard_link(&path, &link).unwrap();
+        let err = Journal::open(&link).err().expect("a second writer refused");
+        assert!(matches!(err, JournalError::InUse { .. }), "{err}");
+        assert!(err.to_string().contains("h.sqlite"), "{err}");
+        assert!(Journal::refuse_in_use(&link).is_err());
+        assert!(
+            !dir.path().join("h.sqlite-wal").exists(),
+            "no -wal beside the link"
+        );
+        drop(writer);
+        assert!(Journal::open(&link).is_ok(), "free once the first closes");
+        let err = Journal::open(dir.path())
+            .err()
+            .expect("a directory refused");
+        assert!(matches!(err, JournalError::Directory { .. }), "{err}");
+    }
+
     #[test]
     fn meta_is_json_and_first_value_wins() {
         let dir = tempfile::tempdir().unwrap();
