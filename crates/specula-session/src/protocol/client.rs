@@ -28,6 +28,7 @@ use serde_json::{json, Value};
 use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
 use specula_acquisition::kinematics::AxisPositions;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::RecvTimeoutError;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -298,13 +299,7 @@ impl RemoteInstrument {
 
     /// Opens a link and says hello.
     fn open(&mut self) -> Result<(), AttemptError> {
-        let link = Link::open(&self.endpoint, self.settings.connect_timeout).map_err(|e| {
-            AttemptError::Transport {
-                timeout: false,
-                why: format!("cannot connect: {e}"),
-            }
-        })?;
-        self.link = Some(link);
+        self.link = Some(self.connect_link()?);
         let params = HelloParams {
             protocol: PROTOCOL_VERSION,
             token: self.settings.token.clone(),
@@ -344,6 +339,36 @@ impl RemoteInstrument {
         }
         self.server = Some(hello.server);
         Ok(())
+    }
+
+    /// Opens a link to the endpoint. With a stop flag the connection is made in a thread of
+    /// its own while this one looks at the flag every [`STOP_POLL`] (a TCP connection may
+    /// take [`ClientSettings::connect_timeout`]); a connection abandoned on a stop is closed
+    /// by that thread once it is made.
+    fn connect_link(&self) -> Result<Link, AttemptError> {
+        let cannot = |e: std::io::Error| AttemptError::Transport {
+            timeout: false,
+            why: format!("cannot connect: {e}"),
+        };
+        let timeout = self.settings.connect_timeout;
+        let Some(stop) = self.stop.clone() else {
+            return Link::open(&self.endpoint, timeout).map_err(cannot);
+        };
+        let endpoint = self.endpoint.clone();
+        let (sender, receiver) = std::sync::mpsc::channel();
+        std::thread::spawn(move || sender.send(Link::open(&endpoint, timeout)));
+        loop {
+            match receiver.recv_timeout(STOP_POLL) {
+                Ok(opened) => return opened.map_err(cannot),
+                Err(RecvTimeoutError::Timeout) if stop.load(Ordering::SeqCst) => {
+                    return Err(AttemptError::Stopped)
+                }
+                Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(cannot(std::io::Error::other("the connecting thread ended")))
+                }
+            }
+        }
     }
 
     /// Sends a request and waits for its reply, skipping stale replies to earlier requests;
@@ -543,6 +568,60 @@ mod tests {
         server.join().unwrap();
         assert!(err.contains("home: unknown_method: scripted"), "{err}");
         assert!(client.notes().lock().unwrap().is_empty(), "no retry");
+    }
+
+    /// A client of `address` with a minute's timeouts and a stop flag raised after 200 ms;
+    /// `home`'s error and how long it took.
+    fn stopped_home(address: String) -> (InstrumentError, Duration, usize) {
+        let settings = ClientSettings {
+            reply_timeout: Duration::from_secs(60),
+            connect_timeout: Duration::from_secs(60),
+            ..ClientSettings::default()
+        };
+        let stop = Arc::new(AtomicBool::new(false));
+        let raise = stop.clone();
+        std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(200));
+            raise.store(true, Ordering::SeqCst);
+        });
+        let mut client = RemoteInstrument::new(Endpoint::Tcp(address), settings).with_stop(stop);
+        let started = Instant::now();
+        let err = client.home().unwrap_err();
+        let notes = client.notes().lock().unwrap().len();
+        (err, started.elapsed(), notes)
+    }
+
+    #[test]
+    fn a_stop_ends_the_wait_for_a_reply_at_once_without_a_retry() {
+        // Accepts and never answers.
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let address = listener.local_addr().unwrap().to_string();
+        let _held = std::thread::spawn(move || listener.accept());
+        let (err, took, notes) = stopped_home(address);
+        assert!(took < Duration::from_secs(2), "{took:?}");
+        assert!(err.to_string().contains("stopped by the user"), "{err}");
+        assert_eq!(notes, 0, "no retry after a stop");
+    }
+
+    #[test]
+    fn a_stop_ends_the_wait_for_a_connection_at_once() {
+        // A listener whose accept queue is full: a further connection waits for its timeout.
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let address = listener.local_addr().unwrap();
+        let mut queued = Vec::new();
+        let full = (0..1024).any(|_| {
+            match std::net::TcpStream::connect_timeout(&address, Duration::from_millis(200)) {
+                Ok(stream) => {
+                    queued.push(stream);
+                    false
+                }
+                Err(_) => true,
+            }
+        });
+        assert!(full, "the accept queue never filled");
+        let (err, took, _) = stopped_home(address.to_string());
+        assert!(took < Duration::from_secs(2), "{took:?}");
+        assert!(err.to_string().contains("stopped by the user"), "{err}");
     }
 
     #[test]
