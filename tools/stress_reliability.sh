@@ -136,7 +136,7 @@ for how in KILL INT2 TERM; do
         INT2) kill -INT "$pid"; sleep 0.05; kill -INT "$pid" 2>/dev/null ;;
         TERM) kill -TERM "$pid" ;;
     esac
-    wait_bounded "$pid" 10
+    wait_bounded "$pid" 10 2>/dev/null
     ended=$(ms_since "$start")
     for _ in $(seq 50); do [ "$(marked "$marker")" -eq 0 ] && break; sleep 0.1; done
     left=$(marked "$marker")
@@ -153,12 +153,13 @@ pid=$!
 sleep 3
 start=$(date +%s%N)
 kill -INT "$pid"
-wait_bounded "$pid" 10; rc=$?
+wait_bounded "$pid" 10 2>/dev/null; rc=$?
 ms=$(ms_since "$start")
 echo "one SIGINT while the device hangs (60 s reply timeout): exit $rc after $ms ms: $(tail -1 "$work/hang2.err")"
 [ "$rc" -eq 130 ] && [ "$ms" -lt 5000 ] || fail "a stop waited for the hanging device"
 
 # (8) hostile connections before authentication.
+: >"$work/serve2.log"
 "$SPECULA" device serve --truth silver-925 --listen 127.0.0.1:0 2>"$work/serve2.log" &
 server=$!
 for _ in $(seq 50); do grep -q "127.0.0.1:" "$work/serve2.log" && break; sleep 0.1; done
