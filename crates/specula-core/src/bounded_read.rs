@@ -85,8 +85,9 @@ impl From<LimitError> for std::io::Error {
 }
 
 /// A reader of text that fails (with a [`LimitError`]) at the first line longer than its
-/// limit and once more than its total has been read. Lines end at `\n`; a `\r` before it
-/// counts towards the line.
+/// limit and once more than its total has been read, and keeps failing with the same error
+/// (a parser that passes over one failed read, as `csv` does with a header, meets it at the
+/// next). Lines end at `\n`; a `\r` before it counts towards the line.
 #[derive(Debug)]
 pub struct BoundedText<R> {
     inner: R,
@@ -97,6 +98,8 @@ pub struct BoundedText<R> {
     newlines: u64,
     /// Bytes of the current line read so far.
     line_bytes: usize,
+    /// The limit met, once one is.
+    failed: Option<LimitError>,
 }
 
 impl<R: Read> BoundedText<R> {
@@ -108,6 +111,7 @@ impl<R: Read> BoundedText<R> {
             total_bytes: 0,
             newlines: 0,
             line_bytes: 0,
+            failed: None,
         }
     }
 
@@ -138,8 +142,14 @@ impl<R: Read> BoundedText<R> {
 
 impl<R: Read> Read for BoundedText<R> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if let Some(limit) = &self.failed {
+            return Err(limit.clone().into());
+        }
         let n = self.inner.read(buf)?;
-        self.check(&buf[..n])?;
+        if let Err(limit) = self.check(&buf[..n]) {
+            self.failed = Some(limit.clone());
+            return Err(limit.into());
+        }
         Ok(n)
     }
 }
