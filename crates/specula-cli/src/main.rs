@@ -54,6 +54,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    specula_core::atomic_file::refuse_oversized_writes();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(args) => commands::demo::run(args),
