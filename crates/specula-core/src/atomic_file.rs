@@ -157,11 +157,21 @@ mod tests {
     #[test]
     fn an_output_path_is_checked_before_work_starts() {
         let dir = tempfile::tempdir().unwrap();
-        assert_eq!(check_writable(dir.path()).unwrap_err(), "is a directory, not a file");
+        assert_eq!(
+            check_writable(dir.path()).unwrap_err(),
+            "is a directory, not a file"
+        );
         let err = check_writable(&dir.path().join("none").join("t.binary")).unwrap_err();
-        assert!(err.starts_with("its folder") && err.ends_with("does not exist"), "{err}");
+        assert!(
+            err.starts_with("its folder") && err.ends_with("does not exist"),
+            "{err}"
+        );
         check_writable(&dir.path().join("t.binary")).unwrap();
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing left");
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            0,
+            "nothing left"
+        );
     }
 
     #[test]

@@ -15,20 +15,21 @@ pub const MAX_TOML_BYTES: u64 = 1 << 20;
 /// holds more than `max_bytes`.
 pub fn read_bounded(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
     let file = std::fs::File::open(path)?;
-    let too_big = |size: &str| {
+    let too_big = |holds: String| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,
-            format!("the file holds {size} bytes, more than the {max_bytes} this reader accepts"),
+            format!("the file holds {holds}, more than the {max_bytes} bytes this reader accepts"),
         )
     };
     let size = file.metadata()?.len();
     if size > max_bytes {
-        return Err(too_big(&size.to_string()));
+        return Err(too_big(format!("{size} bytes")));
     }
     let mut bytes = Vec::with_capacity(size as usize);
     file.take(max_bytes + 1).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > max_bytes {
-        return Err(too_big("at least one more"));
+        // A device file or a growing one: its size was not what it claimed.
+        return Err(too_big("more bytes than its size says".to_string()));
     }
     Ok(bytes)
 }
@@ -219,7 +220,9 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            err.contains("more than the 16 this reader accepts"),
+            err.contains(
+                "more bytes than its size says, more than the 16 bytes this reader accepts"
+            ),
             "{err}"
         );
     }
