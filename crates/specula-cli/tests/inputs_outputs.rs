@@ -172,6 +172,11 @@ fn output_paths_are_checked_before_work_and_never_left_half_written() {
         2,
         &["--out", "does not exist"],
     );
+    expect_error(
+        &["convert", "silver-925", folder],
+        2,
+        &["is a directory, not a file"],
+    );
     assert!(start.elapsed() < Duration::from_secs(10), "before any work");
     // A file-size limit of 1 MB: a one-line error, and no temporary left behind.
     let out = dir.path().join("big.binary");
