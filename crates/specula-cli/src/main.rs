@@ -77,6 +77,7 @@ fn parse(argv: impl IntoIterator<Item = std::ffi::OsString>) -> Result<Cli, clap
 }
 
 fn main() -> ExitCode {
+    specula_core::atomic_file::refuse_oversized_writes();
     let cli = parse(std::env::args_os()).unwrap_or_else(|err| err.exit());
     let result = match cli.command {
         Command::Demo(args) => commands::demo::run(args),

@@ -37,6 +37,7 @@ pub(crate) struct Args {
     /// The BRDF to convert: a .binary, .bin, .bsdf or .csv file, a preset or a model:name fit.
     pub input: String,
     /// The file to write; .binary (MERL), .bin (UTIA), .bsdf (RGL) or .csv (samples).
+    #[arg(value_parser = crate::output::OUTPUT_FILE)]
     pub output: PathBuf,
     /// Azimuth of the half vector (degrees) at which MERL cells and MERL-grid samples are
     /// taken. Range: degrees from -360 to 360.

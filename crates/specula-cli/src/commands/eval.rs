@@ -28,8 +28,7 @@ pub(crate) struct Args {
 pub(crate) fn run(args: Args) -> Result<()> {
     let brdf = specula_formats::load_brdf(&args.brdf)?;
     let pairs = read_direction_pairs(&args.dirs)?;
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
+    let mut out = std::io::BufWriter::new(crate::output::Stdout);
     writeln!(out, "r,g,b")?;
     for pair in pairs {
         let (wi, wo) = pair.directions();

@@ -94,7 +94,7 @@ pub(crate) struct Args {
     pub through_instrument: bool,
     /// Also write the simulated samples (CSV, the input of `specula reconstruct`); one
     /// --truth only.
-    #[arg(long, conflicts_with_all = ["builtin", "merl_fits"])]
+    #[arg(long, conflicts_with_all = ["builtin", "merl_fits"], value_parser = crate::output::OUTPUT_FILE)]
     pub samples_out: Option<PathBuf>,
 }
 

@@ -129,7 +129,7 @@ pub(crate) struct Args {
     #[arg(long, value_parser = range::SPEEDUP)]
     pub speedup: Option<f64>,
     /// The MERL .binary to write.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
 }
 

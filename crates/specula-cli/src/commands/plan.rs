@@ -56,7 +56,7 @@ pub(crate) struct Args {
     #[arg(long, default_value_t = PlanOrder::Optimized)]
     pub order: PlanOrder,
     /// Where to write the plan (CSV).
-    #[arg(long, required_unless_present = "print_device")]
+    #[arg(long, required_unless_present = "print_device", value_parser = crate::output::OUTPUT_FILE)]
     pub out: Option<PathBuf>,
     /// Print the device description (the default, or --device) as TOML and exit.
     #[arg(long)]

@@ -37,7 +37,7 @@ pub(crate) struct Args {
     #[arg(required = true)]
     pub brdfs: Vec<String>,
     /// The picture to write: .png (tone-mapped) or .exr (linear radiance).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
     /// The object: sphere or speedshape.
     #[arg(long, default_value = "sphere")]
