@@ -267,6 +267,38 @@ impl Appearance {
     }
 }
 
+/// The names of the differences to a reference, in column order: `gloss_20`, `gloss_60`,
+/// `gloss_85`, `haze`, `doi`, `haze_20`, `flop_index` (material minus reference), then
+/// `de00_15` ... `de00_110` (CIEDE2000 per aspecular angle). The CSV's difference columns
+/// and a tolerance file's keys ([`crate::tolerance`]) are these names.
+pub fn difference_names() -> Vec<String> {
+    let mut names: Vec<String> = DIFFERENCE_FIGURES.map(String::from).to_vec();
+    names.extend(ASPECULAR_DEG.iter().map(|gamma| format!("de00_{gamma}")));
+    names
+}
+
+/// The figures whose differences are plain subtractions, in column order.
+const DIFFERENCE_FIGURES: [&str; 7] = [
+    "gloss_20",
+    "gloss_60",
+    "gloss_85",
+    "haze",
+    "doi",
+    "haze_20",
+    "flop_index",
+];
+
+impl Differences {
+    /// The differences in [`difference_names`] order (`None` where unknown).
+    pub fn values(&self) -> Vec<Option<f64>> {
+        let mut values: Vec<Option<f64>> = self.gloss.map(Some).to_vec();
+        values.extend([self.haze, self.doi, self.haze_20].map(Some));
+        values.push(self.flop_index);
+        values.extend(self.delta_e00.iter().copied());
+        values
+    }
+}
+
 /// The CSV header: `source,gloss_20,gloss_60,gloss_85,haze,doi`, then `haze_20`, the
 /// CIELAB columns per aspecular angle (`L_15,a_15,b_15,...`), `flop_index`, and with a
 /// reference the differences (`d_gloss_20,...,d_flop_index`, `de00_15,...`).
@@ -283,20 +315,13 @@ pub fn csv_header(with_reference: bool) -> Vec<String> {
     }
     header.push("flop_index".into());
     if with_reference {
-        for name in [
-            "gloss_20",
-            "gloss_60",
-            "gloss_85",
-            "haze",
-            "doi",
-            "haze_20",
-            "flop_index",
-        ] {
-            header.push(format!("d_{name}"));
-        }
-        for gamma in ASPECULAR_DEG {
-            header.push(format!("de00_{gamma}"));
-        }
+        header.extend(difference_names().into_iter().map(|name| {
+            if DIFFERENCE_FIGURES.contains(&name.as_str()) {
+                format!("d_{name}")
+            } else {
+                name
+            }
+        }));
     }
     header
 }
@@ -316,10 +341,7 @@ pub fn column_values(figures: &Appearance, differences: Option<&Differences>) ->
     }
     values.push(figures.flop_index);
     if let Some(d) = differences {
-        values.extend(d.gloss.map(Some));
-        values.extend([d.haze, d.doi, d.haze_20].map(Some));
-        values.push(d.flop_index);
-        values.extend(d.delta_e00.iter().copied());
+        values.extend(d.values());
     }
     values
 }

@@ -96,6 +96,8 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
         &html,
         &[
             "Session report: silver-925".into(),
+            // The date is the session's start.
+            "<th>date</th><td>".into(),
             "<th>measured</th><td>simulated: silver-925</td>".into(),
             format!(
                 "k-hat</th><td>{:.3} (exponential sampling function, fit error {:.3e} 1/sr; fitted to a probe of {probe_done} samples, places 8 samples along theta_h)",
@@ -110,7 +112,7 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
                 "MERL cells holding a value</th><td>{} of 1458000",
                 measured.measured_count()
             ),
-            "Against <b>silver-925 (the truth the session simulated)</b>".into(),
+            "Against <b>silver-925 (truth)</b>".into(),
             // The reconstruction equals the table `measure` wrote.
             error_row(&measured),
             "Render, sphere".into(),
@@ -143,7 +145,7 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
         &html,
         &[
             format!("<th>table</th><td>{table_arg} (--table)</td>"),
-            "Against <b>chrome</b>".into(),
+            "Against <b>chrome (truth)</b>".into(),
             "cells measured directly</th><td>".into(),
         ],
     );
