@@ -21,6 +21,8 @@ use specula_report::appearance::extrapolated_cells;
 ///   haze_20                        haze at 20 deg, ASTM E430 method B / ISO 13803: receptors
 ///                                  at 18.1 and 21.9 deg, relative to the gloss standard x 100.
 ///
+///   haze_d4039                     ASTM D4039 haze index G60 - G20 (high-gloss nonmetals).
+///
 ///   L_g, a_g, b_g                  CIELAB under D65 at the aspecular angles g = 15, 25, 45, 75,
 ///                                  110 deg, illumination at 45 deg (ASTM E2194, DIN 6175-2).
 ///
