@@ -231,3 +231,36 @@ fn files_that_are_not_journals_get_one_line_errors() {
     );
     assert!(!out.exists());
 }
+
+/// The figures' warnings (here: flux from cells the small plan's reconstruction
+/// extrapolated) come back with the page, for whoever prints the figures elsewhere (`specula
+/// demo` prints them under its figure lines), and are the warnings the page shows.
+#[test]
+fn the_figures_warnings_come_with_the_page_that_shows_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (session, table) = measure_small(dir.path(), None);
+    let pictures = dir.path().join("pictures");
+    std::fs::create_dir(&pictures).unwrap();
+    let options = specula_report::ReportOptions {
+        truth: Some("silver-925".into()),
+        table: Some(table),
+        size_px: SIZE_PX,
+        spp: 1,
+        ..specula_report::ReportOptions::new(&session)
+    };
+    let (page, files) =
+        specula_report::write_session_pictures(&options, &pictures, &specula_report::NoProgress)
+            .unwrap();
+    let html = std::fs::read_to_string(files.last().unwrap()).unwrap();
+    assert!(
+        page.warnings
+            .iter()
+            .any(|w| w.contains("extrapolated cells")),
+        "{:?}",
+        page.warnings
+    );
+    for warning in &page.warnings {
+        let shown = specula_visual::report::escape(&format!("Warning, {warning}."));
+        assert!(html.contains(&shown), "the page lacks {shown}");
+    }
+}
