@@ -61,13 +61,9 @@ impl Tolerances {
     /// Tolerances from the text of a tolerance file; the error is one line saying what is
     /// wrong.
     pub fn parse(text: &str) -> Result<Self, String> {
-        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-            let message = e.message().trim().replace('\n', " ");
-            match e.span() {
-                Some(span) => format!("line {}: {message}", line_of(text, span.start)),
-                None => message,
-            }
-        })?;
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e| specula_core::toml_error::one_line(text, &e))?;
         if let Some(key) = table.keys().find(|k| *k != "tolerances") {
             return Err(format!(
                 "unknown table or key `{key}` (a tolerance file holds one table, [tolerances])"
@@ -126,14 +122,6 @@ impl Tolerances {
             .collect();
         Verdict { failing }
     }
-}
-
-/// 1-based line number of a byte offset.
-fn line_of(text: &str, offset: usize) -> usize {
-    1 + text.as_bytes()[..offset.min(text.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
 }
 
 /// Whether a sample is inside every tolerance; shown as `pass` or `fail: gloss_20, de00_15`.
