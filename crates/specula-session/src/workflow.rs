@@ -43,7 +43,7 @@ use crate::workflow_error::WorkflowError;
 use serde::{Deserialize, Serialize};
 use specula_acquisition::calibration::response::{measure_response, ResponseFit, ResponseOptions};
 use specula_acquisition::calibration::{
-    calibrate, mount_in_simulator, Calibration, CalibrationOptions,
+    calibrate, mount_by_device, Calibration, CalibrationOptions,
 };
 use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
 use specula_acquisition::checks::orientation::{check_orientation, OrientationSettings};
@@ -709,7 +709,7 @@ fn connect(
                         observer.step("calibrating: white reference and ColorChecker");
                         let mut c = calibrate(
                             &mut simulator,
-                            mount_in_simulator,
+                            mount_by_device,
                             &CalibrationOptions::default(),
                         )
                         .map_err(|cause| WorkflowError::Calibration { cause })?;
@@ -719,7 +719,7 @@ fn connect(
                             observer.step("calibrating: the response, a mirror across the light");
                             simulated_response(&mut simulator, &c, device)?
                         });
-                        simulator.mount(sample);
+                        simulator.mount_sample(sample);
                         c
                     };
                     journal.put_record(&calibration)?;
@@ -779,10 +779,7 @@ pub fn simulated_response(
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
     measure_response(
         simulator,
-        |sim, mirror| {
-            sim.mount(MountedSample::new(mirror.name(), mirror, Tilt::default()));
-            Ok(())
-        },
+        mount_by_device,
         &mut hdr,
         calibration,
         &device.response(),
