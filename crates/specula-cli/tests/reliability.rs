@@ -187,9 +187,27 @@ fn one_sigterm_stops_a_slowly_paced_run_promptly_and_resumably() {
         "{:?}",
         stopped_at.elapsed()
     );
-    assert_eq!(output.status.code(), Some(130), "{:?}", output.status);
+    // SIGTERM's own exit code (128 + 15), not Ctrl-C's, and how to resume.
+    assert_eq!(output.status.code(), Some(143), "{:?}", output.status);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(stdout.contains("stopped: probe"), "{stdout}");
+    assert!(
+        stdout.contains("run the same command to resume"),
+        "{stdout}"
+    );
+
+    // The same command, unpaced, resumes and completes.
+    let resumed = Command::new(SPECULA)
+        .args(measure_args(&out, &["--truth", "silver-925"]))
+        .output()
+        .unwrap();
+    assert_eq!(
+        resumed.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    assert!(out.exists());
 }
 
 fn material(dir: &Path, alpha: f64) -> PathBuf {
