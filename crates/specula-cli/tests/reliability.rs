@@ -324,3 +324,47 @@ fn absurd_inputs_are_refused_in_one_line_before_allocating() {
         &["cam.toml", "gain_dn_s_per_sr[0] must be from 0.01 to 1e12"],
     );
 }
+
+#[test]
+fn without_a_terminal_progress_comes_as_lines_at_each_interval() {
+    // stderr is a pipe, not a terminal: the bars draw nothing, so lines carry the stage,
+    // the samples done of those planned and the time left, at each interval of wall time
+    // (half a second here instead of the default minute), also within one slow stage.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("logged.binary");
+    let output = Command::new(SPECULA)
+        .args(measure_args(
+            &out,
+            &["--truth", "silver-925", "--speedup", "300"],
+        ))
+        .env("SPECULA_PROGRESS_INTERVAL_S", "0.5")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let lines: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("progress: "))
+        .collect();
+    // A line when the main stage starts (a few seconds at this pace), then one per interval.
+    let main_lines = lines
+        .iter()
+        .filter(|l| l.starts_with("progress: main "))
+        .count();
+    assert!(main_lines >= 3, "{main_lines} lines: {stderr}");
+    let main = lines
+        .iter()
+        .rev()
+        .find(|l| l.starts_with("progress: main "))
+        .unwrap_or_else(|| panic!("no line of the main stage: {stderr}"));
+    assert!(
+        main.contains(" samples, ") && main.contains("left (device time)"),
+        "{main}"
+    );
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.starts_with("progress: probe 0/") && l.contains("not yet known")),
+        "{stderr}"
+    );
+}

@@ -237,10 +237,12 @@ fn source(args: &Args) -> Result<Source> {
     })
 }
 
-/// Progress bars per stage, with the device time left from the time model.
+/// Progress bars per stage, with the device time left from the time model; without a
+/// terminal, progress lines ([`crate::progress::LogLines`]).
 #[derive(Default)]
 pub(crate) struct Bars {
     bar: Option<ProgressBar>,
+    lines: Option<crate::progress::LogLines>,
     stage: String,
 }
 
@@ -249,6 +251,7 @@ impl Bars {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
         }
+        self.lines = None;
     }
 }
 
@@ -280,10 +283,19 @@ impl Observer for Bars {
             ));
         }
         self.bar = Some(bar);
+        self.lines = crate::progress::LogLines::start(crate::progress::StageState {
+            stage: stage.to_string(),
+            done,
+            planned,
+            eta_s: None,
+        });
         self.stage = stage.to_string();
     }
 
     fn sample(&mut self, progress: &Progress) {
+        if let Some(lines) = &self.lines {
+            lines.update(progress.done, progress.eta_device_s());
+        }
         if let Some(bar) = &self.bar {
             bar.set_position(progress.done as u64);
             bar.set_message(format!(
@@ -296,9 +308,7 @@ impl Observer for Bars {
     }
 
     fn stage_finished(&mut self, stage: &str, outcome: &StageOutcome) {
-        if let Some(bar) = self.bar.take() {
-            bar.finish_and_clear();
-        }
+        self.finish();
         eprintln!(
             "{stage}: {} samples ({} measured now, {} from the journal){}",
             outcome.resumed + outcome.measured,
