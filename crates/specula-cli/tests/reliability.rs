@@ -368,3 +368,35 @@ fn without_a_terminal_progress_comes_as_lines_at_each_interval() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_resume_with_another_grid_names_the_setting_and_both_values_in_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("grid.binary");
+    // Started on the recommended grid (its rule for an unresolved peak included)...
+    let recommended: Vec<String> = measure_args(&out, &["--truth", "silver-925"])
+        .into_iter()
+        .filter(|a| a != "--grid-preset" && a != "paper")
+        .collect();
+    let first = Command::new(SPECULA).args(&recommended).output().unwrap();
+    assert!(first.status.success());
+    // ...resumed asking for the paper's grid.
+    let output = Command::new(SPECULA)
+        .args(measure_args(&out, &["--truth", "silver-925"]))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    let error = stderr
+        .lines()
+        .find(|l| l.starts_with("error: "))
+        .unwrap_or_else(|| panic!("{stderr}"));
+    assert!(
+        error.contains("--phi-d-span: half-turn in the session, quarter asked"),
+        "{error}"
+    );
+    assert!(
+        !error.contains('{') && !error.contains("null") && !error.contains(" vs "),
+        "no internal JSON: {error}"
+    );
+}
