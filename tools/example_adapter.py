@@ -6,7 +6,13 @@ they are told, a light source, and a 12-bit camera looking at a glossy grey samp
 Gaussian highlight over a diffuse base), without noise. Replace the `FakeDevice` methods with
 calls to your motion controller and camera; keep the rest.
 
-    specula measure --connect "exec:python3 tools/example_adapter.py" --out fake.binary
+    specula measure --connect "exec:python3 tools/example_adapter.py" \
+        --calibration tools/example_adapter_calibration.toml --out fake.binary
+
+(The fake camera has no noise, so it cannot be calibrated with `specula calibrate`, which
+measures the noise; tools/example_adapter_calibration.toml is its calibration, written by
+hand. It does not offer the optional `mount` method: it answers `unknown_method`, as any
+adapter may, and `specula calibrate` then asks the operator to mount each target.)
 
 Options (for testing Specula's handling of a misbehaving device):
     --token T          require this token in hello

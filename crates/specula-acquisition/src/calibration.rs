@@ -23,9 +23,10 @@
 pub mod colorchecker;
 pub mod response;
 pub mod truth_check;
+pub mod white;
 
 use crate::hdr::{HdrCapturer, HdrSettings, HdrValue, NoiseModel};
-use crate::instrument::{Capture, Instrument, InstrumentError};
+use crate::instrument::{Capture, Instrument, InstrumentError, MountOutcome, MountTarget};
 use crate::kinematics::AxisPositions;
 use glam::{DMat3, DVec3};
 use serde::{Deserialize, Serialize};
@@ -78,18 +79,19 @@ impl Brdf for DiffuseTarget {
     }
 }
 
-/// The mount callback for the simulator: puts a reference target, aligned, on its turntable.
-pub fn mount_in_simulator(
-    simulator: &mut crate::simulator::Simulator,
-    target: &DiffuseTarget,
+/// Mounts `target` by the device itself ([`Instrument::mount`]), as a simulator or a robot
+/// does; a device that leaves it to the operator is an error here (an operator's prompt is
+/// the caller's: see `specula calibrate`).
+pub fn mount_by_device(
+    instrument: &mut dyn Instrument,
+    target: &MountTarget,
 ) -> Result<(), InstrumentError> {
-    let brdf = std::sync::Arc::new(target.clone());
-    simulator.mount(crate::simulator::sample::MountedSample::new(
-        target.name.clone(),
-        brdf,
-        crate::simulator::sample::Tilt::default(),
-    ));
-    Ok(())
+    match instrument.mount(target)? {
+        MountOutcome::Mounted => Ok(()),
+        MountOutcome::ByOperator => Err(InstrumentError::Disconnected(format!(
+            "the device cannot mount {target} itself and no operator was asked"
+        ))),
+    }
 }
 
 /// Why a calibration failed or could not be read.
@@ -147,8 +149,12 @@ pub struct OutOfRange {
 /// How to calibrate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CalibrationOptions {
-    /// Reflectance of the white reference (0.99 for a Spectralon tile).
+    /// Reflectance of the white reference (0.99 for a Spectralon tile), the same in every
+    /// channel; a certificate's values per channel replace it.
     pub white_reflectance: f64,
+    /// The white reference's certificate, integrated per channel
+    /// ([`white::WhiteCertificate::load`]), when one is given.
+    pub white_certificate: Option<white::WhiteCertificate>,
     /// Elevation of the light, degrees (45 for the 45/0 geometry).
     pub light_elevation_deg: f64,
 }
@@ -157,6 +163,7 @@ impl Default for CalibrationOptions {
     fn default() -> Self {
         Self {
             white_reflectance: 0.99,
+            white_certificate: None,
             light_elevation_deg: 45.0,
         }
     }
@@ -171,6 +178,14 @@ impl CalibrationOptions {
     fn cos_theta_i(&self) -> f64 {
         self.light_elevation_deg.to_radians().cos()
     }
+
+    /// The white reference's reflectance per channel: the certificate's, else
+    /// `white_reflectance` in every channel.
+    pub fn white_reflectance_rgb(&self) -> [f64; 3] {
+        self.white_certificate
+            .as_ref()
+            .map_or([self.white_reflectance; 3], |c| c.reflectance)
+    }
 }
 
 /// The calibration of a device: stored by `specula calibrate`, used by later runs.
@@ -179,8 +194,13 @@ impl CalibrationOptions {
 pub struct Calibration {
     /// The device it belongs to ("model, serial").
     pub device: String,
-    /// The reflectance of the white reference used.
+    /// The reflectance of the white reference used (the mean over channels of a
+    /// certificate's).
     pub white_reflectance: f64,
+    /// The white reference's certificate per channel (reflectance and its standard
+    /// uncertainty), when one was given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub white_certificate: Option<white::WhiteCertificate>,
     /// The light's elevation of the reference geometry, degrees.
     pub light_elevation_deg: f64,
     /// DN/s at full light per unit radiance factor (1/sr), per camera channel. Range:
@@ -324,6 +344,16 @@ impl Calibration {
         )?;
         let w = self.white_reflectance;
         rule(w > 0.0 && w <= 1.0, "white_reflectance", "in (0, 1]", w)?;
+        if let Some(certificate) = &self.white_certificate {
+            for c in 0..3 {
+                let r = certificate.reflectance[c];
+                let field = format!("white_certificate.reflectance[{c}]");
+                rule(r > 0.0 && r <= 1.0, &field, "in (0, 1]", r)?;
+                let u = certificate.uncertainty[c];
+                let field = format!("white_certificate.uncertainty[{c}]");
+                rule((0.0..1.0).contains(&u), &field, "in [0, 1)", u)?;
+            }
+        }
         let e = self.light_elevation_deg;
         rule(
             (0.0..90.0).contains(&e),
@@ -549,40 +579,43 @@ fn photon_transfer_slope(points: &[(f64, f64)]) -> Result<f64, CalibrationError>
 }
 
 /// Calibrates a device. `mount` puts a reference target on the turntable (the operator's job
-/// on a real device; [`crate::simulator::Simulator::mount`] in simulation).
-pub fn calibrate<I: Instrument>(
-    instrument: &mut I,
-    mut mount: impl FnMut(&mut I, &DiffuseTarget) -> Result<(), InstrumentError>,
+/// on a real device, [`mount_by_device`] for a simulator or a robot): the white reference,
+/// then each ColorChecker patch in turn.
+pub fn calibrate(
+    instrument: &mut dyn Instrument,
+    mut mount: impl FnMut(&mut dyn Instrument, &MountTarget) -> Result<(), InstrumentError>,
     options: &CalibrationOptions,
 ) -> Result<Calibration, CalibrationError> {
     let info = instrument.info()?;
     instrument.move_to(&options.axes())?;
-    let white = DiffuseTarget::white(options.white_reflectance);
-    mount(instrument, &white)?;
+    mount(instrument, &MountTarget::White)?;
     let noise = measure_noise_model(instrument)?;
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), noise);
 
     let cos_i = options.cos_theta_i();
-    let white_radiance = options.white_reflectance * cos_i / PI;
+    let white_reflectance = options.white_reflectance_rgb();
     let white_rate = hdr.measure(instrument, None)?.value;
     if white_rate.saturated.iter().any(|&s| s) {
         return Err(CalibrationError::Fit(
             "the white reference saturates".into(),
         ));
     }
-    let gain = white_rate.rate_dn_s.map(|r| r / white_radiance);
+    let mut gain = white_rate.rate_dn_s;
+    for (g, rho) in gain.iter_mut().zip(white_reflectance) {
+        *g /= rho * cos_i / PI;
+    }
 
     let mut camera = Vec::with_capacity(colorchecker::PATCHES.len());
     let mut reference = Vec::with_capacity(colorchecker::PATCHES.len());
     let predicted = white_rate.brightest_rate_dn_s();
-    for (target, patch) in DiffuseTarget::colorchecker()
-        .iter()
-        .zip(colorchecker::PATCHES)
-    {
-        mount(instrument, target)?;
+    for patch in colorchecker::PATCHES {
+        let target = MountTarget::Colorchecker {
+            patch: patch.name.to_string(),
+        };
+        mount(instrument, &target)?;
         let value = hdr.measure(
             instrument,
-            Some(predicted * target.reflectance.max_element()),
+            Some(predicted * patch.reflectance().max_element()),
         )?;
         let rate = DVec3::from(value.value.rate_dn_s);
         camera.push(rate / DVec3::from(gain) * PI / cos_i);
@@ -596,7 +629,8 @@ pub fn calibrate<I: Instrument>(
         .sum();
     Ok(Calibration {
         device: format!("{}, {}", info.model, info.serial),
-        white_reflectance: options.white_reflectance,
+        white_reflectance: white_reflectance.iter().sum::<f64>() / 3.0,
+        white_certificate: options.white_certificate,
         light_elevation_deg: options.light_elevation_deg,
         gain_dn_s_per_sr: gain,
         colour_matrix: matrix.transpose().to_cols_array_2d(),

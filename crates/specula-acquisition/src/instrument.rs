@@ -85,4 +85,52 @@ pub trait Instrument: Send {
     fn simulated_clock_s(&self) -> Option<f64> {
         None
     }
+    /// Puts `target` on the turntable, if the device can (a robot, a simulator); by default
+    /// it cannot, and the operator mounts it ([`MountOutcome::ByOperator`]).
+    fn mount(&mut self, target: &MountTarget) -> Result<MountOutcome, InstrumentError> {
+        let _ = target;
+        Ok(MountOutcome::ByOperator)
+    }
+}
+
+/// What goes on the turntable during a calibration: a reference target or the sample to
+/// measure. On the wire (the driver protocol's `mount`) it reads
+/// `{"target": "white"}`, `{"target": "colorchecker", "patch": "dark skin"}`,
+/// `{"target": "mirror"}` or `{"target": "sample"}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "target", rename_all = "snake_case")]
+pub enum MountTarget {
+    /// The white diffuse reference (a Spectralon-like tile).
+    White,
+    /// One patch of the ColorChecker in the camera's view.
+    Colorchecker {
+        /// The patch's name as the chart prints it (`dark skin`, ..., `black 2`).
+        patch: String,
+    },
+    /// The reference mirror (a front-surface aluminium mirror).
+    Mirror,
+    /// The sample to measure.
+    Sample,
+}
+
+impl std::fmt::Display for MountTarget {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MountTarget::White => write!(f, "the white reference"),
+            MountTarget::Colorchecker { patch } => {
+                write!(f, "the ColorChecker, patch '{patch}' in view")
+            }
+            MountTarget::Mirror => write!(f, "the reference mirror"),
+            MountTarget::Sample => write!(f, "the sample"),
+        }
+    }
+}
+
+/// Whether a device put a target on its turntable itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MountOutcome {
+    /// The device (a robot, or its adapter's own prompt) mounted it.
+    Mounted,
+    /// The device cannot mount targets: the operator must.
+    ByOperator,
 }

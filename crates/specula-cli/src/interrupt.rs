@@ -1,33 +1,53 @@
-//! Ctrl-C: the library's stop flag raised by the user, and the exit code of a stopped run.
+//! Ctrl-C and SIGTERM: the library's stop flag raised by the user or by a process manager,
+//! and the exit code of a stopped run (128 plus the signal's number: 130 for SIGINT, 143 for
+//! SIGTERM, 129 for SIGHUP).
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+use signal_hook::iterator::Signals;
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use std::sync::{Arc, OnceLock};
 
-/// The exit code of a run the user stopped.
+/// The exit code of a run stopped by Ctrl-C (SIGINT).
 pub(crate) const INTERRUPTED_EXIT: u8 = 130;
 
-/// The process's stop flag, raised by Ctrl-C (or SIGTERM): the first press lets the sample
-/// in progress finish and the run stop cleanly and resumably (a remote device's waits end at
-/// once); a second press ends the process at once (the journal is still consistent: the
+/// The exit code of the first stopping signal received; Ctrl-C's until one arrives.
+static STOP_EXIT: AtomicU8 = AtomicU8::new(INTERRUPTED_EXIT);
+
+/// The exit code of a stopped run: 128 plus the number of the signal that stopped it.
+pub(crate) fn stop_exit_code() -> u8 {
+    STOP_EXIT.load(Ordering::SeqCst)
+}
+
+/// The process's stop flag, raised by Ctrl-C, SIGTERM or SIGHUP: the first signal lets the
+/// sample in progress finish and the run stop cleanly and resumably (a remote device's waits
+/// end at once); a second one ends the process at once (the journal is still consistent: the
 /// sample in progress is lost; an adapter ends with the process).
-pub(crate) fn stop_on_ctrl_c() -> Result<Arc<AtomicBool>, ctrlc::Error> {
+pub(crate) fn stop_on_ctrl_c() -> std::io::Result<Arc<AtomicBool>> {
     static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
     if let Some(flag) = FLAG.get() {
         return Ok(flag.clone());
     }
     let flag = Arc::new(AtomicBool::new(false));
+    let mut signals = Signals::new([SIGINT, SIGTERM, SIGHUP])?;
     let handler_flag = flag.clone();
-    ctrlc::set_handler(move || {
-        if handler_flag.swap(true, Ordering::SeqCst) {
-            eprintln!("\nstopping now; the sample in progress is lost, the journal is intact");
-            std::process::exit(i32::from(INTERRUPTED_EXIT));
+    std::thread::spawn(move || {
+        for signal in signals.forever() {
+            if handler_flag.load(Ordering::SeqCst) {
+                eprintln!("\nstopping now; the sample in progress is lost, the journal is intact");
+                std::process::exit(i32::from(stop_exit_code()));
+            }
+            let code = u8::try_from(128 + signal).unwrap_or(u8::MAX);
+            STOP_EXIT.store(code, Ordering::SeqCst);
+            handler_flag.store(true, Ordering::SeqCst);
+            eprintln!(
+                "\nfinishing the sample in progress, then stopping (Ctrl-C again to stop now)"
+            );
         }
-        eprintln!("\nfinishing the sample in progress, then stopping (Ctrl-C again to stop now)");
-    })?;
+    });
     Ok(FLAG.get_or_init(|| flag).clone())
 }
 
-/// A run the user stopped: `main` prints it as one line and exits with [`INTERRUPTED_EXIT`].
+/// A run the user stopped: `main` prints it as one line and exits with [`stop_exit_code`].
 #[derive(Debug)]
 pub(crate) struct Interrupted(pub(crate) String);
 

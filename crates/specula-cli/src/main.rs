@@ -111,7 +111,7 @@ fn main() -> ExitCode {
         Err(err) if output::is_closed_pipe(&err) => ExitCode::SUCCESS,
         Err(err) if err.is::<interrupt::Interrupted>() => {
             eprintln!("{err}");
-            ExitCode::from(interrupt::INTERRUPTED_EXIT)
+            ExitCode::from(interrupt::stop_exit_code())
         }
         Err(err) if err.is::<verdict::Failed>() => {
             eprintln!("{err}");

@@ -1,7 +1,7 @@
 //! What a stop of `specula measure` promises about time and processes: an `exec:` adapter and
 //! every process it started (also one that left with `setsid`) end with `measure`, however
 //! `measure` ends (complete, an error, one or two Ctrl-C, SIGTERM, `kill -9`); a stop while
-//! the device hangs ends the run within seconds, resumably, with exit code 130; the session
+//! the device hangs ends the run within seconds, resumably, with exit code 130 (143 after SIGTERM); the session
 //! lock holds across a hard link; a directory or a journal of a newer specula is refused in
 //! one line. Each adapter carries a unique marker in its command line, looked for in `/proc`.
 //! Every wait is bounded.
@@ -154,6 +154,7 @@ fn stop_a_hanging_adapter(how: Stop) {
     let stderr = String::from_utf8_lossy(&output.stderr);
     match how {
         Stop::Kill => assert_eq!(output.status.code(), None, "{how:?}"),
+        Stop::Term => assert_eq!(output.status.code(), Some(143), "{how:?}: {stderr}"),
         _ => assert_eq!(output.status.code(), Some(130), "{how:?}: {stderr}"),
     }
     let left = || processes_with(&marker);

@@ -102,10 +102,11 @@ fn an_empty_token_is_refused_and_a_token_comes_from_a_file_or_the_environment() 
     std::fs::write(&file, "lab-secret\n").unwrap();
     let (mut server, port) = serve(&["--token-file", &file.display().to_string()], &[]);
     assert_eq!(hello(port, None)["error"]["kind"], "unauthorized");
-    assert!(hello(port, Some("lab-secret"))["result"]["server"]
-        .as_str()
-        .unwrap()
-        .starts_with("specula device serve: silver-925 (truth sha256 "));
+    // The server names its sample by a hash only: nothing of the truth crosses the wire.
+    let name = hello(port, Some("lab-secret"))["result"]["server"].clone();
+    let name = name.as_str().unwrap();
+    assert!(name.starts_with("specula device serve (sample "), "{name}");
+    assert!(!name.contains("silver"), "{name}");
     server.kill().unwrap();
     server.wait().unwrap();
 
@@ -186,9 +187,27 @@ fn one_sigterm_stops_a_slowly_paced_run_promptly_and_resumably() {
         "{:?}",
         stopped_at.elapsed()
     );
-    assert_eq!(output.status.code(), Some(130), "{:?}", output.status);
+    // SIGTERM's own exit code (128 + 15), not Ctrl-C's, and how to resume.
+    assert_eq!(output.status.code(), Some(143), "{:?}", output.status);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(stdout.contains("stopped: probe"), "{stdout}");
+    assert!(
+        stdout.contains("run the same command to resume"),
+        "{stdout}"
+    );
+
+    // The same command, unpaced, resumes and completes.
+    let resumed = Command::new(SPECULA)
+        .args(measure_args(&out, &["--truth", "silver-925"]))
+        .output()
+        .unwrap();
+    assert_eq!(
+        resumed.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    assert!(out.exists());
 }
 
 fn material(dir: &Path, alpha: f64) -> PathBuf {
@@ -303,5 +322,81 @@ fn absurd_inputs_are_refused_in_one_line_before_allocating() {
     one_line_error(
         &args,
         &["cam.toml", "gain_dn_s_per_sr[0] must be from 0.01 to 1e12"],
+    );
+}
+
+#[test]
+fn without_a_terminal_progress_comes_as_lines_at_each_interval() {
+    // stderr is a pipe, not a terminal: the bars draw nothing, so lines carry the stage,
+    // the samples done of those planned and the time left, at each interval of wall time
+    // (half a second here instead of the default minute), also within one slow stage.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("logged.binary");
+    let output = Command::new(SPECULA)
+        .args(measure_args(
+            &out,
+            &["--truth", "silver-925", "--speedup", "300"],
+        ))
+        .env("SPECULA_PROGRESS_INTERVAL_S", "0.5")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let lines: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("progress: "))
+        .collect();
+    // A line when the main stage starts (a few seconds at this pace), then one per interval.
+    let main_lines = lines
+        .iter()
+        .filter(|l| l.starts_with("progress: main "))
+        .count();
+    assert!(main_lines >= 3, "{main_lines} lines: {stderr}");
+    let main = lines
+        .iter()
+        .rev()
+        .find(|l| l.starts_with("progress: main "))
+        .unwrap_or_else(|| panic!("no line of the main stage: {stderr}"));
+    assert!(
+        main.contains(" samples, ") && main.contains("left (device time)"),
+        "{main}"
+    );
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.starts_with("progress: probe 0/") && l.contains("not yet known")),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_resume_with_another_grid_names_the_setting_and_both_values_in_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("grid.binary");
+    // Started on the recommended grid (its rule for an unresolved peak included)...
+    let recommended: Vec<String> = measure_args(&out, &["--truth", "silver-925"])
+        .into_iter()
+        .filter(|a| a != "--grid-preset" && a != "paper")
+        .collect();
+    let first = Command::new(SPECULA).args(&recommended).output().unwrap();
+    assert!(first.status.success());
+    // ...resumed asking for the paper's grid.
+    let output = Command::new(SPECULA)
+        .args(measure_args(&out, &["--truth", "silver-925"]))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    let error = stderr
+        .lines()
+        .find(|l| l.starts_with("error: "))
+        .unwrap_or_else(|| panic!("{stderr}"));
+    assert!(
+        error.contains("--phi-d-span: half-turn in the session, quarter asked"),
+        "{error}"
+    );
+    assert!(
+        !error.contains('{') && !error.contains("null") && !error.contains(" vs "),
+        "no internal JSON: {error}"
     );
 }

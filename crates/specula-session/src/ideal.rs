@@ -6,7 +6,9 @@
 
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
-use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
+use specula_acquisition::instrument::{
+    Capture, Instrument, InstrumentError, InstrumentInfo, MountOutcome, MountTarget,
+};
 use specula_acquisition::kinematics::AxisPositions;
 use specula_acquisition::simulator::camera::CameraModel;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
@@ -88,6 +90,10 @@ impl Instrument for NoiselessSimulator {
     fn simulated_clock_s(&self) -> Option<f64> {
         self.inner.simulated_clock_s()
     }
+
+    fn mount(&mut self, target: &MountTarget) -> Result<MountOutcome, InstrumentError> {
+        self.inner.mount(target)
+    }
 }
 
 /// The simulated `device` with `truth` mounted untilted, as `specula device serve` offers
@@ -121,6 +127,7 @@ pub fn exact_calibration(camera: &CameraModel, device: &str) -> Calibration {
     Calibration {
         device: device.to_string(),
         white_reflectance: 1.0,
+        white_certificate: None,
         light_elevation_deg: 45.0,
         gain_dn_s_per_sr: gain,
         colour_matrix: inverse.transpose().to_cols_array_2d(),

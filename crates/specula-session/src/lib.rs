@@ -8,9 +8,11 @@
 //! - [`predict`]: predicted exposures from the probe and the previous sample;
 //! - [`inputs`]: content hashes of the inputs and the device identity, checked on resume;
 //! - [`workflow`]: the paper's workflow behind `specula measure`;
+//! - [`calibrate`]: the calibration behind `specula calibrate`, on any device;
 //! - [`ideal`], [`pace`]: a noise-free simulated device, and a simulated one paced in real
 //!   time.
 
+pub mod calibrate;
 pub mod choices;
 pub mod engine;
 pub mod ideal;

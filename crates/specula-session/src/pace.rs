@@ -5,7 +5,9 @@
 //! is acted on within [`STOP_POLL`] however slow the pacing (the simulated clock, and so
 //! the result, does not depend on the waits).
 
-use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
+use specula_acquisition::instrument::{
+    Capture, Instrument, InstrumentError, InstrumentInfo, MountOutcome, MountTarget,
+};
 use specula_acquisition::kinematics::AxisPositions;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -89,5 +91,9 @@ impl<I: Instrument> Instrument for Paced<I> {
 
     fn simulated_clock_s(&self) -> Option<f64> {
         self.inner.simulated_clock_s()
+    }
+
+    fn mount(&mut self, target: &MountTarget) -> Result<MountOutcome, InstrumentError> {
+        self.inner.mount(target)
     }
 }

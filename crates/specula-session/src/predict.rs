@@ -141,6 +141,7 @@ mod tests {
         Calibration {
             device: "test".into(),
             white_reflectance: 0.99,
+            white_certificate: None,
             light_elevation_deg: 45.0,
             gain_dn_s_per_sr: [1000.0, 2000.0, 500.0],
             colour_matrix: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],

@@ -43,7 +43,7 @@ use crate::workflow_error::WorkflowError;
 use serde::{Deserialize, Serialize};
 use specula_acquisition::calibration::response::{measure_response, ResponseFit, ResponseOptions};
 use specula_acquisition::calibration::{
-    calibrate, mount_in_simulator, Calibration, CalibrationOptions,
+    calibrate, mount_by_device, Calibration, CalibrationOptions,
 };
 use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
 use specula_acquisition::checks::orientation::{check_orientation, OrientationSettings};
@@ -56,6 +56,7 @@ use specula_acquisition::plan::Plan;
 use specula_acquisition::response::InstrumentResponse;
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
+use specula_core::grid::UnresolvedPeak;
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, GridSpec, HalfDiff, ProbePoint, ProbeSpec, Rgb, Sample};
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
@@ -658,18 +659,101 @@ fn is_older_version(a: &str, b: &str) -> bool {
     }
 }
 
-/// The settings that differ, as `name: stored vs asked`.
+/// The settings that differ, in words: `SETTING: SESSION'S in the session, ASKED asked`,
+/// joined by `; ` (the grid's parts one by one, each as its option reads).
 fn differences(stored: &MeasureSettings, asked: &MeasureSettings) -> String {
-    let a = serde_json::to_value(stored).unwrap_or_default();
-    let b = serde_json::to_value(asked).unwrap_or_default();
-    let (Some(a), Some(b)) = (a.as_object(), b.as_object()) else {
-        return "unreadable settings".into();
+    let mut found = Vec::new();
+    let mut differ = |name: &str, a: String, b: String| {
+        if a != b {
+            found.push(format!("{name}: {a} in the session, {b} asked"));
+        }
     };
-    a.iter()
-        .filter(|(k, v)| b.get(*k) != Some(*v))
-        .map(|(k, v)| format!("{k}: {v} vs {}", b.get(k).cloned().unwrap_or_default()))
-        .collect::<Vec<_>>()
-        .join(", ")
+    let yes_no = |v: bool| if v { "on" } else { "off" }.to_string();
+    differ("--seed", stored.seed.to_string(), asked.seed.to_string());
+    differ("--ideal", yes_no(stored.ideal), yes_no(asked.ideal));
+    differ(
+        "--point-light",
+        yes_no(stored.point_light),
+        yes_no(asked.point_light),
+    );
+    differ(
+        "--probe-samples",
+        stored.probe_samples.to_string(),
+        asked.probe_samples.to_string(),
+    );
+    differ(
+        "--family",
+        stored.family.to_string(),
+        asked.family.to_string(),
+    );
+    grid_differences(&stored.grid, &asked.grid, &mut differ);
+    differ("--order", stored.order.to_string(), asked.order.to_string());
+    differ("--hdr", stored.hdr.to_string(), asked.hdr.to_string());
+    differ(
+        "--method",
+        stored.method.to_string(),
+        asked.method.to_string(),
+    );
+    differ(
+        "deblurring (--no-deblur)",
+        yes_no(stored.deblur),
+        yes_no(asked.deblur),
+    );
+    differ(
+        "the checks (--skip-checks)",
+        yes_no(stored.checks),
+        yes_no(asked.checks),
+    );
+    let deg = |v: f64| format!("{v} deg");
+    differ("--tilt", deg(stored.tilt_deg), deg(asked.tilt_deg));
+    differ(
+        "--tilt-azimuth",
+        deg(stored.tilt_azimuth_deg),
+        deg(asked.tilt_azimuth_deg),
+    );
+    found.join("; ")
+}
+
+/// The grid's parts that differ, named as the options that set them.
+fn grid_differences(
+    stored: &GridSpec,
+    asked: &GridSpec,
+    differ: &mut dyn FnMut(&str, String, String),
+) {
+    differ(
+        "--theta-h-samples",
+        stored.theta_h_samples.to_string(),
+        asked.theta_h_samples.to_string(),
+    );
+    differ(
+        "--theta-d-step",
+        stored.theta_d.to_string(),
+        asked.theta_d.to_string(),
+    );
+    let deg = |v: f64| format!("{v} deg");
+    differ(
+        "--phi-d-step",
+        deg(stored.phi_d_step_deg),
+        deg(asked.phi_d_step_deg),
+    );
+    differ(
+        "--phi-d-span",
+        stored.phi_d_span.to_string(),
+        asked.phi_d_span.to_string(),
+    );
+    differ("--phi-h", deg(stored.phi_h_deg), deg(asked.phi_h_deg));
+    let peak = |rule: &Option<UnresolvedPeak>| match rule {
+        Some(rule) => format!(
+            "up to {} theta_h with theta_d step {} deg within {} samples",
+            rule.theta_h_samples, rule.theta_d, rule.budget_samples
+        ),
+        None => "none".to_string(),
+    };
+    differ(
+        "the rule for a peak the instrument does not resolve (--grid-preset)",
+        peak(&stored.unresolved_peak),
+        peak(&asked.unresolved_peak),
+    );
 }
 
 /// Opens the instrument and finds its calibration (the journal's, once there is one).
@@ -709,7 +793,7 @@ fn connect(
                         observer.step("calibrating: white reference and ColorChecker");
                         let mut c = calibrate(
                             &mut simulator,
-                            mount_in_simulator,
+                            mount_by_device,
                             &CalibrationOptions::default(),
                         )
                         .map_err(|cause| WorkflowError::Calibration { cause })?;
@@ -719,7 +803,7 @@ fn connect(
                             observer.step("calibrating: the response, a mirror across the light");
                             simulated_response(&mut simulator, &c, device)?
                         });
-                        simulator.mount(sample);
+                        simulator.mount_sample(sample);
                         c
                     };
                     journal.put_record(&calibration)?;
@@ -779,10 +863,7 @@ pub fn simulated_response(
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), calibration.noise);
     measure_response(
         simulator,
-        |sim, mirror| {
-            sim.mount(MountedSample::new(mirror.name(), mirror, Tilt::default()));
-            Ok(())
-        },
+        mount_by_device,
         &mut hdr,
         calibration,
         &device.response(),
@@ -1231,6 +1312,29 @@ mod tests {
             seed: 7,
             ..MeasureSettings::default()
         };
-        assert_eq!(differences(&a, &b), "seed: 1 vs 7");
+        assert_eq!(differences(&a, &b), "--seed: 1 in the session, 7 asked");
+        // The recommended grid's rule for an unresolved peak against the paper's grid: in
+        // words, not the record's JSON.
+        let paper = MeasureSettings {
+            grid: GridSpec::paper(),
+            ..MeasureSettings::default()
+        };
+        let recommended = MeasureSettings {
+            grid: GridSpec {
+                unresolved_peak: Some(UnresolvedPeak {
+                    theta_h_samples: 30,
+                    theta_d: specula_core::ThetaDSteps::even(3.0),
+                    budget_samples: 4073,
+                }),
+                ..GridSpec::paper()
+            },
+            ..MeasureSettings::default()
+        };
+        let text = differences(&recommended, &paper);
+        assert_eq!(
+            text,
+            "the rule for a peak the instrument does not resolve (--grid-preset): up to 30 \
+             theta_h with theta_d step 3 deg within 4073 samples in the session, none asked"
+        );
     }
 }

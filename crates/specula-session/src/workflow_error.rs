@@ -49,8 +49,8 @@ pub enum WorkflowError {
         /// The tries made.
         attempts: u32,
     },
-    /// Calibrating the simulated device failed.
-    #[error("calibrating the simulated device: {cause}")]
+    /// Calibrating the device failed.
+    #[error("calibrating the device: {cause}")]
     Calibration {
         /// The cause.
         cause: CalibrationError,

@@ -253,7 +253,10 @@ fn an_old_journal_reads_as_the_paper_grid_and_resumes_on_it() {
         ..small()
     };
     let refused = run(&today, false).unwrap_err().to_string();
-    assert!(refused.contains("phi_d_span"), "{refused}");
+    assert!(
+        refused.contains("--phi-d-span: quarter in the session, half-turn asked"),
+        "{refused}"
+    );
     let resumed = run(&small(), false).unwrap();
     let MeasureOutcome::Complete(summary) = resumed else {
         panic!("stopped")

@@ -19,7 +19,7 @@
 
 use crate::checks::measure_at;
 use crate::hdr::HdrCapturer;
-use crate::instrument::{Instrument, InstrumentError};
+use crate::instrument::{Instrument, InstrumentError, MountTarget};
 use crate::kinematics::AxisPositions;
 use crate::response::{InstrumentResponse, LightProfile};
 use glam::{DVec2, DVec3};
@@ -240,19 +240,18 @@ fn scaled_residual(model: &[f64], data: &[f64]) -> (f64, f64) {
     (scale, (ss / data.len() as f64).sqrt())
 }
 
-/// Measures the response with the reference mirror mounted by `mount` (see the module
+/// Measures the response with the reference mirror mounted by `mount` ([`MountTarget::Mirror`]; see the module
 /// documentation); `prior` is the device file's response (its pupil, footprint and emission
 /// profile are kept, its light radius starts the search).
-pub fn measure_response<I: Instrument>(
-    instrument: &mut I,
-    mount: impl FnOnce(&mut I, Arc<dyn Brdf>) -> Result<(), InstrumentError>,
+pub fn measure_response(
+    instrument: &mut dyn Instrument,
+    mount: impl FnOnce(&mut dyn Instrument, &MountTarget) -> Result<(), InstrumentError>,
     hdr: &mut HdrCapturer,
     calibration: &Calibration,
     prior: &InstrumentResponse,
     options: &ResponseOptions,
 ) -> Result<ResponseFit, CalibrationError> {
-    let mirror = reference_mirror();
-    mount(instrument, mirror.clone())?;
+    mount(instrument, &MountTarget::Mirror)?;
     let steps = (options.half_width_deg / options.step_deg).round() as i64;
     let offsets: Vec<f64> = (-steps..=steps)
         .map(|k| k as f64 * options.step_deg)
@@ -304,7 +303,7 @@ pub fn measure_response<I: Instrument>(
     }
     Ok(ResponseFit {
         response: prior.with_light_radius_deg(best.0),
-        reference: mirror.name(),
+        reference: reference_mirror().name(),
         centre_offset_deg: best.1,
         rms_relative: best_cost / peak,
         scan: offsets.into_iter().zip(data).collect(),

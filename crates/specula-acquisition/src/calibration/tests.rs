@@ -39,7 +39,7 @@ fn calibration_recovers_the_simulated_camera() {
     let mut sim = simulator(21);
     let camera = sim.config().camera.clone();
     let options = CalibrationOptions::default();
-    let cal = calibrate(&mut sim, mount_in_simulator, &options).unwrap();
+    let cal = calibrate(&mut sim, mount_by_device, &options).unwrap();
 
     // The noise model (EMVA 1288 from dark frames and the photon transfer curve).
     let truth = camera.noise_model();
@@ -86,7 +86,11 @@ fn calibration_recovers_the_simulated_camera() {
         name: "test tile".into(),
         reflectance: Rgb::new(0.6, 0.3, 0.1),
     };
-    mount_in_simulator(&mut sim, &target).unwrap();
+    sim.mount_sample(MountedSample::new(
+        target.name.clone(),
+        Arc::new(target.clone()),
+        Tilt::default(),
+    ));
     let axes = AxisPositions::from_degrees(30.0, 20.0, 150.0, 60.0);
     sim.move_to(&axes).unwrap();
     let (wi, _) = sim.actual_axes(&axes).directions();
@@ -111,6 +115,10 @@ fn calibration_file_round_trip_and_errors() {
     let cal = Calibration {
         device: "sim".into(),
         white_reflectance: 0.99,
+        white_certificate: Some(white::WhiteCertificate {
+            reflectance: [0.99, 0.985, 0.98],
+            uncertainty: [0.004, 0.004, 0.005],
+        }),
         light_elevation_deg: 45.0,
         gain_dn_s_per_sr: [1e6, 2e6, 3e6],
         colour_matrix: [[1.1, -0.1, 0.0], [0.0, 1.0, 0.0], [0.0, -0.05, 1.05]],
@@ -152,17 +160,14 @@ fn measured_response(seed: u64, radius_m: f64, emission: Vec<f64>) -> (f64, resp
         MountedSample::new("white", white, Tilt::default()),
         config,
     );
-    let cal = calibrate(&mut sim, mount_in_simulator, &CalibrationOptions::default()).unwrap();
+    let cal = calibrate(&mut sim, mount_by_device, &CalibrationOptions::default()).unwrap();
     let info = sim.info().unwrap();
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), cal.noise);
     // The fit starts from the device file's radius: give it a wrong one (1.5x).
     let prior = device.response().with_light_radius_deg(1.5 * truth);
     let fit = response::measure_response(
         &mut sim,
-        |s, mirror| {
-            s.mount(MountedSample::new(mirror.name(), mirror, Tilt::default()));
-            Ok(())
-        },
+        mount_by_device,
         &mut hdr,
         &cal,
         &prior,
@@ -201,9 +206,9 @@ fn the_mirror_scan_recovers_the_light_disk() {
 fn a_calibrated_device_measures_a_known_diffuse_sample_as_it_is() {
     let mut sim = simulator(5);
     let device = sim.device().clone();
-    let cal = calibrate(&mut sim, mount_in_simulator, &CalibrationOptions::default()).unwrap();
+    let cal = calibrate(&mut sim, mount_by_device, &CalibrationOptions::default()).unwrap();
     let grey = Arc::new(DiffuseTarget::white(0.4));
-    sim.mount(MountedSample::new("grey", grey.clone(), Tilt::default()));
+    sim.mount_sample(MountedSample::new("grey", grey.clone(), Tilt::default()));
     let theta_h = truth_check::TRUTH_CHECK_THETA_H_DEG;
     let checks =
         truth_check::check_against_truth(&mut sim, &device, &cal, grey.as_ref(), &theta_h).unwrap();
@@ -217,4 +222,36 @@ fn a_calibrated_device_measures_a_known_diffuse_sample_as_it_is() {
         // A diffuse sample is not blurred by the light's disk: the calibration alone.
         assert!((check.green_ratio() - 1.0).abs() < 0.05, "{check:?}");
     }
+}
+
+#[test]
+fn a_certificate_sets_each_channels_gain() {
+    // The same device and seed, the white's reflectance certified per channel: each
+    // channel's gain scales by the flat value over the certified one, and the file keeps the
+    // certificate.
+    let flat = calibrate(
+        &mut simulator(8),
+        mount_by_device,
+        &CalibrationOptions::default(),
+    )
+    .unwrap();
+    let certificate = white::WhiteCertificate {
+        reflectance: [0.99, 0.9, 0.95],
+        uncertainty: [0.004, 0.004, 0.005],
+    };
+    let options = CalibrationOptions {
+        white_certificate: Some(certificate),
+        ..CalibrationOptions::default()
+    };
+    let certified = calibrate(&mut simulator(8), mount_by_device, &options).unwrap();
+    for c in 0..3 {
+        let ratio = certified.gain_dn_s_per_sr[c] / flat.gain_dn_s_per_sr[c];
+        let expected = 0.99 / certificate.reflectance[c];
+        assert!(
+            (ratio / expected - 1.0).abs() < 1e-12,
+            "channel {c}: {ratio}"
+        );
+    }
+    assert_eq!(certified.white_certificate, Some(certificate));
+    assert!((certified.white_reflectance - (0.99 + 0.9 + 0.95) / 3.0).abs() < 1e-12);
 }

@@ -8,6 +8,7 @@ use crate::checks::{free_positions, measure_at};
 use crate::device::Device;
 use crate::hdr::{HdrCapturer, HdrSettings};
 use crate::instrument::{Instrument, InstrumentError};
+use glam::DVec3;
 use specula_core::{Brdf, HalfDiff, Rgb};
 
 /// The theta_h positions of the check, degrees (at [`TRUTH_CHECK_THETA_D_DEG`],
@@ -20,7 +21,20 @@ pub const TRUTH_CHECK_PHI_D_DEG: f64 = 90.0;
 /// phi_h of the check, degrees: the paper's.
 pub const TRUTH_CHECK_PHI_H_DEG: f64 = 45.0;
 
-/// One geometry of the check.
+/// One geometry of the check as the calibrated device measured it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CheckValue {
+    /// theta_h of the geometry, degrees.
+    pub theta_h_deg: f64,
+    /// f_r as the calibrated device measured it, 1/sr.
+    pub measured: Rgb,
+    /// The light's direction, sample frame.
+    pub wi: DVec3,
+    /// The camera's direction, sample frame.
+    pub wo: DVec3,
+}
+
+/// One geometry of the check beside the truth.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TruthCheck {
     /// theta_h of the geometry, degrees.
@@ -38,16 +52,15 @@ impl TruthCheck {
     }
 }
 
-/// Measures the mounted sample, whose BRDF is `truth`, at each of `theta_h_deg` (at theta_d
-/// 30, phi_d 90, phi_h 45 deg) with `calibration`'s noise model and gains; a geometry the
-/// device cannot reach or the truth does not answer is left out.
-pub fn check_against_truth(
+/// Measures the mounted sample at each of `theta_h_deg` (at theta_d 30, phi_d 90, phi_h
+/// 45 deg) with `calibration`'s noise model and gains: the check measurement of a
+/// calibration, which needs no truth. A geometry the device cannot reach is left out.
+pub fn measure_check(
     instrument: &mut dyn Instrument,
     device: &Device,
     calibration: &Calibration,
-    truth: &dyn Brdf,
     theta_h_deg: &[f64],
-) -> Result<Vec<TruthCheck>, InstrumentError> {
+) -> Result<Vec<CheckValue>, InstrumentError> {
     let settings = HdrSettings::for_device(&instrument.info()?);
     let mut hdr = HdrCapturer::new(settings, calibration.noise);
     let mut checks = Vec::with_capacity(theta_h_deg.len());
@@ -63,15 +76,33 @@ pub fn check_against_truth(
             continue;
         };
         let value = measure_at(instrument, &mut hdr, &axes, None)?.value;
-        let measured = calibration.brdf(value.rate_dn_s, wi.z);
-        let Some(expected) = truth.eval(wi, wo) else {
-            continue;
-        };
-        checks.push(TruthCheck {
+        checks.push(CheckValue {
             theta_h_deg: theta_h,
-            measured,
-            truth: expected,
+            measured: calibration.brdf(value.rate_dn_s, wi.z),
+            wi,
+            wo,
         });
     }
     Ok(checks)
+}
+
+/// [`measure_check`] on a sample whose BRDF is `truth`, beside the truth's values; a
+/// geometry the truth does not answer is left out.
+pub fn check_against_truth(
+    instrument: &mut dyn Instrument,
+    device: &Device,
+    calibration: &Calibration,
+    truth: &dyn Brdf,
+    theta_h_deg: &[f64],
+) -> Result<Vec<TruthCheck>, InstrumentError> {
+    Ok(measure_check(instrument, device, calibration, theta_h_deg)?
+        .into_iter()
+        .filter_map(|check| {
+            Some(TruthCheck {
+                theta_h_deg: check.theta_h_deg,
+                measured: check.measured,
+                truth: truth.eval(check.wi, check.wo)?,
+            })
+        })
+        .collect())
 }

@@ -26,9 +26,12 @@ pub mod optics;
 pub mod rng;
 pub mod sample;
 
+use crate::calibration::{colorchecker, response::reference_mirror, DiffuseTarget};
 use crate::device::Device;
 use crate::hdr::{HdrCapturer, HdrSettings};
-use crate::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
+use crate::instrument::{
+    Capture, Instrument, InstrumentError, InstrumentInfo, MountOutcome, MountTarget,
+};
 use crate::kinematics::{AxisPositions, AXIS_NAMES, CAMERA_AXIS};
 use crate::occlusion::{blockage, Blockage};
 use crate::response::InstrumentResponse;
@@ -92,6 +95,8 @@ pub struct Simulator {
     config: SimulatorConfig,
     nodes: Vec<CaptureNode>,
     sample: MountedSample,
+    /// The sample to measure, which [`MountTarget::Sample`] puts back.
+    under_test: MountedSample,
     commanded: AxisPositions,
     light_level: f64,
     clock_s: f64,
@@ -113,6 +118,7 @@ impl Simulator {
             device,
             config,
             nodes,
+            under_test: sample.clone(),
             sample,
             light_level: 1.0,
             clock_s: 0.0,
@@ -142,7 +148,7 @@ impl Simulator {
     }
 
     /// Puts another sample (a reference target) on the turntable, as the operator would.
-    pub fn mount(&mut self, sample: MountedSample) {
+    pub fn mount_sample(&mut self, sample: MountedSample) {
         self.sample = sample;
         self.repeats.clear();
     }
@@ -260,6 +266,41 @@ impl Simulator {
     }
 }
 
+/// The reflectance of the simulated white reference (a Spectralon tile's, flat).
+pub const SIMULATED_WHITE_REFLECTANCE: f64 = 0.99;
+
+/// The target the simulated operator mounts for `target`, aligned; `under_test` is the
+/// sample to measure. An unknown ColorChecker patch is an axis-limit error naming it.
+fn simulated_target(
+    target: &MountTarget,
+    under_test: &MountedSample,
+) -> Result<MountedSample, InstrumentError> {
+    let diffuse = |target: DiffuseTarget| {
+        let name = target.name.clone();
+        MountedSample::new(name, std::sync::Arc::new(target), sample::Tilt::default())
+    };
+    Ok(match target {
+        MountTarget::White => diffuse(DiffuseTarget::white(SIMULATED_WHITE_REFLECTANCE)),
+        MountTarget::Colorchecker { patch } => {
+            let found = colorchecker::PATCHES
+                .iter()
+                .position(|p| p.name == patch.as_str())
+                .ok_or_else(|| {
+                    InstrumentError::Limit(format!(
+                        "the ColorChecker has no patch named '{}'",
+                        specula_core::shown::excerpt(patch)
+                    ))
+                })?;
+            diffuse(DiffuseTarget::colorchecker().swap_remove(found))
+        }
+        MountTarget::Mirror => {
+            let mirror = reference_mirror();
+            MountedSample::new(mirror.name(), mirror, sample::Tilt::default())
+        }
+        MountTarget::Sample => under_test.clone(),
+    })
+}
+
 /// Rounds for keys: 1 ns of exposure, 1e-9 of light level, 1e-7 rad of axis angle.
 fn capture_key(exposure_s: f64, level: f64) -> (u64, u64) {
     (
@@ -365,6 +406,12 @@ impl Instrument for Simulator {
 
     fn simulated_clock_s(&self) -> Option<f64> {
         Some(self.clock_s)
+    }
+
+    fn mount(&mut self, target: &MountTarget) -> Result<MountOutcome, InstrumentError> {
+        let sample = simulated_target(target, &self.under_test)?;
+        self.mount_sample(sample);
+        Ok(MountOutcome::Mounted)
     }
 }
 

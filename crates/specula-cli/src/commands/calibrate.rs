@@ -1,31 +1,53 @@
-//! `specula calibrate`: the camera's noise model, gains to 1/sr and colour matrix on the
-//! simulated device, stored for later runs.
+//! `specula calibrate`: the camera's noise model, gains to 1/sr, colour matrix and the
+//! instrument's response, on a device through the driver protocol or on the simulated
+//! device, stored for later runs.
 
-use anyhow::Result;
+use super::connect_args::ConnectArgs;
+use anyhow::{Context, Result};
 use specula_acquisition::calibration::truth_check::{
-    check_against_truth, TRUTH_CHECK_PHI_D_DEG, TRUTH_CHECK_PHI_H_DEG, TRUTH_CHECK_THETA_D_DEG,
-    TRUTH_CHECK_THETA_H_DEG,
+    TRUTH_CHECK_PHI_D_DEG, TRUTH_CHECK_PHI_H_DEG, TRUTH_CHECK_THETA_D_DEG,
 };
-use specula_acquisition::calibration::{calibrate, mount_in_simulator, CalibrationOptions};
+use specula_acquisition::calibration::white::WhiteCertificate;
+use specula_acquisition::calibration::{Calibration, CalibrationOptions};
+use specula_acquisition::device::Device;
+use specula_acquisition::instrument::{Instrument, InstrumentError, MountTarget};
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
-use specula_session::workflow::simulated_response;
+use specula_core::Brdf;
+use specula_session::calibrate::{calibrate_device, CalibrationRun};
+use std::io::BufRead;
 use std::path::PathBuf;
+use std::sync::Arc;
 
-/// Calibrate the simulated device's camera and store the result (TOML) for later runs.
+/// Calibrate a device's camera and instrument response and store the result (TOML) for
+/// later runs (`specula measure --calibration`).
 ///
-/// With a white reference and the 24 ColorChecker patches mounted in turn at the 45/0
-/// geometry: dark frames and the photon transfer curve give the noise model (black level,
-/// dark current, read noise, conversion gain); the white reference gives each channel's gain
-/// to 1/sr; the patches' published values give the 3x3 colour matrix by least squares. Then
-/// the --truth sample is mounted and a few of its values are measured and compared with the
-/// truth.
+/// With the reference targets mounted in turn at the 45/0 geometry: dark frames and the
+/// photon transfer curve give the noise model (black level, dark current, read noise,
+/// conversion gain); the white reference gives each channel's gain to 1/sr; the 24
+/// ColorChecker patches' published values give the 3x3 colour matrix by least squares; a
+/// reference mirror scanned across the light's image gives the instrument's response. Then
+/// the sample is mounted and measured at a few geometries as a check.
+///
+/// Through the driver protocol (--connect) each target is mounted by the device's `mount`
+/// method when it offers one, else by the operator at a prompt (Enter when it is in place;
+/// --yes assumes it is). On the simulated device (--truth) the sample is that truth and the
+/// check shows the truth beside the measured values.
+///
+/// Example (a device served over TCP): specula calibrate --connect tcp://127.0.0.1:7878
+/// --white-certificate white.toml --out cam.toml
 #[derive(clap::Args)]
+#[command(group(clap::ArgGroup::new("source").required(true).args(["truth", "connect"])))]
 pub(crate) struct Args {
-    /// The sample measured after calibrating, as a check: a preset name, a material .toml, a
-    /// MERL .binary or a model:name fit.
+    /// Calibrate the simulated device with this sample on it (measured after calibrating, as
+    /// a check): a preset name, a material .toml, a MERL .binary or a model:name fit.
     #[arg(long)]
-    pub truth: String,
+    pub truth: Option<String>,
+    /// Calibrate a device through the driver protocol: tcp://HOST:PORT or exec:COMMAND.
+    #[arg(long)]
+    pub connect: Option<String>,
+    #[command(flatten)]
+    pub connect_args: ConnectArgs,
     /// Where to write the calibration (TOML).
     #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
@@ -33,6 +55,13 @@ pub(crate) struct Args {
     /// above 0 and at most 1.
     #[arg(long, default_value_t = 0.99, value_parser = crate::range::REFLECTANCE)]
     pub white_reflectance: f64,
+    /// The white reference's certificate (TOML): reflectance and uncertainty per channel, or
+    /// a spectrum integrated per channel.
+    #[arg(long, conflicts_with = "white_reflectance")]
+    pub white_certificate: Option<PathBuf>,
+    /// Assume each target is in place when the device cannot mount it (no prompt).
+    #[arg(long)]
+    pub yes: bool,
     /// Seed of the simulated device: its positioning errors and its noise.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -42,24 +71,73 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    let truth = specula_formats::load_brdf(&args.truth)?;
     let device = super::load_device(args.device.as_deref())?;
-    let config = SimulatorConfig::new(args.seed, &device);
-    let sample = MountedSample::new(&args.truth, truth.clone(), Tilt::default());
-    let mut sim = Simulator::new(device.clone(), sample.clone(), config);
-
     let options = CalibrationOptions {
         white_reflectance: args.white_reflectance,
+        white_certificate: args
+            .white_certificate
+            .as_deref()
+            .map(WhiteCertificate::load)
+            .transpose()?,
         ..CalibrationOptions::default()
     };
+    let (mut instrument, truth) = instrument(&args, &device)?;
     let spinner = crate::progress::spinner("calibrating");
-    let mut cal = calibrate(&mut sim, mount_in_simulator, &options)?;
-    spinner.set_message("calibrating: the response, a mirror across the light");
-    let fit = simulated_response(&mut sim, &cal, &device)?;
-    cal.response = Some(fit);
+    let yes = args.yes;
+    let mut operator = |target: &MountTarget| spinner.suspend(|| mount_by_operator(target, yes));
+    let run = calibrate_device(
+        instrument.as_mut(),
+        &mut operator,
+        &device,
+        &options,
+        &mut |step| spinner.set_message(step.to_string()),
+    )?;
     spinner.finish_and_clear();
-    cal.save(&args.out)?;
+    run.calibration.save(&args.out)?;
+    print_calibration(&run.calibration, &device);
+    outln!("written: {}", args.out.display());
+    print_check(&run, truth.as_deref(), &device);
+    Ok(())
+}
 
+/// The device to calibrate and the truth on its turntable, when it is simulated.
+type Calibrated = (Box<dyn Instrument>, Option<Arc<dyn Brdf>>);
+
+/// The device to calibrate: the simulator with the truth on its turntable, or a client of
+/// `--connect`; and the truth, when there is one.
+fn instrument(args: &Args, device: &Device) -> Result<Calibrated> {
+    if let Some(truth_name) = &args.truth {
+        let truth = specula_formats::load_brdf(truth_name)?;
+        let config = SimulatorConfig::new(args.seed, device);
+        let sample = MountedSample::new(truth.name(), truth.clone(), Tilt::default());
+        let simulator = Simulator::new(device.clone(), sample, config);
+        return Ok((Box::new(simulator), Some(truth)));
+    }
+    let spec = args
+        .connect
+        .as_deref()
+        .context("give --truth or --connect")?;
+    Ok((Box::new(args.connect_args.client(spec)?), None))
+}
+
+/// The operator mounts `target`: a prompt on the terminal answered with Enter, or with
+/// `yes` nothing asked. A closed input is an error saying how to go without a prompt.
+fn mount_by_operator(target: &MountTarget, yes: bool) -> Result<(), InstrumentError> {
+    if yes {
+        eprintln!("assuming {target} is mounted (--yes)");
+        return Ok(());
+    }
+    eprintln!("mount {target} on the turntable, then press Enter");
+    let mut line = String::new();
+    match std::io::stdin().lock().read_line(&mut line) {
+        Ok(0) | Err(_) => Err(InstrumentError::Disconnected(format!(
+            "mounting {target}: no answer from the operator (the input is closed); give --yes when the targets are mounted without a prompt"
+        ))),
+        Ok(_) => Ok(()),
+    }
+}
+
+fn print_calibration(cal: &Calibration, device: &Device) {
     let n = &cal.noise;
     outln!(
         "noise model: black {:.2} DN, dark current {:.3} DN/s, read noise {:.3} DN, gain {:.4} DN/e-",
@@ -72,6 +150,18 @@ pub(crate) fn run(args: Args) -> Result<()> {
         g[1],
         g[2]
     );
+    if let Some(c) = &cal.white_certificate {
+        let (r, u) = (c.reflectance, c.uncertainty);
+        outln!(
+            "white reference: R {:.4} +- {:.4}  G {:.4} +- {:.4}  B {:.4} +- {:.4} (certificate)",
+            r[0],
+            u[0],
+            r[1],
+            u[1],
+            r[2],
+            u[2]
+        );
+    }
     outln!("colour matrix (camera to linear sRGB):");
     for row in cal.colour_matrix {
         outln!("  {:+.4} {:+.4} {:+.4}", row[0], row[1], row[2]);
@@ -91,40 +181,44 @@ pub(crate) fn run(args: Args) -> Result<()> {
             fit.response.resolution_deg()
         );
     }
-    outln!("written: {}", args.out.display());
+}
 
-    // The truth back on the turntable: calibrated values against the truth.
-    sim.mount(sample);
-    let checks = check_against_truth(
-        &mut sim,
-        &device,
-        &cal,
-        truth.as_ref(),
-        &TRUTH_CHECK_THETA_H_DEG,
-    )?;
+/// The check measurement, beside the truth's values when there is one.
+fn print_check(run: &CalibrationRun, truth: Option<&dyn Brdf>, device: &Device) {
     outln!(
-        "check on {} (theta_d {TRUTH_CHECK_THETA_D_DEG}, phi_d {TRUTH_CHECK_PHI_D_DEG}, phi_h {TRUTH_CHECK_PHI_H_DEG} deg):",
-        args.truth
+        "check on the sample (theta_d {TRUTH_CHECK_THETA_D_DEG}, phi_d {TRUTH_CHECK_PHI_D_DEG}, phi_h {TRUTH_CHECK_PHI_H_DEG} deg):"
     );
-    outln!("theta_h_deg,measured_r,measured_g,measured_b,truth_r,truth_g,truth_b,ratio_g");
-    for check in &checks {
-        let (measured, expected) = (check.measured, check.truth);
+    let truth_of = |check: &specula_acquisition::calibration::truth_check::CheckValue| {
+        truth.and_then(|t| t.eval(check.wi, check.wo))
+    };
+    match truth {
+        Some(_) => {
+            outln!("theta_h_deg,measured_r,measured_g,measured_b,truth_r,truth_g,truth_b,ratio_g")
+        }
+        None => outln!("theta_h_deg,measured_r,measured_g,measured_b"),
+    }
+    for check in &run.checks {
+        let m = check.measured;
+        match truth_of(check) {
+            Some(t) => outln!(
+                "{},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4}",
+                check.theta_h_deg,
+                m.x,
+                m.y,
+                m.z,
+                t.x,
+                t.y,
+                t.z,
+                m.y / t.y
+            ),
+            None => outln!("{},{:.4e},{:.4e},{:.4e}", check.theta_h_deg, m.x, m.y, m.z),
+        }
+    }
+    if truth.is_some() {
         outln!(
-            "{},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4}",
-            check.theta_h_deg,
-            measured.x,
-            measured.y,
-            measured.z,
-            expected.x,
-            expected.y,
-            expected.z,
-            check.green_ratio()
+            "(near the highlight the light's {:.1} deg disk blurs a sharp lobe: ratios below 1 there \
+             are the source's size, not the calibration)",
+            device.light_radius_deg()
         );
     }
-    outln!(
-        "(near the highlight the light's {:.1} deg disk blurs a sharp lobe: ratios below 1 there \
-         are the source's size, not the calibration)",
-        device.light_radius_deg()
-    );
-    Ok(())
 }

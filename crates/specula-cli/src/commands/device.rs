@@ -83,13 +83,11 @@ fn serve(args: ServeArgs) -> Result<()> {
     let truth = specula_formats::source::load_brdf(&args.truth)?;
     // The truth's content hash goes in the server's name: a client reconnecting to a server
     // restarted with another truth (or an edited file of the same name) sees another device.
+    // Nothing else of the truth crosses the wire, not even its name: a client calibrates and
+    // measures it as it would a real sample.
     let fingerprint = brdf_fingerprint(truth.as_ref());
     let instrument = simulated_instrument(device, truth, args.seed, args.ideal);
-    let name = format!(
-        "specula device serve: {} (truth sha256 {})",
-        args.truth,
-        &fingerprint[..16]
-    );
+    let name = format!("specula device serve (sample {})", &fingerprint[..16]);
     let mut server = Server::new(instrument, name)
         .with_token(token)
         .with_faults(faults);

@@ -1,7 +1,7 @@
 //! `specula measure`: the paper's whole measurement in one command, resumable.
 
+use super::connect_args::ConnectArgs;
 use super::grid_args::GridArgs;
-use super::token_args::TokenArgs;
 use crate::interrupt::{blame_stop, stop_on_ctrl_c, Interrupted};
 use crate::range;
 use anyhow::{bail, Context, Result};
@@ -9,13 +9,12 @@ use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
 use specula_core::{GridSpec, ProbeSpec};
 use specula_session::engine::{Progress, StageOutcome};
-use specula_session::protocol::{ClientSettings, Endpoint};
+use specula_session::protocol::Endpoint;
 use specula_session::workflow::{
     default_session_path, measure, session_grid, summary_path, HdrChoice, MeasureOutcome,
     MeasureSettings, Observer, PlanOrder, Source,
 };
 use std::path::PathBuf;
-use std::time::Duration;
 
 /// Measure a BRDF the paper's way, on the simulated device or on real hardware, and write it
 /// as a MERL table.
@@ -113,17 +112,8 @@ pub(crate) struct Args {
     /// UTIA gonioreflectometer. The device to talk to is --connect.
     #[arg(long, alias = "device-model")]
     pub device: Option<PathBuf>,
-    /// Shared token for a server that asks for one (`specula device serve --token-file`).
     #[command(flatten)]
-    pub token: TokenArgs,
-    /// Seconds to wait for a reply from a device before retrying. Range: seconds above 0
-    /// and at most 86400.
-    #[arg(long, default_value_t = 120.0, value_parser = range::TIMEOUT_S)]
-    pub reply_timeout: f64,
-    /// Failures in a row on one request before giving up. Range: a whole number from 1 to
-    /// 100.
-    #[arg(long, default_value_t = 5, value_parser = range::FAILURES)]
-    pub max_failures: usize,
+    pub connect_args: ConnectArgs,
     /// Run the simulated device in real time divided by this factor (a rehearsal: 60 shows
     /// an hour's measurement in a minute). Range: a factor above 0 and at most 1000000.
     #[arg(long, value_parser = range::SPEEDUP)]
@@ -242,20 +232,17 @@ fn source(args: &Args) -> Result<Source> {
     let calibration = Calibration::load(path)?;
     Ok(Source::Remote {
         endpoint,
-        client: ClientSettings {
-            reply_timeout: Duration::from_secs_f64(args.reply_timeout),
-            max_failures: u32::try_from(args.max_failures).unwrap_or(u32::MAX),
-            token: args.token.resolve()?.map(|t| t.secret().to_string()),
-            ..ClientSettings::default()
-        },
+        client: args.connect_args.client_settings()?,
         calibration: Box::new(calibration),
     })
 }
 
-/// Progress bars per stage, with the device time left from the time model.
+/// Progress bars per stage, with the device time left from the time model; without a
+/// terminal, progress lines ([`crate::progress::LogLines`]).
 #[derive(Default)]
 pub(crate) struct Bars {
     bar: Option<ProgressBar>,
+    lines: Option<crate::progress::LogLines>,
     stage: String,
 }
 
@@ -264,6 +251,7 @@ impl Bars {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
         }
+        self.lines = None;
     }
 }
 
@@ -295,10 +283,19 @@ impl Observer for Bars {
             ));
         }
         self.bar = Some(bar);
+        self.lines = crate::progress::LogLines::start(crate::progress::StageState {
+            stage: stage.to_string(),
+            done,
+            planned,
+            eta_s: None,
+        });
         self.stage = stage.to_string();
     }
 
     fn sample(&mut self, progress: &Progress) {
+        if let Some(lines) = &self.lines {
+            lines.update(progress.done, progress.eta_device_s());
+        }
         if let Some(bar) = &self.bar {
             bar.set_position(progress.done as u64);
             bar.set_message(format!(
@@ -311,9 +308,7 @@ impl Observer for Bars {
     }
 
     fn stage_finished(&mut self, stage: &str, outcome: &StageOutcome) {
-        if let Some(bar) = self.bar.take() {
-            bar.finish_and_clear();
-        }
+        self.finish();
         eprintln!(
             "{stage}: {} samples ({} measured now, {} from the journal){}",
             outcome.resumed + outcome.measured,

@@ -5,6 +5,7 @@ pub(crate) mod appearance;
 pub(crate) mod calibrate;
 pub(crate) mod check;
 pub(crate) mod compare;
+pub(crate) mod connect_args;
 pub(crate) mod convert;
 pub(crate) mod demo;
 pub(crate) mod device;

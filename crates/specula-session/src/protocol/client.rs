@@ -25,7 +25,9 @@ use super::validate::{ReplyProblem, ReplyRanges};
 use crate::pace::STOP_POLL;
 use serde::de::DeserializeOwned;
 use serde_json::{json, Value};
-use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
+use specula_acquisition::instrument::{
+    Capture, Instrument, InstrumentError, InstrumentInfo, MountOutcome, MountTarget,
+};
 use specula_acquisition::kinematics::AxisPositions;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::RecvTimeoutError;
@@ -89,6 +91,8 @@ enum AttemptError {
     /// The server refused us (token, protocol version) or does not understand us: another
     /// try would fail the same way.
     Refused(String),
+    /// The device does not offer the method (`unknown_method`), with its message.
+    Unknown(String),
     /// The stop flag was raised while waiting.
     Stopped,
 }
@@ -179,17 +183,35 @@ impl RemoteInstrument {
         }
     }
 
-    /// Calls a method, retrying on a fresh link as the settings say; `check` says what is
-    /// wrong with a reply outside the protocol's ranges.
+    /// Calls a method the device must offer (see [`Self::call_offered`]).
     fn call<T: DeserializeOwned>(
         &mut self,
         method: &str,
         params: Value,
         check: &dyn Fn(&ReplyRanges, &T) -> Result<(), ReplyProblem>,
     ) -> Result<T, InstrumentError> {
+        self.call_offered(method, params, check)?
+            .map_err(|message| {
+                InstrumentError::Disconnected(format!(
+                    "{}: {method}: unknown_method: {message}",
+                    self.endpoint
+                ))
+            })
+    }
+
+    /// Calls a method, retrying on a fresh link as the settings say; `check` says what is
+    /// wrong with a reply outside the protocol's ranges. `Ok(Err(message))` when the device
+    /// answers that it does not offer the method (`unknown_method`).
+    fn call_offered<T: DeserializeOwned>(
+        &mut self,
+        method: &str,
+        params: Value,
+        check: &dyn Fn(&ReplyRanges, &T) -> Result<(), ReplyProblem>,
+    ) -> Result<Result<T, String>, InstrumentError> {
         let mut failures = 0u32;
         loop {
             let why = match self.attempt(method, &params) {
+                Err(AttemptError::Unknown(message)) => return Ok(Err(message)),
                 Ok(value) => {
                     let reply: T = serde_json::from_value(value).map_err(|e| {
                         InstrumentError::Disconnected(format!(
@@ -198,7 +220,7 @@ impl RemoteInstrument {
                         ))
                     })?;
                     match check(&self.settings.ranges, &reply) {
-                        Ok(()) => return Ok(reply),
+                        Ok(()) => return Ok(Ok(reply)),
                         Err(problem) => {
                             failures += 1;
                             let message = format!("{}: {method} reply: {problem}", self.endpoint);
@@ -290,6 +312,7 @@ impl RemoteInstrument {
                     timeout: false,
                     why: format!("the device is busy: {}", error.message),
                 },
+                (None, "unknown_method") => AttemptError::Unknown(error.message),
                 (None, kind) => {
                     AttemptError::Refused(format!("{method}: {kind}: {}", error.message))
                 }
@@ -488,6 +511,17 @@ impl Instrument for RemoteInstrument {
     fn simulated_clock_s(&self) -> Option<f64> {
         self.clock_s
     }
+
+    /// `mount`; a device that answers `unknown_method` (an adapter written before `mount`
+    /// existed, or one that leaves mounting to the operator) leaves it to the operator.
+    fn mount(&mut self, target: &MountTarget) -> Result<MountOutcome, InstrumentError> {
+        let params = serde_json::to_value(target).expect("serialises");
+        let answer = self.call_offered::<Value>("mount", params, &|_, _| Ok(()))?;
+        Ok(match answer {
+            Ok(_) => MountOutcome::Mounted,
+            Err(_) => MountOutcome::ByOperator,
+        })
+    }
 }
 
 #[cfg(test)]
@@ -568,6 +602,24 @@ mod tests {
         server.join().unwrap();
         assert!(err.contains("home: unknown_method: scripted"), "{err}");
         assert!(client.notes().lock().unwrap().is_empty(), "no retry");
+    }
+
+    #[test]
+    fn a_device_without_mount_leaves_it_to_the_operator_and_one_with_it_mounts() {
+        let (address, server) = scripted(vec!["unknown_method"], false);
+        let mut client = RemoteInstrument::new(Endpoint::Tcp(address), quick());
+        let outcome = client.mount(&MountTarget::White).unwrap();
+        server.join().unwrap();
+        assert_eq!(outcome, MountOutcome::ByOperator);
+        assert!(client.notes().lock().unwrap().is_empty(), "no retry");
+
+        let (address, server) = scripted(vec![], true);
+        let mut client = RemoteInstrument::new(Endpoint::Tcp(address), quick());
+        let target = MountTarget::Colorchecker {
+            patch: "dark skin".into(),
+        };
+        assert_eq!(client.mount(&target).unwrap(), MountOutcome::Mounted);
+        server.join().unwrap();
     }
 
     /// A client of `address` with a minute's timeouts and a stop flag raised after 200 ms;

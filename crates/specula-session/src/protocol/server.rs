@@ -30,7 +30,7 @@ use super::message::{
 };
 use serde::de::DeserializeOwned;
 use serde_json::{json, Value};
-use specula_acquisition::instrument::{Instrument, InstrumentError};
+use specula_acquisition::instrument::{Instrument, InstrumentError, MountOutcome, MountTarget};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -667,11 +667,20 @@ fn call(instrument: &mut dyn Instrument, method: &str, params: Value) -> Result<
                 .map_err(device)?;
             Ok(to_value(serde_json::to_value(capture)))
         }
-        other => Err(WireError::new(
-            "unknown_method",
-            format!("no method '{other}'"),
-        )),
+        "mount" => {
+            let target: MountTarget = parse(params)?;
+            match instrument.mount(&target).map_err(device)? {
+                MountOutcome::Mounted => Ok(json!({})),
+                MountOutcome::ByOperator => Err(unknown(method)),
+            }
+        }
+        other => Err(unknown(other)),
     }
+}
+
+/// The reply to a method the device does not offer.
+fn unknown(method: &str) -> WireError {
+    WireError::new("unknown_method", format!("no method '{method}'"))
 }
 
 fn parse<T: DeserializeOwned>(params: Value) -> Result<T, WireError> {
