@@ -16,7 +16,7 @@ use specula_acquisition::instrument::InstrumentInfo;
 use specula_appearance::aperture::ExtrapolatedCells;
 use specula_appearance::Options;
 use specula_core::merl::CELLS;
-use specula_core::{MerlBrdf, ProbePoint, Sample};
+use specula_core::{Brdf, MerlBrdf, ProbePoint, Sample};
 use specula_formats::BrdfSource;
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use specula_reconstruct::provenance::Provenance;
@@ -531,6 +531,28 @@ fn shown_table(
     }
 }
 
+/// The table the report of the session journal `path` shows, named after its material, with
+/// its provenance: what the viewer shows of a session.
+pub(crate) fn shown_of(
+    path: &Path,
+    progress: &dyn Progress,
+) -> Result<(String, MerlBrdf, Option<Provenance>), ReportError> {
+    let session = Session::read(path)?;
+    let name = session.material_name();
+    let mut notes = Vec::new();
+    match shown_table(&ReportOptions::new(path), &session, &name, &mut notes, progress)? {
+        Some(shown) => Ok((
+            format!("{name}, measured"),
+            shown.table,
+            shown.provenance,
+        )),
+        None => Err(ReportError::In {
+            origin: path.display().to_string(),
+            source: notes.join(" ").into(),
+        }),
+    }
+}
+
 /// The report of the session journal `options.input` (`specula report`, and the demo's).
 pub(crate) fn report(
     options: &ReportOptions,
@@ -588,6 +610,13 @@ pub(crate) fn report(
         report
             .figures
             .extend(slice_figures(&shown.table, truth_brdf)?);
+        let measured = format!("{name}, measured");
+        let mut shown_sources: Vec<(&str, &dyn Brdf, Option<&Provenance>)> =
+            vec![(&measured, &shown.table, shown.provenance.as_ref())];
+        if let Some((label, brdf)) = &truth {
+            shown_sources.push((label, brdf.as_ref(), None));
+        }
+        report.viewer = Some(crate::view::viewer_of(&shown_sources));
     }
     if let (Some(fit), false) = (&session.fit, session.probe.is_empty()) {
         report.figures.push(probe_figure(

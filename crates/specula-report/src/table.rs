@@ -84,6 +84,13 @@ pub(crate) fn report(
     report
         .figures
         .extend(slice_figures(&table, truth.as_deref())?);
+    let provenance = Provenance::beside(&options.input).or_report()?;
+    let mut shown: Vec<(&str, &dyn Brdf, Option<&Provenance>)> =
+        vec![(&name, &table, provenance.as_ref())];
+    if let (Some(label), Some(brdf)) = (options.truth.as_deref(), &truth) {
+        shown.push((label, brdf.as_ref(), None));
+    }
+    report.viewer = Some(crate::view::viewer_of(&shown));
     if let (Ok(probe), Some(fit)) = (&probe, &fit) {
         let points = probe.points();
         report.figures.push(probe_figure(
