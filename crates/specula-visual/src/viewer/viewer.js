@@ -129,7 +129,7 @@
   const polar = $('sv-polar');
   const thetaI = $('sv-theta-i'), logScale = $('sv-log');
   const PANELS = [{ cx: 190, title: 'in the plane of incidence' }, { cx: 570, title: 'across it, through the mirror direction' }];
-  const CY = 310, RADIUS = 170;
+  const CY = 205, RADIUS = 180;
   function light() { const a = thetaI.value * PI / 180; return [Math.sin(a), 0, Math.cos(a)]; }
   // The outgoing direction at signed angle a (radians) of panel p.
   function outgoing(p, a) {
@@ -224,17 +224,21 @@
   // ---- the characteristic slice: heatmaps ------------------------------------------------
   const phiD = $('sv-phi-d');
   const CELL_W = 3, CELL_H = 6;
-  // One colour scale for every table: log10 luminance over all their cells.
+  // One colour scale for every table: log10 luminance over all their cells, from the 2nd
+  // percentile (at most 10 decades below the top) to the largest.
   const range = (function () {
-    let hi = -Infinity, lo = Infinity;
+    const logs = [];
     tables.forEach(function (t) {
       for (let c = 0; c < NH * ND * NP; c++) {
         const l = luminance(rgbAt(t, c));
-        if (l > 0) { const v = Math.log10(l); if (v > hi) hi = v; if (v < lo) lo = v; }
+        if (l > 0) logs.push(Math.log10(l));
       }
     });
-    if (!(hi > -Infinity)) return [0, 1];
-    return [Math.max(lo, hi - 6), hi === Math.max(lo, hi - 6) ? hi + 1 : hi];
+    if (logs.length === 0) return [0, 1];
+    const sorted = Float64Array.from(logs).sort();
+    const hi = sorted[sorted.length - 1];
+    const lo = Math.max(sorted[Math.floor(0.02 * (sorted.length - 1))], hi - 10);
+    return hi > lo ? [lo, hi] : [hi - 1, hi];
   })();
   const STOPS = [[0, 0, 4], [40, 11, 84], [101, 21, 110], [159, 42, 99], [212, 72, 66], [245, 125, 21], [250, 193, 39], [252, 255, 164]];
   function colourOf(v) {
