@@ -10,7 +10,9 @@
 mod chromium;
 mod common;
 
-use chromium::{attribute, chromium_or_skip, file_url, run_chromium, viewer_self_test};
+use chromium::{
+    attribute, chromium_or_skip, file_url, run_chromium, viewer_self_test, MAX_READY_MS,
+};
 use common::{measure_small, report};
 use std::path::Path;
 
@@ -72,8 +74,16 @@ fn check_in_chromium(chromium: &Path, page: &Path, work: &Path) {
     let viewer = viewer_self_test(chromium, page, work);
     assert_eq!(viewer.tables, 2, "the table and its truth: {viewer:?}");
     assert!(
-        viewer.canvases.iter().all(|&(_, colours, changed)| colours > 20 && changed),
+        viewer
+            .canvases
+            .iter()
+            .all(|&(_, colours, changed)| colours > 20 && changed),
         "the report's viewer is blank or does not move: {viewer:?}"
+    );
+    assert!(
+        viewer.ready_ms <= MAX_READY_MS,
+        "the report's viewer is interactive after {} ms",
+        viewer.ready_ms
     );
     if let Some(keep) = std::env::var_os("SPECULA_KEEP_SCREENSHOT") {
         let name = page.file_stem().unwrap().to_string_lossy();

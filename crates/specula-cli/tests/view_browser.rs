@@ -10,13 +10,11 @@
 mod chromium;
 
 use assert_cmd::Command;
-use chromium::{chromium_or_skip, viewer_self_test};
+use chromium::{chromium_or_skip, viewer_self_test, MAX_READY_MS};
 use specula_reconstruct::provenance::{CellOrigin, Provenance};
 
-/// The targets: the page of two MERL-size sources weighs at most this, bytes ...
+/// The target: the page of two MERL-size sources weighs at most this, bytes.
 const MAX_PAGE_BYTES: usize = 5_000_000;
-/// ... and is interactive this soon after it starts loading, ms.
-const MAX_READY_MS: usize = 2000;
 
 fn specula(dir: &std::path::Path, args: &[&str]) {
     let output = Command::cargo_bin("specula")
@@ -42,7 +40,10 @@ fn the_viewer_page_draws_moves_and_stays_offline_in_chromium() {
         dir.path(),
         &["tabulate", "silver-925", "--out", "silver.binary"],
     );
-    specula(dir.path(), &["tabulate", "chrome", "--out", "chrome.binary"]);
+    specula(
+        dir.path(),
+        &["tabulate", "chrome", "--out", "chrome.binary"],
+    );
     let cells = (0..specula_core::merl::CELLS)
         .map(|i| match i % 3 {
             0 => CellOrigin::Measured,
@@ -55,7 +56,13 @@ fn the_viewer_page_draws_moves_and_stays_offline_in_chromium() {
         .unwrap();
     specula(
         dir.path(),
-        &["view", "silver.binary", "chrome.binary", "--out", "view.html"],
+        &[
+            "view",
+            "silver.binary",
+            "chrome.binary",
+            "--out",
+            "view.html",
+        ],
     );
 
     let page = dir.path().join("view.html");
@@ -71,7 +78,11 @@ fn the_viewer_page_draws_moves_and_stays_offline_in_chromium() {
         !lower.contains("http:") && !lower.contains("https:"),
         "the page names an http address"
     );
-    assert_eq!(html.matches("\"origins\":\"").count(), 1, "silver's sidecar");
+    assert_eq!(
+        html.matches("\"origins\":\"").count(),
+        1,
+        "silver's sidecar"
+    );
 
     let result = viewer_self_test(&chromium, &page, dir.path());
     eprintln!("viewer self-test: {result:?}");

@@ -540,12 +540,14 @@ pub(crate) fn shown_of(
     let session = Session::read(path)?;
     let name = session.material_name();
     let mut notes = Vec::new();
-    match shown_table(&ReportOptions::new(path), &session, &name, &mut notes, progress)? {
-        Some(shown) => Ok((
-            format!("{name}, measured"),
-            shown.table,
-            shown.provenance,
-        )),
+    match shown_table(
+        &ReportOptions::new(path),
+        &session,
+        &name,
+        &mut notes,
+        progress,
+    )? {
+        Some(shown) => Ok((format!("{name}, measured"), shown.table, shown.provenance)),
         None => Err(ReportError::In {
             origin: path.display().to_string(),
             source: notes.join(" ").into(),

@@ -7,6 +7,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
+/// The target: a page with the viewer is drawn and interactive this soon after it starts
+/// loading, ms.
+pub(crate) const MAX_READY_MS: usize = 2000;
+
 /// The Chromium binary, if installed; without it under CI (`CI` set) the test fails, else
 /// it is skipped with a message (`None`).
 pub(crate) fn chromium_or_skip() -> Option<PathBuf> {
