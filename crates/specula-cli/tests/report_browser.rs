@@ -80,6 +80,7 @@ fn check_in_chromium(chromium: &Path, page: &Path, work: &Path) {
             .all(|&(_, colours, changed)| colours > 20 && changed),
         "the report's viewer is blank or does not move: {viewer:?}"
     );
+    assert_eq!(viewer.readouts, 3, "a readout on each drawing: {viewer:?}");
     assert!(
         viewer.ready_ms <= MAX_READY_MS,
         "the report's viewer is interactive after {} ms",

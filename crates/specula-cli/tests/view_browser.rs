@@ -1,7 +1,8 @@
 //! `specula view` in a real browser: the page of two MERL-size tables (one with a provenance
 //! sidecar) opened from disk by headless Chromium runs its self-test (`view.html#selftest`):
 //! no script error, every drawing (polar plot, slice, sphere) not blank, and each changes
-//! when its slider or the light moves; the page is interactive within 2 s, holds no
+//! when its slider or the light moves, the pointer on each gives a readout of f_r with the
+//! cell's origin; the page is interactive within 2 s, holds no
 //! `http` source or link and weighs at most 5 MB.
 //!
 //! Needs the Debian package `chromium` (CI installs it in `.ci/install-extras`). Without it the
@@ -91,6 +92,14 @@ fn the_viewer_page_draws_moves_and_stays_offline_in_chromium() {
         assert!(*colours > 20, "the {canvas} looks blank: {colours} colours");
         assert!(changed, "moving the {canvas}'s control did not change it");
     }
+    assert_eq!(
+        result.readouts, 3,
+        "a readout under the pointer on each drawing"
+    );
+    assert_eq!(
+        result.readout_origins, 3,
+        "silver's cells say where they come from"
+    );
     assert!(
         result.ready_ms <= MAX_READY_MS,
         "interactive after {} ms",

@@ -94,6 +94,11 @@ pub(crate) struct SelfTest {
     pub(crate) tables: usize,
     /// Milliseconds from navigation start until the viewer was drawn and interactive.
     pub(crate) ready_ms: usize,
+    /// Drawings (of the polar plot, the first slice and the first sphere) whose middle gave
+    /// a readout of f_r under the pointer ...
+    pub(crate) readouts: usize,
+    /// ... and of those, readouts naming the cell's origin (measured, interpolated, ...).
+    pub(crate) readout_origins: usize,
     /// Per canvas (polar, slice, sphere): distinct colours before the sliders moved, and
     /// whether moving them changed the drawing.
     pub(crate) canvases: Vec<(&'static str, usize, bool)>,
@@ -121,6 +126,8 @@ pub(crate) fn viewer_self_test(chromium: &Path, page: &Path, work: &Path) -> Sel
     SelfTest {
         tables: attribute(record, "data-tables"),
         ready_ms: attribute(record, "data-ready-ms"),
+        readouts: attribute(record, "data-readouts"),
+        readout_origins: attribute(record, "data-readout-origins"),
         canvases: ["polar", "slice", "sphere"]
             .into_iter()
             .map(|name| {

@@ -11,10 +11,12 @@
 // A table is looked up as MERL's reference reader looks up its cells (nearest bin), then
 // reduced to the compact grid (theta_d bins of 2 deg, phi_d bins of 4 deg).
 //
-// Self-test: opened as PAGE#selftest, the page moves its sliders and its light once drawn
-// and writes into #sv-selftest, as data-* attributes, the script errors, the hashes and the
-// colour counts of its canvases before and after, and the time it took to become
-// interactive (ms since navigation start); the browser test reads them with --dump-dom.
+// Self-test: opened as PAGE#selftest, the page moves its sliders and its light once drawn,
+// and the pointer over the middle of each drawing, and writes into #sv-selftest, as data-*
+// attributes: the script errors, the colour counts of its canvases and whether moving the
+// controls changed them, how many pointer moves gave a readout of f_r (and named a cell's
+// origin), and the time it took to become interactive (ms since navigation start); the
+// browser test reads them with --dump-dom.
 (function () {
   'use strict';
   const errors = [];
@@ -428,6 +430,18 @@
       out.setAttribute('data-' + k + '-colours', before[k].colours);
       out.setAttribute('data-' + k + '-changed', before[k].hash !== after.hash ? 1 : 0);
     });
+    // The pointer at the middle of each drawing: a readout of f_r each time.
+    let readouts = 0, origins = 0;
+    [[polar, 'mousemove'], [slices[0], 'mousemove'], [spheres[0], 'pointermove']].forEach(function (pair) {
+      const r = pair[0].getBoundingClientRect();
+      $('sv-readout').textContent = '';
+      pair[0].dispatchEvent(new PointerEvent(pair[1], { clientX: r.left + r.width / 2, clientY: r.top + r.height / 2 }));
+      const text = $('sv-readout').textContent;
+      if (text.indexOf('1/sr') >= 0) readouts++;
+      if (/measured|interpolated|extrapolated/.test(text)) origins++;
+    });
+    out.setAttribute('data-readouts', readouts);
+    out.setAttribute('data-readout-origins', origins);
     out.setAttribute('data-ready-ms', Math.round(readyMs));
     out.setAttribute('data-tables', tables.length);
     out.setAttribute('data-errors', errors.length);
