@@ -81,6 +81,10 @@ fn check_in_chromium(chromium: &Path, page: &Path, work: &Path) {
         "the report's viewer is blank or does not move: {viewer:?}"
     );
     assert_eq!(viewer.readouts, 3, "a readout on each drawing: {viewer:?}");
+    assert_eq!(
+        viewer.readout_origins, 3,
+        "the measured table's cells say where they come from: {viewer:?}"
+    );
     assert!(
         viewer.ready_ms <= MAX_READY_MS,
         "the report's viewer is interactive after {} ms",
