@@ -16,7 +16,7 @@ use specula_acquisition::instrument::InstrumentInfo;
 use specula_appearance::aperture::ExtrapolatedCells;
 use specula_appearance::Options;
 use specula_core::merl::CELLS;
-use specula_core::{Brdf, MerlBrdf, ProbePoint, Sample};
+use specula_core::{MerlBrdf, ProbePoint, Sample};
 use specula_formats::BrdfSource;
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use specula_reconstruct::provenance::Provenance;
@@ -613,10 +613,10 @@ pub(crate) fn report(
             .figures
             .extend(slice_figures(&shown.table, truth_brdf)?);
         let measured = format!("{name}, measured");
-        let mut shown_sources: Vec<(&str, &dyn Brdf, Option<&Provenance>)> =
-            vec![(&measured, &shown.table, shown.provenance.as_ref())];
+        let mut shown_sources: Vec<crate::view::Shown> =
+            vec![(&measured, &shown.table, shown.provenance.as_ref(), None)];
         if let Some((label, brdf)) = &truth {
-            shown_sources.push((label, brdf.as_ref(), None));
+            shown_sources.push((label, brdf.as_ref(), None, None));
         }
         report.viewer = Some(crate::view::viewer_of(&shown_sources));
     }

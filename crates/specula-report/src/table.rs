@@ -4,6 +4,7 @@ use crate::error::{OrReport, ReportError};
 use crate::figures::{
     coverage_rows, errors, peak_fact, probe_figure, raw_samples_figure, renders, slice_figures,
 };
+use crate::view::Shown;
 use crate::{generator, Progress, ReportOptions, PLACED_SAMPLES};
 use specula_core::merl::MerlBrdf;
 use specula_core::sampling::Family;
@@ -84,11 +85,15 @@ pub(crate) fn report(
     report
         .figures
         .extend(slice_figures(&table, truth.as_deref())?);
-    let provenance = Provenance::beside(&options.input).or_report()?;
-    let mut shown: Vec<(&str, &dyn Brdf, Option<&Provenance>)> =
-        vec![(&name, &table, provenance.as_ref())];
+    let (provenance, uncertainty) = crate::view::sidecars(&options.input)?;
+    let mut shown: Vec<Shown> = vec![(
+        &name,
+        &table,
+        provenance.as_ref(),
+        uncertainty.as_ref().map(|u| u as &dyn Brdf),
+    )];
     if let (Some(label), Some(brdf)) = (options.truth.as_deref(), &truth) {
-        shown.push((label, brdf.as_ref(), None));
+        shown.push((label, brdf.as_ref(), None, None));
     }
     report.viewer = Some(crate::view::viewer_of(&shown));
     if let (Ok(probe), Some(fit)) = (&probe, &fit) {

@@ -72,24 +72,7 @@ fn source_table(spec: &str, progress: &dyn Progress) -> Result<CompactTable, Rep
         return Ok(compact_table(&name, &table, provenance.as_ref(), None));
     }
     let brdf = specula_formats::load_brdf(spec).or_report()?;
-    let path = Path::new(spec);
-    let is_merl = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("binary"))
-        && path.is_file();
-    let (provenance, uncertainty) = if is_merl {
-        let uncertainty = uncertainty_path(path);
-        (
-            Provenance::beside(path).or_report()?,
-            uncertainty
-                .is_file()
-                .then(|| MerlBrdf::read(&uncertainty))
-                .transpose()
-                .or_report()?,
-        )
-    } else {
-        (None, None)
-    };
+    let (provenance, uncertainty) = sidecars(Path::new(spec))?;
     Ok(compact_table(
         &brdf.name(),
         brdf.as_ref(),
@@ -98,12 +81,43 @@ fn source_table(spec: &str, progress: &dyn Progress) -> Result<CompactTable, Rep
     ))
 }
 
-/// The viewer of BRDFs already loaded, as the report embeds it: `(name, brdf, provenance)`
-/// each.
-pub fn viewer_of(sources: &[(&str, &dyn Brdf, Option<&Provenance>)]) -> String {
+/// The sidecars beside a MERL `.binary` file: its provenance and its uncertainty, each when
+/// there (none for other sources).
+pub(crate) fn sidecars(path: &Path) -> Result<(Option<Provenance>, Option<MerlBrdf>), ReportError> {
+    let is_merl = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("binary"))
+        && path.is_file();
+    if !is_merl {
+        return Ok((None, None));
+    }
+    let uncertainty = uncertainty_path(path);
+    Ok((
+        Provenance::beside(path).or_report()?,
+        uncertainty
+            .is_file()
+            .then(|| MerlBrdf::read(&uncertainty))
+            .transpose()
+            .or_report()?,
+    ))
+}
+
+/// One BRDF of a viewer the report embeds: its name, f_r, and the provenance and
+/// uncertainty of its cells when known.
+pub type Shown<'a> = (
+    &'a str,
+    &'a dyn Brdf,
+    Option<&'a Provenance>,
+    Option<&'a dyn Brdf>,
+);
+
+/// The viewer of BRDFs already loaded, as the report embeds it.
+pub fn viewer_of(sources: &[Shown]) -> String {
     let tables: Vec<CompactTable> = sources
         .iter()
-        .map(|(name, brdf, provenance)| compact_table(name, *brdf, *provenance, None))
+        .map(|(name, brdf, provenance, uncertainty)| {
+            compact_table(name, *brdf, *provenance, *uncertainty)
+        })
         .collect();
     viewer_fragment(&tables)
 }

@@ -198,10 +198,14 @@
         g.strokeStyle = tables[i].colour;
         g.lineWidth = 2;
         g.beginPath();
-        c[p].forEach(function (s, k) {
+        // A cell without a value breaks the curve.
+        let gap = true;
+        c[p].forEach(function (s) {
+          if (isNaN(s[1])) { gap = true; return; }
           const r = radius(s[1]);
           const x = panel.cx + r * Math.sin(s[0]), y = CY - r * Math.cos(s[0]);
-          if (k === 0) g.moveTo(x, y); else g.lineTo(x, y);
+          if (gap) g.moveTo(x, y); else g.lineTo(x, y);
+          gap = false;
         });
         g.stroke();
       });
