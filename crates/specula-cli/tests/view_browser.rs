@@ -1,9 +1,9 @@
 //! `specula view` in a real browser: the page of two MERL-size tables (one with a provenance
-//! sidecar) opened from disk by headless Chromium runs its self-test (`view.html#selftest`):
-//! no script error, every drawing (polar plot, slice, sphere) not blank, and each changes
-//! when its slider or the light moves, the pointer on each gives a readout of f_r with the
-//! cell's origin; the page is interactive within 2 s, holds no
-//! `http` source or link and weighs at most 5 MB.
+//! and an uncertainty sidecar), opened from disk by headless Chromium, runs its self-test
+//! (`view.html#selftest`): no script error, every drawing (polar plot, slice, sphere) not
+//! blank, each changes when its slider or the light moves, and the pointer on each gives a
+//! readout of f_r with the cell's origin and uncertainty; the page is interactive within 2 s,
+//! holds no `http` source or link and weighs at most 5 MB.
 //!
 //! Needs the Debian package `chromium` (CI installs it in `.ci/install-extras`). Without it the
 //! test is skipped with a message, except under CI (`CI` set), where it fails.
@@ -55,6 +55,12 @@ fn the_viewer_page_draws_moves_and_stays_offline_in_chromium() {
     Provenance { cells }
         .write(&dir.path().join("silver.provenance.npy"))
         .unwrap();
+    // An uncertainty sidecar (any MERL table will do for the page).
+    std::fs::copy(
+        dir.path().join("chrome.binary"),
+        dir.path().join("silver.uncertainty.binary"),
+    )
+    .unwrap();
     specula(
         dir.path(),
         &[
@@ -99,6 +105,10 @@ fn the_viewer_page_draws_moves_and_stays_offline_in_chromium() {
     assert_eq!(
         result.readout_origins, 3,
         "silver's cells say where they come from"
+    );
+    assert_eq!(
+        result.readout_uncertainties, 3,
+        "silver's sidecar gives its uncertainty"
     );
     assert!(
         result.ready_ms <= MAX_READY_MS,

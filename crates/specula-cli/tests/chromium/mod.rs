@@ -99,6 +99,8 @@ pub(crate) struct SelfTest {
     pub(crate) readouts: usize,
     /// ... and of those, readouts naming the cell's origin (measured, interpolated, ...).
     pub(crate) readout_origins: usize,
+    /// ... and readouts giving the cell's uncertainty.
+    pub(crate) readout_uncertainties: usize,
     /// Per canvas (polar, slice, sphere): distinct colours before the sliders moved, and
     /// whether moving them changed the drawing.
     pub(crate) canvases: Vec<(&'static str, usize, bool)>,
@@ -128,6 +130,7 @@ pub(crate) fn viewer_self_test(chromium: &Path, page: &Path, work: &Path) -> Sel
         ready_ms: attribute(record, "data-ready-ms"),
         readouts: attribute(record, "data-readouts"),
         readout_origins: attribute(record, "data-readout-origins"),
+        readout_uncertainties: attribute(record, "data-readout-uncertainties"),
         canvases: ["polar", "slice", "sphere"]
             .into_iter()
             .map(|name| {

@@ -15,7 +15,7 @@
 // and the pointer over the middle of each drawing, and writes into #sv-selftest, as data-*
 // attributes: the script errors, the colour counts of its canvases and whether moving the
 // controls changed them, how many pointer moves gave a readout of f_r (and named a cell's
-// origin), and the time it took to become interactive (ms since navigation start); the
+// origin, and gave its uncertainty), and the time it took to become interactive (ms since navigation start); the
 // browser test reads them with --dump-dom.
 (function () {
   'use strict';
@@ -435,7 +435,7 @@
       out.setAttribute('data-' + k + '-changed', before[k].hash !== after.hash ? 1 : 0);
     });
     // The pointer at the middle of each drawing: a readout of f_r each time.
-    let readouts = 0, origins = 0;
+    let readouts = 0, origins = 0, uncertainties = 0;
     [[polar, 'mousemove'], [slices[0], 'mousemove'], [spheres[0], 'pointermove']].forEach(function (pair) {
       const r = pair[0].getBoundingClientRect();
       $('sv-readout').textContent = '';
@@ -443,9 +443,11 @@
       const text = $('sv-readout').textContent;
       if (text.indexOf('1/sr') >= 0) readouts++;
       if (/measured|interpolated|extrapolated/.test(text)) origins++;
+      if (text.indexOf('uncertainty') >= 0) uncertainties++;
     });
     out.setAttribute('data-readouts', readouts);
     out.setAttribute('data-readout-origins', origins);
+    out.setAttribute('data-readout-uncertainties', uncertainties);
     out.setAttribute('data-ready-ms', Math.round(readyMs));
     out.setAttribute('data-tables', tables.length);
     out.setAttribute('data-errors', errors.length);
