@@ -1,73 +1,24 @@
 //! Reports in a real browser: `specula report` on the journal of a small simulated
 //! measurement and on the table it wrote, each opened from disk by headless Chromium; every
-//! embedded picture decodes (naturalWidth > 0), and a screenshot of the page is taken and
-//! checked.
+//! embedded picture decodes (naturalWidth > 0), a screenshot of the page is taken and
+//! checked, and the embedded interactive viewer passes its self-test.
 //!
 //! Needs the Debian package `chromium` (CI installs it in `.ci/install-extras`). Without it the
 //! test is skipped with a message, except under CI (`CI` set), where it fails.
 //! SPECULA_KEEP_SCREENSHOT=PREFIX keeps the screenshots as PREFIX-NAME.png.
 
+mod chromium;
 mod common;
 
+use chromium::{
+    attribute, chromium_or_skip, file_url, run_chromium, viewer_self_test, MAX_READY_MS,
+};
 use common::{measure_small, report};
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
-/// The Chromium binary, if installed.
-fn chromium() -> Option<PathBuf> {
-    ["chromium", "chromium-browser", "google-chrome"]
-        .iter()
-        .find_map(|name| {
-            let out = Command::new("which").arg(name).output().ok()?;
-            out.status
-                .success()
-                .then(|| PathBuf::from(String::from_utf8_lossy(&out.stdout).trim().to_string()))
-        })
-}
-
-/// Runs headless Chromium on `page` with extra arguments; returns stdout.
-fn run_chromium(chromium: &Path, profile: &Path, args: &[String], page: &Path) -> String {
-    let output = Command::new("timeout")
-        .arg("120")
-        .arg(chromium)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-dev-shm-usage",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--no-first-run",
-            "--hide-scrollbars",
-            "--virtual-time-budget=10000",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .args(args)
-        .arg(format!("file://{}", page.display()))
-        .output()
-        .expect("chromium runs");
-    assert!(
-        output.status.success(),
-        "chromium failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-/// The value of a numeric attribute in a dumped DOM.
-fn attribute(dom: &str, name: &str) -> usize {
-    let at = dom
-        .find(&format!("{name}=\""))
-        .unwrap_or_else(|| panic!("no {name} in the DOM"));
-    let rest = &dom[at + name.len() + 2..];
-    rest[..rest.find('"').expect("a closing quote")]
-        .parse()
-        .expect("a number")
-}
-
-/// Opens `page` in headless Chromium twice (profiles under `work`): every picture must
-/// decode, and a screenshot of the page must be of the requested size and not blank.
+/// Opens `page` in headless Chromium (profiles under `work`): every picture must decode, a
+/// screenshot of the page must be of the requested size and not blank, and the embedded
+/// viewer must draw both BRDFs (the table and the truth) without a script error.
 fn check_in_chromium(chromium: &Path, page: &Path, work: &Path) {
     let html = std::fs::read_to_string(page).unwrap();
     let pictures = html.matches("<img ").count();
@@ -83,11 +34,11 @@ fn check_in_chromium(chromium: &Path, page: &Path, work: &Path) {
         html.replace("</body>", &format!("{script}</body>")),
     )
     .unwrap();
-    let dom = run_chromium(
+    let (dom, _) = run_chromium(
         chromium,
         &work.join("profile-a"),
-        &["--dump-dom".into()],
-        &probed,
+        &["--dump-dom".into(), VIRTUAL_TIME.into()],
+        &file_url(&probed, ""),
     );
     assert_eq!(attribute(&dom, "data-images"), pictures);
     assert_eq!(
@@ -105,8 +56,9 @@ fn check_in_chromium(chromium: &Path, page: &Path, work: &Path) {
         &[
             format!("--screenshot={}", shot.display()),
             "--window-size=1200,1800".into(),
+            VIRTUAL_TIME.into(),
         ],
-        page,
+        &file_url(page, ""),
     );
     let image = image::open(&shot)
         .expect("a screenshot was written")
@@ -119,20 +71,38 @@ fn check_in_chromium(chromium: &Path, page: &Path, work: &Path) {
         page.display(),
         distinct.len()
     );
+    let viewer = viewer_self_test(chromium, page, work);
+    assert_eq!(viewer.tables, 2, "the table and its truth: {viewer:?}");
+    assert!(
+        viewer
+            .canvases
+            .iter()
+            .all(|&(_, colours, changed)| colours > 20 && changed),
+        "the report's viewer is blank or does not move: {viewer:?}"
+    );
+    assert_eq!(viewer.readouts, 3, "a readout on each drawing: {viewer:?}");
+    assert_eq!(
+        viewer.readout_origins, 3,
+        "the measured table's cells say where they come from: {viewer:?}"
+    );
+    assert_eq!(viewer.readout_uncertainties, 0, "no uncertainty is known");
+    assert!(
+        viewer.ready_ms <= MAX_READY_MS,
+        "the report's viewer is interactive after {} ms",
+        viewer.ready_ms
+    );
     if let Some(keep) = std::env::var_os("SPECULA_KEEP_SCREENSHOT") {
         let name = page.file_stem().unwrap().to_string_lossy();
         std::fs::copy(&shot, format!("{}-{name}.png", keep.to_string_lossy())).unwrap();
     }
 }
 
+/// Lets the page's timers and pictures settle before the DOM or the screenshot is taken.
+const VIRTUAL_TIME: &str = "--virtual-time-budget=10000";
+
 #[test]
 fn session_and_table_reports_open_in_chromium_with_every_picture() {
-    let Some(chromium) = chromium() else {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "chromium is not installed on CI: .ci/install-extras must install it"
-        );
-        eprintln!("SKIPPED: chromium is not installed (apt-get install chromium chromium-driver)");
+    let Some(chromium) = chromium_or_skip() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

@@ -1,6 +1,7 @@
 //! `specula report SESSION.sqlite`: the report of a measurement session, checked against what
 //! the journal and the measured table say when read here independently; an interrupted
-//! session still reports; a file that is not a journal gets a one-line error.
+//! session still reports; a file that is not a journal gets a one-line error; `specula view`
+//! shows the table a session's report shows.
 
 mod common;
 
@@ -149,6 +150,30 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
             "cells measured directly</th><td>".into(),
         ],
     );
+
+    // The viewer of the session shows the table its report shows, with its provenance,
+    // beside the truth.
+    let out = dir.path().join("view.html");
+    let html = page(&view(&[&session, Path::new("silver-925")], &out), &out);
+    assert_contains(
+        &html,
+        &[
+            "{\"name\":\"silver-925, measured\",\"values\":".into(),
+            "{\"name\":\"silver-925\",\"values\":".into(),
+        ],
+    );
+    assert_eq!(html.matches("\"origins\":\"").count(), 1);
+}
+
+/// `specula view SOURCES --out OUT`.
+fn view(sources: &[&Path], out: &Path) -> Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_specula"))
+        .arg("view")
+        .args(sources)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .expect("specula runs")
 }
 
 #[test]
@@ -198,6 +223,15 @@ fn a_session_stopped_in_the_probe_reports_without_k_hat() {
             "No table: the main stage has no measured sample yet".into(),
             "No pictures.".into(),
         ],
+    );
+    // No table, nothing to view: one line naming the journal.
+    let output = view(&[&session], &dir.path().join("view.html"));
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains(&format!("{}: No table", session.display())),
+        "{stderr}"
     );
 }
 

@@ -6,7 +6,8 @@
 //!
 //! This crate takes a plain [`ReportOptions`] (no argument parser) and reports long work to
 //! a [`Progress`]; `specula report` and `specula demo` are thin callers of [`write_report`]
-//! and [`write_session_pictures`].
+//! and [`write_session_pictures`], `specula view` of [`view::write_view`] (the interactive
+//! viewer, which the report embeds too).
 
 pub mod appearance;
 mod error;
@@ -14,6 +15,7 @@ mod figures;
 mod pdf;
 mod session;
 mod table;
+pub mod view;
 
 pub use error::ReportError;
 pub use specula_appearance::Verdict;

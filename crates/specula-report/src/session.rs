@@ -537,6 +537,30 @@ fn shown_table(
     }
 }
 
+/// The table the report of the session journal `path` shows, named after its material, with
+/// its provenance: what the viewer shows of a session.
+pub(crate) fn shown_of(
+    path: &Path,
+    progress: &dyn Progress,
+) -> Result<(String, MerlBrdf, Option<Provenance>), ReportError> {
+    let session = Session::read(path)?;
+    let name = session.material_name();
+    let mut notes = Vec::new();
+    match shown_table(
+        &ReportOptions::new(path),
+        &session,
+        &name,
+        &mut notes,
+        progress,
+    )? {
+        Some(shown) => Ok((format!("{name}, measured"), shown.table, shown.provenance)),
+        None => Err(ReportError::In {
+            origin: path.display().to_string(),
+            source: notes.join(" ").into(),
+        }),
+    }
+}
+
 /// The report of the session journal `options.input` (`specula report`, and the demo's).
 pub(crate) fn report(
     options: &ReportOptions,
@@ -632,6 +656,12 @@ pub(crate) fn report(
                 truth_brdf.map(|t| (t, truth_role)),
             )?);
         }
+        let mut shown_sources: Vec<crate::view::Shown> =
+            vec![(&sample_label, &shown.table, shown.provenance.as_ref(), None)];
+        if let Some((label, brdf)) = reference {
+            shown_sources.push((label, brdf.as_ref(), None, None));
+        }
+        report.viewer = Some(crate::view::viewer_of(&shown_sources));
     }
     if let (Some(fit), false, true) = (&session.fit, session.probe.is_empty(), engineering) {
         report.figures.push(probe_figure(

@@ -5,6 +5,7 @@ use crate::error::{OrReport, ReportError};
 use crate::figures::{
     coverage_rows, errors, peak_fact, probe_figure, raw_samples_figure, renders, slice_figures,
 };
+use crate::view::Shown;
 use crate::{
     generator, header, layout, today, Audience, Page, Progress, ReportOptions, PLACED_SAMPLES,
 };
@@ -108,6 +109,17 @@ pub(crate) fn report(
         options,
         progress,
     )?);
+    let (provenance, uncertainty) = crate::view::sidecars(&options.input)?;
+    let mut shown: Vec<Shown> = vec![(
+        &sample_label,
+        &table,
+        provenance.as_ref(),
+        uncertainty.as_ref().map(|u| u as &dyn Brdf),
+    )];
+    if let Some((label, brdf)) = &reference {
+        shown.push((label, *brdf, None, None));
+    }
+    report.viewer = Some(crate::view::viewer_of(&shown));
     if engineering {
         engineering_sections(&mut report, options, &table, truth.as_deref(), progress)?;
     }

@@ -1,6 +1,7 @@
 //! Pictures of BRDFs: renders of a material on a sphere or a speedshape (paper Fig. 16, 17),
 //! the characteristic slice and the raw samples (Fig. 11, 15), the probe against the adaptive
-//! samples (Fig. 13), side-by-side grids, and a self-contained HTML report.
+//! samples (Fig. 13), side-by-side grids, a self-contained HTML report and the interactive
+//! viewer drawn in the browser.
 
 pub mod camera;
 pub mod canvas;
@@ -21,6 +22,7 @@ pub mod render;
 pub mod report;
 pub mod shape;
 pub mod speedshape;
+pub mod viewer;
 
 pub use environment::Environment;
 pub use image::RgbImage;

@@ -156,6 +156,9 @@ pub struct Report {
     pub tables: Vec<TableSection>,
     /// The pictures, in order.
     pub figures: Vec<Figure>,
+    /// The interactive viewer of the BRDFs shown (`crate::viewer::viewer_fragment`), placed
+    /// after the pictures.
+    pub viewer: Option<String>,
     /// Free remarks, one paragraph each.
     pub notes: Vec<String>,
 }
@@ -236,6 +239,10 @@ impl Report {
             table_html(&mut html, table);
         }
         self.figures_html(&mut html);
+        if let Some(viewer) = &self.viewer {
+            html.push_str("<h2>Interactive viewer</h2>\n");
+            html.push_str(viewer);
+        }
         if !self.notes.is_empty() {
             html.push_str("<h2>Notes</h2>\n");
             for note in &self.notes {
@@ -463,11 +470,13 @@ mod tests {
                 notes: vec!["n & m".into()],
             }],
             figures: vec![figure()],
+            viewer: Some("<div id=\"sv\"></div>".into()),
             notes: vec!["x < y".into()],
             ..Report::default()
         };
         let html = report.to_html();
         assert!(html.contains("<h2>Appearance</h2>"));
+        assert!(html.contains("<h2>Interactive viewer</h2>\n<div id=\"sv\"></div>"));
         assert!(html.contains("<th>a&lt;b</th>") && html.contains("<td>95.25</td>"));
         assert!(html.contains("n &amp; m"));
         assert!(html.contains("<title>silver &lt;925&gt;</title>"));

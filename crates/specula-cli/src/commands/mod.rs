@@ -27,6 +27,7 @@ pub(crate) mod report;
 pub(crate) mod session;
 pub(crate) mod tabulate;
 pub(crate) mod token_args;
+pub(crate) mod view;
 
 /// The device description `--device` names, or the paper's UTIA gonioreflectometer.
 pub(crate) fn load_device(
