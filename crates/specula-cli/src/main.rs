@@ -256,7 +256,7 @@ mod tests {
             let long = arg.get_long().unwrap().to_string();
             assert!(
                 !long.ends_with("-deg") && !long.ends_with("-sr"),
-                "{} --{long}: flag names carry no unit (README, Conventions)",
+                "{} --{long}: flag names carry no unit (docs/book/src/conventions.md)",
                 path.join(" ")
             );
             let kind = if arg.get_action().takes_values() {

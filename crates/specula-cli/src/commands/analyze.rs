@@ -19,7 +19,7 @@ pub(crate) struct DatabaseArgs {
     /// MERL .binary files, folders of them (every *.binary inside), or any other BRDF (a
     /// preset, a material .toml, a model:name fit such as sgd:chrome-steel).
     pub sources: Vec<String>,
-    /// Add the built-in database of specular and glossy materials (see README, Materials).
+    /// Add the built-in database of specular and glossy materials (see docs/book/src/materials.md).
     #[arg(long)]
     pub builtin: bool,
     /// Add every material of a fits table: shared/data/measured/merl_fits_djbrdf/

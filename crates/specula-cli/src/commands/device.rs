@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
-/// Work with devices through the driver protocol (docs/driver-protocol.md).
+/// Work with devices through the driver protocol (docs/book/src/driver-protocol.md).
 #[derive(clap::Args)]
 pub(crate) struct Args {
     #[command(subcommand)]

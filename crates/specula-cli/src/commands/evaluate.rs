@@ -62,7 +62,7 @@ pub(crate) struct Args {
     /// blended with a MERL-100 data-driven prior as far as the samples trust it), log, or
     /// linear (the paper's baseline). lobe is the default because it is the best measured on
     /// real data: on the five RGL files, median 0.18 times the paper pipeline's relative RMSE
-    /// on the default grid, 0.83 on the paper's samples; prior is no better there (README,
+    /// on the default grid, 0.83 on the paper's samples; prior is no better there (docs/book/src/results.md,
     /// "Real measured truths first").
     #[arg(long, default_value = "lobe")]
     pub method: Method,
@@ -87,7 +87,7 @@ pub(crate) struct Args {
     /// Measure through the instrument, as `specula measure` does without its noise: every
     /// sample, and the probe that places theta_h, is what a capture of the device gives
     /// (the truth integrated over the response of --device: the light's disk, the camera's
-    /// pupil and the measured area; README, The instrument's response); the probe is
+    /// pupil and the measured area; docs/book/src/calibrate.md, "The instrument's response"); the probe is
     /// deblurred before k is fitted and the method reconstructs through the response (`lobe`
     /// fits its lobe before the blur; `linear` and `log` have no model and keep the blur).
     #[arg(long)]

@@ -16,7 +16,7 @@ use std::path::PathBuf;
 /// the probe's positions and average the absolute difference from the probe, on the mean of
 /// R, G and B (1/sr). k-hat minimises it: a coarse scan of log k, a fine scan around its
 /// best point, then Brent's method on the best brackets (the error has many shallow local
-/// minima; see the README). The second line repeats the family and counts; the third lists
+/// minima; see docs/book/src/sampling.md). The second line repeats the family and counts; the third lists
 /// the theta_h positions of k-hat in degrees, ready for `specula plan --theta-h-list`.
 ///
 /// Example: specula fit-k silver.csv --family exponential --theta-h-samples 30

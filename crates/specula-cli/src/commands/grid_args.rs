@@ -15,7 +15,7 @@ pub(crate) struct GridArgs {
     /// recommended: 16 theta_h x theta_d every 3 deg, every 1 deg from 60 (3:1@60) x phi_d
     /// every 30 deg over the half turn 0 to 180, phi_h 45: at most about 3200 samples on the
     /// UTIA device. On the five real RGL measurements it gives 0.18 of the paper pipeline's
-    /// relative RMSE and 0.26 of its log RMSE (median; README, "Real measured truths
+    /// relative RMSE and 0.26 of its log RMSE (median; docs/book/src/results.md, "Real measured truths
     /// first"): the fine grazing theta_d catches the Fresnel rise near the peak, and the half
     /// turn measures each configuration's light/camera swap, which a real material need not
     /// match (the two halves are reconstructed apart). Where `measure` finds the material's
@@ -39,7 +39,7 @@ pub(crate) struct GridArgs {
     /// Giving it (or --theta-d-step) fixes the grid for every material. Range: a whole
     /// number from 2 to 360.
     ///
-    /// On the real RGL measurements the count matters little from 12 to 30 (README); 10 were
+    /// On the real RGL measurements the count matters little from 12 to 30 (docs/book/src/results.md); 10 were
     /// too few for the broad lobe of colodur_napoli_4f (k-hat 0.5).
     #[arg(long, value_parser = range::THETA_H_SAMPLES)]
     pub theta_h_samples: Option<usize>,

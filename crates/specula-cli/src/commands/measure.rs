@@ -52,7 +52,7 @@ pub(crate) struct Args {
     /// green-paint, ...), a material .toml, a MERL .binary or a model:name fit.
     #[arg(long)]
     pub truth: Option<String>,
-    /// Measure a device through the driver protocol (docs/driver-protocol.md):
+    /// Measure a device through the driver protocol (docs/book/src/driver-protocol.md):
     /// tcp://HOST:PORT or exec:COMMAND.
     #[arg(long)]
     pub connect: Option<String>,

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 /// f(180 - phi_d)), unless the samples measure both halves of phi_d (0 to 90 and 90 to 180
 /// deg, at two positions each at least): then each half is reconstructed from its own
 /// samples, which keeps a measured material that is not reciprocal as it was measured (the
-/// real RGL files are not, near grazing: README, issue 20). The lattice nodes the device did
+/// real RGL files are not, near grazing: docs/book/src/results.md). The lattice nodes the device did
 /// not reach are extrapolated from the nearest measured node along theta_d, then theta_h,
 /// then phi_d (in the method's domain); every MERL bin centre is then interpolated.
 ///
