@@ -12,14 +12,7 @@ use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_session::workflow::simulated_response;
 use std::path::PathBuf;
 
-/// Calibrate the simulated device's camera and store the result (TOML) for later runs.
-///
-/// With a white reference and the 24 ColorChecker patches mounted in turn at the 45/0
-/// geometry: dark frames and the photon transfer curve give the noise model (black level,
-/// dark current, read noise, conversion gain); the white reference gives each channel's gain
-/// to 1/sr; the patches' published values give the 3x3 colour matrix by least squares. Then
-/// the --truth sample is mounted and a few of its values are measured and compared with the
-/// truth.
+/// Calibrate the simulated device's camera and store the result (TOML).
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The sample measured after calibrating, as a check: a preset name, a material .toml, a
@@ -29,8 +22,8 @@ pub(crate) struct Args {
     /// Where to write the calibration (TOML).
     #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
-    /// Reflectance of the white reference (0.99 for a Spectralon tile). Range: a fraction
-    /// above 0 and at most 1.
+    /// Reflectance of the white reference (0.99 for a Spectralon tile). Range: a fraction above 0
+    /// and at most 1.
     #[arg(long, default_value_t = 0.99, value_parser = crate::range::REFLECTANCE)]
     pub white_reflectance: f64,
     /// Seed of the simulated device: its positioning errors and its noise.

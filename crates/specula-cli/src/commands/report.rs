@@ -4,24 +4,7 @@ use anyhow::Result;
 use specula_report::{write_report, ReportOptions};
 use std::path::PathBuf;
 
-/// Write one self-contained HTML report (pictures embedded, no other file needed) about a
-/// measured BRDF or a measurement session: the material, k-hat of its probe (paper 5.2), the
-/// coverage, renders on a sphere and a speedshape in the studio, the characteristic slice
-/// (Fig. 11) and the probe against the adaptive samples (Fig. 13); with a truth, the error
-/// figures and the renders beside the truth with their difference.
-///
-/// INPUT is a MERL .binary (for instance from `specula reconstruct`; its provenance sidecar
-/// OUT.provenance.npy is used when present; --samples-csv adds the raw samples, Fig. 15) or a
-/// session journal (.sqlite, from `specula measure` or `specula demo`). From a journal the
-/// report shows k-hat and the probe as measured, the samples measured of each stage's plan,
-/// the duration (device time: the simulated clock on the simulator) against the time
-/// model's estimate, the raw samples of the main stage, and the table reconstructed from
-/// them with the session's method (or --table); a simulated session's own truth gives the
-/// error figures unless --truth names another. An interrupted session is reported as far as
-/// it got.
-///
-/// Examples: specula report silver.binary --truth silver-925 --out silver.html;
-/// specula report demo-out/silver-925/silver-925.session.sqlite --out silver.html
+/// Write one self-contained HTML report about a measured BRDF or a session.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The measured BRDF (a MERL .binary file) or a session journal (.sqlite).
