@@ -12,12 +12,9 @@ mod range;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
-/// Measure the BRDF of highly specular materials on a goniometer with few, well-placed samples.
-///
-/// BRDF arguments accept a MERL .binary file, an RGL .bsdf file, a material .toml file, a
-/// preset name (silver-925, green-paint, chrome, steel) or a published fit as model:name
-/// (`specula materials` lists them). Angles are in degrees everywhere and flag names carry no unit;
-/// each numeric option's range is in its help.
+/// Measure the BRDF of highly specular materials on a goniometer with few, well-placed samples. A
+/// BRDF argument is a MERL .binary, RGL .bsdf, UTIA .bin or material .toml file, a preset or a
+/// model:name fit (`specula materials` lists them); angles are in degrees.
 #[derive(Parser)]
 #[command(name = "specula", version, propagate_version = true)]
 struct Cli {

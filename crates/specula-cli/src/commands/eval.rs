@@ -11,7 +11,9 @@ pub(crate) struct Args {
     /// The BRDF: a preset name, a material .toml, a MERL .binary, an RGL .bsdf or a
     /// model:name fit.
     pub brdf: String,
-    /// CSV file of direction pairs with header theta_i,phi_i,theta_o,phi_o (degrees).
+    /// CSV of direction pairs theta_i,phi_i,theta_o,phi_o in degrees: (theta_i, phi_i) is the
+    /// direction towards the light, (theta_o, phi_o) the direction towards the camera (an RGL
+    /// .bsdf gets the camera direction in the file's incident slot).
     #[arg(long)]
     pub dirs: PathBuf,
 }
