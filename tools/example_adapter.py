@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""An example adapter for the Specula driver protocol (docs/driver-protocol.md).
+"""An example adapter for the Specula driver protocol (docs/book/src/driver-protocol.md).
 
 It answers the protocol on stdin/stdout for a *fake* device: four axes that go exactly where
 they are told, a light source, and a 12-bit camera looking at a glossy grey sample (a

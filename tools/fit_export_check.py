@@ -2,7 +2,7 @@
 """Reference data for `specula fit`'s Mitsuba 3 export, from Mitsuba 3 itself.
 
 For each test case (a conductor preset, the green paint, and a real RGL file fitted with the
-conductor; no rough coat, see README "Fitted materials for renderers": Mitsuba's single-scattering
+conductor; no rough coat, see docs/book/src/renderers.md, "Fitted materials for renderers": Mitsuba's single-scattering
 `roughplastic` darkens the base of rough coats, which Specula's coat does not):
 
 1. `specula fit SOURCE --model MODEL --out <case>.toml --mitsuba <case>.xml` fits the model and

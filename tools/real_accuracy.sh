@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Accuracy on real measured truths (issue 20): each file of a folder of measurements (default
+# Accuracy on real measured truths: each file of a folder of measurements (default
 # the five RGL files, ../shared/data/measured/rgl_bsdf) is measured without noise on the
 # paper's plan (k-hat fitted to the probe, 30 theta_h, theta_d step 3, phi_d step 15, phi_h 45,
 # the UTIA device model), reconstructed by each method and scored against the file at the

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A bounded rerun of issue 16's stress campaign against `specula` (loopback only, 127.0.0.1;
 # temporary files only; every wait is bounded; about a minute in release). It prints one
-# line per check with its figures and exits 1 if any promise of README's "Reliability"
+# line per check with its figures and exits 1 if any promise of docs/book/src/reliability.md
 # section is broken.
 #
 #   cargo build --release && tools/stress_reliability.sh            # target/release/specula

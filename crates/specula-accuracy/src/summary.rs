@@ -1,6 +1,6 @@
 //! The harness's figures summed up over several materials: each figure of [`Accuracy`]
 //! combined by a [`Statistic`] (median or mean), over all materials or per set of truths,
-//! the real measured truths first: they are the ones that judge a method (README, "Real
+//! the real measured truths first: they are the ones that judge a method (docs/book/src/results.md, "Real
 //! measured truths first").
 
 use crate::Accuracy;

@@ -52,6 +52,6 @@ fn the_recommended_plan_stays_within_the_budget_for_every_built_in_material() {
         );
         most = most.max(measured);
     }
-    // The glossiest materials (k-hat near 6) take the most: about 3200 (README).
+    // The glossiest materials (k-hat near 6) take the most: about 3200 (docs/book/src/plan.md).
     assert!(most > 3 * PAPER_BUDGET / 4, "{most}");
 }

@@ -4,7 +4,7 @@
 //! other way), which are occluded at every position and which are out of the axes' ranges.
 //! The paper's grid (theta_d = 0, 3, ..., 87; phi_d = 0, 15, ..., 90) is drawn as dots.
 //!
-//!     cargo run -p specula-acquisition --example occlusion_map -- docs/occlusion.png [DEVICE.toml]
+//!     cargo run -p specula-acquisition --example occlusion_map -- docs/book/src/occlusion.png [DEVICE.toml]
 
 use plotters::prelude::*;
 use specula_acquisition::device::Device;
@@ -84,7 +84,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let out = args
         .next()
-        .unwrap_or_else(|| "docs/occlusion.png".to_string());
+        .unwrap_or_else(|| "docs/book/src/occlusion.png".to_string());
     let device = match args.next() {
         Some(path) => Device::load(Path::new(&path))?,
         None => Device::utia(),

@@ -260,8 +260,8 @@ impl Calibration {
         let text = toml::to_string_pretty(self).expect("a calibration always serialises");
         let header =
             "# Specula camera calibration (specula calibrate): noise model, gains to 1/sr\n\
-                      # and the colour matrix to linear sRGB. See README, \"Simulated device, HDR\n\
-                      # and calibration\".\n";
+                      # and the colour matrix to linear sRGB. See the guide,\n\
+                      # docs/book/src/calibrate.md.\n";
         specula_core::atomic_file::write_bytes(path, format!("{header}{text}").as_bytes()).map_err(
             |e| CalibrationError::File {
                 path: path.display().to_string(),

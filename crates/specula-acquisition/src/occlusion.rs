@@ -3,7 +3,7 @@
 //! occlusion of view of the camera by the arm with the light source may occur, it can be
 //! analytically detected").
 //!
-//! The model (README, "Planning a measurement"): every solid part of an arm is a capsule, a
+//! The model (docs/book/src/plan.md): every solid part of an arm is a capsule, a
 //! segment thickened by a radius, placed in the lab frame by the axis angles (see
 //! [`crate::device::Part`]). The camera's view is a cone from the measured area (radius
 //! `sample_radius_m`) to the lens front (`end_radius_m` at `end_distance_m`); the light's beam

@@ -13,12 +13,9 @@ mod verdict;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
-/// Measure the BRDF of highly specular materials on a goniometer with few, well-placed samples.
-///
-/// BRDF arguments accept a MERL .binary file, an RGL .bsdf file, a material .toml file, a
-/// preset name (silver-925, green-paint, chrome, steel) or a published fit as model:name
-/// (`specula materials` lists them). Angles are in degrees everywhere and flag names carry no unit;
-/// each numeric option's range is in its help.
+/// Measure the BRDF of highly specular materials on a goniometer with few, well-placed samples. A
+/// BRDF argument is a MERL .binary, RGL .bsdf, UTIA .bin or material .toml file, a preset or a
+/// model:name fit (`specula materials` lists them); angles are in degrees.
 #[derive(Parser)]
 #[command(name = "specula", version, propagate_version = true)]
 struct Cli {
@@ -69,7 +66,61 @@ fn command() -> clap::Command {
         })
         .mut_subcommands(negative_values)
     }
-    negative_values(Cli::command())
+    guide_links(negative_values(Cli::command()))
+}
+
+/// Where the user guide's reference pages live, relative to the repository root.
+const REFERENCE_PAGES: &str = "docs/book/src/reference";
+
+/// The longest option, with its value name, that keeps each option's help on its own line
+/// (clap moves every help text below its option once the names take 40 % of the width).
+const MAX_OPTION_WIDTH: usize = 28;
+
+/// `--theta-h-samples <SAMPLES>` rather than `<THETA_H_SAMPLES>`: an option's value is named by
+/// the last word of its name, or `X` when that is still too wide for [`MAX_OPTION_WIDTH`].
+fn short_value_name(arg: clap::Arg) -> clap::Arg {
+    let (Some(long), Some([name])) = (arg.get_long(), arg.get_value_names()) else {
+        return arg;
+    };
+    let width = |value: &str| long.len() + value.len() + 5;
+    if width(name.as_str()) <= MAX_OPTION_WIDTH {
+        return arg;
+    }
+    let last = name.as_str().rsplit('_').next().unwrap_or("X").to_string();
+    let short = if width(&last) <= MAX_OPTION_WIDTH {
+        last
+    } else {
+        "X".to_string()
+    };
+    arg.value_name(short)
+}
+
+/// Every command's help is its short summary (`-h` and `--help` alike, one line per option
+/// where it fits) ending with the guide's reference page that explains it in full: the top
+/// level names the command index, each command its own page (a subcommand shares its
+/// parent's page).
+fn guide_links(cmd: clap::Command) -> clap::Command {
+    fn link(cmd: clap::Command, page: &str) -> clap::Command {
+        summary(cmd, page).mut_subcommands(|sub| link(sub, page))
+    }
+    fn summary(cmd: clap::Command, page: &str) -> clap::Command {
+        cmd.mut_args(short_value_name)
+            .disable_help_flag(true)
+            .arg(
+                clap::Arg::new("help")
+                    .short('h')
+                    .long("help")
+                    .action(clap::ArgAction::HelpShort)
+                    .help("Print help"),
+            )
+            .after_help(format!(
+                "Every option, explained: {REFERENCE_PAGES}/{page}.md in the Specula repository"
+            ))
+    }
+    summary(cmd, "commands").mut_subcommands(|sub| {
+        let page = sub.get_name().to_string();
+        link(sub, &page)
+    })
 }
 
 /// `argv` read into [`Cli`] through [`command`].
@@ -263,7 +314,7 @@ mod tests {
             let long = arg.get_long().unwrap().to_string();
             assert!(
                 !long.ends_with("-deg") && !long.ends_with("-sr"),
-                "{} --{long}: flag names carry no unit (README, Conventions)",
+                "{} --{long}: flag names carry no unit (docs/book/src/conventions.md)",
                 path.join(" ")
             );
             let kind = if arg.get_action().takes_values() {

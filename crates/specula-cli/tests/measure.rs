@@ -1,7 +1,7 @@
 //! `specula measure`, `specula session status` and `specula device serve` as a user runs
 //! them: interrupted by kill -9 and by Ctrl-C and resumed to the same bytes, and through the
 //! driver protocol over TCP (loopback) and a child process to the same bytes as the
-//! simulator in process. Small plans keep these quick; the paper-size run is in the README.
+//! simulator in process. Small plans keep these quick; the paper-size run is in docs/book/src/plan.md.
 
 mod serve;
 

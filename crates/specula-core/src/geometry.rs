@@ -1,6 +1,6 @@
 //! Directions in the sample frame and Rusinkiewicz's half-difference angles.
 //!
-//! The frame has z along the surface normal (paper section 3, DESIGN.md). A direction points
+//! The frame has z along the surface normal (paper section 3, docs/book/src/design.md). A direction points
 //! away from the surface, towards the light (`wi`) or the camera (`wo`).
 //!
 //! Half-difference coordinates (Rusinkiewicz 1998, paper Fig. 3-b):

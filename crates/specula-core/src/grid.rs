@@ -3,7 +3,7 @@
 //! that choose a grid; the theta_h positions themselves come from the sampling function
 //! fitted to the probe ([`crate::sampling`], [`crate::probe`]).
 //!
-//! Two shapes beyond the paper's even steps (issue 20, README "Real measured truths first"):
+//! Two shapes beyond the paper's even steps (docs/book/src/results.md, "Real measured truths first"):
 //! a finer theta_d step towards grazing ([`ThetaDSteps`] with a [`GrazingStep`]), where the
 //! Fresnel rise and the foreshortening change fastest and where most of the error on real
 //! measured materials sits, and phi_d over the half turn ([`PhiDSpan::HalfTurn`]), a
@@ -71,7 +71,7 @@ pub const PAPER_MEASURED_SAMPLES: usize = 4073;
 /// (issue 14): the half width of the lobe fitted through the response to the probe is below
 /// the instrument's resolution (`specula_acquisition::response`). The lobe before the blur
 /// is then pinned by its theta_h positions, not by the grazing theta_d rows, which the
-/// light's disk blurs: measured through the simulated UTIA disk (README, "The instrument's
+/// light's disk blurs: measured through the simulated UTIA disk (docs/book/src/calibrate.md, "The instrument's
 /// response"), a Beckmann chrome (alpha 0.015) scores 0.25 relative RMSE with 16 theta_h and
 /// 0.006 with 30, the green paint 0.055 and 0.022. The plan takes the most theta_h positions
 /// up to `theta_h_samples` that keep the measured samples within `budget_samples`, with
@@ -89,7 +89,7 @@ pub struct UnresolvedPeak {
 /// theta_d's positions: every `step_deg` from 0, and, with a [`GrazingStep`], every
 /// `grazing.step_deg` once `grazing.from_deg` is reached. Written `STEP` or
 /// `STEP:GRAZING@FROM` (e.g. `3:1@60`: 0, 3, ..., 57, then 60, 61, ..., 89), the notation of
-/// `--theta-d-step` and of README's plan tables.
+/// `--theta-d-step` and of the plan tables in docs/book/src/results.md.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ThetaDSteps {
     /// Step of theta_d in degrees below the grazing threshold (everywhere without one).
@@ -181,7 +181,7 @@ impl GridSpec {
     /// paper pipeline's error on the paper's plan (median; worst file 0.39 / 0.37), with at
     /// most 2785 samples there and 3162 on the built-in materials. On reciprocal truths (the
     /// built-in database, the MERL-100 fits) the second half repeats the first and the gain
-    /// is the graded theta_d's. README, "Real measured truths first (issue 20)", "The two
+    /// is the graded theta_d's. docs/book/src/results.md, "Real measured truths first", "The two
     /// halves of phi_d".
     pub const fn recommended() -> Self {
         Self {

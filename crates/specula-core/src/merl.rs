@@ -1,6 +1,6 @@
 //! The MERL `.binary` BRDF table (Matusik et al. 2003), the field's exchange format.
 //!
-//! Layout (DESIGN.md): little-endian; a header of three `i32` (90, 90, 180: theta_h,
+//! Layout (docs/book/src/design.md): little-endian; a header of three `i32` (90, 90, 180: theta_h,
 //! theta_d and phi_d bins), then three planes (R, G, B) of 1,458,000 `f64`, cell index
 //! `phi_d_i + 180 * theta_d_i + 180 * 90 * theta_h_i`. The BRDF in 1/sr is the stored value
 //! times a per-channel scale; a negative stored value means "not measured".
@@ -416,7 +416,7 @@ impl MerlBrdf {
     ///
     /// The payload is read straight into the `f64` planes (no intermediate byte buffer) in
     /// parallel units, each checked while it is still in the cache, so reading costs about
-    /// what `numpy.fromfile` does without any check (README, Performance).
+    /// what `numpy.fromfile` does without any check (docs/book/src/performance.md).
     pub fn read(path: &Path) -> Result<Self, MerlError> {
         if path.is_dir() {
             return Err(MerlError::invalid(path, MerlProblem::Directory));

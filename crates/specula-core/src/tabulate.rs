@@ -1,4 +1,4 @@
-//! Tabulation of any BRDF into the MERL grid at its bin centres (DESIGN.md), in parallel.
+//! Tabulation of any BRDF into the MERL grid at its bin centres (docs/book/src/design.md), in parallel.
 
 use crate::brdf::{Brdf, PhiDRow};
 use crate::merl::{phi_d_centres_rad, MerlBrdf};

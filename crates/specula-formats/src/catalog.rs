@@ -28,12 +28,12 @@ pub fn groups() -> Result<Vec<Group>> {
     let mut groups = vec![
         Group {
             pattern: "NAME".into(),
-            provenance: "analytic presets: the paper's materials (section 4.2) and MERL's chrome and steel, literature optical constants (README, Materials)",
+            provenance: "analytic presets: the paper's materials (section 4.2) and MERL's chrome and steel, literature optical constants (docs/book/src/materials.md)",
             names: presets,
         },
         Group {
             pattern: "NAME".into(),
-            provenance: "the built-in database of specular and glossy materials: analytic metals and clear-coated paints (README, Materials)",
+            provenance: "the built-in database of specular and glossy materials: analytic metals and clear-coated paints (docs/book/src/materials.md)",
             names: database,
         },
     ];

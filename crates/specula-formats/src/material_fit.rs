@@ -4,7 +4,7 @@
 //! `coateddiffuse`), both evaluated by Specula's own models ([`RoughConductor`],
 //! [`ClearCoat`]), so the fit shares their GGX and Fresnel with every other part of Specula.
 //!
-//! The data are the source tabulated into the MERL grid (its bin centres, DESIGN.md). The fit
+//! The data are the source tabulated into the MERL grid (its bin centres, docs/book/src/design.md). The fit
 //! minimises the mean of `(ln(1 + f_fit cos theta_i) - ln(1 + f_src cos theta_i))^2` over the
 //! three channels and a subset of the cells (every theta_h, every [`THETA_D_STRIDE`]-th
 //! theta_d, every [`PHI_D_STRIDE`]-th phi_d) whose light and camera are within the chosen

@@ -1,7 +1,7 @@
 //! The BRDF source resolver: every command that takes a BRDF takes one of these strings.
 //!
 //! - a path to a MERL `.binary` file;
-//! - a path to a material `.toml` file (schema in README);
+//! - a path to a material `.toml` file (schema in docs/book/src/materials.md);
 //! - a preset name (`silver-925`, `green-paint`, `chrome`, `steel`, ...) or any name of the
 //!   built-in material database (`gold-polished`, `paint-red-gloss`, ...);
 //! - a published fit by `model:name` (added by the formats that provide them);

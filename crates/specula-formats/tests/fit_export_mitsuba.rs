@@ -14,7 +14,7 @@
 //!    term uses its tabulated single-scattering transmittance where Specula has `1 - E(mu)`,
 //!    `coat_albedo.rs`; they differ by 0.7 % at 60 deg and up to 1.5 % beyond 80 deg, measured).
 //!    Rough coats are not held: Mitsuba's `roughplastic` loses the coat's multiple scattering
-//!    and darkens their base (README, "Fitted materials for renderers").
+//!    and darkens their base (docs/book/src/renderers.md, "Fitted materials for renderers").
 
 mod common;
 

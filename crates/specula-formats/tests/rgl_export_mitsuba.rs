@@ -12,7 +12,7 @@
 //!    the material's largest, the mean relative difference weighted by `f_r cos(theta_o)`
 //!    (what a render integrates), the median and the 90th percentile; and the weighted mean
 //!    over all 2100 pairs (the diffuse and tail values too). The bounds are about twice the
-//!    figures measured (README, "Rendering in Mitsuba 3 and pbrt-v4"): the format's own
+//!    figures measured (docs/book/src/renderers.md): the format's own
 //!    interpolation error at the default resolution (bilinear over each elevation's warped
 //!    sample grid, linear between the 16 elevations), largest for the paint, whose sharp coat
 //!    gets few samples near grazing incidence because its diffuse base spreads the

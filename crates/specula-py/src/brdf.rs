@@ -80,7 +80,7 @@ impl PyBrdf {
             .into_pyarray(py))
     }
 
-    /// f_r (1/sr) at half-difference angles in degrees (Rusinkiewicz 1998; DESIGN.md):
+    /// f_r (1/sr) at half-difference angles in degrees (Rusinkiewicz 1998; docs/book/src/design.md):
     /// the four arguments broadcast against each other as numpy's do; returns an array of
     /// their common shape plus a last axis of R, G, B.
     #[pyo3(signature = (theta_h_deg, theta_d_deg, phi_d_deg, phi_h_deg = None))]
@@ -358,7 +358,7 @@ pub(crate) fn compare<'py>(
 }
 
 /// Names of the built-in material database (the presets first, then the metals and paints
-/// of README's Built-in database), each a source for `load`.
+/// of docs/book/src/materials.md, "Built-in database"), each a source for `load`.
 #[pyfunction]
 pub(crate) fn materials() -> Vec<String> {
     specula_core::materials::builtin_database()

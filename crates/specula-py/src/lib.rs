@@ -3,7 +3,7 @@
 //! converts its arguments, calls one library function with the GIL released and converts the
 //! result; the science lives in the crates it calls.
 //!
-//! Conventions at this edge (README, Conventions): angles in degrees, named `*_deg`; f_r in
+//! Conventions at this edge (docs/book/src/conventions.md): angles in degrees, named `*_deg`; f_r in
 //! 1/sr per RGB channel; a MERL table is a `(90, 90, 180, 3)` float64 array indexed
 //! `[theta_h_i, theta_d_i, phi_d_i, channel]`, NaN where a cell is not measured.
 

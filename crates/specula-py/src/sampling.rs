@@ -92,7 +92,7 @@ pub(crate) fn probe_of(probe: &Bound<'_, PyMapping>) -> PyResult<Probe> {
 /// Fit k of a theta_h sampling function to a probe (paper 5.2, `specula fit-k`): `probe` is
 /// a mapping with `theta_h_deg` and `rgb` (as `probe()` returns). The error of a candidate
 /// k re-interpolates the probe through the function's `samples` positions (`None`: the
-/// paper's 30 theta_h of the main grid, `GridSpec::paper`; DESIGN.md); k-hat
+/// paper's 30 theta_h of the main grid, `GridSpec::paper`; docs/book/src/design.md); k-hat
 /// minimises it. Returns `{"k", "error", "family", "samples", "evaluations",
 /// "theta_h_deg"}` (the positions of k-hat, degrees, ready for `plan(theta_h_deg=...)`).
 #[pyfunction]

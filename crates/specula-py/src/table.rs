@@ -1,5 +1,5 @@
 //! MERL tables as numpy arrays: `(90, 90, 180, 3)` float64, f_r in 1/sr, NaN where a cell is
-//! not measured (README, MERL files).
+//! not measured (docs/book/src/formats.md, "MERL files and error figures").
 
 use crate::errors::{invalid, OrRaise};
 use numpy::ndarray::{Array4, ArrayView4};
@@ -51,7 +51,7 @@ pub(crate) fn table_of<'py>(array: &PyReadonlyArray4<'py, f64>, name: &str) -> P
 /// The header, the length and every value are checked (a bad file raises `SpeculaError`
 /// naming it); cells not measured (a negative stored value) are NaN in all three channels.
 /// The array's memory is the file's three planes, scaled: index it
-/// `[theta_h_i, theta_d_i, phi_d_i, channel]` (README, MERL files).
+/// `[theta_h_i, theta_d_i, phi_d_i, channel]` (docs/book/src/formats.md, "MERL files and error figures").
 #[pyfunction]
 pub(crate) fn read_merl(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyArray4<f64>>> {
     let table = py.detach(|| MerlBrdf::read(&path)).or_raise()?;

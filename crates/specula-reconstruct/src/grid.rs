@@ -2,7 +2,7 @@
 //! into the sampling format of the MERL database"), as three separable one-dimensional
 //! passes: along theta_h, then theta_d, then phi_d, the last one in parallel.
 //!
-//! Bin centres are in index space (DESIGN.md): theta_h = (i + 0.5)^2 / 90 deg,
+//! Bin centres are in index space (docs/book/src/design.md): theta_h = (i + 0.5)^2 / 90 deg,
 //! theta_d = j + 0.5 deg, phi_d = k + 0.5 deg folded into [0, 90] by the symmetry of
 //! [`crate::sample::fold_phi_d_rad`], so phi_d bins k and 179 - k are equal.
 

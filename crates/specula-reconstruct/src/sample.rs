@@ -7,7 +7,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 /// Folds phi_d (radians, any value) into `[0, pi/2]`.
 ///
 /// Reciprocity gives `f(phi_d) = f(phi_d + pi)` and isotropy the mirror
-/// `f(phi_d) = f(pi - phi_d)` (paper 5.3, DESIGN.md); together the BRDF is even about both
+/// `f(phi_d) = f(pi - phi_d)` (paper 5.3, docs/book/src/design.md); together the BRDF is even about both
 /// 0 and pi/2, so `[0, pi/2]` holds every distinct value.
 pub fn fold_phi_d_rad(phi_d_rad: f64) -> f64 {
     let half_turn = phi_d_rad.rem_euclid(PI);

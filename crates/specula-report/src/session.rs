@@ -429,7 +429,7 @@ fn truth(
 }
 
 /// Why a sharp material's error is large when the session was measured with `--no-deblur`
-/// (README, Pictures and reports, gives the figures of the demo's green paint).
+/// (docs/book/src/pictures.md gives the figures of the demo's green paint).
 const LIGHT_DISK_NOTE: &str = "About the error figures: this session was measured with \
      --no-deblur, and the simulated light is a disk (1.8 deg across on the default device, as on \
      the real one), not a point, so a highlight sharper than the disk is measured blurred. The \

@@ -36,7 +36,7 @@ impl Interpolation {
 /// logarithm, so that zeros (the horizon) and noise floors stay finite.
 pub const LOG_FLOOR_FRACTION: f64 = 1e-6;
 
-/// The scalar a column holds for an RGB value: the mean of the three channels (DESIGN.md,
+/// The scalar a column holds for an RGB value: the mean of the three channels (docs/book/src/design.md,
 /// "Fitting k").
 pub fn scalar_of(rgb: Rgb) -> f64 {
     rgb.element_sum() / 3.0

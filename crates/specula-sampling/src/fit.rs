@@ -1,6 +1,6 @@
 //! Fitting the parameter k of a theta_h sampling function to a dense column (paper 5.2).
 //!
-//! The fit error of a candidate k (DESIGN.md, "Fitting k"): take the `n` positions `g_k(t)`,
+//! The fit error of a candidate k (docs/book/src/design.md, "Fitting k"): take the `n` positions `g_k(t)`,
 //! give each the column's value there by linear interpolation in theta_h, interpolate those
 //! back linearly at the column's own positions, and average the absolute difference from the
 //! column (on the mean of R, G and B). k-hat minimises it.
@@ -58,7 +58,7 @@ pub const K_RANGE: (f64, f64) = (0.02, 40.0);
 pub struct KFit {
     /// The sampling function with the fitted k-hat.
     pub function: SamplingFunction,
-    /// The fit error at k-hat, 1/sr (DESIGN.md's definition).
+    /// The fit error at k-hat, 1/sr (docs/book/src/design.md, "Fitting k").
     pub error: f64,
     /// How many times the error was evaluated.
     pub evaluations: usize,
@@ -76,7 +76,7 @@ pub enum FitError {
     ZeroColumn,
 }
 
-/// DESIGN.md's fit error of `function` with `n` samples against the dense column, 1/sr.
+/// The fit error (docs/book/src/design.md, "Fitting k") of `function` with `n` samples against the dense column, 1/sr.
 pub fn fit_error(column: &Column, function: &SamplingFunction, n: usize) -> f64 {
     column.reinterpolation_error(&function.positions_deg(n), Interpolation::Linear)
 }

@@ -3,7 +3,7 @@
 //! so a folder of a hundred can be analysed in parallel with bounded memory.
 //!
 //! The slice is the cells `(theta_h_i, theta_d_j, phi_d bin 90)` of each channel
-//! (DESIGN.md's layout); their theta_h positions are the bin centres `(i + 0.5)^2 / 90`
+//! (the MERL layout of docs/book/src/design.md); their theta_h positions are the bin centres `(i + 0.5)^2 / 90`
 //! degrees. The file's header and length are checked, and every value the slice uses.
 
 use crate::column::scalar_of;

@@ -9,7 +9,7 @@
 //!   default; [`DENSE_NODES`] = 3 x 89 + 1 to judge placements against a finer truth that
 //!   still contains the probe's nodes), at `theta_d = j` degrees exactly, `phi_h = 45`;
 //! - from a MERL table ([`crate::merl_slice`]): 90 nodes, the cells `(i, j, phi_d bin 90)`,
-//!   each theta_h at its bin centre `(i + 0.5)^2 / 90` degrees (DESIGN.md); column `j` is
+//!   each theta_h at its bin centre `(i + 0.5)^2 / 90` degrees (docs/book/src/design.md); column `j` is
 //!   theta_d bin `j`, i.e. `[j, j + 1)` degrees.
 
 use crate::column::{scalar_of, Column, Interpolation};

@@ -1,5 +1,5 @@
 //! The paper's measurement workflow in one call, as `specula measure` runs it (paper 4.2,
-//! 4.3, 5.2, 5.3; DESIGN.md's data flow):
+//! 4.3, 5.2, 5.3; docs/book/src/design.md, "Data flow"):
 //!
 //! 1. **calibration**: measured on the simulator with its white reference and ColorChecker
 //!    (exact with `--ideal`), or read from a file for a real device;
@@ -183,7 +183,7 @@ pub struct Summary {
     pub out: PathBuf,
     /// The fitted k of the theta_h sampling function (paper 5.2).
     pub k_hat: f64,
-    /// The fit error of k (DESIGN.md, "Fitting k"), 1/sr.
+    /// The fit error of k (docs/book/src/design.md, "Fitting k"), 1/sr.
     pub fit_error: f64,
     /// The sampling function's family (paper 5.1).
     pub family: Family,

@@ -102,7 +102,7 @@ fn a_session_without_main_samples_has_nothing_to_reconstruct() {
 
 /// silver-925's neighbour green-paint, made not reciprocal: brighter when the camera is
 /// nearer the normal than the light, darker the other way round, as the RGL measurements
-/// are near grazing (README, "The two halves of phi_d").
+/// are near grazing (docs/book/src/results.md, "The two halves of phi_d").
 struct NotReciprocal(specula_core::materials::Material);
 
 impl Brdf for NotReciprocal {

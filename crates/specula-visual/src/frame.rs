@@ -1,5 +1,5 @@
 //! The shading frame at a surface point: z along the normal, as the BRDF's sample frame
-//! (DESIGN.md), with a tangent fixing the azimuth for anisotropic materials.
+//! (docs/book/src/design.md), with a tangent fixing the azimuth for anisotropic materials.
 
 use glam::DVec3;
 

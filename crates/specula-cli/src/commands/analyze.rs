@@ -19,11 +19,11 @@ pub(crate) struct DatabaseArgs {
     /// MERL .binary files, folders of them (every *.binary inside), or any other BRDF (a
     /// preset, a material .toml, a model:name fit such as sgd:chrome-steel).
     pub sources: Vec<String>,
-    /// Add the built-in database of specular and glossy materials (see README, Materials).
+    /// Add the built-in database of specular and glossy materials (see docs/book/src/materials.md).
     #[arg(long)]
     pub builtin: bool,
     /// Add every material of a fits table: shared/data/measured/merl_fits_djbrdf/
-    /// merl_sgd_bagher2012.csv or merl_abc_low2012.csv (the MERL-100 materials). Repeatable.
+    /// merl_sgd_bagher2012.csv or merl_abc_low2012.csv (the MERL-100 materials).
     #[arg(long)]
     pub fits: Vec<PathBuf>,
 }
@@ -81,28 +81,12 @@ impl DatabaseArgs {
     }
 }
 
-/// Find the theta_h sampling function and the theta_d column to fit it on that rebuild a
-/// database's characteristic slices best (paper 5.1).
-///
-/// For each material, each family (power eq. 2, exponential eq. 3, base-k eq. 4) and each
-/// column theta_d = 0..89 deg of the characteristic slice (phi_d = 90 deg): fit k to that
-/// column (90 square-root-spaced theta_h, as `fit-k`), sample every column of the slice at the
-/// --theta-h-samples positions of that function, interpolate back linearly and take the mean absolute
-/// error over the slice (1/sr, mean of RGB). MERL files are read in one pass each, only their
-/// slice kept (the bin centres are the theta_h nodes), in parallel.
-///
-/// Writes to DIR: analysis.csv (family,theta_d,mean_error,median_error,materials: over the
-/// database), materials.csv (material,family,theta_d,k,error) and analysis.png (a heatmap of
-/// the mean error, best pair outlined). Prints the best pair, and the paper's pair
-/// (exponential at theta_d = 40 deg) for comparison.
-///
-/// Example: specula analyze --fits ../shared/data/measured/merl_fits_djbrdf/merl_sgd_bagher2012.csv --out sgd-analysis
+/// Find the sampling function and column that rebuild a database's slices best (paper 5.1).
 #[derive(clap::Args)]
 pub(crate) struct Args {
     #[command(flatten)]
     pub database: DatabaseArgs,
-    /// Number of theta_h samples of the sparse measurement. Range: a whole number from 2 to
-    /// 360.
+    /// Number of theta_h samples of the sparse measurement. Range: a whole number from 2 to 360.
     #[arg(long, default_value_t = GridSpec::paper().theta_h_samples, value_parser = crate::range::THETA_H_SAMPLES)]
     pub theta_h_samples: usize,
     /// Output folder (created if missing).

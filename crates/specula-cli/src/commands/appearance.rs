@@ -5,43 +5,7 @@ use specula_appearance::figures::{csv_header, csv_row, text_rows};
 use specula_appearance::{appearance, Differences, Options, Tolerances, Verdict};
 use specula_report::appearance::extrapolated_cells;
 
-/// The appearance figures the coatings industry reads from a glossmeter and a multi-angle
-/// spectrophotometer, computed from the whole BRDF by integrating it over each standard's
-/// apertures.
-///
-///   gloss_20, gloss_60, gloss_85   specular gloss, ISO 2813 / ASTM D523, in GU: the receptor's
-///                                  flux relative to polished black glass (n = 1.567) = 100 GU.
-///
-///   haze                           ASTM E430 narrow-angle haze at 30 deg: 100 R_2 / R_s, the
-///                                  reflectance 2 deg off the specular over the specular's.
-///
-///   doi                            ASTM E430 distinctness of image at 30 deg:
-///                                  100 (R_s - R_0.3) / R_s (100 for a perfect mirror).
-///
-///   haze_20                        haze at 20 deg, ASTM E430 method B / ISO 13803: receptors
-///                                  at 18.1 and 21.9 deg, relative to the gloss standard x 100.
-///
-///   haze_d4039                     ASTM D4039 haze index G60 - G20 (high-gloss nonmetals).
-///
-///   L_g, a_g, b_g                  CIELAB under D65 at the aspecular angles g = 15, 25, 45, 75,
-///                                  110 deg, illumination at 45 deg (ASTM E2194, DIN 6175-2).
-///
-///   flop_index                     2.69 (L*15 - L*110)^1.11 / L*45^0.86 (X-Rite, DuPont).
-///
-/// Colour-space assumption: Specula's BRDFs are RGB. The R, G, B channels are taken to be
-/// linear sRGB (Rec. 709 primaries, D65 white point, IEC 61966-2-1); the reflectance factor
-/// pi f_r converts to XYZ by the sRGB matrix and to CIELAB with the D65 white. No spectral
-/// integration: an instrument's D65 readings of a real pigment would differ.
-///
-/// With --against REF every figure is followed by its difference to REF, and colour by
-/// CIEDE2000 per angle. With --tolerances T.toml too, each sample gets a verdict (`pass`, or
-/// `fail:` and the figures outside their tolerances): a `verdict` column in the CSV, a
-/// `verdict` row in the table; the command exits 3 when any sample fails, 0 when all pass.
-/// T.toml holds one table, [tolerances], of the largest allowed |difference| per figure,
-/// keyed by the difference columns' names without `d_` (gloss_20 = 5.0, de00_15 = 1.0). Warnings (on standard error) say where a figure rests on cells of a
-/// measured table that were extrapolated (from OUT.provenance.npy beside a .binary) or not
-/// measured, and, with --resolution-deg, where it reads the BRDF at a finer angle than the
-/// instrument resolved.
+/// Gloss, haze, DOI, multi-angle colour and flop of BRDFs, as the coatings industry reads them.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// BRDFs: presets, material .toml files, MERL .binary, RGL .bsdf, UTIA .bin, samples
@@ -54,10 +18,9 @@ pub(crate) struct Args {
     /// Write CSV (one row per BRDF, the reference's first) instead of the text table.
     #[arg(long)]
     pub csv: bool,
-    /// Angular resolution of the instrument that measured the BRDFs, degrees: for example
-    /// the angular radius of its light source (1.82 deg on the simulated UTIA device). Figures
-    /// that read the BRDF at a finer angle get a warning. Range: degrees above 0 and at most
-    /// 90.
+    /// Angular resolution of the instrument that measured the BRDFs, degrees: for example the
+    /// angular radius of its light source (1.82 deg on the simulated UTIA device). Range: degrees
+    /// above 0 and at most 90.
     #[arg(long = "resolution", alias = "resolution-deg", value_parser = crate::range::RESOLUTION_DEG)]
     pub resolution_deg: Option<f64>,
     /// A tolerance file (TOML, [tolerances]: gloss_20 = 5.0, de00_15 = 1.0, ...): a pass/fail

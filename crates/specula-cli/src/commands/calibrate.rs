@@ -19,23 +19,8 @@ use std::io::BufRead;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// Calibrate a device's camera and instrument response and store the result (TOML) for
-/// later runs (`specula measure --calibration`).
-///
-/// With the reference targets mounted in turn at the 45/0 geometry: dark frames and the
-/// photon transfer curve give the noise model (black level, dark current, read noise,
-/// conversion gain); the white reference gives each channel's gain to 1/sr; the 24
-/// ColorChecker patches' published values give the 3x3 colour matrix by least squares; a
-/// reference mirror scanned across the light's image gives the instrument's response. Then
-/// the sample is mounted and measured at a few geometries as a check.
-///
-/// Through the driver protocol (--connect) each target is mounted by the device's `mount`
-/// method when it offers one, else by the operator at a prompt (Enter when it is in place;
-/// --yes assumes it is). On the simulated device (--truth) the sample is that truth and the
-/// check shows the truth beside the measured values.
-///
-/// Example (a device served over TCP): specula calibrate --connect tcp://127.0.0.1:7878
-/// --white-certificate white.toml --out cam.toml
+/// Calibrate a device's camera and instrument response (simulated, or through --connect) and
+/// store the result (TOML).
 #[derive(clap::Args)]
 #[command(group(clap::ArgGroup::new("source").required(true).args(["truth", "connect"])))]
 pub(crate) struct Args {
@@ -51,8 +36,8 @@ pub(crate) struct Args {
     /// Where to write the calibration (TOML).
     #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
-    /// Reflectance of the white reference (0.99 for a Spectralon tile). Range: a fraction
-    /// above 0 and at most 1.
+    /// Reflectance of the white reference (0.99 for a Spectralon tile). Range: a fraction above 0
+    /// and at most 1.
     #[arg(long, default_value_t = 0.99, value_parser = crate::range::REFLECTANCE)]
     pub white_reflectance: f64,
     /// The white reference's certificate (TOML): reflectance and uncertainty per channel, or

@@ -17,11 +17,6 @@ use specula_formats::source::load_brdf_scratched;
 use std::path::PathBuf;
 
 /// Run a practical check of the paper (4.2, 4.3) on the simulated device.
-///
-/// alignment: the highlight's position at 8 turntable rotations gives the sample's tilt and
-/// the adjustment to make. orientation: the intensity against phi_h shows the anisotropic
-/// scratch lobe and picks a phi_h free of it. flare: captures whose colour changes locally
-/// (the lens's reddish ghost) are flagged and retaken at another arm position, or excluded.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     #[command(subcommand)]
@@ -45,20 +40,16 @@ pub(crate) struct Simulated {
     /// a model:name fit.
     #[arg(long)]
     pub truth: String,
-    /// Tilt of the sample's normal from the turntable axis, degrees (misalignment). Range:
-    /// degrees from 0 to 10.
+    /// Tilt of the sample's normal from the turntable axis, degrees (misalignment). Range: degrees
+    /// from 0 to 10.
     #[arg(long = "tilt", alias = "tilt-deg", default_value_t = 0.0, value_parser = range::TILT_DEG)]
     pub tilt_deg: f64,
-    /// Azimuth towards which the normal leans, degrees (turntable frame). Range: degrees
-    /// from -360 to 360.
+    /// Azimuth towards which the normal leans, degrees (turntable frame). Range: degrees from -360
+    /// to 360.
     #[arg(long = "tilt-azimuth", alias = "tilt-azimuth-deg", default_value_t = 0.0, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub tilt_azimuth_deg: f64,
-    /// Add polishing scratches along this direction, degrees from the sample's x axis.
-    /// Range: degrees from -360 to 360.
-    ///
-    /// The lobe is silver-925-scratched's: 3 % of the surface, GGX alpha 0.005 along, 0.15
-    /// across. Needs a preset or a material .toml as --truth; a material that has a lobe
-    /// keeps its weight and roughness and takes this orientation.
+    /// Add polishing scratches along this direction, degrees from the sample's x axis. Range:
+    /// degrees from -360 to 360.
     #[arg(long = "scratch-orientation", alias = "scratch-orientation-deg", allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub scratch_orientation_deg: Option<f64>,
     /// Seed of the simulated device: its positioning errors and its noise.
@@ -74,8 +65,8 @@ pub(crate) struct Simulated {
 pub(crate) struct AlignmentArgs {
     #[command(flatten)]
     pub simulated: Simulated,
-    /// Elevation of the light, degrees; the camera scans around the same angle. Range:
-    /// degrees from 5 to 75.
+    /// Elevation of the light, degrees; the camera scans around the same angle. Range: degrees from
+    /// 5 to 75.
     #[arg(long = "light-elevation", alias = "light-elevation-deg", default_value_t = 30.0, value_parser = range::LIGHT_ELEVATION_DEG)]
     pub light_elevation_deg: f64,
     /// Turntable rotations, evenly over a turn. Range: a whole number from 3 to 72.
@@ -99,8 +90,8 @@ pub(crate) struct OrientationArgs {
 pub(crate) struct FlareArgs {
     #[command(flatten)]
     pub simulated: Simulated,
-    /// Radiance factor of the simulated ghost at full light, 1/sr (0 = no flare). Range:
-    /// 1/sr from 0 to 10.
+    /// Radiance factor of the simulated ghost at full light, 1/sr (0 = no flare). Range: 1/sr from
+    /// 0 to 10.
     #[arg(long = "flare-strength", alias = "flare-strength-sr", default_value_t = 0.05, value_parser = range::FLARE_STRENGTH_SR)]
     pub flare_strength_sr: f64,
 }

@@ -12,13 +12,11 @@ pub(crate) struct ConnectArgs {
     /// Shared token for a server that asks for one (`specula device serve --token-file`).
     #[command(flatten)]
     pub token: TokenArgs,
-    /// Seconds to wait for a reply from a device before retrying. Range: seconds above 0
-    /// and at most 86400.
-    #[arg(long, default_value_t = 120.0, value_parser = range::TIMEOUT_S)]
+    /// Seconds to wait for a device's reply. Range: seconds above 0 and at most 86400.
+    #[arg(hide_short_help = true, long, default_value_t = 120.0, value_parser = range::TIMEOUT_S)]
     pub reply_timeout: f64,
-    /// Failures in a row on one request before giving up. Range: a whole number from 1 to
-    /// 100.
-    #[arg(long, default_value_t = 5, value_parser = range::FAILURES)]
+    /// Failures in a row before giving up. Range: a whole number from 1 to 100.
+    #[arg(hide_short_help = true, long, default_value_t = 5, value_parser = range::FAILURES)]
     pub max_failures: usize,
 }
 

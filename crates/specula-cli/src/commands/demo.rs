@@ -16,25 +16,7 @@ use std::time::Instant;
 /// The paper's two materials (section 4.2).
 const MATERIALS: [&str; 2] = ["silver-925", "green-paint"];
 
-/// Run the main job on the built-in default: measure silver-925 and green-paint (the paper's
-/// two materials) on the simulated device, the paper's workflow on the recommended grid
-/// (`specula plan --help`: 16 theta_h, theta_d 3:1@60, phi_d over the half turn,
-/// reconstructed by halves of phi_d) with our ordering and predicted exposures, and write
-/// for each the MERL table, the summary, the session journal, pictures and an HTML report;
-/// then print where everything is.
-///
-/// Per material, in OUT/MATERIAL/: MATERIAL.binary (the measured BRDF, MERL format),
-/// MATERIAL.summary.txt (k-hat, counts, captures, simulated hours), MATERIAL.session.sqlite
-/// (the journal), report.html (the session's report, as `specula report`: k-hat, coverage,
-/// duration, the error against the truth and every picture) and each of its pictures as a
-/// PNG: render_sphere.png and render_speedshape.png (the measured and the true material in a
-/// studio, with their difference, Fig. 16), characteristic_slice.png and
-/// characteristic_slice_of_the_truth.png and characteristic_slice_of_the_difference.png (Fig.
-/// 11, on one colour scale), probe_against_the_adaptive_samples.png
-/// (Fig. 13) and raw_samples.png (the measured samples per phi_d, Fig. 15).
-///
-/// A rerun resumes the sessions, each on the grid it started with (and is quick once they
-/// are complete); Ctrl-C stops after the sample in progress. Another --seed is another measurement: it goes to OUT/seed-N/.
+/// Measure silver-925 and green-paint on the simulated device and report on them.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// Folder for the outputs.

@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
-/// Work with devices through the driver protocol (docs/driver-protocol.md).
+/// Work with devices through the driver protocol (docs/book/src/driver-protocol.md).
 #[derive(clap::Args)]
 pub(crate) struct Args {
     #[command(subcommand)]
@@ -19,9 +19,8 @@ pub(crate) struct Args {
 
 #[derive(clap::Subcommand)]
 pub(crate) enum DeviceCommand {
-    /// Serve the simulated device over the driver protocol, so that `specula measure
-    /// --connect tcp://HOST:PORT` (or a client of your own) can drive it. One client at a
-    /// time; runs until stopped with Ctrl-C.
+    /// Serve the simulated device over the driver protocol, so that `specula measure --connect
+    /// tcp://HOST:PORT` (or a client of your own) can drive it.
     Serve(ServeArgs),
 }
 
@@ -31,7 +30,7 @@ pub(crate) struct ServeArgs {
     /// a model:name fit.
     #[arg(long)]
     pub truth: String,
-    /// Where to listen. Loopback by default; any other address needs a token.
+    /// Where to listen.
     #[arg(long, default_value = "127.0.0.1:7878")]
     pub listen: SocketAddr,
     /// A shared secret every client must send in `hello`.
@@ -54,12 +53,8 @@ pub(crate) struct ServeArgs {
     /// corrupt@N, motor@N, N counting requests from 1 over the server's life.
     #[arg(long, default_value = "")]
     pub inject_faults: String,
-    /// Disconnect the controlling client when a request line does not arrive whole within
-    /// this many seconds of the previous reply. Range: seconds above 0 and at most 86400.
-    /// Newcomers have 3 s to send a hello of at most 16 KiB (on the 4 connections kept
-    /// beyond the 8 ordinary ones, 1 s); another client's hello waits up to 10 s for the
-    /// controlling one to leave, then is answered `busy`; a reply not written within 30 s
-    /// ends the connection.
+    /// Disconnect the controlling client when a request line does not arrive whole within this many
+    /// seconds of the previous reply. Range: seconds above 0 and at most 86400.
     #[arg(long, default_value_t = 600.0, value_parser = crate::range::TIMEOUT_S)]
     pub idle_timeout: f64,
 }

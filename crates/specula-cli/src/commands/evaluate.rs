@@ -20,80 +20,38 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 /// Measure a known BRDF on a plan without noise, reconstruct it and print the error.
-///
-/// The plan is the recommended grid unless told otherwise (see `specula plan --help`):
-/// theta_h at the 16 positions of the exponential sampling function with k-hat fitted to the
-/// material's probe (5.2: theta_d 40, phi_d 90, phi_h 45 deg, 90 square-root positions),
-/// theta_d every 3 deg below 60 and every 1 deg from 60, phi_d 0, 30, ..., 180 deg at phi_h
-/// 45 deg; --grid-preset paper gives the paper's (5.3: 30 theta_h, theta_d 0, 3, ..., 87,
-/// phi_d 0, 15, ..., 90). The samples the device cannot take (limits, occlusion) are left
-/// out, as a real measurement would. Samples that measure both halves of phi_d are
-/// reconstructed half by half, as `specula reconstruct` does.
-///
-/// Figures (averaged over R, G, B; see `specula compare --help`): relative_rmse
-/// (cosine-weighted), log_rmse (of ln(1 + f cos theta_i)) and slice_mae (the paper's
-/// characteristic slice phi_d = 90), over the cells whose light and camera are both within
-/// --max-elevation of the normal ("within") and over all cells above the surface ("all").
-///
-/// Examples:
-///
-///   specula evaluate --truth silver-925 --grid-preset paper --method linear   # the paper's pipeline
-///
-///   specula evaluate --builtin --method lobe                # the built-in database, a table
 #[derive(clap::Args)]
 pub(crate) struct Args {
-    /// The ground-truth BRDF: a measured file (RGL .bsdf, MERL .binary, UTIA .bin), a
-    /// folder of them (every BRDF file in it, e.g. ../shared/data/measured/rgl_bsdf), a
-    /// preset name, a material .toml or a model:name fit. Repeat for several. Real measured
-    /// truths are the ones that judge a method: their figures are summarised apart from the
-    /// built-in database and the fits.
+    /// The ground truth: any BRDF, or a folder of measured files.
     #[arg(long, required_unless_present_any = ["builtin", "merl_fits"])]
     pub truth: Vec<String>,
-    /// Evaluate over every material of the built-in database (and the --truth ones) and
-    /// print a table with the mean.
+    /// Also evaluate every material of the built-in database.
     #[arg(long)]
     pub builtin: bool,
-    /// Evaluate over the 100 MERL materials as fitted by a published model: sgd (Bagher et
-    /// al. 2012), abc (Low et al. 2012) or nbrdf (Sztrajman et al. 2021, neural). Repeat for
-    /// several.
+    /// Also evaluate the 100 MERL materials as fitted by sgd, abc or nbrdf.
     #[arg(long, value_enum)]
     pub merl_fits: Vec<MerlFits>,
-    /// Reconstruction method: lobe (ours: log ratio to a fitted microfacet lobe), prior (lobe
-    /// blended with a MERL-100 data-driven prior as far as the samples trust it), log, or
-    /// linear (the paper's baseline). lobe is the default because it is the best measured on
-    /// real data: on the five RGL files, median 0.18 times the paper pipeline's relative RMSE
-    /// on the default grid, 0.83 on the paper's samples; prior is no better there (README,
-    /// "Real measured truths first").
+    /// Reconstruction method: lobe, prior, log or linear (the paper's).
     #[arg(long, default_value = "lobe")]
     pub method: Method,
-    /// k of the theta_h sampling function; default: k-hat fitted to each material's probe.
-    /// Range: a number above 0 and at most 100.
+    /// k of the sampling function; default: k-hat of each probe. Range: a number above 0 and at most 100.
     #[arg(long, value_parser = crate::range::SAMPLING_K)]
     pub k: Option<f64>,
-    /// How theta_h positions are placed: `function` (the sampling function, paper 5.2) or
-    /// `probe` (the least-error placement on the material's probe).
-    #[arg(long, default_value_t = PlacementChoice::Function)]
+    /// theta_h placement: `function` (paper 5.2) or `probe` (least error).
+    #[arg(hide_short_help = true, long, default_value_t = PlacementChoice::Function)]
     pub placement: PlacementChoice,
     #[command(flatten)]
     pub grid: GridArgs,
-    /// Device description (TOML) deciding which samples are taken; default: the paper's
-    /// UTIA gonioreflectometer.
+    /// Device description (TOML); default: the paper's UTIA gonioreflectometer.
     #[arg(long)]
     pub device: Option<PathBuf>,
-    /// Largest elevation (degrees from the normal) of light and camera for the "within"
-    /// figures. Range: degrees above 0 and at most 90.
-    #[arg(long, default_value_t = 75.0, value_parser = crate::range::ELEVATION_DEG)]
+    /// Largest elevation of the "within" figures. Range: degrees above 0 and at most 90.
+    #[arg(hide_short_help = true, long, default_value_t = 75.0, value_parser = crate::range::ELEVATION_DEG)]
     pub max_elevation: f64,
-    /// Measure through the instrument, as `specula measure` does without its noise: every
-    /// sample, and the probe that places theta_h, is what a capture of the device gives
-    /// (the truth integrated over the response of --device: the light's disk, the camera's
-    /// pupil and the measured area; README, The instrument's response); the probe is
-    /// deblurred before k is fitted and the method reconstructs through the response (`lobe`
-    /// fits its lobe before the blur; `linear` and `log` have no model and keep the blur).
+    /// Measure through the instrument's response, as `measure` does.
     #[arg(long)]
     pub through_instrument: bool,
-    /// Also write the simulated samples (CSV, the input of `specula reconstruct`); one
-    /// --truth only.
+    /// Also write the simulated samples (CSV); one --truth only.
     #[arg(long, conflicts_with_all = ["builtin", "merl_fits"], value_parser = crate::output::OUTPUT_FILE)]
     pub samples_out: Option<PathBuf>,
 }

@@ -12,37 +12,15 @@ use specula_formats::renderer_export::{
 use std::path::{Path, PathBuf};
 
 /// Fit the analytic materials renderers have to a BRDF and export the best one.
-///
-/// Models (both GGX, evaluated by Specula's own models, as Mitsuba 3 does):
-///
-///   conductor  a rough metal: roughness alpha and a complex index eta + i k per channel
-///              (Mitsuba roughconductor, pbrt-v4 conductor, glTF metallic 1);
-///
-///   coat       a rough dielectric coat (alpha, index) over a Lambertian base of albedo rho
-///              per channel (Mitsuba roughplastic, nonlinear; pbrt-v4 coateddiffuse; glTF
-///              dielectric with KHR_materials_ior).
-///
-/// The source is tabulated into the MERL grid and each model is fitted (Nelder-Mead) to the
-/// log error ln(1 + f cos theta_i) of `specula compare` over cells whose light and camera are
-/// within --max-elevation. Printed per model: its parameters and `specula compare`'s
-/// figures of the fit against the source (relative_rmse, log_rmse, slice_mae), over all cells
-/// and within the limit. The exports hold the model with the lower log_rmse within the limit.
-/// glTF roughness is sqrt(alpha) (glTF 2.0: alpha = roughness^2). Mitsuba's roughplastic is
-/// single-scattering: for coats rougher than alpha 0.05 it renders the base darker than the
-/// fit (a note says so).
 #[derive(clap::Args)]
-#[command(after_help = "Examples:
-  specula fit silver-925 --model conductor --mitsuba silver.xml
-  specula fit measured.binary --out fit.toml --pbrt fit.pbrt --gltf fit.gltf
-  specula fit ../shared/data/measured/rgl_bsdf/paper_white_rgb.bsdf --model coat")]
 pub(crate) struct Args {
     /// The BRDF to fit: a preset, a material .toml, a measured file or a model:name fit.
     pub brdf: String,
     /// Which models to fit: `conductor`, `coat` or `both` (the better one is exported).
     #[arg(long, default_value_t = FitChoice::Both)]
     pub model: FitChoice,
-    /// Largest elevation (degrees from the normal) of light and camera of the fitted cells.
-    /// Range: degrees above 0 and at most 90.
+    /// Largest elevation (degrees from the normal) of light and camera of the fitted cells. Range:
+    /// degrees above 0 and at most 90.
     #[arg(long, default_value_t = 75.0, value_parser = range::ELEVATION_DEG)]
     pub max_elevation: f64,
     /// Write the fitted material as a Specula material .toml (loadable by every command).

@@ -8,18 +8,7 @@ use specula_sampling::fit::fit_k;
 use specula_sampling::probe::Probe;
 use std::path::PathBuf;
 
-/// Fit k of a theta_h sampling function to a probe (paper 5.2), and print k-hat and the fit
-/// error as the first line: `k=<value> error=<value>`.
-///
-/// The error of a candidate k: take the --theta-h-samples positions of the function, give each the
-/// probe's value there (linear interpolation in theta_h), interpolate those back linearly at
-/// the probe's positions and average the absolute difference from the probe, on the mean of
-/// R, G and B (1/sr). k-hat minimises it: a coarse scan of log k, a fine scan around its
-/// best point, then Brent's method on the best brackets (the error has many shallow local
-/// minima; see the README). The second line repeats the family and counts; the third lists
-/// the theta_h positions of k-hat in degrees, ready for `specula plan --theta-h-list`.
-///
-/// Example: specula fit-k silver.csv --family exponential --theta-h-samples 30
+/// Fit k of a theta_h sampling function to a probe (paper 5.2).
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The probe: a CSV file with the header theta_h,r,g,b (from `specula probe` or a device).
@@ -28,9 +17,8 @@ pub(crate) struct Args {
     /// k = 2 is MERL's square root) or base (eq. 4).
     #[arg(long, default_value = "exponential")]
     pub family: Family,
-    /// Number of theta_h samples the measurement will take: the paper's 30 by default; give
-    /// 16 for the recommended grid of `plan` and `measure`. Range: a whole number from 2 to
-    /// 360.
+    /// Number of theta_h samples the measurement will take: the paper's 30 by default; give 16 for
+    /// the recommended grid of `plan` and `measure`. Range: a whole number from 2 to 360.
     #[arg(long, default_value_t = GridSpec::paper().theta_h_samples, value_parser = crate::range::THETA_H_SAMPLES)]
     pub theta_h_samples: usize,
 }

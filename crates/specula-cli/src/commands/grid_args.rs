@@ -10,65 +10,25 @@ use specula_core::sampling::Family;
 
 #[derive(clap::Args, Clone, Debug)]
 pub(crate) struct GridArgs {
-    /// The grid the other grid options start from: `recommended` (the default) or `paper`.
-    ///
-    /// recommended: 16 theta_h x theta_d every 3 deg, every 1 deg from 60 (3:1@60) x phi_d
-    /// every 30 deg over the half turn 0 to 180, phi_h 45: at most about 3200 samples on the
-    /// UTIA device. On the five real RGL measurements it gives 0.18 of the paper pipeline's
-    /// relative RMSE and 0.26 of its log RMSE (median; README, "Real measured truths
-    /// first"): the fine grazing theta_d catches the Fresnel rise near the peak, and the half
-    /// turn measures each configuration's light/camera swap, which a real material need not
-    /// match (the two halves are reconstructed apart). Where `measure` finds the material's
-    /// peak narrower than the instrument resolves (the deblurred probe; 1.09 deg on the
-    /// default device), it takes up to 30 theta_h with theta_d every 3 deg instead, as many
-    /// as keep the plan within 4073 measured samples: through the light's disk the theta_h
-    /// positions pin the peak (green paint 0.055 -> 0.021 relative RMSE).
-    ///
-    /// paper: the paper's plan (5.3), 30 theta_h x theta_d every 3 deg x phi_d every 15 deg
-    /// over 0 to 90, phi_h 45: 6300 samples, 4073 measured on the paper's device.
-    ///
-    /// The options below replace the preset's values one by one. `measure` resuming a
-    /// session starts from the session's own grid instead.
+    /// The grid the other grid options start from: `recommended` (default) or `paper`.
     #[arg(long)]
     pub grid_preset: Option<GridPreset>,
-    /// Sampling function family: exponential (paper eq. 3), power (eq. 2) or base (eq. 4).
+    /// Sampling function family: exponential, power or base (paper eq. 2 to 4).
     #[arg(long, default_value = "exponential")]
     pub family: Family,
-    /// Number of theta_h positions of the sampling function; default: the preset's
-    /// (recommended 16, or more for a peak the instrument does not resolve; paper 30).
-    /// Giving it (or --theta-d-step) fixes the grid for every material. Range: a whole
-    /// number from 2 to 360.
-    ///
-    /// On the real RGL measurements the count matters little from 12 to 30 (README); 10 were
-    /// too few for the broad lobe of colodur_napoli_4f (k-hat 0.5).
+    /// Number of theta_h positions; default: the preset's. Range: a whole number from 2 to 360.
     #[arg(long, value_parser = range::THETA_H_SAMPLES)]
     pub theta_h_samples: Option<usize>,
-    /// theta_d positions: STEP (0, STEP, 2 STEP, ... below 90 deg) or STEP:GRAZING@FROM
-    /// (every STEP deg, then every GRAZING deg from the first position at or above FROM);
-    /// default: the preset's (recommended 3:1@60, paper 3). Range: degrees from 0.5 to 90,
-    /// or STEP:GRAZING@FROM with both steps from 0.5 to 90 and FROM from 0 to below 90.
-    ///
-    /// The theta_d step dominates the error on real materials: every 1 deg instead of 3
-    /// takes the paper pipeline's error on cc_iris_purple_gem from 0.141 to 0.059, and most
-    /// of the gain sits at grazing theta_d (3:1@60 puts 30 of its 50 positions from 60 deg).
+    /// theta_d positions: STEP or STEP:GRAZING@FROM in degrees, e.g. 3:1@60.
     #[arg(long, value_parser = range::ThetaDStepsArg)]
     pub theta_d_step: Option<ThetaDSteps>,
-    /// Step of phi_d in degrees (0, step, ... to the end of --phi-d-span); default: the
-    /// preset's (recommended 30, paper 15). Range: degrees from 0.5 to 90.
+    /// Step of phi_d; default: the preset's. Range: degrees from 0.5 to 90.
     #[arg(long, value_parser = range::GRID_STEP_DEG)]
     pub phi_d_step: Option<f64>,
-    /// How far phi_d goes: `quarter`, 0 to 90 deg (the paper's: reciprocity and isotropy
-    /// give the rest), or `half-turn`, 0 to 180 deg (each configuration and its light/camera
-    /// swap, reconstructed apart: real measured materials are not reciprocal near grazing,
-    /// and the half of the table they differ in holds 67 to 99 % of the folded error on the
-    /// RGL files); default: the preset's (recommended half-turn, paper quarter).
+    /// How far phi_d goes: `quarter` (0 to 90 deg) or `half-turn` (0 to 180 deg).
     #[arg(long)]
     pub phi_d_span: Option<PhiDSpan>,
-    /// phi_h in degrees: the sample's orientation, chosen to avoid anisotropic scratches
-    /// (paper 4.3). Range: degrees from -360 to 360.
-    ///
-    /// It only turns the turntable; reachability does not depend on it. `measure` takes the
-    /// orientation check's recommendation instead when the check finds a scratch lobe here.
+    /// The sample's orientation phi_h. Range: degrees from -360 to 360.
     #[arg(long, default_value_t = GridSpec::recommended().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
 }

@@ -12,17 +12,7 @@ use specula_formats::utia::{self, UtiaBrdf};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use std::path::Path;
 
-/// Describe any BRDF source Specula loads: its format, its grid, how many cells (nodes,
-/// samples) hold a measured value, the per-channel minimum, maximum and mean of f_r (1/sr)
-/// over them, and the peak (the largest mean of R, G and B) among them, saying which cells
-/// it was looked for in.
-///
-/// A MERL table written by `specula reconstruct` or `measure` has a provenance sidecar
-/// (OUT.provenance.npy): its peak is the peak among the cells a sample fell in, not among
-/// the interpolated or extrapolated ones. A continuous source (a preset, a material .toml,
-/// a model:name fit, an RGL .bsdf) is evaluated at the MERL bin centres at phi_h = 45 deg.
-///
-/// Example: specula info chrome.binary; specula info sgd:chrome-steel
+/// Describe a BRDF source: format, grid, measured cells, per-channel statistics, peak.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The BRDF: a MERL .binary, UTIA .bin, RGL .bsdf or samples .csv file, a material

@@ -4,15 +4,7 @@ use anyhow::{bail, Result};
 use specula_formats::catalog::groups;
 use specula_formats::near_name::did_you_mean;
 
-/// List the BRDFs every command takes by name: the presets, the built-in database and the
-/// published fits, each group with its provenance (model, source, licence, built in or
-/// read from the measured data directory). Files (MERL .binary, UTIA .bin, RGL .bsdf,
-/// samples .csv, material .toml) are taken by path as well.
-///
-/// With a FILTER, only the names containing it; none matching is an error that suggests
-/// the nearest names.
-///
-/// Example: specula materials paint
+/// List the BRDFs every command takes by name, with their provenance.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// Show only the names containing this text.

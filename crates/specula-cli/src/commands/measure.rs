@@ -16,107 +16,64 @@ use specula_session::workflow::{
 };
 use std::path::PathBuf;
 
-/// Measure a BRDF the paper's way, on the simulated device or on real hardware, and write it
-/// as a MERL table.
-///
-/// The workflow (paper 4.2 to 5.3): calibration (simulated device: white reference and
-/// ColorChecker; real device: --calibration), the alignment and orientation checks, the probe
-/// (up to 90 theta_h samples at theta_d = 40, phi_d = 90 deg), fitting k of the sampling
-/// function, the plan (theta_h from the fitted function x theta_d x phi_d, unreachable and
-/// occluded samples excluded, ordered for speed), the acquisition with predicted HDR
-/// exposures, and the reconstruction into OUT.binary. The plan's grid is the recommended one
-/// unless told otherwise (--grid-preset paper for the paper's; see `specula plan --help`);
-/// when it measures both halves of phi_d (--phi-d-span half-turn, the default) each half is
-/// reconstructed from its own samples (`specula reconstruct --help`). A summary (k_hat, counts, captures,
-/// simulated_hours, measured_samples, ...) goes to OUT.summary.txt and stdout.
-///
-/// Everything is journaled in the session file (default OUT.session.sqlite), one transaction
-/// per sample: after Ctrl-C (which finishes the sample in progress), a crash or a power cut,
-/// run the same command again to resume (a resumed session keeps its own grid, also one
-/// started before the recommended grid was the default). With the same --seed the result is
-/// byte-identical whether or not the run was interrupted. `specula session status` shows the progress.
-///
-/// Example (simulated): specula measure --truth silver-925 --out silver.binary
-///
-/// Example (a device served over TCP): specula measure --connect tcp://127.0.0.1:7878
-/// --calibration cam.toml --out sample.binary
-///
-/// Example (an adapter program): specula measure --connect "exec:python3
-/// tools/example_adapter.py" --calibration tools/example_adapter_calibration.toml --out
-/// fake.binary
+/// Measure a BRDF on the simulated device or on real hardware into a MERL table.
 #[derive(clap::Args)]
 #[command(group(clap::ArgGroup::new("source").required(true).args(["truth", "connect"])))]
 pub(crate) struct Args {
-    /// Measure the simulated device with this ground truth: a preset (silver-925,
-    /// green-paint, ...), a material .toml, a MERL .binary or a model:name fit.
+    /// Measure the simulated device with this ground truth (any BRDF).
     #[arg(long)]
     pub truth: Option<String>,
-    /// Measure a device through the driver protocol (docs/driver-protocol.md):
-    /// tcp://HOST:PORT or exec:COMMAND.
+    /// Measure a device through the driver protocol: tcp://HOST:PORT or exec:COMMAND.
     #[arg(long)]
     pub connect: Option<String>,
-    /// The camera calibration of a real device (TOML from `specula calibrate`). The
-    /// simulated device is calibrated at the start of a session.
+    /// The camera calibration of a real device (from `specula calibrate`).
     #[arg(long)]
     pub calibration: Option<PathBuf>,
-    /// The session journal (SQLite); default OUT.session.sqlite. An existing session resumes.
+    /// The session journal (SQLite); default OUT.session.sqlite.
     #[arg(long)]
     pub session: Option<PathBuf>,
     /// Seed of the simulated device: its positioning errors and its noise.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Simulated device without noise or positioning error, exactly calibrated (for
-    /// comparing sampling and reconstruction methods).
-    #[arg(long)]
+    /// Simulated device without noise or positioning error.
+    #[arg(hide_short_help = true, long)]
     pub ideal: bool,
-    /// Simulate the light as a point instead of its disk (1.8 deg across on the default
-    /// device, which blurs sharp highlights as on the real device): separates the error of
-    /// sampling and reconstruction from the device's optics.
-    #[arg(long)]
+    /// Simulate the light as a point instead of its disk.
+    #[arg(hide_short_help = true, long)]
     pub point_light: bool,
-    /// Probe samples along theta_h (square-root placement, paper 5.2). Range: a whole number
-    /// from 2 to 10000.
-    #[arg(long, default_value_t = ProbeSpec::paper().samples, value_parser = range::PROBE_SAMPLES)]
+    /// Probe samples along theta_h. Range: a whole number from 2 to 10000.
+    #[arg(hide_short_help = true, long, default_value_t = ProbeSpec::paper().samples, value_parser = range::PROBE_SAMPLES)]
     pub probe_samples: usize,
     #[command(flatten)]
     pub grid: GridArgs,
-    /// Order of the samples: optimized (a short path through axis space) or nested
-    /// (theta_h, theta_d, phi_d loops, as the paper).
-    #[arg(long, default_value_t = PlanOrder::Optimized)]
+    /// Order of the samples: optimized or nested (the paper's).
+    #[arg(hide_short_help = true, long, default_value_t = PlanOrder::Optimized)]
     pub order: PlanOrder,
-    /// HDR at each sample: predicted (adaptive from the probe and the previous sample, one or
-    /// two captures) or bracket (the device file's fixed bracket, the paper's way).
-    #[arg(long, default_value_t = HdrChoice::Predicted)]
+    /// HDR at each sample: predicted or bracket (the paper's).
+    #[arg(hide_short_help = true, long, default_value_t = HdrChoice::Predicted)]
     pub hdr: HdrChoice,
-    /// Reconstruction method: lobe, prior, log or linear (see `specula reconstruct --help`).
+    /// Reconstruction method (see `specula reconstruct --help`).
     #[arg(long, default_value = "lobe")]
     pub method: specula_reconstruct::Method,
-    /// Do not fit through the instrument's response: the BRDF as measured, blurred by the
-    /// light's disk (the result before deblurring, for comparison). By default the lobe and
-    /// the probe are fitted through the response whenever it is known (always on the
-    /// simulator, which measures it with a reference mirror; a real device's from its
-    /// --calibration file).
-    #[arg(long)]
+    /// Do not fit through the instrument's response.
+    #[arg(hide_short_help = true, long)]
     pub no_deblur: bool,
     /// Skip the alignment and orientation checks.
     #[arg(long)]
     pub skip_checks: bool,
-    /// Tilt of the simulated sample on the turntable, degrees (a misalignment for the
-    /// alignment check to find). Range: degrees from 0 to 10.
-    #[arg(long, default_value_t = 0.0, value_parser = range::TILT_DEG, alias = "tilt-deg")]
+    /// Tilt of the simulated sample. Range: degrees from 0 to 10.
+    #[arg(hide_short_help = true, long, default_value_t = 0.0, value_parser = range::TILT_DEG, alias = "tilt-deg")]
     pub tilt: f64,
-    /// Azimuth of that tilt, degrees. Range: degrees from -360 to 360.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG, alias = "tilt-azimuth-deg")]
+    /// Azimuth of that tilt. Range: degrees from -360 to 360.
+    #[arg(hide_short_help = true, long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG, alias = "tilt-azimuth-deg")]
     pub tilt_azimuth: f64,
-    /// Device description (TOML; see `specula plan --print-device`); default: the paper's
-    /// UTIA gonioreflectometer. The device to talk to is --connect.
+    /// Device description (TOML); default: the paper's UTIA gonioreflectometer.
     #[arg(long, alias = "device-model")]
     pub device: Option<PathBuf>,
     #[command(flatten)]
     pub connect_args: ConnectArgs,
-    /// Run the simulated device in real time divided by this factor (a rehearsal: 60 shows
-    /// an hour's measurement in a minute). Range: a factor above 0 and at most 1000000.
-    #[arg(long, value_parser = range::SPEEDUP)]
+    /// Run the simulated device in real time / this factor. Range: a factor above 0 and at most 1000000.
+    #[arg(hide_short_help = true, long, value_parser = range::SPEEDUP)]
     pub speedup: Option<f64>,
     /// The MERL .binary to write.
     #[arg(long, value_parser = crate::output::OUTPUT_FILE)]

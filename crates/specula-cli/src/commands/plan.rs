@@ -10,55 +10,27 @@ use specula_core::GridSpec;
 use specula_session::workflow::PlanOrder;
 use std::path::PathBuf;
 
-/// Plan a measurement: turn a theta_h x theta_d x phi_d grid (paper 5.3) into goniometer
-/// positions, find which samples the device can take, order them and estimate the time.
-///
-/// The grid: theta_h at the positions of the sampling function (--family, --k) or the
-/// explicit --theta-h-list; theta_d = 0, step, 2 step, ... below 90 deg, optionally finer
-/// from a grazing threshold; phi_d = 0, step, ... up to 90 deg (the rest follows by
-/// symmetry) or up to 180 deg (each configuration and its light/camera swap); one phi_h.
-/// The default is the recommended grid, 16 x 50 x 7 = 5600 samples (16 theta_h, theta_d
-/// 3:1@60, phi_d every 30 deg over the half turn); --grid-preset paper gives the paper's
-/// plan, 30 x 30 x 7 = 6300 samples.
-///
-/// A sample is `ok`, `limit` (no axis position reaches it: light or camera beyond 75 deg from
-/// the normal on the default device) or `occluded` (every reachable position has the light
-/// head or arm in the camera's view, the camera or its arm in the light's beam, or the arms
-/// colliding). Among the free positions (camera on either side, light arm tilted either way)
-/// the planner picks one; --order optimized then reorders the samples and re-picks the
-/// positions to cut the move and settle time.
-///
-/// Writes PLAN.csv in execution order, one row per sample:
-/// index,theta_h,phi_h,theta_d,phi_d,theta_i,phi_i,theta_o,phi_o,status (degrees), then
-/// turntable_deg,camera_deg,light_azimuth_deg,light_elevation_deg (empty when excluded) and
-/// time_s (move from the previous sample + settle + capture). Prints a summary with the time
-/// of the nested-loop order and of the optimized order.
-///
-/// Example: specula plan --k 4.78 --out plan.csv
+/// Plan a measurement: grid to device positions, reachability, order and time.
 #[derive(clap::Args)]
 pub(crate) struct Args {
-    /// k of the theta_h sampling function: the material's fitted k-hat (the paper: green
-    /// paint 5.64, silver 925 4.78). Range: a number above 0 and at most 100.
+    /// k of the sampling function (the material's k-hat). Range: a number above 0 and at most 100.
     #[arg(long, allow_negative_numbers = true, required_unless_present_any = ["theta_h_list", "print_device"], value_parser = crate::range::SAMPLING_K)]
     pub k: Option<f64>,
-    /// Explicit theta_h positions in degrees, comma-separated, instead of --k (e.g. from
-    /// adaptive placement). Range: degrees from 0 to 90.
+    /// Explicit theta_h positions, comma-separated. Range: degrees from 0 to 90.
     #[arg(long, value_delimiter = ',', conflicts_with = "k", value_parser = crate::range::THETA_H_DEG)]
     pub theta_h_list: Option<Vec<f64>>,
     #[command(flatten)]
     pub grid: GridArgs,
-    /// Device description (TOML); default: the paper's UTIA gonioreflectometer. See
-    /// --print-device for the format.
+    /// Device description (TOML); default: the paper's UTIA gonioreflectometer.
     #[arg(long)]
     pub device: Option<PathBuf>,
-    /// Execution order written to PLAN.csv: `optimized` (a travelling-salesman path over the
-    /// axes) or `nested` (theta_h, theta_d, phi_d loops, as the paper).
+    /// Order written to PLAN.csv: `optimized` or `nested` (the paper's).
     #[arg(long, default_value_t = PlanOrder::Optimized)]
     pub order: PlanOrder,
     /// Where to write the plan (CSV).
     #[arg(long, required_unless_present = "print_device", value_parser = crate::output::OUTPUT_FILE)]
     pub out: Option<PathBuf>,
-    /// Print the device description (the default, or --device) as TOML and exit.
+    /// Print the device description (TOML) and exit.
     #[arg(long)]
     pub print_device: bool,
 }

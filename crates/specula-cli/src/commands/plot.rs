@@ -17,11 +17,7 @@ use specula_visual::plot::ThetaHAxis;
 use specula_visual::RgbImage;
 use std::path::{Path, PathBuf};
 
-/// Draw BRDF data as PNG pictures with labelled axes (degrees, 1/sr): the paper's Fig. 11
-/// (slice), Fig. 15 (samples), Fig. 13 (probe) and the analysis of section 5.1 (heatmap).
-/// Fonts are embedded; no system font is needed.
-///
-/// Example: specula plot slice chrome --out chrome-slice.png
+/// Draw the paper's figures of BRDF data as PNG pictures.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     #[command(subcommand)]
@@ -36,10 +32,9 @@ pub(crate) enum Plot {
     Heatmap(HeatmapArgs),
 }
 
-/// The characteristic slice of a BRDF (paper Fig. 11): f_r (mean of R, G, B) over theta_d
-/// across and theta_h up, in log false colour from black (low) to pale yellow (high); blue
-/// cells are not measured. On MERL's square-root theta_h axis (default) the first degree
-/// around the specular peak takes a tenth of the height; --axis linear shows degrees evenly.
+/// The characteristic slice of a BRDF (paper Fig. 11): f_r (mean of R, G, B) over theta_d across
+/// and theta_h up, in log false colour from black (low) to pale yellow (high); blue cells are not
+/// measured.
 #[derive(clap::Args)]
 pub(crate) struct SliceArgs {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit.
@@ -53,18 +48,15 @@ pub(crate) struct SliceArgs {
     /// The fixed phi_d, degrees (90: the characteristic slice). Range: degrees from 0 to 180.
     #[arg(long, default_value_t = 90.0, value_parser = range::PHI_D_DEG)]
     pub phi_d: f64,
-    /// Azimuth of the half vector, degrees (matters only for anisotropic materials; 45 is
-    /// the paper's choice). Range: degrees from -360 to 360.
+    /// Azimuth of the half vector, degrees (matters only for anisotropic materials; 45 is the
+    /// paper's choice). Range: degrees from -360 to 360.
     #[arg(long, default_value_t = GridSpec::paper().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
 }
 
-/// The raw samples of a measurement (paper Fig. 15): one characteristic slice per measured
-/// phi_d, each cell of the plan's grid (every theta_h and theta_d that occurs in the file)
-/// coloured by its sample in log false colour, blue where that phi_d has no sample.
-///
-/// SAMPLES.csv has the header theta_h,phi_h,theta_d,phi_d,r,g,b (degrees, 1/sr), one sample
-/// a row; phi_h is not shown (the paper fixes it at 45 deg).
+/// The raw samples of a measurement (paper Fig. 15): one characteristic slice per measured phi_d,
+/// each cell of the plan's grid (every theta_h and theta_d that occurs in the file) coloured by its
+/// sample in log false colour, blue where that phi_d has no sample.
 #[derive(clap::Args)]
 pub(crate) struct SamplesArgs {
     /// The samples CSV file.
@@ -77,14 +69,9 @@ pub(crate) struct SamplesArgs {
     pub axis: ThetaHAxis,
 }
 
-/// The probe against the adaptive samples (paper Fig. 13): f_r along theta_h from the dense
-/// probe (solid lines) and at the adaptive positions (dashed lines with dots), each channel in
-/// its colour, over the full range and over 0 to 2 deg.
-///
-/// The adaptive positions come from --adaptive (a CSV with a theta_h column, and r,g,b
-/// columns if measured there), --positions, or --k with --family and --theta-h-samples; by default
-/// k-hat is fitted to the probe (exponential family, 30 samples, as the paper). Where no
-/// values are given, the probe is interpolated linearly at the positions.
+/// The probe against the adaptive samples (paper Fig. 13): f_r along theta_h from the dense probe
+/// (solid lines) and at the adaptive positions (dashed lines with dots), each channel in its
+/// colour, over the full range and over 0 to 2 deg.
 #[derive(clap::Args)]
 pub(crate) struct ProbeArgs {
     /// The probe CSV file (header theta_h,r,g,b; degrees, 1/sr), e.g. from `specula probe`.
@@ -95,12 +82,11 @@ pub(crate) struct ProbeArgs {
     /// A CSV of the adaptive samples: a theta_h column (degrees) and optionally r,g,b (1/sr).
     #[arg(long, conflicts_with_all = ["positions", "k"])]
     pub adaptive: Option<PathBuf>,
-    /// The adaptive theta_h positions in degrees, comma-separated. Range: degrees from 0 to
-    /// 90.
+    /// The adaptive theta_h positions in degrees, comma-separated. Range: degrees from 0 to 90.
     #[arg(long, value_delimiter = ',', conflicts_with = "k", value_parser = range::THETA_H_DEG)]
     pub positions: Option<Vec<f64>>,
-    /// k of the sampling function that places the adaptive samples (default: fitted).
-    /// Range: a number above 0 and at most 100.
+    /// k of the sampling function that places the adaptive samples (default: fitted). Range: a
+    /// number above 0 and at most 100.
     #[arg(long, value_parser = range::SAMPLING_K)]
     pub k: Option<f64>,
     /// Family of the sampling function: exponential, power or base.
@@ -111,11 +97,9 @@ pub(crate) struct ProbeArgs {
     pub theta_h_samples: usize,
 }
 
-/// The database analysis as a heatmap: one row per sampling family, one column per theta_d
-/// of the column k is fitted on, coloured by the mean (or median) slice error in log false
-/// colour, the best cell outlined.
-///
-/// ANALYSIS.csv is what `specula analyze` writes: family,theta_d,mean_error,median_error,...
+/// The database analysis as a heatmap: one row per sampling family, one column per theta_d of the
+/// column k is fitted on, coloured by the mean (or median) slice error in log false colour, the
+/// best cell outlined.
 #[derive(clap::Args)]
 pub(crate) struct HeatmapArgs {
     /// The analysis CSV file.

@@ -7,17 +7,7 @@ use specula_core::ProbeSpec;
 use specula_sampling::probe::Probe;
 use std::path::PathBuf;
 
-/// Take the probe of paper 5.2: one dense theta_h column of a BRDF, the input of `fit-k` and
-/// of the sample placement.
-///
-/// The samples lie at fixed theta_d, phi_d and phi_h, at theta_h = t^2 / 90 deg with t evenly
-/// spaced over [0, 90] (MERL's square-root mapping, paper eq. 1), which crowds them at the
-/// specular peak. The paper's probe is the default: 90 samples at theta_d = 40, phi_d = 90,
-/// phi_h = 45 deg. Samples the BRDF does not hold (holes of a MERL table) are left out.
-///
-/// Writes PROBE.csv with the header theta_h,r,g,b (degrees; f_r in 1/sr).
-///
-/// Example: specula probe silver-925 --out silver.csv && specula fit-k silver.csv
+/// Take the probe of paper 5.2: one dense theta_h column of a BRDF.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit
@@ -26,16 +16,16 @@ pub(crate) struct Args {
     /// theta_d of the column, degrees. Range: degrees from 0 to 89.5.
     #[arg(long, default_value_t = ProbeSpec::paper().theta_d_deg, value_parser = range::THETA_D_DEG)]
     pub theta_d: f64,
-    /// phi_d of the column, degrees (90: the characteristic slice of paper 5.1). Range:
-    /// degrees from 0 to 180.
+    /// phi_d of the column, degrees (90: the characteristic slice of paper 5.1). Range: degrees
+    /// from 0 to 180.
     #[arg(long, default_value_t = ProbeSpec::paper().phi_d_deg, value_parser = range::PHI_D_DEG)]
     pub phi_d: f64,
-    /// phi_h, degrees: the sample's orientation (chosen to avoid scratches, paper 4.3).
-    /// Range: degrees from -360 to 360.
+    /// phi_h, degrees: the sample's orientation (chosen to avoid scratches, paper 4.3). Range:
+    /// degrees from -360 to 360.
     #[arg(long, default_value_t = ProbeSpec::paper().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
-    /// Number of theta_h samples of the probe (the paper uses up to 90). Range: a whole
-    /// number from 2 to 10000.
+    /// Number of theta_h samples of the probe (the paper uses up to 90). Range: a whole number from
+    /// 2 to 10000.
     #[arg(long, default_value_t = ProbeSpec::paper().samples, value_parser = range::PROBE_SAMPLES)]
     pub probe_samples: usize,
     /// Where to write the probe (CSV).

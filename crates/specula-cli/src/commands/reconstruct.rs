@@ -9,26 +9,7 @@ use specula_reconstruct::Method;
 use specula_session::workflow::session_main_samples;
 use std::path::{Path, PathBuf};
 
-/// Reconstruct a full BRDF in the MERL format (90 x 90 x 180 cells) from sparse samples
-/// (paper 5.3's last step).
-///
-/// The samples may lie on any grid, non-uniform in theta_h as the paper's plan, or be
-/// scattered. phi_d is folded by reciprocity and the mirror symmetry (f(phi_d) =
-/// f(180 - phi_d)), unless the samples measure both halves of phi_d (0 to 90 and 90 to 180
-/// deg, at two positions each at least): then each half is reconstructed from its own
-/// samples, which keeps a measured material that is not reciprocal as it was measured (the
-/// real RGL files are not, near grazing: README, issue 20). The lattice nodes the device did
-/// not reach are extrapolated from the nearest measured node along theta_d, then theta_h,
-/// then phi_d (in the method's domain); every MERL bin centre is then interpolated.
-///
-/// Methods: lobe (default, ours): the log ratio of the samples to a microfacet lobe fitted to
-/// them, monotone cubic in MERL's theta_h coordinate; log: ln f, the same interpolation;
-/// linear: the paper's baseline, f linear in theta_h, theta_d and phi_d (degrees).
-///
-/// Beside OUT.binary it writes OUT.provenance.npy: uint8, shape (90, 90, 180) in MERL cell
-/// order; 0 = measured (a sample in the bin), 1 = interpolated, 2 = extrapolated.
-///
-/// Example: specula reconstruct --samples-csv silver.csv --out silver.binary
+/// Reconstruct a full MERL table from sparse samples (paper 5.3).
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// Samples CSV with the header theta_h,phi_h,theta_d,phi_d,r,g,b (degrees, 1/sr), one

@@ -8,28 +8,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 /// Render a material on a sphere or a speedshape under a point light or an environment.
-///
-/// The object is seen by a pinhole camera from 4 units away (sphere radius 1, 34 deg field of
-/// view). Light reaches it directly (no inter-reflection): from an environment (default: a
-/// built-in studio with softboxes) or from one point light. The material's lobe is
-/// importance-sampled by a GGX proxy fitted to it and combined with sampling the environment
-/// by brightness (multiple importance sampling), so mirror-like materials converge without
-/// sparkles.
-///
-/// The output type follows the extension: .png is tone-mapped (ACES filmic, sRGB), .exr keeps
-/// the linear radiance.
-///
-/// Several BRDFs with --side-by-side give one labelled picture of all of them under the same light;
-/// with exactly two, a third tile shows their relative difference |A-B|/max(A,B) in false
-/// colour (black 0, yellow 100 percent) and its mean is printed.
-///
-/// Examples:
-///
-///   specula render chrome --out chrome.png
-///
-///   specula render silver-925 --shape speedshape --light point --out s.png
-///
-///   specula render silver-925 chrome --side-by-side --out compare.png
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The BRDFs: preset names, material .toml files, MERL .binary files, RGL .bsdf files or
@@ -42,26 +20,23 @@ pub(crate) struct Args {
     /// The object: sphere or speedshape.
     #[arg(long, default_value = "sphere")]
     pub shape: ShapeKind,
-    /// The environment: studio, constant, constant:RADIANCE, or a latitude-longitude .exr or
-    /// .hdr file (y up, Mitsuba's envmap layout: the image's left and right edges are behind
-    /// the object, its centre behind the camera). Default: studio.
+    /// The environment: studio, constant, constant:RADIANCE, or a latitude-longitude .exr or .hdr
+    /// file (y up, Mitsuba's envmap layout: the image's left and right edges are behind the object,
+    /// its centre behind the camera).
     #[arg(long, value_name = "ENV")]
     pub env: Option<String>,
     /// Light the object with a point light (intensity 60 W/sr, upper left, in front) on black
     /// instead of an environment.
     #[arg(long, value_enum)]
     pub light: Option<LightKind>,
-    /// Camera rays per pixel. The default converges: two seeds agree within 3 percent per pixel
-    /// on average (15 percent in the rings around highlights); fewer make quick drafts. Range: a
-    /// whole number from 1 to 65536.
+    /// Camera rays per pixel. Range: a whole number from 1 to 65536.
     #[arg(long, default_value_t = specula_visual::render::DEFAULT_SAMPLES_PER_PIXEL, value_parser = crate::range::SAMPLES_PER_PIXEL)]
     pub spp: usize,
-    /// Width and height of the picture (of each tile with --side-by-side), pixels. Range: a
-    /// whole number from 8 to 8192.
+    /// Width and height of the picture (of each tile with --side-by-side), pixels. Range: a whole
+    /// number from 8 to 8192.
     #[arg(long, default_value_t = 512, value_parser = crate::range::IMAGE_PX)]
     pub size: usize,
-    /// Exposure of the PNG in stops (+1 doubles the brightness). Ignored for .exr. Range:
-    /// stops from -20 to 20.
+    /// Exposure of the PNG in stops (+1 doubles the brightness). Range: stops from -20 to 20.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = crate::range::EXPOSURE_STOPS)]
     pub exposure: f64,
     /// Put several BRDFs side by side in one labelled picture (PNG only).

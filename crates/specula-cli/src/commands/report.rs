@@ -5,32 +5,8 @@ use anyhow::Result;
 use specula_report::{write_report, Audience, ReportOptions, SampleInfo};
 use std::path::PathBuf;
 
-/// Write one self-contained report (HTML with the pictures embedded, or a PDF of it when
-/// --out ends in .pdf, printed by headless Chromium) about a measured BRDF or a measurement
-/// session.
-///
-/// INPUT is any BRDF source the other commands take (a MERL .binary, an RGL .bsdf, a UTIA
-/// .bin, a samples .csv, a material .toml, a preset, a model:name fit) or a session journal
-/// (.sqlite, from `specula measure` or `specula demo`).
-///
-/// --audience customer gives the sample's page: sample ID, operator, customer and date, the
-/// material, the appearance figures against --against with the verdict of --tolerances, and
-/// the renders. --audience engineering (the default) adds the measurement: k-hat of its probe
-/// (paper 5.2), the coverage, the duration, the characteristic slice (Fig. 11), the probe
-/// against the adaptive samples (Fig. 13), the raw samples (Fig. 15, --samples-csv or the
-/// journal's) and, with a truth, the error figures. A MERL .binary's provenance sidecar
-/// OUT.provenance.npy is used when present. From a journal the report also shows the
-/// instrument and its calibration, the samples measured of each stage's plan and the table
-/// reconstructed from them with the session's method (or --table); a simulated session's
-/// own truth is labelled "truth" (and gives the error figures unless --truth names another).
-/// An interrupted session is reported as far as it got. The date is the session's start,
-/// else today.
-///
-/// With --tolerances the command exits 3 when the sample fails them.
-///
-/// Examples: specula report panel.bsdf --against chrome --sample-id P-17 --operator "A. Lee"
-/// --audience customer --out panel.pdf;
-/// specula report demo-out/silver-925/silver-925.session.sqlite --out silver.html
+/// Write one self-contained report (HTML, or PDF when --out ends in .pdf) about any BRDF
+/// source or a session.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// What to report on: a BRDF source (.binary, .bsdf, .toml, preset, fit, ...) or a session

@@ -14,10 +14,9 @@ pub(crate) struct Args {
 
 #[derive(clap::Subcommand)]
 pub(crate) enum SessionCommand {
-    /// Progress of a session: samples measured and left per stage, captures, the device time
-    /// spent and the estimate of what is left (the progress bar's: the time model scaled by
-    /// how the finished samples compared with it), faults and resumptions. Safe to run while
-    /// the measurement goes on.
+    /// Progress of a session: samples measured and left per stage, captures, the device time spent
+    /// and the estimate of what is left (the progress bar's: the time model scaled by how the
+    /// finished samples compared with it), faults and resumptions.
     Status {
         /// The session journal (.sqlite).
         session: PathBuf,

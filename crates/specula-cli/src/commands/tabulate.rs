@@ -5,14 +5,13 @@ use anyhow::Result;
 use specula_core::GridSpec;
 use std::path::PathBuf;
 
-/// Tabulate a BRDF into the MERL grid (90 x 90 x 180 cells, at the bin centres) and write
-/// it as a MERL .binary file.
+/// Tabulate a BRDF into the MERL grid and write it as a MERL .binary file.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit.
     pub brdf: String,
-    /// Azimuth of the half vector in degrees (matters only for anisotropic materials; 45 is
-    /// the paper's choice, section 4.3). Range: degrees from -360 to 360.
+    /// Azimuth of the half vector in degrees (matters only for anisotropic materials; 45 is the
+    /// paper's choice, section 4.3). Range: degrees from -360 to 360.
     #[arg(long, default_value_t = GridSpec::paper().phi_h_deg, allow_negative_numbers = true, value_parser = range::AZIMUTH_DEG)]
     pub phi_h: f64,
     /// The MERL .binary file to write.

@@ -15,13 +15,11 @@ const MAX_TOKEN_FILE_BYTES: u64 = 4096;
 
 #[derive(clap::Args, Clone, Debug)]
 pub(crate) struct TokenArgs {
-    /// The shared secret of `hello` (never empty). Visible in the process list: prefer
-    /// --token-file or the SPECULA_TOKEN environment variable.
-    #[arg(long, conflicts_with = "token_file")]
+    /// The shared secret of `hello` (never empty).
+    #[arg(hide_short_help = true, long, conflicts_with = "token_file")]
     pub token: Option<String>,
-    /// A file holding the shared secret (surrounding whitespace ignored; at most 4096
-    /// bytes). Without --token or --token-file, SPECULA_TOKEN is used when set.
-    #[arg(long)]
+    /// A file holding the shared secret.
+    #[arg(hide_short_help = true, long)]
     pub token_file: Option<PathBuf>,
 }
 

@@ -6,7 +6,7 @@
 //! Fresnel term (the metal's, or the lacquer's for a paint). Each part keeps its directional
 //! albedo within 1, and so does the mixture.
 //!
-//! Materials are read from and written to TOML (schema in `material_file.rs` and the README).
+//! Materials are read from and written to TOML (schema in `material_file.rs` and docs/book/src/materials.md).
 
 use super::clearcoat::ClearCoat;
 use super::conductor::RoughConductor;

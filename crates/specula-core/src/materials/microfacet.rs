@@ -244,7 +244,7 @@ impl IsotropicCosines {
         }
     }
 
-    /// From half-difference angles without building the directions (DESIGN.md frame);
+    /// From half-difference angles without building the directions (the frame of docs/book/src/design.md);
     /// `None` when either direction is at or below the horizon. See [`IsotropicRow::at`].
     pub fn from_half_diff(hd: HalfDiff) -> Option<Self> {
         IsotropicRow::new(hd.theta_h, hd.theta_d).at(hd.phi_d.cos())
@@ -364,7 +364,7 @@ impl IsotropicRow {
         }
     }
 
-    /// The cosines at the azimuth whose cosine is `cos_phi_d` (DESIGN.md frame):
+    /// The cosines at the azimuth whose cosine is `cos_phi_d` (the frame of docs/book/src/design.md):
     /// `cos_i = cos theta_h cos theta_d - sin theta_h sin theta_d cos phi_d` and, `wo`
     /// being `wi` mirrored about `h`, `cos_o = 2 cos theta_h cos theta_d - cos_i`.
     /// `None` when either direction is at or below the horizon.

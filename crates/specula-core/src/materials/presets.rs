@@ -31,7 +31,7 @@ pub const ACRYLIC_IOR: f64 = 1.49;
 /// Linear-RGB albedo of the green paint's pigmented base.
 pub const GREEN_PAINT_BASE: [f64; 3] = [0.03, 0.25, 0.06];
 
-/// The preset names, in the order the README lists them.
+/// The preset names, in the order docs/book/src/materials.md lists them.
 pub fn preset_names() -> Vec<&'static str> {
     vec![
         "silver-925",

@@ -59,7 +59,7 @@ pub const LUMINANCE_FLOOR: f64 = 1e-3;
 /// Share of each slice's warp density spread evenly over the unit square; the rest follows
 /// the VNDF. Measured on the real RGL film `cc_ibiza_sunset_rgb` at the default resolution,
 /// Mitsuba's render of the written file against its render of the original under a point
-/// light (README, "Rendering in Mitsuba 3 and pbrt-v4").
+/// light (docs/book/src/renderers.md).
 pub const UNIFORM_WARP_SHARE: f64 = 0.3;
 
 /// The table sizes of a written file.
@@ -79,7 +79,7 @@ impl RglResolution {
     /// `ndf` size with twice its 8 elevations and three times its 32 x 32 samples; about
     /// 3.4 MB. The finer sample grid resolves sharp coats over a diffuse base, whose
     /// retro-reflection puts most of the distribution's mass in the diffuse tail, and the
-    /// tails of measured files (README, "Rendering in Mitsuba 3 and pbrt-v4").
+    /// tails of measured files (docs/book/src/renderers.md).
     pub const DEFAULT: Self = Self {
         elevations: 16,
         ndf_size: 128,

@@ -3,7 +3,7 @@
 Angles are degrees (arguments named ``*_deg``), BRDF values f_r in 1/sr per RGB channel,
 and a MERL table is a ``(90, 90, 180, 3)`` float64 array indexed
 ``[theta_h_i, theta_d_i, phi_d_i, channel]`` with NaN where a cell is not measured.
-See ``docs/python.md`` for a tutorial.
+See ``docs/book/src/python.md`` for a tutorial.
 """
 
 from ._specula import (

@@ -322,7 +322,7 @@ pub struct ChecksRecord {
 pub struct FitRecord {
     /// The fitted theta_h sampling function: its family and k (paper 5.2).
     pub function: SamplingFunction,
-    /// The fit error (DESIGN.md), 1/sr.
+    /// The fit error (docs/book/src/design.md), 1/sr.
     pub error: f64,
     /// The grid the main plan takes, chosen with the fit (`GridSpec::unresolved_peak`);
     /// `None` in records written before the choice existed: the settings' grid.

@@ -1,5 +1,5 @@
 //! The messages of the driver protocol: one JSON object per line each way (see
-//! `docs/driver-protocol.md`, the specification for adapter writers).
+//! `docs/book/src/driver-protocol.md`, the specification for adapter writers).
 //!
 //! Request:  `{"id": 7, "method": "move_to", "params": {"target": {...}}}`
 //! Reply:    `{"id": 7, "result": {...}}` or `{"id": 7, "error": {"kind": "motor_fault",

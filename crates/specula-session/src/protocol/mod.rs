@@ -1,7 +1,7 @@
 //! The driver protocol: the [`Instrument`](specula_acquisition::instrument::Instrument)
 //! interface carried as JSON lines over TCP or over a child process's stdin and stdout, so
 //! that a lab can connect its own hardware by writing a small adapter in any language.
-//! `docs/driver-protocol.md` is the specification; `tools/example_adapter.py` an adapter.
+//! `docs/book/src/driver-protocol.md` is the specification; `tools/example_adapter.py` an adapter.
 //!
 //! - [`message`]: the request and reply lines;
 //! - [`link`]: the transports (`tcp://HOST:PORT`, `exec:COMMAND`) with reply timeouts;

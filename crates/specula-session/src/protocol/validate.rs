@@ -1,4 +1,4 @@
-//! The ranges every reply of a device must respect (`docs/driver-protocol.md`, "What
+//! The ranges every reply of a device must respect (`docs/book/src/driver-protocol.md`, "What
 //! Specula checks"). A reply outside them is a device fault: the client asks again on a
 //! fresh link and, if the device keeps answering so, fails with an error naming the device,
 //! the method and the field. A bad reply never becomes a stored sample.
