@@ -81,7 +81,7 @@ impl DatabaseArgs {
     }
 }
 
-/// Find the sampling function and column that rebuild a database's slices best (paper 5.1).
+/// Find the sampling function and column that rebuild a database best (paper 5.1).
 #[derive(clap::Args)]
 pub(crate) struct Args {
     #[command(flatten)]

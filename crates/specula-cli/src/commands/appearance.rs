@@ -5,7 +5,7 @@ use specula_appearance::figures::{csv_header, csv_row, text_rows};
 use specula_appearance::{appearance, Differences, Options, Tolerances, Verdict};
 use specula_report::appearance::extrapolated_cells;
 
-/// Gloss, haze, DOI, multi-angle colour and flop of BRDFs, as the coatings industry reads them.
+/// Gloss, haze, DOI, multi-angle colour and flop of BRDFs, with verdicts against tolerances.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// BRDFs: presets, material .toml files, MERL .binary, RGL .bsdf, UTIA .bin, samples

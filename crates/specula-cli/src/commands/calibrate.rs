@@ -19,8 +19,7 @@ use std::io::BufRead;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// Calibrate a device's camera and instrument response (simulated, or through --connect) and
-/// store the result (TOML).
+/// Calibrate a device (simulated, or through --connect) and store the result (TOML).
 #[derive(clap::Args)]
 #[command(group(clap::ArgGroup::new("source").required(true).args(["truth", "connect"])))]
 pub(crate) struct Args {

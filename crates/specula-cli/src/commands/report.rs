@@ -5,8 +5,7 @@ use anyhow::Result;
 use specula_report::{write_report, Audience, ReportOptions, SampleInfo};
 use std::path::PathBuf;
 
-/// Write one self-contained report (HTML, or PDF when --out ends in .pdf) about any BRDF
-/// source or a session.
+/// Write a self-contained report (HTML, or PDF) about a BRDF source or a session.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// What to report on: a BRDF source (.binary, .bsdf, .toml, preset, fit, ...) or a session

@@ -5,16 +5,7 @@ use anyhow::Result;
 use specula_report::view::{write_view, ViewOptions};
 use std::path::PathBuf;
 
-/// Write an interactive viewer of one or several BRDFs as one self-contained HTML page
-/// (no network, opens from disk): the lobe as polar plots in and across the plane of
-/// incidence with an incident-angle slider, linear or log; the characteristic slice
-/// (theta_h x theta_d) as heatmaps on one colour scale with a phi_d slider; a sphere under a
-/// point light you drag; and readouts under the pointer (angles, f_r in 1/sr per channel,
-/// and for a reconstructed table whether the cell was measured, interpolated or
-/// extrapolated, and its uncertainty when an OUT.uncertainty.binary lies beside it).
-///
-/// Examples: specula view chrome.binary sgd:chrome --out view.html;
-/// specula view demo-out/silver-925/silver-925.session.sqlite silver-925 --out view.html
+/// Write an interactive viewer of one or several BRDFs as one self-contained HTML page.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The BRDFs, overlaid in this order: MERL .binary, UTIA .bin, RGL .bsdf or samples .csv
