@@ -6,7 +6,8 @@
 //! times a per-channel scale; a negative stored value means "not measured".
 //!
 //! Bins: `theta_h_i = floor(sqrt(theta_h_deg * 90))`, `theta_d_i = floor(theta_d_deg)`,
-//! `phi_d_i = floor(phi_d_deg)` with phi_d folded into `[0, 180)` (reciprocity), each clamped.
+//! `phi_d_i = floor(phi_d_deg)` with phi_d folded into `[0, 180)` (reciprocity), each clamped
+//! ([`Bin::of_degrees`], the one home of these rules).
 //! Bin centres are taken in index space: `theta_h = (i + 0.5)^2 / 90` deg,
 //! `theta_d = j + 0.5` deg, `phi_d = k + 0.5` deg.
 
@@ -146,17 +147,32 @@ impl Bin {
     /// The nearest bin of half-difference angles, exactly as MERL's reference reader.
     ///
     /// The arithmetic is the reference reader's own (`angle / (pi/2) * 90`, not a conversion
-    /// to degrees), so that angles of whole degrees such as 15 land in bin 15 and not 14.
+    /// to degrees), so that angles of whole degrees such as 15 land in bin 15 and not 14; the
+    /// boundary rules are [`Bin::of_degrees`]'s.
     pub fn of(hd: HalfDiff) -> Self {
         use std::f64::consts::{FRAC_PI_2, PI};
-        let theta_h_scaled = (hd.theta_h / FRAC_PI_2 * THETA_H_BINS as f64).max(0.0);
-        let theta_d_scaled = hd.theta_d / FRAC_PI_2 * THETA_D_BINS as f64;
-        let phi_d_scaled =
-            (hd.phi_d.rem_euclid(PI) / PI * PHI_D_BINS as f64).rem_euclid(PHI_D_BINS as f64);
+        Self::of_degrees(
+            hd.theta_h / FRAC_PI_2 * THETA_H_BINS as f64,
+            hd.theta_d / FRAC_PI_2 * THETA_D_BINS as f64,
+            hd.phi_d.rem_euclid(PI) / PI * PHI_D_BINS as f64,
+        )
+    }
+
+    /// The bin of half-difference angles in degrees, by the rules of MERL's reference reader:
+    /// - theta_h: square-root spaced, `floor(sqrt(theta_h / 90) * 90)` (the index coordinate
+    ///   of [`theta_h_coordinate`]);
+    /// - theta_d: `floor(theta_d)`;
+    /// - phi_d: folded into `[0, 180)` first (reciprocity: phi_d and phi_d + 180 are the same
+    ///   configuration, so -10 is 170 and a value that rounds to 180 is 0), then `floor`;
+    ///
+    /// each index clamped to its axis (below 0 or NaN gives bin 0, beyond the last bin the
+    /// last bin). A value on a boundary belongs to the bin above it.
+    pub fn of_degrees(theta_h_deg: f64, theta_d_deg: f64, phi_d_deg: f64) -> Self {
+        let phi_d_folded_deg = phi_d_deg.rem_euclid(180.0).rem_euclid(180.0);
         Self {
-            theta_h_i: clamp_bin((theta_h_scaled * THETA_H_BINS as f64).sqrt(), THETA_H_BINS),
-            theta_d_i: clamp_bin(theta_d_scaled, THETA_D_BINS),
-            phi_d_i: clamp_bin(phi_d_scaled, PHI_D_BINS),
+            theta_h_i: clamp_bin(theta_h_coordinate(theta_h_deg), THETA_H_BINS),
+            theta_d_i: clamp_bin(theta_d_deg, THETA_D_BINS),
+            phi_d_i: clamp_bin(phi_d_folded_deg, PHI_D_BINS),
         }
     }
 
@@ -227,8 +243,25 @@ fn stored_values(value: Option<Rgb>) -> [f64; 3] {
 
 /// Centre of theta_h bin `i` in degrees: `(i + 0.5)^2 / 90`.
 pub fn theta_h_centre_deg(i: usize) -> f64 {
-    let x = i as f64 + 0.5;
-    x * x / 90.0
+    theta_h_deg_at(i as f64 + 0.5)
+}
+
+/// MERL's theta_h index coordinate of theta_h in degrees, `sqrt(theta_h / 90) * 90` =
+/// `sqrt(90 theta_h)`, in `[0, 90]`: bin `i` covers coordinates `[i, i + 1)`. theta_h is
+/// clamped to `[0, 90]` first, NaN counting as 0.
+pub fn theta_h_coordinate(theta_h_deg: f64) -> f64 {
+    let theta_h_deg = if theta_h_deg.is_nan() {
+        0.0
+    } else {
+        theta_h_deg.clamp(0.0, 90.0)
+    };
+    (theta_h_deg * THETA_H_BINS as f64).sqrt()
+}
+
+/// theta_h in degrees at MERL's theta_h index coordinate, the inverse of
+/// [`theta_h_coordinate`]: `coordinate^2 / 90`.
+pub fn theta_h_deg_at(coordinate: f64) -> f64 {
+    coordinate * coordinate / THETA_H_BINS as f64
 }
 
 fn clamp_bin(value: f64, bins: usize) -> usize {
@@ -649,6 +682,53 @@ mod tests {
             }
         }
         assert!(t.cell(14).is_none() && t.cell(21).is_some());
+    }
+
+    #[test]
+    fn bins_of_degrees_follow_merls_boundary_rules() {
+        let bin = |h: f64, d: f64, p: f64| {
+            let b = Bin::of_degrees(h, d, p);
+            (b.theta_h_i, b.theta_d_i, b.phi_d_i)
+        };
+        // theta_h is square-root spaced: bin i starts at i^2 / 90 deg (10 deg starts bin 30).
+        assert_eq!(bin(10.0, 0.0, 0.0).0, 30);
+        assert_eq!(bin(10.0 - 1e-9, 0.0, 0.0).0, 29);
+        assert_eq!(bin(1.0, 0.0, 0.0).0, 9);
+        // Clamping: below 0 and NaN to bin 0, 90 and beyond to the last bin.
+        assert_eq!(bin(-3.0, -1.0, f64::NAN), (0, 0, 0));
+        assert_eq!(bin(90.0, 90.0, 0.0), (89, 89, 0));
+        assert_eq!(bin(120.0, 200.0, 0.0), (89, 89, 0));
+        // phi_d folds into [0, 180): 180 is 0, 190 is 10, -10 is 170, a hair below 0 is 0.
+        assert_eq!(bin(0.0, 0.0, 180.0).2, 0);
+        assert_eq!(bin(0.0, 0.0, 190.0).2, 10);
+        assert_eq!(bin(0.0, 0.0, -10.0).2, 170);
+        assert_eq!(bin(0.0, 0.0, 179.999).2, 179);
+        assert_eq!(bin(0.0, 0.0, -1e-15).2, 0);
+        // Whole degrees in degrees land in their own bin.
+        for deg in 0..90 {
+            let x = deg as f64;
+            assert_eq!(
+                bin(theta_h_centre_deg(deg), x, 2.0 * x),
+                (deg, deg, 2 * deg)
+            );
+        }
+        // Through radians the reference reader's arithmetic decides: 15 deg is bin 15, but
+        // 39 deg in radians is a hair below 39 and the reader bins it in 38.
+        let through_radians = |d: f64| Bin::of(HalfDiff::from_degrees(1.0, 0.0, d, d));
+        assert_eq!(through_radians(15.0), Bin::of_degrees(1.0, 15.0, 15.0));
+        assert_eq!(through_radians(39.0), Bin::of_degrees(1.0, 38.5, 38.5));
+    }
+
+    #[test]
+    fn theta_h_coordinate_inverts_and_clamps() {
+        assert_eq!(theta_h_coordinate(1.0), 90f64.sqrt());
+        assert_eq!(theta_h_coordinate(-1.0), 0.0);
+        assert_eq!(theta_h_coordinate(f64::NAN), 0.0);
+        assert_eq!(theta_h_coordinate(100.0), 90.0);
+        for c in [0.0, 0.5, 9.0, 44.5, 90.0] {
+            assert!((theta_h_coordinate(theta_h_deg_at(c)) - c).abs() < 1e-12);
+        }
+        assert_eq!(theta_h_centre_deg(2), 2.5 * 2.5 / 90.0);
     }
 
     #[test]

@@ -21,7 +21,7 @@
 use crate::sample::fold_phi_d_rad;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rayon::prelude::*;
-use specula_core::merl::{theta_h_centre_deg, Bin, CELLS, THETA_H_BINS};
+use specula_core::merl::{self, theta_h_centre_deg, Bin, CELLS, THETA_H_BINS};
 use specula_core::Sample;
 use specula_core::{Brdf, HalfDiff, Rgb};
 use std::sync::Arc;
@@ -67,11 +67,6 @@ pub fn from_mapped(x: f64, w: f64) -> f64 {
     ((x.exp() - MAPPED_OFFSET) / w).max(0.0)
 }
 
-/// theta_h (degrees) to the grid's theta_h coordinate (MERL index space, node i at i).
-fn theta_h_coordinate(theta_h_deg: f64) -> f64 {
-    (theta_h_deg.max(0.0) * 90.0).sqrt() - 0.5
-}
-
 /// Lower node and fraction of a coordinate on nodes `0, 1, ..., n - 1` (clamped).
 fn bracket(u: f64, n: usize) -> (usize, f64) {
     let u = u.clamp(0.0, (n - 1) as f64);
@@ -108,7 +103,8 @@ impl Stencil {
     /// Around the configuration `hd` (phi_d folded by the symmetries).
     pub fn of(hd: HalfDiff) -> Self {
         Self::at(
-            theta_h_coordinate(hd.theta_h.to_degrees()),
+            // MERL index space, node i at the centre of bin i.
+            merl::theta_h_coordinate(hd.theta_h.to_degrees()) - 0.5,
             hd.theta_d.to_degrees() / THETA_D_STEP_DEG,
             fold_phi_d_rad(hd.phi_d).to_degrees() / PHI_D_STEP_DEG,
         )

@@ -20,6 +20,7 @@
 
 use crate::journal::{PlannedRow, SampleRecord};
 use specula_acquisition::calibration::Calibration;
+use specula_core::merl;
 use specula_core::{ProbePoint, Rgb};
 
 /// The largest correction applied, either way: beyond it the previous sample is taken to be
@@ -45,7 +46,7 @@ impl ProbeModel {
             })
             .map(|p| {
                 (
-                    (p.theta_h_deg * 90.0).sqrt(),
+                    merl::theta_h_coordinate(p.theta_h_deg),
                     p.value.to_array().map(|x| x.max(1e-12).ln()),
                 )
             })
@@ -61,7 +62,7 @@ impl ProbeModel {
 
     /// f at `theta_h_deg` (clamped to the probe's range), 1/sr.
     pub fn brdf(&self, theta_h_deg: f64) -> Rgb {
-        let x = (theta_h_deg.max(0.0) * 90.0).sqrt();
+        let x = merl::theta_h_coordinate(theta_h_deg);
         let n = self.index.len();
         let i = self.index.partition_point(|&t| t <= x).clamp(1, n - 1);
         let (x0, x1) = (self.index[i - 1], self.index[i]);
@@ -189,12 +190,12 @@ mod tests {
         let samples: Vec<ProbePoint> = (0..10)
             .map(|i| {
                 let x = i as f64 * 3.0;
-                ProbePoint::new(x * x / 90.0, Rgb::splat((-x).exp()))
+                ProbePoint::new(merl::theta_h_deg_at(x), Rgb::splat((-x).exp()))
             })
             .collect();
         let model = ProbeModel::new(&samples).unwrap();
         for x in [0.0, 1.3, 7.7, 26.9] {
-            let f = model.brdf(x * x / 90.0);
+            let f = model.brdf(merl::theta_h_deg_at(x));
             assert!((f.x / (-x).exp() - 1.0).abs() < 1e-9, "{x}: {f}");
         }
         // Clamped beyond the last node.

@@ -11,7 +11,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use specula_core::brdf::{both_above_surface, Brdf, Rgb};
 use specula_core::geometry::HalfDiff;
-use specula_core::merl::{theta_h_centre_deg, Bin, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::merl::{theta_h_centre_deg, theta_h_deg_at, Bin, CELLS};
 
 /// Cells probed by [`NearestBinTable::detect`].
 const PROBED_CELLS: usize = 64;
@@ -32,7 +32,7 @@ impl NearestBinTable {
             let bin = Bin::from_index(index);
             let inside = |frac: f64, phi_h_deg: f64| {
                 let t = bin.theta_h_i as f64 + frac;
-                let theta_h_deg = (t * t / 90.0).max(theta_h_centre_deg(0) * 0.5);
+                let theta_h_deg = theta_h_deg_at(t).max(theta_h_centre_deg(0) * 0.5);
                 HalfDiff::from_degrees(
                     theta_h_deg,
                     phi_h_deg,
@@ -69,8 +69,8 @@ impl NearestBinTable {
 impl NearestBinTable {
     /// The cell of a pair of unit directions, or `CELLS` (a cell of zeros) below the horizon.
     ///
-    /// The same bin as `Bin::of(HalfDiff::from_directions(wi, wo))`, with half the
-    /// trigonometry: the rotations that take `wi` into the half vector's frame use the half
+    /// The same bin as `Bin::of(HalfDiff::from_directions(wi, wo))` (binned by [`Bin::of`]),
+    /// with half the trigonometry: the rotations that take `wi` into the half vector's frame use the half
     /// vector's own components as their sines and cosines, and phi_h is never needed.
     pub fn cell_index(&self, wi: DVec3, wo: DVec3) -> usize {
         if !both_above_surface(wi, wo) {
@@ -92,21 +92,12 @@ impl NearestBinTable {
         let x = cos_phi * wi.x + sin_phi * wi.y;
         let y = -sin_phi * wi.x + cos_phi * wi.y;
         let d = DVec3::new(h.z * x - rho * wi.z, y, rho * x + h.z * wi.z);
-        let theta_h_deg = h.z.clamp(-1.0, 1.0).acos().to_degrees();
-        let theta_d_deg = (d.z / d.length()).clamp(-1.0, 1.0).acos().to_degrees();
-        let phi_d_deg = d.y.atan2(d.x).to_degrees().rem_euclid(180.0);
-        let bin = |value: f64, bins: usize| {
-            if value.is_nan() || value <= 0.0 {
-                0
-            } else {
-                (value as usize).min(bins - 1)
-            }
-        };
-        Bin {
-            theta_h_i: bin((theta_h_deg * 90.0).sqrt(), THETA_H_BINS),
-            theta_d_i: bin(theta_d_deg, THETA_D_BINS),
-            phi_d_i: bin(phi_d_deg, PHI_D_BINS),
-        }
+        Bin::of(HalfDiff::new(
+            h.z.clamp(-1.0, 1.0).acos(),
+            0.0,
+            (d.z / d.length()).clamp(-1.0, 1.0).acos(),
+            d.y.atan2(d.x),
+        ))
         .index()
     }
 
@@ -158,6 +149,21 @@ mod tests {
         fn name(&self) -> String {
             "smooth".into()
         }
+    }
+
+    #[test]
+    fn a_pair_on_the_phi_d_wrap_is_binned_as_merls_reader_bins_it() {
+        // Half vector on the normal and phi_d a hair below 0, which folds to bin 0, not 179.
+        let (s, c) = (0.6, 0.8);
+        let wi = DVec3::new(s, -1e-20, c);
+        let wo = DVec3::new(-s, 1e-20, c);
+        let table = NearestBinTable {
+            name: String::new(),
+            cells: Vec::new(),
+        };
+        let index = table.cell_index(wi, wo);
+        assert_eq!(index, Bin::of(HalfDiff::from_directions(wi, wo)).index());
+        assert_eq!(Bin::from_index(index).phi_d_i, 0);
     }
 
     #[test]

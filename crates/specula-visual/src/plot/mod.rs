@@ -19,6 +19,7 @@ use image::RgbImage;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use specula_core::merl;
 
 /// Font sizes, pixels.
 pub(crate) const TITLE_PX: f64 = 20.0;
@@ -77,7 +78,7 @@ impl ThetaHAxis {
     /// The axis coordinate in `[0, 90]` of theta_h in degrees.
     pub fn coordinate(self, theta_h_deg: f64) -> f64 {
         match self {
-            ThetaHAxis::Merl => (theta_h_deg.clamp(0.0, 90.0) * 90.0).sqrt(),
+            ThetaHAxis::Merl => merl::theta_h_coordinate(theta_h_deg),
             ThetaHAxis::Linear => theta_h_deg,
         }
     }
@@ -85,7 +86,7 @@ impl ThetaHAxis {
     /// theta_h in degrees at an axis coordinate.
     pub fn theta_h_deg(self, coordinate: f64) -> f64 {
         match self {
-            ThetaHAxis::Merl => coordinate * coordinate / 90.0,
+            ThetaHAxis::Merl => merl::theta_h_deg_at(coordinate),
             ThetaHAxis::Linear => coordinate,
         }
     }
