@@ -264,6 +264,45 @@ pub fn theta_h_deg_at(coordinate: f64) -> f64 {
     coordinate * coordinate / THETA_H_BINS as f64
 }
 
+/// The two bin centres around an index coordinate (centre of bin `i` at `i + 0.5`) and the
+/// weight of each, for [`MerlBrdf::interpolate`].
+struct CentreBracket {
+    lower: usize,
+    upper: usize,
+    upper_weight: f64,
+}
+
+impl CentreBracket {
+    /// Beyond the first or the last centre the end bin alone.
+    fn clamped(coordinate: f64, bins: usize) -> Self {
+        let x = (coordinate - 0.5).clamp(0.0, (bins - 1) as f64);
+        let lower = (x.floor() as usize).min(bins - 1);
+        Self {
+            lower,
+            upper: (lower + 1).min(bins - 1),
+            upper_weight: x - lower as f64,
+        }
+    }
+
+    /// On a circle of `bins` bins: past the last centre the first bin follows.
+    fn periodic(coordinate: f64, bins: usize) -> Self {
+        let x = (coordinate - 0.5).rem_euclid(bins as f64);
+        let lower = (x.floor() as usize).min(bins - 1);
+        Self {
+            lower,
+            upper: (lower + 1) % bins,
+            upper_weight: x - lower as f64,
+        }
+    }
+
+    fn corners(&self) -> [(usize, f64); 2] {
+        [
+            (self.lower, 1.0 - self.upper_weight),
+            (self.upper, self.upper_weight),
+        ]
+    }
+}
+
 fn clamp_bin(value: f64, bins: usize) -> usize {
     if value.is_nan() || value <= 0.0 {
         0
@@ -491,6 +530,39 @@ impl MerlBrdf {
         self.cell(Bin::of(hd).index())
     }
 
+    /// The table between its bin centres: trilinear in MERL's index coordinates (theta_h's
+    /// square-root coordinate [`theta_h_coordinate`], theta_d and phi_d in degrees), each
+    /// centre at its index plus one half. phi_d is periodic over 180 deg (reciprocity), so
+    /// the last bin and the first are neighbours; theta_h and theta_d hold their end centres'
+    /// values beyond them. `None` when a cell it needs is not measured.
+    ///
+    /// Where the nearest-bin [`Self::lookup`] jumps by a whole bin's change (on a specular
+    /// flank, a bin of theta_d or phi_d is 1 deg), this changes continuously: what comparing a
+    /// table with samples at arbitrary angles needs.
+    pub fn interpolate(&self, hd: HalfDiff) -> Option<Rgb> {
+        let theta_h =
+            CentreBracket::clamped(theta_h_coordinate(hd.theta_h.to_degrees()), THETA_H_BINS);
+        let theta_d = CentreBracket::clamped(hd.theta_d.to_degrees(), THETA_D_BINS);
+        let phi_d = CentreBracket::periodic(hd.phi_d.to_degrees().rem_euclid(180.0), PHI_D_BINS);
+        let mut sum = Rgb::ZERO;
+        for (i, wi) in theta_h.corners() {
+            for (j, wj) in theta_d.corners() {
+                for (k, wk) in phi_d.corners() {
+                    let w = wi * wj * wk;
+                    if w > 0.0 {
+                        let bin = Bin {
+                            theta_h_i: i,
+                            theta_d_i: j,
+                            phi_d_i: k,
+                        };
+                        sum += self.cell(bin.index())? * w;
+                    }
+                }
+            }
+        }
+        Some(sum)
+    }
+
     /// Renames the table (the name reports and written files show).
     pub fn set_name(&mut self, name: impl Into<String>) {
         self.name = name.into();
@@ -682,6 +754,38 @@ mod tests {
             }
         }
         assert!(t.cell(14).is_none() && t.cell(21).is_some());
+    }
+
+    #[test]
+    fn interpolation_is_exact_on_trilinear_tables_and_wraps_phi_d() {
+        // A table linear in each index coordinate (theta_h's square-root one, theta_d, and a
+        // phi_d term that is linear inside [0.5, 179.5]) is reproduced between centres;
+        // at the centres it is the cell; across phi_d's wrap it blends bins 179 and 0.
+        let value = |i: f64, j: f64, k: f64| 1.0 + 0.25 * i + 0.5 * j + 0.125 * k;
+        let table = MerlBrdf::from_fn("lin", |index| {
+            let b = Bin::from_index(index);
+            let v = value(b.theta_h_i as f64, b.theta_d_i as f64, b.phi_d_i as f64);
+            Some(Rgb::splat(v))
+        });
+        for (h, d, p) in [(3.2, 10.7, 40.25), (0.5, 0.5, 0.5), (47.9, 61.5, 120.0)] {
+            let coordinate = theta_h_coordinate(h);
+            let hd = HalfDiff::from_degrees(h, 0.0, d, p);
+            let want = value(coordinate - 0.5, d - 0.5, p - 0.5);
+            let got = table.interpolate(hd).unwrap().x;
+            assert!((got - want).abs() < 1e-9, "{h} {d} {p}: {got} vs {want}");
+        }
+        let centre = Bin {
+            theta_h_i: 7,
+            theta_d_i: 30,
+            phi_d_i: 90,
+        };
+        let [h, d, p] = centre.centre_deg();
+        let at_centre = table.interpolate(HalfDiff::from_degrees(h, 0.0, d, p)).unwrap();
+        assert!((at_centre - table.cell(centre.index()).unwrap()).abs().max_element() < 1e-9);
+        // phi_d 0 deg lies halfway between the centres of bins 179 (179.5) and 0 (0.5).
+        let wrap = table.interpolate(HalfDiff::from_degrees(h, 0.0, d, 0.0)).unwrap().x;
+        let want = 0.5 * (value(7.0, 30.0, 179.0) + value(7.0, 30.0, 0.0));
+        assert!((wrap - want).abs() < 1e-9, "{wrap} vs {want}");
     }
 
     #[test]

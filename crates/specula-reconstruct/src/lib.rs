@@ -10,6 +10,7 @@
 
 pub mod axis;
 pub mod breakdown;
+pub mod consistency;
 pub mod deblur;
 pub mod domain;
 pub mod extrapolate;
