@@ -12,7 +12,12 @@
 # restarts: no adapter process left; (3) `device serve` with a silent client connected: another
 # client's hello is answered at once; (4) random byte flips in a finished journal: every
 # `reconstruct --session` either refuses the file or writes the clean table; (5) an edited
-# material on resume and an empty token: refused with exit 1.
+# material on resume and an empty token: refused with exit 1; (6) `measure` on a hanging
+# adapter whose children leave with `setsid`, stopped by kill -9, two SIGINTs or SIGTERM: no
+# adapter process left 5 s after; (7) one SIGINT while the device hangs (60 s reply timeout):
+# exit 130 within 5 s; (8) `device serve` with 8 hostile connections reopened (4 silent, 4
+# sending 60 MB without a newline): good hellos answered within 2 s, server under 200 MiB;
+# (9) a second measure through a hard link to a journal being written: refused, no `-wal`.
 set -u
 SPECULA=${SPECULA:-target/release/specula}
 KILLS=${KILLS:-5}
@@ -44,7 +49,7 @@ echo "kills: $identical of $KILLS killed runs resumed to byte-identical tables"
 
 # (2) a hanging adapter: timeouts, restarts, then count what is left.
 marker="300.$$"
-timeout 60 "$SPECULA" measure --device "exec:sleep $marker; true" \
+timeout 60 "$SPECULA" measure --connect "exec:sleep $marker; true" \
     --calibration tools/example_adapter_calibration.toml --reply-timeout 1 --max-failures 3 \
     "${small[@]}" --out "$work/hang.binary" >/dev/null 2>&1
 sleep 0.5
@@ -105,5 +110,106 @@ timeout 10 "$SPECULA" device serve --truth silver-925 --listen 0.0.0.0:0 --token
 rc=$?
 echo "empty token: exit $rc: $(cat "$work/t.err")"
 [ "$rc" -eq 1 ] || fail "an empty token was accepted"
+
+ms_since() { echo $(( ($(date +%s%N) - $1) / 1000000 )); }
+# Waits for background job $1 at most $2 s (then kills it); its exit code.
+wait_bounded() {
+    for _ in $(seq $(($2 * 10))); do kill -0 "$1" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL "$1" 2>/dev/null
+    wait "$1" 2>/dev/null
+}
+# Processes whose command line holds the marker $1 (grep's own holds it with an escaped dot).
+marked() { grep -ls -- "${1//./\\.}" /proc/[0-9]*/cmdline 2>/dev/null | wc -l; }
+
+# (6) an adapter whose children leave with setsid, after each hard stop of measure.
+report=""
+for how in KILL INT2 TERM; do
+    marker="900.$$0${#report}"
+    "$SPECULA" measure --connect "exec:setsid sleep $marker & sleep $marker & sleep $marker" \
+        --calibration tools/example_adapter_calibration.toml "${small[@]}" \
+        --out "$work/a$how.binary" >/dev/null 2>&1 &
+    pid=$!
+    for _ in $(seq 100); do [ "$(marked "$marker")" -ge 5 ] && break; sleep 0.1; done
+    start=$(date +%s%N)
+    case $how in
+        KILL) kill -KILL "$pid" ;;
+        INT2) kill -INT "$pid"; sleep 0.05; kill -INT "$pid" 2>/dev/null ;;
+        TERM) kill -TERM "$pid" ;;
+    esac
+    wait_bounded "$pid" 10 2>/dev/null
+    ended=$(ms_since "$start")
+    for _ in $(seq 50); do [ "$(marked "$marker")" -eq 0 ] && break; sleep 0.1; done
+    left=$(marked "$marker")
+    report="$report $how: ended in $ended ms, $left left;"
+    [ "$left" -eq 0 ] && [ "$ended" -lt 5000 ] || fail "adapter after $how: $left processes left, $ended ms"
+done
+echo "hard stops of measure on a hanging adapter with setsid children:$report"
+
+# (7) one SIGINT while the device hangs mid-run.
+"$SPECULA" measure --connect "exec:$SPECULA device serve --truth silver-925 --seed 3 --stdio --inject-faults slow@8=1000" \
+    --calibration tools/example_adapter_calibration.toml --reply-timeout 60 "${small[@]}" \
+    --out "$work/hang2.binary" >/dev/null 2>"$work/hang2.err" &
+pid=$!
+sleep 3
+start=$(date +%s%N)
+kill -INT "$pid"
+wait_bounded "$pid" 10 2>/dev/null; rc=$?
+ms=$(ms_since "$start")
+echo "one SIGINT while the device hangs (60 s reply timeout): exit $rc after $ms ms: $(tail -1 "$work/hang2.err")"
+[ "$rc" -eq 130 ] && [ "$ms" -lt 5000 ] || fail "a stop waited for the hanging device"
+
+# (8) hostile connections before authentication.
+: >"$work/serve2.log"
+"$SPECULA" device serve --truth silver-925 --listen 127.0.0.1:0 2>"$work/serve2.log" &
+server=$!
+for _ in $(seq 50); do grep -q "127.0.0.1:" "$work/serve2.log" && break; sleep 0.1; done
+port=$(grep -o '127.0.0.1:[0-9]*' "$work/serve2.log" | head -1 | cut -d: -f2)
+until=$(( $(date +%s) + 8 ))
+hostile=()
+for i in 1 2 3 4; do
+    ( while [ "$(date +%s)" -lt "$until" ]; do
+          exec 5<>"/dev/tcp/127.0.0.1/$port" 2>/dev/null || { sleep 0.1; continue; }
+          read -r -t 5 <&5; exec 5>&-
+      done ) &
+    hostile+=($!)
+    ( while [ "$(date +%s)" -lt "$until" ]; do
+          head -c 60000000 /dev/zero 2>/dev/null >"/dev/tcp/127.0.0.1/$port"; sleep 0.05
+      done ) 2>/dev/null &
+    hostile+=($!)
+done
+sleep 1
+answered=0; tries=0; slowest=0
+while [ "$(date +%s)" -lt $((until - 1)) ]; do
+    tries=$((tries + 1))
+    start=$(date +%s%N)
+    reply=""
+    if exec 6<>"/dev/tcp/127.0.0.1/$port"; then
+        echo '{"id":1,"method":"hello","params":{"protocol":1}}' >&6
+        read -r -t 2 reply <&6
+        exec 6>&-
+    fi
+    ms=$(ms_since "$start")
+    [ "$ms" -gt "$slowest" ] && slowest=$ms
+    case "$reply" in *'"result"'*) [ "$ms" -lt 2000 ] && answered=$((answered + 1));; esac
+    sleep 0.3
+done
+wait "${hostile[@]}" 2>/dev/null
+peak_kib=$(awk '/VmHWM/ {print $2}' "/proc/$server/status")
+kill "$server"; wait "$server" 2>/dev/null
+echo "serve under 8 hostile connections: $answered of $tries good hellos answered within 2 s (slowest $slowest ms), server peak $((peak_kib / 1024)) MiB"
+[ "$answered" -eq "$tries" ] && [ "$peak_kib" -lt $((200 * 1024)) ] || fail "serve locked out or grew"
+
+# (9) a hard link to a journal being written.
+"$SPECULA" measure --truth silver-925 "${small[@]}" --speedup 0.001 --out "$work/l.binary" >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 100); do [ -s "$work/l.session.sqlite" ] && break; sleep 0.1; done
+sleep 1
+ln "$work/l.session.sqlite" "$work/h.sqlite"
+"$SPECULA" measure --truth silver-925 "${small[@]}" --session "$work/h.sqlite" --out "$work/h.binary" >/dev/null 2>"$work/h.err"
+rc=$?
+kill "$pid"; wait "$pid" 2>/dev/null
+wal=$([ -e "$work/h.sqlite-wal" ] && echo "a -wal left" || echo "no -wal left")
+echo "second measure through a hard link: exit $rc, $wal: $(cat "$work/h.err")"
+[ "$rc" -eq 1 ] && [ "$(wc -l <"$work/h.err")" -eq 1 ] && [ ! -e "$work/h.sqlite-wal" ] || fail "a hard link got round the lock"
 
 [ "$failed" -eq 0 ] && echo "all promises kept" || exit 1

@@ -84,6 +84,10 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) if output::is_closed_pipe(&err) => ExitCode::SUCCESS,
+        Err(err) if err.is::<interrupt::Interrupted>() => {
+            eprintln!("{err}");
+            ExitCode::from(interrupt::INTERRUPTED_EXIT)
+        }
         Err(err) => {
             eprintln!("error: {err:#}");
             ExitCode::from(1)

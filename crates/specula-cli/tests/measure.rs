@@ -178,9 +178,10 @@ fn ctrl_c_finishes_the_sample_then_stops_resumably() {
         .unwrap();
     assert!(interrupt.success());
     let output = child.wait_with_output().unwrap();
-    assert!(
-        output.status.success(),
-        "a clean stop exits 0: {:?}",
+    assert_eq!(
+        output.status.code(),
+        Some(130),
+        "a stopped run is no finished one: {:?}",
         output.status
     );
     let stdout = String::from_utf8_lossy(&output.stdout);

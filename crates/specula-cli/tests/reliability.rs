@@ -186,7 +186,7 @@ fn one_sigterm_stops_a_slowly_paced_run_promptly_and_resumably() {
         "{:?}",
         stopped_at.elapsed()
     );
-    assert!(output.status.success(), "{:?}", output.status);
+    assert_eq!(output.status.code(), Some(130), "{:?}", output.status);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(stdout.contains("stopped: probe"), "{stdout}");
 }

@@ -9,7 +9,9 @@
 //! that names the sample. Nothing half-done reaches the journal, so the same command resumes.
 //!
 //! Stopping: a raised stop flag (Ctrl-C) is checked between samples, so the sample in
-//! progress is finished and written first.
+//! progress is finished and written first; a sample the instrument gave up on because of the
+//! flag (a remote device's waits look at it) is not retried, not counted as a fault and
+//! not written: the stage stops as if between samples.
 
 use crate::journal::{unix_now_s, CaptureRecord, Journal, JournalError, PlannedRow, SampleRecord};
 use crate::predict::{cos_theta_i, Predictor};
@@ -188,20 +190,24 @@ impl Engine<'_> {
             if done.contains_key(&row.seq) {
                 continue;
             }
-            if self.stop.load(Ordering::SeqCst) {
+            let previous = row
+                .seq
+                .checked_sub(1)
+                .and_then(|p| done.get(&p).map(|record| (&plan[p as usize], record)));
+            let prediction = predictor.predict(row, previous);
+            let measured = if self.stopped() {
+                None
+            } else {
+                self.measure_sample(stage, row, prediction)?
+            };
+            let Some(record) = measured else {
                 outcome.stopped = true;
                 self.journal.log_event(
                     "interrupted",
                     &format!("{stage}: stopped by the user after {} samples", done.len()),
                 )?;
                 break;
-            }
-            let previous = row
-                .seq
-                .checked_sub(1)
-                .and_then(|p| done.get(&p).map(|record| (&plan[p as usize], record)));
-            let prediction = predictor.predict(row, previous);
-            let record = self.measure_sample(stage, row, prediction)?;
+            };
             self.journal.record_sample(&record)?;
             device_s_done += record.device_s;
             predicted_s_done += row.predicted_s;
@@ -219,13 +225,18 @@ impl Engine<'_> {
         Ok(outcome)
     }
 
-    /// One sample, with retries.
+    /// Whether the stop flag is raised.
+    fn stopped(&self) -> bool {
+        self.stop.load(Ordering::SeqCst)
+    }
+
+    /// One sample, with retries; `None` when the stop flag ended it.
     fn measure_sample(
         &mut self,
         stage: &str,
         row: &PlannedRow,
         prediction: Option<f64>,
-    ) -> Result<SampleRecord, EngineError> {
+    ) -> Result<Option<SampleRecord>, EngineError> {
         let started = Instant::now();
         let clock_start = self.instrument.simulated_clock_s();
         let mut attempts = 0;
@@ -233,6 +244,9 @@ impl Engine<'_> {
             attempts += 1;
             let result = self.try_sample(&row.axes, prediction);
             let reconnected = self.copy_link_notes()?;
+            if result.is_err() && self.stopped() {
+                return Ok(None);
+            }
             match result {
                 Ok(done) if !reconnected => break done,
                 Ok(_) => {
@@ -252,6 +266,7 @@ impl Engine<'_> {
                     } else {
                         match self.recover(true) {
                             Ok(()) => continue,
+                            Err(_) if self.stopped() => return Ok(None),
                             Err(e) => e,
                         }
                     };
@@ -272,6 +287,7 @@ impl Engine<'_> {
                     if retryable && attempts < self.settings.max_attempts {
                         match self.recover(matches!(error, InstrumentError::MotorFault(_))) {
                             Ok(()) => continue,
+                            Err(_) if self.stopped() => return Ok(None),
                             Err(recovery) => error = recovery,
                         }
                     }
@@ -293,7 +309,7 @@ impl Engine<'_> {
             .calibration
             .brdf(measurement.value.rate_dn_s, cos_theta_i(row).max(1e-6));
         let now = unix_now_s();
-        Ok(SampleRecord {
+        Ok(Some(SampleRecord {
             stage: stage.to_string(),
             seq: row.seq,
             value,
@@ -310,7 +326,7 @@ impl Engine<'_> {
                 .iter()
                 .map(|c| capture_record(c, now))
                 .collect(),
-        })
+        }))
     }
 
     /// Move, then HDR capture.

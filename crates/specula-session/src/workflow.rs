@@ -27,8 +27,8 @@ pub use crate::journal::{
     ChecksRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder, PlanRecord,
 };
 use crate::journal::{
-    DeviceRecord, Durability, Journal, JournalError, PlannedRow, SampleRecord, SourceRecord, Stage,
-    VersionRecord, EVENT_COMPLETE,
+    DeviceRecord, Durability, Journal, JournalError, NewestVersionRecord, PlannedRow, SampleRecord,
+    SourceRecord, Stage, VersionRecord, EVENT_COMPLETE,
 };
 
 /// The probe's stage name in the journal.
@@ -101,10 +101,12 @@ enum Reached {
 }
 
 impl Reached {
+    /// Reaches the device; a remote device's waits end early once `stop` is raised.
     fn reach(
         source: Source,
         device: &Device,
         settings: &MeasureSettings,
+        stop: &Arc<AtomicBool>,
     ) -> Result<Self, WorkflowError> {
         Ok(match source {
             Source::Simulated { truth, speedup } => Reached::Simulated { truth, speedup },
@@ -120,13 +122,12 @@ impl Reached {
                     ranges: ReplyRanges::for_device(device),
                     ..client
                 };
-                let remote =
-                    RemoteInstrument::connect(endpoint.clone(), client).map_err(|cause| {
-                        WorkflowError::Unreachable {
-                            endpoint: endpoint.clone(),
-                            cause,
-                        }
-                    })?;
+                let mut remote =
+                    RemoteInstrument::new(endpoint.clone(), client).with_stop(stop.clone());
+                remote.info().map_err(|cause| WorkflowError::Unreachable {
+                    endpoint: endpoint.clone(),
+                    cause,
+                })?;
                 Reached::Remote {
                     remote: Box::new(remote),
                     calibration,
@@ -413,8 +414,9 @@ pub fn measure(
         Source::Remote { .. } => None,
     };
     let hashes = input_hashes(&source, device);
-    let reached = Reached::reach(source, device, settings)?;
+    let reached = Reached::reach(source, device, settings, &stop)?;
     let mut journal = Journal::open(session)?;
+    check_version(&journal)?;
     if truth.is_some() {
         journal.set_durability(Durability::Crash)?;
     }
@@ -577,11 +579,13 @@ pub fn measure(
 /// yet or holds no settings. A front end resumes on it unless told another grid (which
 /// [`measure`] then refuses as a change of settings): a journal written before the graded
 /// theta_d and the half turn of phi_d continues on the paper's grid it started with, not on
-/// today's default.
+/// today's default. A session another process is writing is refused
+/// ([`Journal::refuse_in_use`]).
 pub fn session_grid(session: &Path) -> Result<Option<GridSpec>, WorkflowError> {
     if !session.exists() {
         return Ok(None);
     }
+    Journal::refuse_in_use(session)?;
     let journal = Journal::open_read_only(session)?;
     Ok(journal.record::<MeasureSettings>()?.map(|s| s.grid))
 }
@@ -613,8 +617,55 @@ fn start_session(
     if stored_device.0 != device.to_toml_string() {
         return Err(WorkflowError::DeviceModel { session });
     }
-    journal.record_or_insert(|| VersionRecord(env!("CARGO_PKG_VERSION").to_string()))?;
+    journal.record_or_insert(|| VersionRecord(THIS_VERSION.to_string()))?;
     Ok(())
+}
+
+/// This build's version.
+const THIS_VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// Refuses a session written by a newer specula (same schema, but an older build may measure
+/// or reconstruct it differently); a session from an older one is resumed, and this build
+/// recorded as its newest writer (with an event saying so).
+fn check_version(journal: &Journal) -> Result<(), WorkflowError> {
+    let newest = match journal.record::<NewestVersionRecord>()? {
+        Some(NewestVersionRecord(v)) => Some(v),
+        None => journal.record::<VersionRecord>()?.map(|VersionRecord(v)| v),
+    };
+    match newest.as_deref() {
+        Some(v) if v == THIS_VERSION => return Ok(()),
+        Some(v) if !is_older_version(v, THIS_VERSION) => {
+            return Err(WorkflowError::NewerVersion {
+                session: journal.path().display().to_string(),
+                journal: v.to_string(),
+                this: THIS_VERSION.to_string(),
+            })
+        }
+        Some(v) => journal.log_event(
+            "version",
+            &format!("resumed by specula {THIS_VERSION}; last written by specula {v}"),
+        )?,
+        None => {}
+    }
+    journal.put_record(&NewestVersionRecord(THIS_VERSION.to_string()))?;
+    Ok(())
+}
+
+/// Whether version `a` comes before `b` (dotted numbers, compared number by number; a
+/// pre-release or build suffix after `-` or `+` is ignored). A version that does not read
+/// as dotted numbers is not older.
+fn is_older_version(a: &str, b: &str) -> bool {
+    let numbers = |v: &str| -> Option<Vec<u64>> {
+        v.split(['-', '+'])
+            .next()?
+            .split('.')
+            .map(|n| n.parse().ok())
+            .collect()
+    };
+    match (numbers(a), numbers(b)) {
+        (Some(a), Some(b)) => a < b,
+        _ => false,
+    }
 }
 
 /// The settings that differ, as `name: stored vs asked`.
@@ -1167,6 +1218,20 @@ mod tests {
         assert_eq!(theta_d.last(), Some(&87.0));
         let phi_d = grid.phi_d_deg();
         assert_eq!(phi_d, vec![0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0]);
+    }
+
+    #[test]
+    fn versions_compare_number_by_number() {
+        assert!(is_older_version("0.1.0", "0.2.0"));
+        assert!(is_older_version("0.9.9", "0.10.0"));
+        assert!(is_older_version("1.2", "1.2.1"));
+        assert!(!is_older_version("0.2.0", "0.1.0"));
+        assert!(!is_older_version("0.1.0", "0.1.0"));
+        assert!(!is_older_version("0.1.0-rc1+x", "0.1.0"));
+        assert!(
+            !is_older_version("garbage", "0.1.0"),
+            "unreadable: not older"
+        );
     }
 
     #[test]

@@ -131,6 +131,16 @@ pub enum WorkflowError {
         /// The session journal.
         session: String,
     },
+    /// The session was written by a newer specula than this one.
+    #[error("{session}: written by specula {journal}, this is specula {this}: resume it with specula {journal} or later (an older build may measure it differently)")]
+    NewerVersion {
+        /// The session journal.
+        session: String,
+        /// The newest version that wrote it.
+        journal: String,
+        /// This build's version.
+        this: String,
+    },
     /// A resumed session was measured with another calibration.
     #[error("{session}: this session was measured with another calibration; give the same --calibration or use another --session")]
     Calibrated {

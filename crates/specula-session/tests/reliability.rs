@@ -287,6 +287,8 @@ mod serve {
             control_wait: Duration::from_millis(300),
             write: Duration::from_millis(500),
             max_connections: 4,
+            reserve: 1,
+            reserve_auth: Duration::from_millis(500),
             failed_auth_pause: Duration::from_millis(300),
         }
     }

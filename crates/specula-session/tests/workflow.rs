@@ -322,3 +322,34 @@ fn a_peak_the_disk_hides_gets_more_theta_h_within_the_budget() {
         (4, ThetaDSteps::even(30.0))
     );
 }
+
+#[test]
+fn a_session_from_an_older_specula_resumes_and_records_the_newer_one() {
+    use specula_session::journal::NewestVersionRecord;
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("old.sqlite");
+    Journal::open(&session)
+        .unwrap()
+        .put_record(&NewestVersionRecord("0.0.1".into()))
+        .unwrap();
+    let stopped = measure(
+        Source::Simulated {
+            truth: Arc::new(preset("silver-925").unwrap()),
+            speedup: None,
+        },
+        &Device::utia(),
+        &small(),
+        &session,
+        &dir.path().join("old.binary"),
+        Arc::new(AtomicBool::new(true)),
+        &mut Quiet,
+    )
+    .unwrap();
+    assert!(matches!(stopped, MeasureOutcome::Stopped { .. }));
+    let journal = Journal::open_read_only(&session).unwrap();
+    assert_eq!(
+        journal.record::<NewestVersionRecord>().unwrap(),
+        Some(NewestVersionRecord(env!("CARGO_PKG_VERSION").into()))
+    );
+    assert_eq!(journal.status().unwrap().events.get("version"), Some(&1));
+}

@@ -2,7 +2,7 @@
 //! on the simulated device, with their tables, summaries and pictures.
 
 use super::measure::Bars;
-use crate::interrupt::stop_on_ctrl_c;
+use crate::interrupt::{blame_stop, stop_on_ctrl_c, Interrupted};
 use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
 use specula_report::{write_session_pictures, ReportOptions};
@@ -85,7 +85,8 @@ pub(crate) fn run(args: Args) -> Result<()> {
             &table,
             stop.clone(),
             &mut bars,
-        )?;
+        )
+        .map_err(|e| blame_stop(e.into(), &stop))?;
         bars.finish();
         let summary = match outcome {
             MeasureOutcome::Complete(summary) => summary,
@@ -95,7 +96,10 @@ pub(crate) fn run(args: Args) -> Result<()> {
                 planned,
             } => {
                 outln!("stopped in {name}'s {stage} stage ({done} of {planned}); run `specula demo` again to resume");
-                return Ok(());
+                return Err(Interrupted(format!(
+                    "{done} of {planned} of {name}'s {stage} samples are journaled; run `specula demo` again to resume"
+                ))
+                .into());
             }
         };
         let pick = |key: &str| {

@@ -56,7 +56,8 @@ pub(crate) struct ServeArgs {
     pub inject_faults: String,
     /// Disconnect the controlling client when a request line does not arrive whole within
     /// this many seconds of the previous reply. Range: seconds above 0 and at most 86400.
-    /// Newcomers have 10 s to authenticate; another client's hello waits up to 10 s for the
+    /// Newcomers have 3 s to send a hello of at most 16 KiB (on the 4 connections kept
+    /// beyond the 8 ordinary ones, 1 s); another client's hello waits up to 10 s for the
     /// controlling one to leave, then is answered `busy`; a reply not written within 30 s
     /// ends the connection.
     #[arg(long, default_value_t = 600.0, value_parser = crate::range::TIMEOUT_S)]

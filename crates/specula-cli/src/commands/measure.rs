@@ -3,7 +3,7 @@
 use super::grid_args::GridArgs;
 use super::plan::Order;
 use super::token_args::TokenArgs;
-use crate::interrupt::stop_on_ctrl_c;
+use crate::interrupt::{blame_stop, stop_on_ctrl_c, Interrupted};
 use crate::range;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
@@ -198,9 +198,10 @@ pub(crate) fn run(args: Args) -> Result<()> {
         &args.settings(grid),
         &session,
         &args.out,
-        stop,
+        stop.clone(),
         &mut observer,
-    )?;
+    )
+    .map_err(|e| blame_stop(e.into(), &stop))?;
     observer.finish();
     match outcome {
         MeasureOutcome::Complete(summary) => {
@@ -222,6 +223,11 @@ pub(crate) fn run(args: Args) -> Result<()> {
                 "stopped: {stage} {done} of {planned} samples measured and journaled in {}; run the same command to resume",
                 session.display()
             );
+            return Err(Interrupted(format!(
+                "{done} of {planned} {stage} samples are in {}; run the same command to resume",
+                session.display()
+            ))
+            .into());
         }
     }
     Ok(())

@@ -30,6 +30,16 @@ pub(crate) fn canonical_path(path: &Path) -> std::io::Result<PathBuf> {
     Ok(std::fs::canonicalize(parent)?.join(name))
 }
 
+/// A directory is no journal (SQLite would say "disk I/O error").
+pub(crate) fn refuse_directory(path: &Path) -> Result<(), JournalError> {
+    if path.is_dir() {
+        return Err(JournalError::Directory {
+            path: path.display().to_string(),
+        });
+    }
+    Ok(())
+}
+
 /// An existing file of 0 bytes is a journal truncated (SQLite would take it for a new one).
 pub(crate) fn refuse_empty_file(path: &Path) -> Result<(), JournalError> {
     match std::fs::metadata(path) {

@@ -22,8 +22,11 @@
 //! simulated devices, whose samples cost nothing to redo) survives a crash or a `kill -9`
 //! of the process but may lose the last samples to a power cut, and saves a disk flush per
 //! sample.
-//! Only one process may write a session at a time (an advisory lock on `S.sqlite.lock` beside
-//! the journal's canonical path, so a symlink to it takes the same lock);
+//! Only one process may write a session at a time: an advisory lock on `S.sqlite.lock` beside
+//! the journal's canonical path (so a symlink to it takes the same lock, and two runs creating
+//! one new journal do not race), and on Unix an advisory lock (`flock`) on the journal file
+//! itself, taken before SQLite opens it, so that another name of the same file (a hard link)
+//! is refused too, without a `-wal` file left beside that name;
 //! `specula session status` reads it while a measurement runs.
 //!
 //! Damage: every open checks the file (`check`: SQLite's `quick_check`, the
@@ -45,8 +48,9 @@ use std::time::{SystemTime, UNIX_EPOCH};
 mod records;
 
 pub use records::{
-    ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder,
-    PlanRecord, Record, SessionRecord, SourceRecord, Stage, VersionRecord,
+    ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice, MeasureSettings,
+    NewestVersionRecord, PlanOrder, PlanRecord, Record, SessionRecord, SourceRecord, Stage,
+    VersionRecord,
 };
 
 /// The version of the tables below; a journal of another version is refused.
@@ -151,6 +155,18 @@ pub enum JournalError {
         path: String,
         /// The lock file held by the other process.
         lock: String,
+    },
+    /// Another process writes the same journal file, perhaps under another name.
+    #[error("{path}: another specula process is writing this journal file (under this name or another one: a hard link)")]
+    InUse {
+        /// The journal file.
+        path: String,
+    },
+    /// The path is a directory.
+    #[error("{path}: is a directory; a session is a file (e.g. {path}/NAME.session.sqlite)")]
+    Directory {
+        /// The path given.
+        path: String,
     },
     /// The lock file could not be created.
     #[error("{path}: cannot create the lock file: {cause}")]
@@ -443,10 +459,14 @@ impl SessionStatus {
 
 /// An open session journal.
 pub struct Journal {
+    /// Dropped first: the identity lock's descriptor must outlive SQLite's (closing any
+    /// descriptor of a file drops the process's POSIX locks on it, SQLite's included).
     conn: Connection,
     path: PathBuf,
     /// Held while this process may write the session.
     lock: Option<File>,
+    /// The journal file itself, locked while this process may write it (Unix).
+    identity: Option<File>,
 }
 
 /// Seconds since the Unix epoch, now.
@@ -461,15 +481,22 @@ impl Journal {
     /// Opens the session at `path` for writing, creating it if it does not exist; takes the
     /// session's lock so that no second process writes it at the same time.
     pub fn open(path: &Path) -> Result<Journal, JournalError> {
+        check::refuse_directory(path)?;
         let lock = take_lock(path)?;
         check::refuse_empty_file(path)?;
+        let existing = lock_identity(path)?;
         let conn = Connection::open(path).map_err(|e| sql_error(path, e))?;
         let mut journal = Journal {
             conn,
             path: path.to_path_buf(),
             lock: Some(lock),
+            identity: existing,
         };
         journal.prepare()?;
+        if journal.identity.is_none() {
+            // A journal created just now: no other name can have reached it before.
+            journal.identity = lock_identity(path)?;
+        }
         check::check_file(&journal.conn, path)?;
         Ok(journal)
     }
@@ -477,6 +504,7 @@ impl Journal {
     /// Opens an existing session read-only (for `specula session status`), even while
     /// another process measures into it.
     pub fn open_read_only(path: &Path) -> Result<Journal, JournalError> {
+        check::refuse_directory(path)?;
         check::refuse_empty_file(path)?;
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
         let conn = Connection::open_with_flags(path, flags).map_err(|e| sql_error(path, e))?;
@@ -484,6 +512,7 @@ impl Journal {
             conn,
             path: path.to_path_buf(),
             lock: None,
+            identity: None,
         };
         let version = journal.schema_version()?;
         match version {
@@ -500,6 +529,14 @@ impl Journal {
                 Ok(journal)
             }
         }
+    }
+
+    /// Refuses a journal file another process is writing, under any name (a hard link
+    /// included; its writer's newest samples may be in a `-wal` file named after the other
+    /// name, out of this name's sight). Call it before reading a session to resume it.
+    pub fn refuse_in_use(path: &Path) -> Result<(), JournalError> {
+        check::refuse_directory(path)?;
+        lock_identity(path).map(drop)
     }
 
     pub(crate) fn path(&self) -> &Path {
@@ -997,6 +1034,34 @@ fn take_lock(path: &Path) -> Result<File, JournalError> {
     })
 }
 
+/// Locks the journal file itself, whatever its name (`flock` on Unix: SQLite's own locks
+/// are POSIX record locks, which it does not conflict with); `None` when there is no file yet
+/// (or elsewhere than Unix, where the file's own lock would bar SQLite's reads).
+fn lock_identity(path: &Path) -> Result<Option<File>, JournalError> {
+    if !cfg!(unix) || !path.exists() {
+        return Ok(None);
+    }
+    let file = File::open(path).map_err(|cause| JournalError::Lock {
+        path: path.display().to_string(),
+        cause,
+    })?;
+    for _ in 0..LOCK_TRIES {
+        match file.try_lock() {
+            Ok(()) => return Ok(Some(file)),
+            Err(std::fs::TryLockError::WouldBlock) => std::thread::sleep(LOCK_PAUSE),
+            Err(std::fs::TryLockError::Error(cause)) => {
+                return Err(JournalError::Lock {
+                    path: path.display().to_string(),
+                    cause,
+                })
+            }
+        }
+    }
+    Err(JournalError::InUse {
+        path: path.display().to_string(),
+    })
+}
+
 /// `S.sqlite.lock` beside the journal `S.sqlite`, named after its canonical path (so that
 /// two spellings of one journal take one lock).
 fn lock_path(path: &Path) -> std::io::Result<PathBuf> {
@@ -1230,6 +1295,30 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("3 samples stored, 2 asked for"), "{err}");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_hard_link_to_an_open_journal_is_refused_before_sqlite_opens_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("x.sqlite");
+        let writer = Journal::open(&path).unwrap();
+        let link = dir.path().join("h.sqlite");
+        std::fs::hard_link(&path, &link).unwrap();
+        let err = Journal::open(&link).err().expect("a second writer refused");
+        assert!(matches!(err, JournalError::InUse { .. }), "{err}");
+        assert!(err.to_string().contains("h.sqlite"), "{err}");
+        assert!(Journal::refuse_in_use(&link).is_err());
+        assert!(
+            !dir.path().join("h.sqlite-wal").exists(),
+            "no -wal beside the link"
+        );
+        drop(writer);
+        assert!(Journal::open(&link).is_ok(), "free once the first closes");
+        let err = Journal::open(dir.path())
+            .err()
+            .expect("a directory refused");
+        assert!(matches!(err, JournalError::Directory { .. }), "{err}");
     }
 
     #[test]

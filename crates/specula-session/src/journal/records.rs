@@ -116,6 +116,16 @@ impl Record for VersionRecord {
     const KEY: &'static str = "specula_version";
 }
 
+/// The newest specula version that wrote the session (the starting one until a newer build
+/// resumes it; journals from before this record have only [`VersionRecord`]).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct NewestVersionRecord(pub String);
+
+impl Record for NewestVersionRecord {
+    const KEY: &'static str = "specula_version_newest";
+}
+
 /// When the journal was created, seconds since the Unix epoch.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(transparent)]

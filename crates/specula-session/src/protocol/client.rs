@@ -11,6 +11,10 @@
 //! decision. A reply outside the protocol's ranges ([`super::validate`]) counts as a failure
 //! too: it is asked again, and if the device keeps answering so the call fails as a device
 //! fault (camera fault for a capture, motor fault for a move) naming the field.
+//!
+//! With a stop flag ([`RemoteInstrument::with_stop`]) every wait (for a reply, between tries)
+//! looks at the flag every [`STOP_POLL`]: once it is raised the call fails at once, as
+//! disconnected "stopped by the user", and the link is not reopened.
 
 use super::link::{Endpoint, Link, LinkError};
 use super::message::{
@@ -18,10 +22,13 @@ use super::message::{
     PROTOCOL_VERSION,
 };
 use super::validate::{ReplyProblem, ReplyRanges};
+use crate::pace::STOP_POLL;
 use serde::de::DeserializeOwned;
 use serde_json::{json, Value};
 use specula_acquisition::instrument::{Capture, Instrument, InstrumentError, InstrumentInfo};
 use specula_acquisition::kinematics::AxisPositions;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::RecvTimeoutError;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -82,6 +89,8 @@ enum AttemptError {
     /// The server refused us (token, protocol version) or does not understand us: another
     /// try would fail the same way.
     Refused(String),
+    /// The stop flag was raised while waiting.
+    Stopped,
 }
 
 /// A device reached through the driver protocol.
@@ -93,6 +102,7 @@ pub struct RemoteInstrument {
     clock_s: Option<f64>,
     notes: LinkNotes,
     server: Option<String>,
+    stop: Option<Arc<AtomicBool>>,
 }
 
 impl RemoteInstrument {
@@ -106,7 +116,39 @@ impl RemoteInstrument {
             clock_s: None,
             notes: LinkNotes::default(),
             server: None,
+            stop: None,
         }
+    }
+
+    /// Cuts every wait short once `stop` is raised (see the module documentation).
+    pub fn with_stop(mut self, stop: Arc<AtomicBool>) -> Self {
+        self.stop = Some(stop);
+        self
+    }
+
+    /// Whether the stop flag is raised.
+    fn stopped(&self) -> bool {
+        self.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst))
+    }
+
+    /// Sleeps `pause`, in slices of [`STOP_POLL`]; false when the stop flag cut it short.
+    fn pause(&self, pause: Duration) -> bool {
+        let end = Instant::now() + pause;
+        loop {
+            if self.stopped() {
+                return false;
+            }
+            let left = end.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return true;
+            }
+            std::thread::sleep(left.min(STOP_POLL));
+        }
+    }
+
+    /// The error of a call the stop flag ended.
+    fn stopped_error(&self, method: &str) -> InstrumentError {
+        InstrumentError::Disconnected(format!("{}: {method}: stopped by the user", self.endpoint))
     }
 
     /// Opens the link now and checks the server (protocol version, token).
@@ -169,12 +211,18 @@ impl RemoteInstrument {
                             self.link = None;
                             let pause = self.settings.backoff(failures);
                             self.note("retry", format!("{message}; asking again"));
-                            std::thread::sleep(pause);
+                            if !self.pause(pause) {
+                                return Err(self.stopped_error(method));
+                            }
                             continue;
                         }
                     }
                 }
                 Err(AttemptError::Device(error)) => return Err(error),
+                Err(AttemptError::Stopped) => {
+                    self.link = None;
+                    return Err(self.stopped_error(method));
+                }
                 Err(AttemptError::Refused(why)) => {
                     self.link = None;
                     return Err(InstrumentError::Disconnected(format!(
@@ -206,12 +254,17 @@ impl RemoteInstrument {
                     pause.as_secs_f64()
                 ),
             );
-            std::thread::sleep(pause);
+            if !self.pause(pause) {
+                return Err(self.stopped_error(method));
+            }
         }
     }
 
     /// One try: open the link if needed, send, wait for the reply with our id.
     fn attempt(&mut self, method: &str, params: &Value) -> Result<Value, AttemptError> {
+        if self.stopped() {
+            return Err(AttemptError::Stopped);
+        }
         if self.link.is_none() {
             self.open()?;
         }
@@ -246,13 +299,7 @@ impl RemoteInstrument {
 
     /// Opens a link and says hello.
     fn open(&mut self) -> Result<(), AttemptError> {
-        let link = Link::open(&self.endpoint, self.settings.connect_timeout).map_err(|e| {
-            AttemptError::Transport {
-                timeout: false,
-                why: format!("cannot connect: {e}"),
-            }
-        })?;
-        self.link = Some(link);
+        self.link = Some(self.connect_link()?);
         let params = HelloParams {
             protocol: PROTOCOL_VERSION,
             token: self.settings.token.clone(),
@@ -294,8 +341,40 @@ impl RemoteInstrument {
         Ok(())
     }
 
-    /// Sends a request and waits for its reply, skipping stale replies to earlier requests.
+    /// Opens a link to the endpoint. With a stop flag the connection is made in a thread of
+    /// its own while this one looks at the flag every [`STOP_POLL`] (a TCP connection may
+    /// take [`ClientSettings::connect_timeout`]); a connection abandoned on a stop is closed
+    /// by that thread once it is made.
+    fn connect_link(&self) -> Result<Link, AttemptError> {
+        let cannot = |e: std::io::Error| AttemptError::Transport {
+            timeout: false,
+            why: format!("cannot connect: {e}"),
+        };
+        let timeout = self.settings.connect_timeout;
+        let Some(stop) = self.stop.clone() else {
+            return Link::open(&self.endpoint, timeout).map_err(cannot);
+        };
+        let endpoint = self.endpoint.clone();
+        let (sender, receiver) = std::sync::mpsc::channel();
+        std::thread::spawn(move || sender.send(Link::open(&endpoint, timeout)));
+        loop {
+            match receiver.recv_timeout(STOP_POLL) {
+                Ok(opened) => return opened.map_err(cannot),
+                Err(RecvTimeoutError::Timeout) if stop.load(Ordering::SeqCst) => {
+                    return Err(AttemptError::Stopped)
+                }
+                Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(cannot(std::io::Error::other("the connecting thread ended")))
+                }
+            }
+        }
+    }
+
+    /// Sends a request and waits for its reply, skipping stale replies to earlier requests;
+    /// the wait looks at the stop flag every [`STOP_POLL`].
     fn exchange(&mut self, request: &Request) -> Result<Reply, AttemptError> {
+        let stop = self.stop.clone();
         let link = self.link.as_mut().expect("the link is open");
         let line = serde_json::to_string(request).expect("requests serialise");
         let transport = |timeout: bool, why: String| AttemptError::Transport { timeout, why };
@@ -306,7 +385,21 @@ impl RemoteInstrument {
         let deadline = Instant::now() + self.settings.reply_timeout;
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
-            let line = link.receive(left).map_err(|e| match e {
+            let slice = if stop.is_some() {
+                left.min(STOP_POLL)
+            } else {
+                left
+            };
+            let line = match link.receive(slice) {
+                Err(LinkError::Timeout) if slice < left => {
+                    if stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)) {
+                        return Err(AttemptError::Stopped);
+                    }
+                    continue;
+                }
+                received => received,
+            };
+            let line = line.map_err(|e| match e {
                 LinkError::Timeout => transport(
                     true,
                     format!(
@@ -475,6 +568,60 @@ mod tests {
         server.join().unwrap();
         assert!(err.contains("home: unknown_method: scripted"), "{err}");
         assert!(client.notes().lock().unwrap().is_empty(), "no retry");
+    }
+
+    /// A client of `address` with a minute's timeouts and a stop flag raised after 200 ms;
+    /// `home`'s error and how long it took.
+    fn stopped_home(address: String) -> (InstrumentError, Duration, usize) {
+        let settings = ClientSettings {
+            reply_timeout: Duration::from_secs(60),
+            connect_timeout: Duration::from_secs(60),
+            ..ClientSettings::default()
+        };
+        let stop = Arc::new(AtomicBool::new(false));
+        let raise = stop.clone();
+        std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(200));
+            raise.store(true, Ordering::SeqCst);
+        });
+        let mut client = RemoteInstrument::new(Endpoint::Tcp(address), settings).with_stop(stop);
+        let started = Instant::now();
+        let err = client.home().unwrap_err();
+        let notes = client.notes().lock().unwrap().len();
+        (err, started.elapsed(), notes)
+    }
+
+    #[test]
+    fn a_stop_ends_the_wait_for_a_reply_at_once_without_a_retry() {
+        // Accepts and never answers.
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let address = listener.local_addr().unwrap().to_string();
+        let _held = std::thread::spawn(move || listener.accept());
+        let (err, took, notes) = stopped_home(address);
+        assert!(took < Duration::from_secs(2), "{took:?}");
+        assert!(err.to_string().contains("stopped by the user"), "{err}");
+        assert_eq!(notes, 0, "no retry after a stop");
+    }
+
+    #[test]
+    fn a_stop_ends_the_wait_for_a_connection_at_once() {
+        // A listener whose accept queue is full: a further connection waits for its timeout.
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let address = listener.local_addr().unwrap();
+        let mut queued = Vec::new();
+        let full = (0..1024).any(|_| {
+            match std::net::TcpStream::connect_timeout(&address, Duration::from_millis(200)) {
+                Ok(stream) => {
+                    queued.push(stream);
+                    false
+                }
+                Err(_) => true,
+            }
+        });
+        assert!(full, "the accept queue never filled");
+        let (err, took, _) = stopped_home(address.to_string());
+        assert!(took < Duration::from_secs(2), "{took:?}");
+        assert!(err.to_string().contains("stopped by the user"), "{err}");
     }
 
     #[test]

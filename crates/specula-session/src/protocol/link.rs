@@ -3,9 +3,11 @@
 //!
 //! A reader thread turns the incoming bytes into lines on a channel, so that waiting for a
 //! reply has a timeout whatever the transport (a pipe has none of its own). Dropping the link
-//! closes it: the socket is shut down; an adapter runs in a process group of its own, so the
-//! whole group (`sh -c`, the adapter it started and whatever that forked) is killed and the
-//! shell reaped: a restarted adapter never runs beside the old one.
+//! closes it: the socket is shut down; an adapter (`sh -c COMMAND`) and every process it
+//! started end with it, so a restarted adapter never runs beside the old one. On Linux the
+//! adapter runs under a guardian ([`super::guardian`]) that ends them all also when Specula
+//! itself dies (a second Ctrl-C, `kill -9`), `setsid` children included; elsewhere the
+//! adapter's process group is killed when the link is dropped.
 
 use super::message::MAX_LINE_BYTES;
 use std::io::{BufRead, BufReader, Read, Write};
@@ -22,8 +24,8 @@ use std::time::Duration;
 pub enum Endpoint {
     /// A server speaking the protocol over TCP, `HOST:PORT`.
     Tcp(String),
-    /// A program speaking the protocol on its stdin and stdout, run by `sh -c` in a process
-    /// group of its own.
+    /// A program speaking the protocol on its stdin and stdout, run by `sh -c`; it and
+    /// everything it starts end with the link.
     Exec(String),
 }
 
@@ -72,7 +74,57 @@ pub enum LinkError {
 /// What keeps the far end alive, and how to close it.
 enum Peer {
     Socket(TcpStream),
-    Process(Child),
+    Process(Adapter),
+}
+
+/// An adapter's processes: on Linux its guardian and the lifeline that keeps it going;
+/// elsewhere the `sh -c` child, leader of the adapter's process group.
+struct Adapter {
+    child: Child,
+    #[cfg(target_os = "linux")]
+    lifeline: Option<std::os::fd::OwnedFd>,
+}
+
+impl Adapter {
+    /// Starts `sh -c COMMAND` with its stdin and stdout piped, in a process group of its own
+    /// (a Ctrl-C at the terminal reaches Specula only, which decides when the adapter ends).
+    fn spawn(command: &str) -> std::io::Result<Adapter> {
+        let mut shell = Command::new("sh");
+        shell
+            .arg("-c")
+            .arg(command)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .process_group(0);
+        #[cfg(target_os = "linux")]
+        {
+            let (child, lifeline) = super::guardian::spawn(&mut shell)?;
+            Ok(Adapter {
+                child,
+                lifeline: Some(lifeline),
+            })
+        }
+        #[cfg(not(target_os = "linux"))]
+        Ok(Adapter {
+            child: shell.spawn()?,
+        })
+    }
+
+    /// Ends the adapter and everything it started, and reaps what this process spawned.
+    fn end(&mut self) {
+        #[cfg(target_os = "linux")]
+        {
+            // The guardian kills every descendant once its lifeline closes, then exits.
+            self.lifeline = None;
+        }
+        #[cfg(not(target_os = "linux"))]
+        if let Ok(pid) = i32::try_from(self.child.id()) {
+            use nix::sys::signal::{killpg, Signal};
+            let _ = killpg(nix::unistd::Pid::from_raw(pid), Signal::SIGKILL);
+        }
+        let _ = self.child.wait();
+    }
 }
 
 /// An open line link.
@@ -112,20 +164,13 @@ impl Link {
     }
 
     fn exec(command: &str) -> std::io::Result<Link> {
-        let mut child = Command::new("sh")
-            .arg("-c")
-            .arg(command)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .process_group(0)
-            .spawn()?;
-        let stdin = child.stdin.take().expect("stdin is piped");
-        let stdout = child.stdout.take().expect("stdout is piped");
+        let mut adapter = Adapter::spawn(command)?;
+        let stdin = adapter.child.stdin.take().expect("stdin is piped");
+        let stdout = adapter.child.stdout.take().expect("stdout is piped");
         Ok(Link {
             writer: Box::new(stdin),
             lines: spawn_reader(stdout),
-            peer: Peer::Process(child),
+            peer: Peer::Process(adapter),
         })
     }
 
@@ -138,15 +183,6 @@ impl Link {
             .write_all(&bytes)
             .and_then(|()| self.writer.flush())
             .map_err(|e| LinkError::Closed(e.to_string()))
-    }
-
-    /// The process group of the adapter behind an exec link (its id is the `sh -c` child's
-    /// pid); `None` for TCP.
-    pub fn process_group(&self) -> Option<u32> {
-        match &self.peer {
-            Peer::Process(child) => Some(child.id()),
-            Peer::Socket(_) => None,
-        }
     }
 
     /// The next line, without its newline.
@@ -166,21 +202,9 @@ impl Drop for Link {
             Peer::Socket(stream) => {
                 let _ = stream.shutdown(Shutdown::Both);
             }
-            Peer::Process(child) => end_process_group(child),
+            Peer::Process(adapter) => adapter.end(),
         }
     }
-}
-
-/// Kills the adapter's whole process group (its leader is the `sh -c` child, so the group's
-/// id is the child's pid) and reaps the leader.
-fn end_process_group(child: &mut Child) {
-    use nix::sys::signal::{killpg, Signal};
-    use nix::unistd::Pid;
-    if let Ok(pid) = i32::try_from(child.id()) {
-        let _ = killpg(Pid::from_raw(pid), Signal::SIGKILL);
-    }
-    let _ = child.kill();
-    let _ = child.wait();
 }
 
 /// Reads lines until the end of the stream, an error or an over-long line; the last message
@@ -241,6 +265,41 @@ mod tests {
         ] {
             assert!(bad.parse::<Endpoint>().is_err(), "{bad}");
         }
+    }
+
+    /// The processes whose command line contains `marker`.
+    #[cfg(target_os = "linux")]
+    fn processes_with(marker: &str) -> Vec<String> {
+        std::fs::read_dir("/proc")
+            .unwrap()
+            .filter_map(|e| {
+                let cmdline = std::fs::read(e.ok()?.path().join("cmdline")).ok()?;
+                let cmdline = String::from_utf8_lossy(&cmdline).replace('\0', " ");
+                cmdline.contains(marker).then_some(cmdline)
+            })
+            .collect()
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_dropped_exec_link_leaves_no_process_of_its_adapter() {
+        // Sleeps with a unique duration: in the background, and in a new session (setsid),
+        // out of the adapter's process group.
+        let marker = format!("900.{}07", std::process::id());
+        let command =
+            format!("setsid sh -c 'sleep {marker}' & (sleep {marker} &) ; exec sleep {marker}");
+        let link = Link::open(&Endpoint::Exec(command), Duration::from_secs(1)).unwrap();
+        let started = std::time::Instant::now();
+        while processes_with(&marker).len() < 4 && started.elapsed() < Duration::from_secs(10) {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert!(
+            processes_with(&marker).len() >= 4,
+            "{:?}",
+            processes_with(&marker)
+        );
+        drop(link);
+        assert_eq!(processes_with(&marker), Vec::<String>::new());
     }
 
     #[test]

@@ -12,6 +12,8 @@
 
 pub mod client;
 pub mod faults;
+#[cfg(target_os = "linux")]
+mod guardian;
 pub mod link;
 pub mod message;
 pub mod server;

@@ -4,7 +4,10 @@
 //! A device does one thing at a time, so one client controls it: the first to authenticate
 //! (`hello`, with the token when one is set). Over TCP every connection has a thread of its
 //! own, so a client that connects and says nothing never keeps others from being answered:
-//! - a newcomer must authenticate within [`ServeLimits::auth`], or it is disconnected;
+//! - a newcomer must authenticate within [`ServeLimits::auth`], or it is disconnected (the
+//!   deadline is for the whole `hello`, however it is dripped), and its line may be at most
+//!   [`MAX_HELLO_BYTES`] long; an authenticated client's request lines at most
+//!   [`MAX_REQUEST_BYTES`]: a connection holds at most that much of a line in memory;
 //! - a newcomer that authenticates while another client controls the device waits up to
 //!   [`ServeLimits::control_wait`] for it to disconnect (a client that gave up on a slow
 //!   reply and reconnects finds its old connection closing), then is answered with the
@@ -12,7 +15,10 @@
 //! - the controlling client must complete each request line within [`ServeLimits::idle`] of
 //!   the previous reply (a client dripping a byte at a time is cut off too), and every reply
 //!   must be written within [`ServeLimits::write`] (a client that never reads is cut off);
-//! - at most [`ServeLimits::max_connections`] connections are open at once;
+//! - at most [`ServeLimits::max_connections`] connections are open at once, and
+//!   [`ServeLimits::reserve`] more for newcomers that authenticate within
+//!   [`ServeLimits::reserve_auth`] (a client sends its `hello` as soon as it connects): silent
+//!   or hostile connections holding every ordinary slot do not keep a real client out;
 //! - after a failed authentication is answered, its connection holds the server's
 //!   failed-authentication lock for [`ServeLimits::failed_auth_pause`] before closing, so
 //!   failures are answered one per pause at most: guessing the token is slow.
@@ -20,7 +26,7 @@
 use super::faults::{Fault, FaultSchedule};
 use super::message::{
     CaptureParams, HelloParams, HelloResult, LightParams, MoveParams, Reply, Request, WireError,
-    MAX_LINE_BYTES, PROTOCOL_VERSION,
+    PROTOCOL_VERSION,
 };
 use serde::de::DeserializeOwned;
 use serde_json::{json, Value};
@@ -31,6 +37,15 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
+
+/// The longest line a newcomer may send before it is authenticated, bytes (a `hello` with a
+/// long token is well under it).
+pub const MAX_HELLO_BYTES: u64 = 16 << 10;
+
+/// The longest request line of an authenticated client, bytes (requests carry a few
+/// numbers; replies, which may carry pixels, are bounded by
+/// [`MAX_LINE_BYTES`](super::message::MAX_LINE_BYTES)).
+pub const MAX_REQUEST_BYTES: u64 = 64 << 10;
 
 /// A shared secret clients send in `hello`: never empty (an empty token would let a `hello`
 /// without one through).
@@ -78,8 +93,13 @@ pub struct ServeLimits {
     pub control_wait: Duration,
     /// The time to write one reply.
     pub write: Duration,
-    /// Connections open at once; more are answered `busy` and closed.
+    /// Connections open at once, beyond the reserve.
     pub max_connections: usize,
+    /// Slots beyond `max_connections` for newcomers that authenticate within
+    /// `reserve_auth`; when these are taken too, newcomers are answered `busy` and closed.
+    pub reserve: usize,
+    /// A newcomer's time to authenticate on a reserve slot.
+    pub reserve_auth: Duration,
     /// How long a failed authentication holds the server's failed-authentication lock after
     /// its reply (the next failure is answered only after it).
     pub failed_auth_pause: Duration,
@@ -89,10 +109,12 @@ impl Default for ServeLimits {
     fn default() -> Self {
         Self {
             idle: Duration::from_secs(600),
-            auth: Duration::from_secs(10),
+            auth: Duration::from_secs(3),
             control_wait: Duration::from_secs(10),
             write: Duration::from_secs(30),
             max_connections: 8,
+            reserve: 4,
+            reserve_auth: Duration::from_secs(1),
             failed_auth_pause: Duration::from_secs(1),
         }
     }
@@ -211,7 +233,8 @@ impl Server {
     /// Serves one connection on a pair of streams (stdin and stdout) until the client closes
     /// it, a fault drops it or it breaks. No timeouts: a pipe's other end is our parent.
     pub fn serve_connection<R: Read, W: Write>(&mut self, reader: R, writer: W) -> ConnectionEnd {
-        let mut connection = Connection::new(&self.shared, "stdio".into());
+        let auth = self.shared.limits.auth;
+        let mut connection = Connection::new(&self.shared, "stdio".into(), auth);
         connection.serve(BufReader::new(Untimed(reader)), writer)
     }
 
@@ -272,18 +295,21 @@ impl Server {
         stream.set_nonblocking(false)?;
         stream.set_nodelay(true)?;
         stream.set_write_timeout(Some(limits.write))?;
-        if lock(&open.streams).len() >= limits.max_connections {
+        let open_now = lock(&open.streams).len();
+        if open_now >= limits.max_connections + limits.reserve {
             let error = WireError::new(
                 "busy",
-                format!(
-                    "{} connections are open; try again later",
-                    limits.max_connections
-                ),
+                format!("{open_now} connections are open; try again later"),
             );
             write_reply(&mut &stream, &Reply::failed(None, error))?;
             let _ = log.send(format!("{peer}: refused, too many connections"));
             return Ok(());
         }
+        let auth = if open_now >= limits.max_connections {
+            limits.reserve_auth
+        } else {
+            limits.auth
+        };
         let key = open.next.fetch_add(1, Ordering::SeqCst);
         lock(&open.streams).insert(key, stream.try_clone()?);
         let shared = self.shared.clone();
@@ -292,7 +318,7 @@ impl Server {
         let writer = stream.try_clone()?;
         std::thread::spawn(move || {
             let _ = log.send(format!("{peer}: connected"));
-            let mut connection = Connection::new(&shared, peer.clone());
+            let mut connection = Connection::new(&shared, peer.clone(), auth);
             let reader = BufReader::new(Timed {
                 stream,
                 until: None,
@@ -380,6 +406,8 @@ struct Connection<'a> {
     controls: bool,
     /// Held after a failed authentication, until the pause after its reply is over.
     penalty: Option<MutexGuard<'a, ()>>,
+    /// The time this connection has to authenticate.
+    auth: Duration,
 }
 
 impl Drop for Connection<'_> {
@@ -391,26 +419,35 @@ impl Drop for Connection<'_> {
 }
 
 impl<'a> Connection<'a> {
-    fn new(shared: &'a Shared, peer: String) -> Self {
+    fn new(shared: &'a Shared, peer: String, auth: Duration) -> Self {
         Self {
             shared,
             peer,
             authorised: false,
             controls: false,
             penalty: None,
+            auth,
         }
     }
 
     /// The deadline for the next request line: a newcomer's to authenticate, the controlling
     /// client's idle time.
     fn deadline(&self) -> Instant {
-        let limits = &self.shared.limits;
         Instant::now()
             + if self.authorised {
-                limits.idle
+                self.shared.limits.idle
             } else {
-                limits.auth
+                self.auth
             }
+    }
+
+    /// The longest line the client may send now.
+    fn max_line_bytes(&self) -> u64 {
+        if self.authorised {
+            MAX_REQUEST_BYTES
+        } else {
+            MAX_HELLO_BYTES
+        }
     }
 
     fn serve<R: DeadlineRead, W: Write>(
@@ -423,13 +460,14 @@ impl<'a> Connection<'a> {
             let until = auth_deadline.unwrap_or_else(|| self.deadline());
             reader.get_mut().set_deadline(Some(until));
             let mut line = Vec::new();
+            let max_line_bytes = self.max_line_bytes();
             match (&mut reader)
-                .take(MAX_LINE_BYTES + 1)
+                .take(max_line_bytes + 1)
                 .read_until(b'\n', &mut line)
             {
                 Ok(0) => return ConnectionEnd::ClientClosed,
-                Ok(_) if line.len() as u64 > MAX_LINE_BYTES => {
-                    let message = format!("a request line is longer than {MAX_LINE_BYTES} bytes");
+                Ok(_) if line.len() as u64 > max_line_bytes => {
+                    let message = format!("a request line is longer than {max_line_bytes} bytes");
                     let reply = Reply::failed(None, WireError::new("bad_request", &message));
                     let _ = write_reply(&mut writer, &reply);
                     return ConnectionEnd::Broken(message);
