@@ -130,8 +130,17 @@ pub fn reconstruct_through<R: CaptureResponse + ?Sized>(
     let lobe_on_grid = lobe.map(LobeOnGrid::new);
     let model = |index: usize| lobe_on_grid.as_ref().map_or(Rgb::ZERO, |l| l.at(index));
     let build = |values: &[[f64; 3]]| table_of_domain_values(samples, values, method, name, model);
-    let table = if lobe.is_some() && !nodes.residual.is_empty() {
-        corrected_through(samples, domain_values, &nodes.residual, build)
+    let table = if let (Some(lobe), Some(on_grid)) = (lobe, &lobe_on_grid) {
+        if nodes.residual.is_empty() {
+            build(&domain_values)
+        } else {
+            let lobe_table = MerlBrdf::from_fn(name, |index| Some(on_grid.at(index)));
+            let floor = LobeTableFloor {
+                lobe: &lobe,
+                table: &lobe_table,
+            };
+            corrected_through(samples, domain_values, &nodes.residual, floor, build)
+        }
     } else {
         build(&domain_values)
     };
@@ -168,23 +177,28 @@ fn corrected_through(
     samples: &[Sample],
     mut values: Vec<[f64; 3]>,
     nodes: &[CaptureNode],
+    floor: LobeTableFloor<'_>,
     build: impl Fn(&[[f64; 3]]) -> Reconstruction,
 ) -> Reconstruction {
     let blurred: Vec<usize> = (0..samples.len())
         .filter(|&i| samples[i].hd.theta_h.to_degrees() < BLUR_THETA_H_DEG)
         .collect();
+    let representation = floor.log_errors(samples, &blurred, nodes);
+    let positioning = positioning_log_uncertainty(samples, &blurred, floor.table, nodes);
     let mut table = build(&values);
-    let mut predictions = predict(samples, &blurred, &table, nodes);
+    let mut predictions = predict(samples, &blurred, &table.brdf, nodes);
     let mut error = reproduction_error(samples, &blurred, &predictions);
     for _ in 0..MAX_CORRECTIONS {
         let mut candidate_values = values.clone();
-        for (&i, p) in blurred.iter().zip(&predictions) {
+        for (k, (&i, p)) in blurred.iter().zip(&predictions).enumerate() {
             for c in 0..3 {
-                candidate_values[i][c] += log_of_measured(samples[i].value[c]) - log_of_measured(p[c]);
+                let miss = log_of_measured(samples[i].value[c]) - log_of_measured(p[c]);
+                let (r, u) = (representation[k][c], positioning[k][c]);
+                candidate_values[i][c] += shrunk(miss - r, DEADBAND_UNCERTAINTIES * r.hypot(u));
             }
         }
         let candidate = build(&candidate_values);
-        let candidate_predictions = predict(samples, &blurred, &candidate, nodes);
+        let candidate_predictions = predict(samples, &blurred, &candidate.brdf, nodes);
         let candidate_error = reproduction_error(samples, &blurred, &candidate_predictions);
         if candidate_error >= error {
             break;
@@ -199,17 +213,78 @@ fn corrected_through(
     table
 }
 
-/// What the captures of the samples `which` measure of the table through `nodes`.
-fn predict(
+/// The device's angular positioning accuracy the corrections allow for, degrees (the UTIA
+/// device's, which the default device file states).
+const POSITIONING_ACCURACY_DEG: f64 = 0.03;
+
+/// A sample's miss is corrected only by what exceeds this many of its uncertainties.
+const DEADBAND_UNCERTAINTIES: f64 = 2.0;
+
+/// `x` moved towards zero by `band`, zero within it (soft thresholding): a miss the sample's
+/// own uncertainty explains asks for no correction, a larger one for its excess only.
+fn shrunk(x: f64, band: f64) -> f64 {
+    x.signum() * (x.abs() - band).max(0.0)
+}
+
+/// Per sample of `which`, the log change of its capture for a positioning error of
+/// [`POSITIONING_ACCURACY_DEG`] in theta_h, from `table` through `nodes`: on a sharp
+/// flank several percent, which no correction should chase.
+fn positioning_log_uncertainty(
     samples: &[Sample],
     which: &[usize],
-    table: &Reconstruction,
+    table: &MerlBrdf,
     nodes: &[CaptureNode],
-) -> Vec<Rgb> {
+) -> Vec<[f64; 3]> {
+    let delta = POSITIONING_ACCURACY_DEG.to_radians();
     which
         .par_iter()
-        .map(|&i| crate::consistency::predicted(&table.brdf, nodes, samples[i].hd))
+        .map(|&i| {
+            let hd = samples[i].hd;
+            let at = |by: f64| {
+                let shifted = HalfDiff {
+                    theta_h: (hd.theta_h + by).max(0.0),
+                    ..hd
+                };
+                crate::consistency::predicted(table, nodes, shifted)
+            };
+            let (up, down) = (at(delta), at(-delta));
+            std::array::from_fn(|c| 0.5 * (log_of_measured(up[c]) - log_of_measured(down[c])).abs())
+        })
         .collect()
+}
+
+/// What the captures of the samples `which` measure of the table through `nodes`.
+fn predict(samples: &[Sample], which: &[usize], table: &MerlBrdf, nodes: &[CaptureNode]) -> Vec<Rgb> {
+    which
+        .par_iter()
+        .map(|&i| crate::consistency::predicted(table, nodes, samples[i].hd))
+        .collect()
+}
+
+/// The lobe and its own table: what a table's bins (interpolated between their centres)
+/// lose of a function under the response, which no correction should chase.
+struct LobeTableFloor<'a> {
+    lobe: &'a Lobe,
+    table: &'a MerlBrdf,
+}
+
+impl LobeTableFloor<'_> {
+    /// Per sample of `which`, `ln(P_lobe / M)`: the log error with which the lobe's table,
+    /// blurred through `nodes`, predicts the lobe's exact capture `M`. Near a sharp peak
+    /// the bins' interpolation alone is a few percent off; [`corrected_through`] subtracts
+    /// this from each sample's miss, so it corrects the material's departure from the lobe
+    /// and not the table's representation of it.
+    fn log_errors(&self, samples: &[Sample], which: &[usize], nodes: &[CaptureNode]) -> Vec<[f64; 3]> {
+        let tabulated = predict(samples, which, self.table, nodes);
+        which
+            .par_iter()
+            .zip(&tabulated)
+            .map(|(&i, p)| {
+                let exact = self.lobe.measured(nodes, samples[i].hd);
+                std::array::from_fn(|c| log_of_measured(p[c]) - log_of_measured(exact[c]))
+            })
+            .collect()
+    }
 }
 
 /// `sqrt(sum (P - S)^2 / sum S^2)` over the samples `which`.
