@@ -212,4 +212,71 @@ wal=$([ -e "$work/h.sqlite-wal" ] && echo "a -wal left" || echo "no -wal left")
 echo "second measure through a hard link: exit $rc, $wal: $(cat "$work/h.err")"
 [ "$rc" -eq 1 ] && [ "$(wc -l <"$work/h.err")" -eq 1 ] && [ ! -e "$work/h.sqlite-wal" ] || fail "a hard link got round the lock"
 
+# ===== Inputs and outputs: bounded reads, no panics, value ranges, output files =====
+# Each check runs under a 2 GiB address-space limit and a timeout, and prints one line.
+# one_line NAME CODE NEEDLE CMD...: CMD exits CODE with one short line on stderr holding NEEDLE.
+one_line() {
+    local name=$1 code=$2 needle=$3; shift 3
+    ( ulimit -v 2097152; timeout 60 "$@" ) >/dev/null 2>"$work/io.err"
+    local rc=$? lines bytes
+    lines=$(wc -l <"$work/io.err"); bytes=$(wc -c <"$work/io.err")
+    echo "$name: exit $rc, $lines line(s) of $bytes bytes: $(head -c 160 "$work/io.err" | tr -d '\033' | head -1)"
+    [ "$rc" -eq "$code" ] && [ "$lines" -eq 1 ] && [ "$bytes" -lt 400 ] && grep -q -- "$needle" "$work/io.err" \
+        && ! grep -q $'\033' "$work/io.err" || fail "$name"
+}
+# (I1) every read is bounded.
+one_line "fit-k /dev/zero" 1 "longer than" "$SPECULA" fit-k /dev/zero
+one_line "eval --dirs /dev/zero" 1 "longer than" "$SPECULA" eval silver-925 --dirs /dev/zero
+one_line "reconstruct --samples-csv /dev/zero" 1 "longer than" \
+    "$SPECULA" reconstruct --samples-csv /dev/zero --out "$work/z.binary"
+head -c 200000000 /dev/zero | tr '\0' 'x' >"$work/header.csv"
+one_line "200 MB CSV header line" 1 "longer than" "$SPECULA" fit-k "$work/header.csv"
+rm -f "$work/header.csv"
+one_line "token file /dev/zero" 1 "token file" \
+    "$SPECULA" device serve --truth silver-925 --listen 127.0.0.1:0 --token-file /dev/zero
+{ printf 'tensor_file\0\001\000\001\000\000\000\377\377'; head -c 120000 /dev/zero | tr '\0' '\033'; } >"$work/name.bsdf"
+one_line "RGL field name of 65535 bytes" 1 "65535 bytes" "$SPECULA" info "$work/name.bsdf"
+# (I2) no print panics.
+"$SPECULA" appearance silver-925 2>"$work/pipe.err" | true
+rc=${PIPESTATUS[0]}
+echo "appearance | true: exit $rc, $(wc -c <"$work/pipe.err") bytes on stderr"
+[ "$rc" -eq 0 ] && [ ! -s "$work/pipe.err" ] || fail "a closed pipe"
+one_line "appearance > /dev/full" 1 "cannot write to standard output" \
+    bash -c '"$0" appearance silver-925 >/dev/full' "$SPECULA"
+write_named() { printf 'name = "%s"\n[base]\nkind = "conductor"\ndistribution = "ggx"\nalpha = 0.1\neta = [0.15, 0.14, 0.13]\nk = [3.9, 3.2, 2.4]\n' "$1" >"$work/named.toml"; }
+write_named "$(head -c 65536 /dev/zero | tr '\0' 'n')"
+"$SPECULA" appearance "$work/named.toml" >"$work/named.out" 2>&1
+rc=$?
+echo "material name of 65536 characters: exit $rc, longest output line $(awk '{ if (length > m) m = length } END { print m }' "$work/named.out") characters"
+[ "$rc" -eq 0 ] || fail "a long name"
+# (I3) ranges of every value read from a file.
+"$SPECULA" tabulate silver-925 --out "$work/ok.binary" >/dev/null 2>&1 || fail "tabulate"
+cp "$work/ok.binary" "$work/huge.binary"
+printf '\240\310\353\205\363\314\341\177' | dd of="$work/huge.binary" bs=1 seek=12 conv=notrunc status=none  # 1e308
+one_line "MERL table holding 1e308" 1 "above" "$SPECULA" info "$work/huge.binary"
+printf '\0\0\0\0\0\0\360\277' >"$work/neg8"  # -1.0, repeated to three planes
+for _ in $(seq 23); do cat "$work/neg8" "$work/neg8" >"$work/neg16"; mv "$work/neg16" "$work/neg8"; done
+{ head -c 12 "$work/ok.binary"; head -c $((3 * 1458000 * 8)) "$work/neg8"; } >"$work/neg.binary"
+rm -f "$work/neg8"
+one_line "MERL table of negative values" 1 "no measured cell" "$SPECULA" compare "$work/neg.binary" "$work/ok.binary"
+printf 'a text file, not a table\n%.0s' $(seq 100) >"$work/text.binary"
+one_line "text file named .binary" 1 "not a MERL file" "$SPECULA" info "$work/text.binary"
+one_line "missing input" 1 "no such file" "$SPECULA" info "$work/none.binary"
+sed 's/^gain_dn_s_per_sr.*/gain_dn_s_per_sr = [1e300, 2e5, 2e5]/' tools/example_adapter_calibration.toml >"$work/cal.toml"
+one_line "calibration gain 1e300" 1 "gain_dn_s_per_sr" \
+    "$SPECULA" measure --connect "exec:sleep 5" --calibration "$work/cal.toml" --out "$work/c.binary"
+sed 's/settle_s = 0.5 /settle_s = 1e300 /' crates/specula-acquisition/devices/utia.toml >"$work/dev.toml"
+one_line "device settle_s 1e300" 1 "settle_s" "$SPECULA" plan --device "$work/dev.toml" --k 2 --out "$work/p.csv"
+# (I4) output files: checked before work, never half-written.
+start=$(date +%s%N)
+one_line "--out naming a folder" 2 "is a directory" "$SPECULA" measure --truth silver-925 "${small[@]}" --out "$work"
+echo "--out naming a folder: refused after $(( ($(date +%s%N) - start) / 1000000 )) ms"
+mkdir -p "$work/fsize"
+( ulimit -f 1000; "$SPECULA" tabulate silver-925 --out "$work/fsize/t.binary" ) >/dev/null 2>"$work/fsize.err"
+rc=$?
+left=$(find "$work/fsize" -type f | wc -l)
+echo "tabulate under ulimit -f 1000: exit $rc, $(wc -l <"$work/fsize.err") line(s): $(head -1 "$work/fsize.err"); $left file(s) left"
+[ "$rc" -eq 1 ] && [ "$left" -eq 0 ] && [ "$(wc -l <"$work/fsize.err")" -eq 1 ] || fail "a file-size limit"
+# ===== end of the inputs and outputs checks =====
+
 [ "$failed" -eq 0 ] && echo "all promises kept" || exit 1

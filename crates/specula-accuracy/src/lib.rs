@@ -31,7 +31,8 @@ use specula_acquisition::plan::Plan;
 use specula_acquisition::response::{InstrumentResponse, ThroughResponse};
 use specula_acquisition::simulator::SIMULATOR_RESPONSE_NODES;
 use specula_core::compare::{compare, ErrorFigures};
-use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::request::{parse_choice, ChoiceError};
+use specula_core::sampling::{Family, InvalidK, SamplingFunction};
 use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, GridSpec, HalfDiff, MerlBrdf, ProbePoint, ProbeSpec, Sample};
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
@@ -97,6 +98,12 @@ impl GridPlan {
     }
 }
 
+/// The elevation from the normal (degrees) within which light and camera lie in the region
+/// people use: a goniometer's reach and the views a renderer mostly sees. Cells beyond it,
+/// with the light or the camera nearer the horizon, are grazing: the surface is seen
+/// edge-on there and a small error of angle changes f_r most.
+pub const USED_ELEVATION_DEG: f64 = 75.0;
+
 /// The stand-in reach: light and camera both within `max_elevation_deg` of the normal.
 pub fn within_elevation(hd: HalfDiff, max_elevation_deg: f64) -> bool {
     let (wi, wo) = hd.to_directions();
@@ -113,6 +120,60 @@ pub enum ThetaHPlacement {
     FittedFunction(Family),
     /// The least-error placement on the material's probe (`specula_sampling::place_theta_h`).
     Probe,
+}
+
+/// How theta_h positions are placed, by the name the front ends give: `function` (a
+/// sampling function, with a k given or k-hat fitted) or `probe`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlacementChoice {
+    /// [`ThetaHPlacement::Function`] or [`ThetaHPlacement::FittedFunction`].
+    Function,
+    /// [`ThetaHPlacement::Probe`].
+    Probe,
+}
+
+impl PlacementChoice {
+    /// `function` or `probe`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PlacementChoice::Function => "function",
+            PlacementChoice::Probe => "probe",
+        }
+    }
+
+    /// The placement: with `function`, the `family` function with `k`, or with k-hat
+    /// fitted to the material's probe when `k` is `None`; with `probe`, `k` is not used.
+    pub fn placement(self, family: Family, k: Option<f64>) -> Result<ThetaHPlacement, InvalidK> {
+        Ok(match (self, k) {
+            (PlacementChoice::Function, Some(k)) => {
+                ThetaHPlacement::Function(SamplingFunction::new(family, k)?)
+            }
+            (PlacementChoice::Function, None) => ThetaHPlacement::FittedFunction(family),
+            (PlacementChoice::Probe, _) => ThetaHPlacement::Probe,
+        })
+    }
+}
+
+impl std::str::FromStr for PlacementChoice {
+    type Err = ChoiceError;
+
+    /// [`PlacementChoice::name`].
+    fn from_str(text: &str) -> Result<Self, ChoiceError> {
+        parse_choice(
+            "placement",
+            text,
+            &[PlacementChoice::Function, PlacementChoice::Probe],
+            &["function", "probe"],
+            PlacementChoice::name,
+        )
+    }
+}
+
+impl std::fmt::Display for PlacementChoice {
+    /// [`PlacementChoice::name`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// A plan on a grid, decided per material (see the module documentation).
@@ -388,6 +449,32 @@ pub fn evaluate_through(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_placement_is_chosen_by_name() {
+        let exponential = Family::Exponential;
+        let function: PlacementChoice = "function".parse().unwrap();
+        assert_eq!(
+            function.placement(exponential, None),
+            Ok(ThetaHPlacement::FittedFunction(exponential))
+        );
+        assert_eq!(
+            function.placement(exponential, Some(4.78)),
+            Ok(ThetaHPlacement::Function(
+                SamplingFunction::new(exponential, 4.78).unwrap()
+            ))
+        );
+        let probe: PlacementChoice = "probe".parse().unwrap();
+        assert_eq!(
+            probe.placement(exponential, Some(4.78)),
+            Ok(ThetaHPlacement::Probe)
+        );
+        assert_eq!(probe.to_string(), "probe");
+        assert_eq!(
+            "grid".parse::<PlacementChoice>().unwrap_err().to_string(),
+            "placement 'grid': expected one of function, probe"
+        );
+    }
     use specula_core::grid::UnresolvedPeak;
     use specula_core::materials::preset;
     use specula_core::sampling::{Family, SamplingFunction};

@@ -120,6 +120,18 @@ pub enum CalibrationError {
     },
 }
 
+/// The range of a calibration's gains, DN/s at full light per 1/sr: wide enough for any
+/// camera behind any light (the simulated UTIA device calibrates to about 2e5), narrow
+/// enough that a gain cannot saturate every capture (1e300 would measure a table of zeros)
+/// or turn one DN into an absurd BRDF (1e-300 would give 1e304 1/sr).
+pub const GAIN_DN_S_PER_SR: (f64, f64) = (1e-2, 1e12);
+
+/// The largest level or noise of a calibration's noise model, DN: a 30-bit sensor.
+pub const MAX_DN: f64 = 1e9;
+
+/// The range of a noise model's conversion gain, DN per electron.
+pub const GAIN_DN_PER_E: (f64, f64) = (1e-6, 1e6);
+
 /// A calibration value outside its range: `field must be RANGE, got VALUE`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{field} must be {range}, got {}", shown(*.value))]
@@ -171,7 +183,8 @@ pub struct Calibration {
     pub white_reflectance: f64,
     /// The light's elevation of the reference geometry, degrees.
     pub light_elevation_deg: f64,
-    /// DN/s at full light per unit radiance factor (1/sr), per camera channel.
+    /// DN/s at full light per unit radiance factor (1/sr), per camera channel. Range:
+    /// [`GAIN_DN_S_PER_SR`].
     pub gain_dn_s_per_sr: [f64; 3],
     /// Camera colour (gain-normalised) to linear sRGB, rows.
     pub colour_matrix: [[f64; 3]; 3],
@@ -260,9 +273,10 @@ impl Calibration {
         Ok(calibration)
     }
 
-    /// The first value outside its range, as `field must be RANGE, got VALUE`: gains
-    /// positive, the colour matrix finite and invertible, the noise model's black level
-    /// below its white level, the reference's reflectance in (0, 1].
+    /// The first value outside its range, as `field must be RANGE, got VALUE`: gains in
+    /// [`GAIN_DN_S_PER_SR`], the colour matrix finite and invertible, the noise model's
+    /// levels and noise up to [`MAX_DN`] with its black level below its white level and its
+    /// conversion gain in [`GAIN_DN_PER_E`], the reference's reflectance in (0, 1].
     pub fn validate(&self) -> Result<(), OutOfRange> {
         let rule = |ok: bool, field: &str, range: &str, value: f64| {
             if ok {
@@ -277,10 +291,11 @@ impl Calibration {
         };
         for (c, &gain) in self.gain_dn_s_per_sr.iter().enumerate() {
             let field = format!("gain_dn_s_per_sr[{c}]");
+            let (min, max) = GAIN_DN_S_PER_SR;
             rule(
-                gain.is_finite() && gain > 0.0,
+                (min..=max).contains(&gain),
                 &field,
-                "positive and finite",
+                &format!("from {} to {}", shown(min), shown(max)),
                 gain,
             )?;
         }
@@ -318,41 +333,33 @@ impl Calibration {
         )?;
         let n = &self.noise;
         let black = n.black_level_dn;
-        rule(
-            black.is_finite() && black >= 0.0,
-            "noise.black_level_dn",
-            "zero or positive",
-            black,
-        )?;
+        let dn = |v: f64| (0.0..=MAX_DN).contains(&v);
+        let dn_range = format!("from 0 to {}", shown(MAX_DN));
+        rule(dn(black), "noise.black_level_dn", &dn_range, black)?;
         let white = n.white_level_dn;
-        let range = format!("finite and above noise.black_level_dn ({})", shown(black));
+        let range = format!(
+            "above noise.black_level_dn ({}) and at most {}",
+            shown(black),
+            shown(MAX_DN)
+        );
         rule(
-            white.is_finite() && white > black,
+            dn(white) && white > black,
             "noise.white_level_dn",
             &range,
             white,
         )?;
         let g = n.gain_dn_per_e;
+        let (min, max) = GAIN_DN_PER_E;
         rule(
-            g.is_finite() && g > 0.0,
+            (min..=max).contains(&g),
             "noise.gain_dn_per_e",
-            "positive and finite",
+            &format!("from {} to {}", shown(min), shown(max)),
             g,
         )?;
         let read = n.read_noise_dn;
-        rule(
-            read.is_finite() && read >= 0.0,
-            "noise.read_noise_dn",
-            "zero or positive",
-            read,
-        )?;
+        rule(dn(read), "noise.read_noise_dn", &dn_range, read)?;
         let dark = n.dark_current_dn_s;
-        rule(
-            dark.is_finite() && dark >= 0.0,
-            "noise.dark_current_dn_s",
-            "zero or positive",
-            dark,
-        )?;
+        rule(dn(dark), "noise.dark_current_dn_s", &dn_range, dark)?;
         match &self.response {
             Some(fit) => validate_response(fit, &rule),
             None => Ok(()),

@@ -9,16 +9,22 @@ use serde::{Deserialize, Serialize};
 #[serde(deny_unknown_fields)]
 pub struct CaptureBracket {
     /// Exposure times of the bracket, seconds; the full bracket is taken at every light level.
+    /// Range: 0 to [`MAX_TIME_S`] each.
     pub exposures_s: Vec<f64>,
-    /// Relative LED intensities (1 = full).
+    /// Relative LED intensities (1 = full). Range: above 0, at most 1.
     pub light_levels: Vec<f64>,
-    /// Read-out and transfer of one frame, seconds.
+    /// Read-out and transfer of one frame, seconds. Range: 0 to [`MAX_TIME_S`].
     pub readout_s: f64,
-    /// Changing the LED current and waiting for it to stabilise, seconds.
+    /// Changing the LED current and waiting for it to stabilise, seconds. Range: 0 to
+    /// [`MAX_TIME_S`].
     pub light_change_s: f64,
-    /// Per sample: saving frames and bookkeeping, seconds.
+    /// Per sample: saving frames and bookkeeping, seconds. Range: 0 to [`MAX_TIME_S`].
     pub overhead_s: f64,
 }
+
+/// The longest time of a capture bracket, seconds (an exposure, a read-out, a change of
+/// light, the overhead): an hour.
+pub const MAX_TIME_S: f64 = 3600.0;
 
 impl CaptureBracket {
     /// `levels * (light_change + sum(exposure + readout)) + overhead`, seconds.
@@ -36,14 +42,10 @@ impl CaptureBracket {
             &self.light_change_s,
             &self.overhead_s,
         ]);
-        if times.into_iter().any(|t| !(t.is_finite() && *t >= 0.0)) {
+        if times.into_iter().any(|t| !(0.0..=MAX_TIME_S).contains(t)) {
             return Err(CaptureProblem::Time);
         }
-        if self
-            .light_levels
-            .iter()
-            .any(|l| !(l.is_finite() && *l > 0.0))
-        {
+        if self.light_levels.iter().any(|l| !(*l > 0.0 && *l <= 1.0)) {
             return Err(CaptureProblem::LightLevel);
         }
         Ok(())
@@ -56,10 +58,10 @@ pub enum CaptureProblem {
     /// No exposure or no light level.
     #[error("capture needs at least one exposure and one light level")]
     Empty,
-    /// A time is negative or not a number.
-    #[error("capture times must be zero or positive numbers of seconds")]
+    /// A time outside 0 to [`MAX_TIME_S`] seconds, or not a number.
+    #[error("capture times must be numbers of seconds from 0 to {MAX_TIME_S}")]
     Time,
-    /// A light level is zero, negative or not a number.
-    #[error("capture.light_levels must be positive")]
+    /// A light level outside (0, 1], or not a number.
+    #[error("capture.light_levels must be above 0 and at most 1")]
     LightLevel,
 }

@@ -18,6 +18,19 @@ pub const MAX_AXIS_DEG: f64 = 720.0;
 /// The default device file, the paper's UTIA gonioreflectometer.
 pub const UTIA_TOML: &str = include_str!("../devices/utia.toml");
 
+/// The longest length of a device file (distances, radii, part coordinates), metres: a
+/// laboratory's size.
+pub const MAX_LENGTH_M: f64 = 100.0;
+/// The range of [`Device::accuracy_deg`], degrees.
+pub const ACCURACY_DEG: (f64, f64) = (0.0, 5.0);
+/// The range of an axis's top speed, degrees per second: from a hundredth of a degree per
+/// second to ten turns per second.
+pub const SPEED_DEG_S: (f64, f64) = (0.01, 3600.0);
+/// The range of an axis's acceleration, degrees per second squared.
+pub const ACCEL_DEG_S2: (f64, f64) = (0.01, 36000.0);
+/// The range of an axis's settling time, seconds: up to ten minutes.
+pub const SETTLE_S: (f64, f64) = (0.0, 600.0);
+
 /// A goniometer: a turntable holding the sample, a camera arm and a light arm.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -25,8 +38,9 @@ pub struct Device {
     /// A name for reports.
     pub name: String,
     /// Angular positioning accuracy of every axis, degrees (0.03 for UTIA, paper 4.1).
+    /// Range: 0 to 5.
     pub accuracy_deg: f64,
-    /// Where the axes rest before the first sample.
+    /// Where the axes rest before the first sample; each angle within its axis's range.
     pub park: ParkPosition,
     /// The rotary stage turning the sample about its normal.
     pub turntable: Axis,
@@ -46,11 +60,12 @@ pub struct Axis {
     pub min_deg: f64,
     /// Highest reachable angle, degrees.
     pub max_deg: f64,
-    /// Top speed, degrees per second.
+    /// Top speed, degrees per second. Range: 0.01 to 3600.
     pub speed_deg_s: f64,
-    /// Acceleration and deceleration, degrees per second squared.
+    /// Acceleration and deceleration, degrees per second squared. Range: 0.01 to 36000.
     pub accel_deg_s2: f64,
     /// Wait after a move of this axis before it is still within the accuracy, seconds.
+    /// Range: 0 to 600.
     pub settle_s: f64,
 }
 
@@ -263,29 +278,37 @@ impl Device {
     }
 
     /// The first problem that makes the description unusable, if any, apart from its capture
-    /// bracket (which `CaptureBracket::validate` checks).
+    /// bracket (which `CaptureBracket::validate` checks). Every number has a range (in the
+    /// fields' documentation): lengths up to [`MAX_LENGTH_M`], speeds, accelerations and
+    /// settling times of real stages, park angles inside their axes, so that a typo such as
+    /// `settle_s = 1e300` is refused here rather than planned into 300-digit hours.
     fn validate(&self) -> Result<(), String> {
-        let positive = |value: f64, what: &str| {
-            if value.is_finite() && value > 0.0 {
+        let in_range = |value: f64, (min, max): (f64, f64), what: &str| {
+            if (min..=max).contains(&value) {
                 Ok(())
             } else {
                 Err(format!(
-                    "{what} must be a positive number, got {}",
+                    "{what} must be from {} to {}, got {}",
+                    shown(min),
+                    shown(max),
                     shown(value)
                 ))
             }
         };
-        let non_negative = |value: f64, what: &str| {
-            if value.is_finite() && value >= 0.0 {
+        let above_zero = |value: f64, max: f64, what: &str| {
+            if value > 0.0 && value <= max {
                 Ok(())
             } else {
                 Err(format!(
-                    "{what} must be zero or positive, got {}",
+                    "{what} must be above 0 and at most {}, got {}",
+                    shown(max),
                     shown(value)
                 ))
             }
         };
-        non_negative(self.accuracy_deg, "accuracy_deg")?;
+        let positive = |value: f64, what: &str| above_zero(value, MAX_LENGTH_M, what);
+        let non_negative = |value: f64, what: &str| in_range(value, (0.0, MAX_LENGTH_M), what);
+        in_range(self.accuracy_deg, ACCURACY_DEG, "accuracy_deg")?;
         let named = [
             ("turntable", &self.turntable),
             ("camera.axis", &self.camera.axis),
@@ -310,9 +333,34 @@ impl Device {
                     shown(axis.max_deg)
                 ));
             }
-            positive(axis.speed_deg_s, &format!("{name}.speed_deg_s"))?;
-            positive(axis.accel_deg_s2, &format!("{name}.accel_deg_s2"))?;
-            non_negative(axis.settle_s, &format!("{name}.settle_s"))?;
+            in_range(
+                axis.speed_deg_s,
+                SPEED_DEG_S,
+                &format!("{name}.speed_deg_s"),
+            )?;
+            in_range(
+                axis.accel_deg_s2,
+                ACCEL_DEG_S2,
+                &format!("{name}.accel_deg_s2"),
+            )?;
+            in_range(axis.settle_s, SETTLE_S, &format!("{name}.settle_s"))?;
+        }
+        let park = &self.park;
+        for (name, angle_deg, axis) in [
+            ("park.turntable_deg", park.turntable_deg, &self.turntable),
+            ("park.camera_deg", park.camera_deg, &self.camera.axis),
+            (
+                "park.light_azimuth_deg",
+                park.light_azimuth_deg,
+                &self.light.azimuth,
+            ),
+            (
+                "park.light_elevation_deg",
+                park.light_elevation_deg,
+                &self.light.elevation,
+            ),
+        ] {
+            in_range(angle_deg, (axis.min_deg, axis.max_deg), name)?;
         }
         if self.camera.axis.min_deg < -90.0 || self.camera.axis.max_deg > 90.0 {
             return Err("camera.axis must stay within [-90, 90] degrees".into());
@@ -340,14 +388,24 @@ impl Device {
             non_negative(cone.end_radius_m, &format!("{name}.end_radius_m"))?;
         }
         for part in self.camera.parts.iter().chain(&self.light.parts) {
-            let finite = part.from_m.iter().chain(&part.to_m).all(|x| x.is_finite());
-            if !finite {
+            let inside = part
+                .from_m
+                .iter()
+                .chain(&part.to_m)
+                .all(|x| x.abs() <= MAX_LENGTH_M);
+            if !inside {
                 return Err(format!(
-                    "part '{}' has a coordinate that is not a number",
-                    part.name
+                    "part '{}' has a coordinate that is not a number from -{MAX_LENGTH_M} to {MAX_LENGTH_M} m",
+                    specula_core::shown::excerpt(&part.name)
                 ));
             }
-            non_negative(part.radius_m, &format!("part '{}' radius_m", part.name))?;
+            non_negative(
+                part.radius_m,
+                &format!(
+                    "part '{}' radius_m",
+                    specula_core::shown::excerpt(&part.name)
+                ),
+            )?;
         }
         Ok(())
     }

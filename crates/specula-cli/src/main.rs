@@ -9,14 +9,14 @@ mod interrupt;
 mod progress;
 mod range;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
 /// Measure the BRDF of highly specular materials on a goniometer with few, well-placed samples.
 ///
-/// BRDF arguments accept a MERL .binary file, a material .toml file, a preset name
-/// (silver-925, green-paint, chrome, steel) or a published fit as model:name (`specula
-/// materials` lists them). Angles are in degrees everywhere and flag names carry no unit;
+/// BRDF arguments accept a MERL .binary file, an RGL .bsdf file, a material .toml file, a
+/// preset name (silver-925, green-paint, chrome, steel) or a published fit as model:name
+/// (`specula materials` lists them). Angles are in degrees everywhere and flag names carry no unit;
 /// each numeric option's range is in its help.
 #[derive(Parser)]
 #[command(name = "specula", version, propagate_version = true)]
@@ -53,8 +53,32 @@ enum Command {
     Device(commands::device::Args),
 }
 
+/// The command line as clap reads it: [`Cli`], with every option that takes a value taking a
+/// negative number as that value, so that `--theta-d -40` meets the option's range check
+/// (one line naming the option and its range) instead of being read as an unknown flag.
+fn command() -> clap::Command {
+    fn negative_values(cmd: clap::Command) -> clap::Command {
+        cmd.mut_args(|arg| {
+            if arg.get_action().takes_values() {
+                arg.allow_negative_numbers(true)
+            } else {
+                arg
+            }
+        })
+        .mut_subcommands(negative_values)
+    }
+    negative_values(Cli::command())
+}
+
+/// `argv` read into [`Cli`] through [`command`].
+fn parse(argv: impl IntoIterator<Item = std::ffi::OsString>) -> Result<Cli, clap::Error> {
+    let mut matches = command().try_get_matches_from(argv)?;
+    Cli::from_arg_matches_mut(&mut matches)
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    specula_core::atomic_file::refuse_oversized_writes();
+    let cli = parse(std::env::args_os()).unwrap_or_else(|err| err.exit());
     let result = match cli.command {
         Command::Demo(args) => commands::demo::run(args),
         Command::Tabulate(args) => commands::tabulate::run(args),
@@ -100,8 +124,7 @@ mod tests {
     //! The command line as a whole: every numeric option refuses what lies outside its
     //! documented range, and one flag name means one thing in every command.
 
-    use super::Cli;
-    use clap::{Arg, Command, CommandFactory, Parser};
+    use clap::{Arg, Command};
     use std::collections::BTreeMap;
 
     /// Every leaf command with the words that reach it (`["check", "orientation"]`).
@@ -120,7 +143,7 @@ mod tests {
 
     /// Every long option of every leaf command: (command words, option).
     fn options() -> Vec<(Vec<String>, Arg)> {
-        let mut cli = Cli::command();
+        let mut cli = super::command();
         cli.build();
         leaves(&cli, Vec::new())
             .into_iter()
@@ -167,11 +190,23 @@ mod tests {
                         .join(" ")
                 })
                 .unwrap_or_default();
-            for bad in ["nan", "inf", "1e300", "-1e300", "99999999999"] {
+            for (bad, joined) in [
+                ("nan", true),
+                ("inf", true),
+                ("1e300", true),
+                ("-1e300", true),
+                ("99999999999", true),
+                // A negative value as its own word is the option's value, not a flag.
+                ("-1e300", false),
+            ] {
                 let mut argv = vec!["specula".to_string()];
                 argv.extend(path.iter().cloned());
-                argv.push(format!("--{long}={bad}"));
-                let err = match Cli::try_parse_from(&argv) {
+                if joined {
+                    argv.push(format!("--{long}={bad}"));
+                } else {
+                    argv.extend([format!("--{long}"), bad.to_string()]);
+                }
+                let err = match super::parse(argv.iter().map(Into::into)) {
                     Ok(_) => panic!("{argv:?} was accepted"),
                     Err(err) => err.to_string(),
                 };

@@ -1,18 +1,78 @@
-//! Standard output that ends the program quietly when its reader goes away (`specula info
-//! x.binary | head -1`), as Unix tools do: exit 0, no panic, no "Broken pipe" message.
+//! The program's outputs. Standard output: everything the CLI prints goes through
+//! [`write`] ([`out!`], [`outln!`]) or the [`Stdout`] writer (CSV), never `print!`, so that
+//! it ends the program quietly when its reader goes away (`specula info x.binary | head -1`):
+//! exit 0 as the reader asked for no more, no panic, no "Broken pipe" message; any other
+//! failure to write (`> /dev/full`) ends it with a one-line error and exit 1. Output files:
+//! [`OUTPUT_FILE`] checks each while the command line is read, before any work starts.
 
+use clap::builder::TypedValueParser;
 use std::io::{self, Write};
+use std::path::PathBuf;
 
-/// Writes `text` to standard output; a closed pipe ends the program (exit 0) and any other
-/// failure to write (a full disk behind a redirect) ends it with a one-line error (exit 1).
+/// Writes `text` to standard output, as [`Stdout`] does.
 pub(crate) fn write(text: std::fmt::Arguments) {
     let mut out = io::stdout().lock();
-    if let Err(e) = out.write_fmt(text).and_then(|()| out.flush()) {
+    handled(out.write_fmt(text).and_then(|()| out.flush()));
+}
+
+/// Standard output as a writer (for CSV writers): a write that fails ends the program, as
+/// the module documentation says, so callers never see an error.
+pub(crate) struct Stdout;
+
+impl Write for Stdout {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        handled(io::stdout().lock().write_all(buf));
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        handled(io::stdout().lock().flush());
+        Ok(())
+    }
+}
+
+/// Ends the program when writing to standard output failed: exit 0 for a closed pipe,
+/// otherwise a one-line error and exit 1.
+fn handled(result: io::Result<()>) {
+    if let Err(e) = result {
         if e.kind() == io::ErrorKind::BrokenPipe {
             std::process::exit(0);
         }
         eprintln!("error: cannot write to standard output: {e}");
         std::process::exit(1);
+    }
+}
+
+/// The parser of every option naming a file to write: refuses, while the command line is
+/// read (exit 2), a directory, a missing folder or a folder that takes no new file
+/// ([`specula_core::atomic_file::check_writable`]), so a measurement never runs for an hour
+/// to fail at its last step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct OutputFile;
+
+/// [`OutputFile`], for `value_parser = crate::output::OUTPUT_FILE`.
+pub(crate) const OUTPUT_FILE: OutputFile = OutputFile;
+
+impl TypedValueParser for OutputFile {
+    type Value = PathBuf;
+
+    fn parse_ref(
+        &self,
+        _cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<PathBuf, clap::Error> {
+        let path = PathBuf::from(value);
+        specula_core::atomic_file::check_writable(&path).map_err(|problem| {
+            let flag = arg
+                .and_then(|a| a.get_long())
+                .map_or_else(|| "output".to_string(), |long| format!("--{long}"));
+            clap::Error::raw(
+                clap::error::ErrorKind::ValueValidation,
+                format!("{flag} {}: {problem}\n", path.display()),
+            )
+        })?;
+        Ok(path)
     }
 }
 

@@ -1,92 +1,53 @@
 //! The checked range of every numeric option. Each option's parser refuses a value outside
 //! its range while the command line is read, before any work starts, with one line naming
 //! the option, the value and the range in words (exit 2, as every usage error); the same
-//! words end the option's `--help` text ("Range: ..."), which a test checks.
+//! words end the option's `--help` text ("Range: ..."), which a test checks. The ranges of
+//! the grid, the probe and the tilt are the library's ([`specula_core::request`]), which the
+//! Python package checks as well.
 
 use clap::builder::TypedValueParser;
 use clap::error::ErrorKind;
 use specula_core::grid::ThetaDSteps;
+use specula_core::range::{CountRange, RangeError, RealRange};
+use specula_core::request;
 use specula_formats::rgl::write as rgl;
 
-/// A real number between two finite bounds, in a unit: degrees, seconds, stops, ...
+/// A real number in a [`RealRange`], as an option's parser.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Real {
-    min: f64,
-    max: f64,
-    /// The minimum itself is refused (a step, a timeout: above 0).
-    above_min: bool,
-    unit: &'static str,
-}
+pub(crate) struct Real(RealRange);
 
 impl Real {
     /// Values from `min` to `max`, both included, in `unit`.
     pub(crate) const fn from_to(min: f64, max: f64, unit: &'static str) -> Self {
-        Self {
-            min,
-            max,
-            above_min: false,
-            unit,
-        }
+        Self(RealRange::from_to(min, max, unit))
     }
 
     /// Values above `min` (excluded) up to `max` (included), in `unit`.
     pub(crate) const fn above(min: f64, max: f64, unit: &'static str) -> Self {
-        Self {
-            min,
-            max,
-            above_min: true,
-            unit,
-        }
-    }
-
-    /// The range in words, as `--help` and the error say it.
-    pub(crate) fn words(&self) -> String {
-        if self.above_min {
-            format!("{} above {} and at most {}", self.unit, self.min, self.max)
-        } else {
-            format!("{} from {} to {}", self.unit, self.min, self.max)
-        }
-    }
-
-    /// Whether `value` lies in the range (NaN never does).
-    pub(crate) fn contains(&self, value: f64) -> bool {
-        let above = if self.above_min {
-            value > self.min
-        } else {
-            value >= self.min
-        };
-        above && value <= self.max
+        Self(RealRange::above(min, max, unit))
     }
 }
 
-/// A whole number between two bounds (a count of samples, pixels, tries).
+/// A whole number in a [`CountRange`], as an option's parser.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Count {
-    min: usize,
-    max: usize,
-}
+pub(crate) struct Count(CountRange);
 
 impl Count {
     /// Counts from `min` to `max`, both included.
     pub(crate) const fn from_to(min: usize, max: usize) -> Self {
-        Self { min, max }
-    }
-
-    /// The range in words, as `--help` and the error say it.
-    pub(crate) fn words(&self) -> String {
-        format!("a whole number from {} to {}", self.min, self.max)
+        Self(CountRange::from_to(min, max))
     }
 }
 
-/// The error of a value outside its range: `--flag VALUE: expected WORDS`.
-fn out_of_range(arg: Option<&clap::Arg>, value: &str, words: &str) -> clap::Error {
-    let flag = arg
-        .and_then(|a| a.get_long())
-        .map_or_else(|| "value".to_string(), |long| format!("--{long}"));
-    clap::Error::raw(
-        ErrorKind::ValueValidation,
-        format!("{flag} {value}: expected {words}\n"),
-    )
+/// The option's flag (`--theta-h-samples`) as the library's errors name it.
+fn flag(arg: Option<&clap::Arg>) -> String {
+    arg.and_then(|a| a.get_long())
+        .map_or_else(|| "value".to_string(), |long| format!("--{long}"))
+}
+
+/// The library's range error as clap's usage error.
+fn usage_error(error: RangeError) -> clap::Error {
+    clap::Error::raw(ErrorKind::ValueValidation, format!("{error}\n"))
 }
 
 impl TypedValueParser for Real {
@@ -100,8 +61,8 @@ impl TypedValueParser for Real {
     ) -> Result<f64, clap::Error> {
         let text = value.to_string_lossy();
         match text.trim().parse::<f64>() {
-            Ok(number) if self.contains(number) => Ok(number),
-            _ => Err(out_of_range(arg, &text, &self.words())),
+            Ok(number) if self.0.contains(number) => Ok(number),
+            _ => Err(usage_error(self.0.refuse(&flag(arg), &text))),
         }
     }
 }
@@ -117,27 +78,21 @@ impl TypedValueParser for Count {
     ) -> Result<usize, clap::Error> {
         let text = value.to_string_lossy();
         match text.trim().parse::<usize>() {
-            Ok(number) if (self.min..=self.max).contains(&number) => Ok(number),
-            _ => Err(out_of_range(arg, &text, &self.words())),
+            Ok(number) if self.0.contains(number) => Ok(number),
+            _ => Err(usage_error(self.0.refuse(&flag(arg), &text))),
         }
     }
 }
 
 /// theta_d's positions of a grid, `STEP` or `STEP:GRAZING@FROM`
-/// ([`specula_core::grid::ThetaDSteps`]): both steps in [`GRID_STEP_DEG`], FROM from 0 to
-/// below 90 deg.
+/// ([`specula_core::grid::ThetaDSteps`], checked by [`request::check_theta_d_steps`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ThetaDStepsArg;
 
 impl ThetaDStepsArg {
     /// The range in words, as `--help` and the error say it.
     pub(crate) fn words() -> String {
-        format!(
-            "{}, or STEP:GRAZING@FROM with both steps from {} to {} and FROM from 0 to below 90",
-            GRID_STEP_DEG.words(),
-            GRID_STEP_DEG.min,
-            GRID_STEP_DEG.max
-        )
+        request::theta_d_steps_words()
     }
 }
 
@@ -151,22 +106,23 @@ impl TypedValueParser for ThetaDStepsArg {
         value: &std::ffi::OsStr,
     ) -> Result<ThetaDSteps, clap::Error> {
         let text = value.to_string_lossy();
-        match text.trim().parse::<ThetaDSteps>() {
-            Ok(steps)
-                if GRID_STEP_DEG.contains(steps.step_deg)
-                    && steps
-                        .grazing
-                        .is_none_or(|g| GRID_STEP_DEG.contains(g.step_deg)) =>
-            {
-                Ok(steps)
-            }
-            _ => Err(out_of_range(arg, &text, &Self::words())),
-        }
+        let flag = flag(arg);
+        let steps = text.trim().parse::<ThetaDSteps>().map_err(|_| {
+            usage_error(RangeError {
+                option: flag.clone(),
+                value: text.to_string(),
+                expected: Self::words(),
+            })
+        })?;
+        request::check_theta_d_steps(&flag, steps).map_err(|mut error| {
+            error.value = text.to_string();
+            usage_error(error)
+        })
     }
 }
 
 /// Angles in degrees: a turntable or half-vector azimuth, either way round.
-pub(crate) const AZIMUTH_DEG: Real = Real::from_to(-360.0, 360.0, "degrees");
+pub(crate) const AZIMUTH_DEG: Real = Real(request::AZIMUTH_DEG);
 /// phi_d of MERL's half-difference angles (folded by reciprocity to [0, 180]).
 pub(crate) const PHI_D_DEG: Real = Real::from_to(0.0, 180.0, "degrees");
 /// theta_d, from the half vector: below the horizon at 90.
@@ -174,11 +130,11 @@ pub(crate) const THETA_D_DEG: Real = Real::from_to(0.0, 89.5, "degrees");
 /// A theta_h position.
 pub(crate) const THETA_H_DEG: Real = Real::from_to(0.0, 90.0, "degrees");
 /// A step of a grid in degrees (theta_d, phi_d).
-pub(crate) const GRID_STEP_DEG: Real = Real::from_to(0.5, 90.0, "degrees");
+pub(crate) const GRID_STEP_DEG: Real = Real(request::GRID_STEP_DEG);
 /// An elevation from the normal that bounds the device's reach.
 pub(crate) const ELEVATION_DEG: Real = Real::above(0.0, 90.0, "degrees");
 /// The sample's tilt on the turntable (a misalignment to simulate).
-pub(crate) const TILT_DEG: Real = Real::from_to(0.0, 10.0, "degrees");
+pub(crate) const TILT_DEG: Real = Real(request::TILT_DEG);
 /// k of a theta_h sampling function (the family's own bound is checked as well: base-k
 /// needs k above 1).
 pub(crate) const SAMPLING_K: Real = Real::above(0.0, 100.0, "a number");
@@ -200,9 +156,9 @@ pub(crate) const RESOLUTION_DEG: Real = Real::above(0.0, 90.0, "degrees");
 pub(crate) const EXPOSURE_STOPS: Real = Real::from_to(-20.0, 20.0, "stops");
 
 /// theta_h samples of a measurement's sampling function (the paper: 30; MERL has 90 bins).
-pub(crate) const THETA_H_SAMPLES: Count = Count::from_to(2, 360);
+pub(crate) const THETA_H_SAMPLES: Count = Count(request::THETA_H_SAMPLES);
 /// Samples of a probe (the paper: 90).
-pub(crate) const PROBE_SAMPLES: Count = Count::from_to(2, 10_000);
+pub(crate) const PROBE_SAMPLES: Count = Count(request::PROBE_SAMPLES);
 /// Failures in a row on one request before giving up.
 pub(crate) const FAILURES: Count = Count::from_to(1, 100);
 /// Turntable rotations of the alignment check.
@@ -229,12 +185,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn ranges_read_in_words_and_refuse_nan() {
-        assert_eq!(ELEVATION_DEG.words(), "degrees above 0 and at most 90");
-        assert_eq!(PHI_D_DEG.words(), "degrees from 0 to 180");
-        assert!(!ELEVATION_DEG.contains(0.0) && ELEVATION_DEG.contains(90.0));
-        assert!(!PHI_D_DEG.contains(f64::NAN) && !PHI_D_DEG.contains(400.0));
-        assert_eq!(PROBE_SAMPLES.words(), "a whole number from 2 to 10000");
+    fn the_grid_ranges_are_the_librarys() {
+        assert_eq!(PROBE_SAMPLES.0, request::PROBE_SAMPLES);
+        assert_eq!(ELEVATION_DEG.0.words(), "degrees above 0 and at most 90");
         assert_eq!(
             ThetaDStepsArg::words(),
             "degrees from 0.5 to 90, or STEP:GRAZING@FROM with both steps from 0.5 to 90 and \

@@ -139,6 +139,8 @@ fn bad_input_is_one_line_and_exit_1() {
             "/nonexistent/dir/cal.toml",
         ])
         .assert()
-        .code(1)
-        .stderr(predicate::str::contains("/nonexistent/dir/cal.toml"));
+        .code(2)
+        .stderr(predicate::str::contains(
+            "/nonexistent/dir/cal.toml: its folder /nonexistent/dir does not exist",
+        ));
 }

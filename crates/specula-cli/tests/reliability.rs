@@ -300,5 +300,8 @@ fn absurd_inputs_are_refused_in_one_line_before_allocating() {
         ],
     );
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    one_line_error(&args, &["cam.toml", "gain_dn_s_per_sr[0] must be positive"]);
+    one_line_error(
+        &args,
+        &["cam.toml", "gain_dn_s_per_sr[0] must be from 0.01 to 1e12"],
+    );
 }

@@ -421,7 +421,7 @@ fn small_lies_are_gone() {
 
     // info reads any source, here an RGL-like continuous fit and a samples file.
     let info = ok(&["info", "sgd:chrome-steel"]);
-    assert!(String::from_utf8_lossy(&info.stdout).contains("peak:"));
+    assert!(String::from_utf8_lossy(&info.stdout).contains("peak within 75 deg:"));
     let info = ok(&["info", &text(&d("one.csv"))]);
     assert!(String::from_utf8_lossy(&info.stdout).contains("format: samples .csv"));
 }

@@ -152,9 +152,6 @@ pub enum GridError {
     /// An unknown phi_d span.
     #[error("phi_d span '{0}': expected quarter (0 to 90 deg) or half-turn (0 to 180 deg)")]
     PhiDSpan(String),
-    /// An unknown grid preset.
-    #[error("grid '{0}': expected recommended or paper")]
-    Preset(String),
 }
 
 impl GridSpec {
@@ -267,16 +264,6 @@ impl GridSpec {
         GridSpec {
             unresolved_peak: None,
             ..*self
-        }
-    }
-
-    /// The grid of a preset's name: `recommended` ([`GridSpec::recommended`]) or `paper`
-    /// ([`GridSpec::paper`]).
-    pub fn preset(name: &str) -> Result<Self, GridError> {
-        match name {
-            "recommended" => Ok(Self::recommended()),
-            "paper" => Ok(Self::paper()),
-            other => Err(GridError::Preset(other.to_string())),
         }
     }
 
@@ -572,8 +559,6 @@ mod tests {
             [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0]
         );
         assert_eq!(grid.configurations(), 16 * 50 * 7);
-        assert_eq!(GridSpec::preset("paper"), Ok(GridSpec::paper()));
-        assert!(GridSpec::preset("fine").is_err());
     }
 
     #[test]

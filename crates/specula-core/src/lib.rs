@@ -11,6 +11,8 @@ pub mod geometry;
 pub mod grid;
 pub mod merl;
 pub mod probe;
+pub mod range;
+pub mod request;
 pub mod sample;
 
 pub use brdf::{Brdf, PhiDRow, Rgb};

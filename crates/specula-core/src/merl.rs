@@ -30,6 +30,12 @@ pub const CHANNEL_SCALE: [f64; 3] = [1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0]
 /// Value written for a cell that was not measured.
 pub const NOT_MEASURED: f64 = -1.0;
 
+/// The largest stored value read (f_r up to 6.7e9 1/sr in the red channel, 5.8e9 in green,
+/// 4e9 in blue): a thousand times the largest cell of a perfect mirror's table (electroplated
+/// chrome tabulates to 6e6 1/sr in the smallest theta_h bin), and small enough that sums
+/// over a whole table stay far from overflowing. A larger value is refused at load.
+pub const MAX_STORED_VALUE: f64 = 1e13;
+
 /// Bytes of the header: three `i32` dimensions.
 pub const HEADER_BYTES: usize = 12;
 /// Bytes of a whole file: the header and three planes of `f64`.
@@ -39,10 +45,12 @@ pub const FILE_BYTES: usize = HEADER_BYTES + 3 * CELLS * 8;
 #[derive(Debug, thiserror::Error)]
 pub enum MerlError {
     /// The file cannot be read or written.
-    #[error("{path}: cannot read or write: {cause}")]
+    #[error("{path}: cannot {action}: {}", crate::shown::io_cause(cause))]
     Io {
         /// The file.
         path: PathBuf,
+        /// `read` or `write`.
+        action: &'static str,
         /// Not `source`: the message already holds it, and error chains would print it twice.
         cause: std::io::Error,
     },
@@ -80,7 +88,7 @@ pub enum MerlProblem {
     },
     /// The header's dimensions are not the MERL grid's 90 x 90 x 180.
     #[error(
-        "dimensions {} x {} x {}, expected 90 x 90 x 180 (theta_h, theta_d, phi_d)",
+        "not a MERL file: its header gives dimensions {} x {} x {} where a MERL table has 90 x 90 x 180 (theta_h, theta_d, phi_d)",
         dims[0],
         dims[1],
         dims[2]
@@ -116,6 +124,25 @@ pub enum MerlProblem {
         /// The cell holding it.
         cell: Bin,
     },
+    /// A stored value above [`MAX_STORED_VALUE`].
+    #[error(
+        "value {} in the {channel} channel at cell (theta_h {}, theta_d {}, phi_d {}) is above {MAX_STORED_VALUE:e}, the most a MERL table may hold",
+        crate::shown::shown(*value),
+        cell.theta_h_i,
+        cell.theta_d_i,
+        cell.phi_d_i
+    )]
+    TooLarge {
+        /// The value as stored.
+        value: f64,
+        /// "red", "green" or "blue".
+        channel: &'static str,
+        /// The cell holding it.
+        cell: Bin,
+    },
+    /// Every cell holds a negative value, the format's "not measured".
+    #[error("no measured cell: every cell holds a negative value, the format's \"not measured\"")]
+    NothingMeasured,
 }
 
 /// Cell coordinates `(theta_h_i, theta_d_i, phi_d_i)` of the MERL grid.
@@ -150,12 +177,17 @@ impl Bin {
     /// to degrees), so that angles of whole degrees such as 15 land in bin 15 and not 14; the
     /// boundary rules are [`Bin::of_degrees`]'s.
     pub fn of(hd: HalfDiff) -> Self {
-        use std::f64::consts::{FRAC_PI_2, PI};
-        Self::of_degrees(
-            hd.theta_h / FRAC_PI_2 * THETA_H_BINS as f64,
-            hd.theta_d / FRAC_PI_2 * THETA_D_BINS as f64,
-            hd.phi_d.rem_euclid(PI) / PI * PHI_D_BINS as f64,
-        )
+        let [theta_h_deg, theta_d_deg, phi_d_deg] = reader_degrees(hd);
+        Self::of_degrees(theta_h_deg, theta_d_deg, phi_d_deg)
+    }
+
+    /// The bin of `hd`'s mirror image across the plane of incidence (phi_d to 180 - phi_d,
+    /// the configuration an isotropic material shares with it), with [`Bin::of`]'s
+    /// arithmetic: a configuration on a bin boundary mirrors onto a boundary (45 deg onto
+    /// 135, which starts bin 135).
+    pub fn of_mirror(hd: HalfDiff) -> Self {
+        let [theta_h_deg, theta_d_deg, phi_d_deg] = reader_degrees(hd);
+        Self::of_degrees(theta_h_deg, theta_d_deg, 180.0 - phi_d_deg)
     }
 
     /// The bin of half-difference angles in degrees, by the rules of MERL's reference reader:
@@ -239,6 +271,18 @@ fn stored_values(value: Option<Rgb>) -> [f64; 3] {
         Some(v) => std::array::from_fn(|c| v[c] / CHANNEL_SCALE[c]),
         None => [NOT_MEASURED; 3],
     }
+}
+
+/// The half-difference angles in degrees as MERL's reference reader computes them from
+/// radians (`angle / (pi/2) * 90`, phi_d folded into `[0, 180]` first): `[theta_h, theta_d,
+/// phi_d]`.
+fn reader_degrees(hd: HalfDiff) -> [f64; 3] {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    [
+        hd.theta_h / FRAC_PI_2 * THETA_H_BINS as f64,
+        hd.theta_d / FRAC_PI_2 * THETA_D_BINS as f64,
+        hd.phi_d.rem_euclid(PI) / PI * PHI_D_BINS as f64,
+    ]
 }
 
 /// Centre of theta_h bin `i` in degrees: `(i + 0.5)^2 / 90`.
@@ -368,7 +412,9 @@ impl MerlBrdf {
         table
     }
 
-    /// Reads a `.binary` file, checking its header, its length and every value.
+    /// Reads a `.binary` file, checking its header, its length and every value: each finite
+    /// and at most [`MAX_STORED_VALUE`] (a negative value marks its cell "not measured",
+    /// the format's convention), and at least one cell measured.
     ///
     /// The payload is read straight into the `f64` planes (no intermediate byte buffer) in
     /// parallel units, each checked while it is still in the cache, so reading costs about
@@ -379,6 +425,7 @@ impl MerlBrdf {
         }
         let io_error = |cause| MerlError::Io {
             path: path.to_path_buf(),
+            action: "read",
             cause,
         };
         let mut file = std::fs::File::open(path).map_err(io_error)?;
@@ -388,10 +435,10 @@ impl MerlBrdf {
         check_header(&header[..header_len], length)
             .map_err(|problem| MerlError::invalid(path, problem))?;
         let mut table = Self::unfilled(file_stem(path));
-        let all_finite = table.read_planes(&file).map_err(io_error)?;
-        if !all_finite {
-            return Err(MerlError::invalid(path, table.non_finite_problem()));
-        }
+        let plausible = table.read_planes(&file).map_err(io_error)?;
+        table
+            .check_values(plausible)
+            .map_err(|problem| MerlError::invalid(path, problem))?;
         Ok(table)
     }
 
@@ -406,9 +453,7 @@ impl MerlBrdf {
             .for_each(|(v, c)| {
                 *v = f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])
             });
-        if !all_finite(&table.stored) {
-            return Err(table.non_finite_problem());
-        }
+        table.check_values(all_plausible(&table.stored))?;
         Ok(table)
     }
 
@@ -436,23 +481,44 @@ impl MerlBrdf {
                         .iter_mut()
                         .for_each(|v| *v = f64::from_bits(v.to_bits().swap_bytes()));
                 }
-                Ok(all_finite(values))
+                Ok(all_plausible(values))
             })
             .try_reduce(|| true, |a, b| Ok(a && b))
     }
 
-    /// Where the first non-finite stored value is, in words.
-    fn non_finite_problem(&self) -> MerlProblem {
-        let pos = self
-            .stored
-            .iter()
-            .position(|v| !v.is_finite())
-            .unwrap_or_default();
-        MerlProblem::NonFinite {
-            value: self.stored[pos],
-            channel: ["red", "green", "blue"][pos / CELLS],
-            cell: Bin::from_index(pos % CELLS),
+    /// The one check of a table read from a file: `plausible` (every value finite and at
+    /// most [`MAX_STORED_VALUE`], as [`all_plausible`] found) or the first value that is not,
+    /// and at least one measured cell.
+    fn check_values(&self, plausible: bool) -> Result<(), MerlProblem> {
+        if !plausible {
+            let pos = self
+                .stored
+                .iter()
+                .position(|v| !is_plausible(*v))
+                .unwrap_or_default();
+            let (value, channel, cell) = (
+                self.stored[pos],
+                ["red", "green", "blue"][pos / CELLS],
+                Bin::from_index(pos % CELLS),
+            );
+            return Err(if value.is_finite() {
+                MerlProblem::TooLarge {
+                    value,
+                    channel,
+                    cell,
+                }
+            } else {
+                MerlProblem::NonFinite {
+                    value,
+                    channel,
+                    cell,
+                }
+            });
         }
+        if !(0..CELLS).into_par_iter().any(|i| self.is_measured(i)) {
+            return Err(MerlProblem::NothingMeasured);
+        }
+        Ok(())
     }
 
     /// The bytes of the `.binary` file; cells not measured are written as -1.
@@ -475,6 +541,7 @@ impl MerlBrdf {
     pub fn write(&self, path: &Path) -> Result<(), MerlError> {
         crate::atomic_file::write_bytes(path, &self.to_bytes()).map_err(|cause| MerlError::Io {
             path: path.to_path_buf(),
+            action: "write",
             cause,
         })
     }
@@ -632,9 +699,15 @@ fn allocate_planes() -> Vec<f64> {
 /// the cache when it is checked.
 const READ_UNIT_VALUES: usize = 8192;
 
-/// Whether no value is infinite or NaN.
-fn all_finite(values: &[f64]) -> bool {
-    values.iter().fold(true, |finite, v| finite & v.is_finite())
+/// Whether a stored value is finite and at most [`MAX_STORED_VALUE`].
+fn is_plausible(value: f64) -> bool {
+    value.is_finite() && value <= MAX_STORED_VALUE
+}
+
+/// Whether every value [`is_plausible`] (one pass without branches, so that checking costs
+/// next to nothing beside reading).
+fn all_plausible(values: &[f64]) -> bool {
+    values.iter().fold(true, |ok, v| ok & is_plausible(*v))
 }
 
 /// Fills `buffer` from `file` at byte `offset`, without moving a shared cursor.
@@ -821,6 +894,9 @@ mod tests {
         let through_radians = |d: f64| Bin::of(HalfDiff::from_degrees(1.0, 0.0, d, d));
         assert_eq!(through_radians(15.0), Bin::of_degrees(1.0, 15.0, 15.0));
         assert_eq!(through_radians(39.0), Bin::of_degrees(1.0, 38.5, 38.5));
+        // The mirror of a boundary is a boundary; of a bin's inside, the mirror bin 179 - k.
+        let mirror = |d: f64| Bin::of_mirror(HalfDiff::from_degrees(1.0, 0.0, 40.0, d)).phi_d_i;
+        assert_eq!((mirror(45.0), mirror(45.5), mirror(0.0)), (135, 134, 0));
     }
 
     #[test]
@@ -938,5 +1014,41 @@ mod tests {
         bytes[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
         let err = MerlBrdf::from_bytes("x", &bytes).unwrap_err().to_string();
         assert!(err.contains("non-finite") && err.contains("green"), "{err}");
+    }
+
+    #[test]
+    fn absurd_values_and_text_files_are_refused_at_load() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.binary");
+        let mut bytes = sample_table().to_bytes();
+        let at = HEADER_BYTES + 8 * (2 * CELLS + 181);
+        bytes[at..at + 8].copy_from_slice(&1e308f64.to_le_bytes());
+        std::fs::write(&path, &bytes).unwrap();
+        let err = MerlBrdf::read(&path).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            format!(
+                "{}: value 1e308 in the blue channel at cell (theta_h 0, theta_d 1, phi_d 1) is above 1e13, the most a MERL table may hold",
+                path.display()
+            )
+        );
+        let negative: Vec<u8> = bytes[..HEADER_BYTES]
+            .iter()
+            .copied()
+            .chain((0..3 * CELLS).flat_map(|_| (-2.5f64).to_le_bytes()))
+            .collect();
+        std::fs::write(&path, &negative).unwrap();
+        let err = MerlBrdf::read(&path).unwrap_err().to_string();
+        assert!(err.ends_with("no measured cell: every cell holds a negative value, the format's \"not measured\""), "{err}");
+        std::fs::write(&path, "a text file, not a table\n".repeat(100)).unwrap();
+        let err = MerlBrdf::read(&path).unwrap_err().to_string();
+        assert!(err.contains(": not a MERL file: "), "{err}");
+        let err = MerlBrdf::read(&dir.path().join("none.binary"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.ends_with("none.binary: cannot read: no such file"),
+            "{err}"
+        );
     }
 }

@@ -18,6 +18,7 @@ use crate::rgl::{RglBsdf, RglResolution, RglTables};
 use crate::samples_csv::SampleSet;
 use crate::utia::{self, UtiaBrdf};
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
+use specula_core::request::{parse_choice, ChoiceError};
 use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, HalfDiff, Sample};
 use std::io::Read;
@@ -177,6 +178,38 @@ pub enum CsvGrid {
     Merl,
     /// The 82,944 UTIA nodes.
     Utia,
+}
+
+impl CsvGrid {
+    /// `merl` or `utia`.
+    pub fn name(self) -> &'static str {
+        match self {
+            CsvGrid::Merl => "merl",
+            CsvGrid::Utia => "utia",
+        }
+    }
+}
+
+impl std::str::FromStr for CsvGrid {
+    type Err = ChoiceError;
+
+    /// [`CsvGrid::name`].
+    fn from_str(text: &str) -> Result<Self, ChoiceError> {
+        parse_choice(
+            "grid",
+            text,
+            &[CsvGrid::Merl, CsvGrid::Utia],
+            &["merl", "utia"],
+            CsvGrid::name,
+        )
+    }
+}
+
+impl std::fmt::Display for CsvGrid {
+    /// [`CsvGrid::name`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// Choices of a conversion.

@@ -3,7 +3,7 @@
 //! Header `theta_i,phi_i,theta_o,phi_o`, angles in degrees, one pair a row: theta from 0 to
 //! 180 (above 90 a direction is below the horizon, where f_r is 0), phi from -360 to 360.
 
-use crate::input::{csv_error, file_error, Result};
+use crate::input::{csv_error, file_error, open_csv, Result};
 use glam::DVec3;
 use specula_core::Spherical;
 use std::path::Path;
@@ -59,8 +59,7 @@ impl DirectionPair {
 /// Every pair of the file, each row read and its angles checked before any is returned;
 /// errors name the file and the row.
 pub fn read_direction_pairs(path: &Path) -> Result<Vec<DirectionPair>> {
-    let mut reader =
-        csv::Reader::from_path(path).map_err(|cause| csv_error(path, "cannot open", cause))?;
+    let mut reader = open_csv(path)?;
     let mut pairs = Vec::new();
     for (row, record) in reader.deserialize::<DirectionPair>().enumerate() {
         let line = row + 2;
@@ -114,6 +113,25 @@ mod tests {
         let err = read_direction_pairs(&dir.path().join("none.csv"))
             .unwrap_err()
             .to_string();
-        assert!(err.contains("none.csv: cannot open"), "{err}");
+        assert!(
+            err.ends_with("none.csv: cannot read: no such file"),
+            "{err}"
+        );
+        for endless in [
+            "theta_i".repeat(100_000),
+            format!("theta_i,phi_i,theta_o,phi_o\n{}", "9".repeat(100_000)),
+        ] {
+            std::fs::write(&path, endless).unwrap();
+            let err = read_direction_pairs(&path).unwrap_err().to_string();
+            assert!(
+                err.contains("is longer than 65536 bytes, the most a line may hold")
+                    && err.len() < 300,
+                "{err}"
+            );
+        }
+        let err = read_direction_pairs(Path::new("/dev/zero"))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("line 1 is longer than 65536 bytes"), "{err}");
     }
 }

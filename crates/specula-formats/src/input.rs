@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, thiserror::Error)]
 pub enum FormatError {
     /// A file that cannot be opened, read or written.
-    #[error("{path}: cannot {action}: {cause}")]
+    #[error("{path}: cannot {action}: {}", specula_core::shown::io_cause(cause))]
     Io {
         /// The file.
         path: PathBuf,
@@ -233,6 +233,21 @@ pub fn read_input(path: &Path) -> Result<Vec<u8>> {
         .map_err(|cause| io_error(path, "read", cause))
 }
 
+/// A CSV input file opened for reading row by row within
+/// [`specula_core::bounded_read::CSV_LIMITS`] (a line too long or a file too large is an
+/// error of the read, not memory), its header read: the error names the file.
+pub fn open_csv(path: &Path) -> Result<csv::Reader<impl std::io::Read>> {
+    let file = open_input(path)?;
+    let mut reader = csv::Reader::from_reader(specula_core::bounded_read::BoundedText::new(
+        std::io::BufReader::new(file),
+        specula_core::bounded_read::CSV_LIMITS,
+    ));
+    reader
+        .headers()
+        .map_err(|cause| csv_error(path, "cannot read the header", cause))?;
+    Ok(reader)
+}
+
 /// An input file opened for streaming, once its size (at most [`MAX_INPUT_BYTES`]) is known.
 pub fn open_input(path: &Path) -> Result<std::fs::File> {
     if path.is_dir() {
@@ -300,7 +315,10 @@ mod tests {
         assert!(err.contains("is a directory") && err.contains(&dir.path().display().to_string()));
         let missing = dir.path().join("nothing.bsdf");
         let err = read_input(&missing).unwrap_err().to_string();
-        assert!(err.starts_with(&missing.display().to_string()) && err.contains("cannot read"));
+        assert_eq!(
+            err,
+            format!("{}: cannot read: no such file", missing.display())
+        );
         assert!(!err.contains('\n'));
         assert_eq!(file_stem(Path::new("/a/b/gold.binary")), "gold");
     }

@@ -10,6 +10,7 @@
 use crate::input::argument_error;
 use crate::input::{csv_error, file_error, measured_file, read_input, Malformed, Result};
 use glam::DVec3;
+use specula_core::bounded_read::{BoundedText, CSV_LIMITS};
 use specula_core::brdf::both_above_surface;
 use specula_core::{Brdf, Rgb};
 use std::f64::consts::PI;
@@ -68,7 +69,7 @@ impl Lafortune {
     /// Every fit of a table file (columns `index, material, rho_d_r..b, rho_s_r..b, C_xy, C_z, n`).
     pub fn read_table(path: &Path) -> Result<Vec<Self>> {
         let bytes = read_input(path)?;
-        let mut reader = csv::Reader::from_reader(bytes.as_slice());
+        let mut reader = csv::Reader::from_reader(BoundedText::new(bytes.as_slice(), CSV_LIMITS));
         let mut fits = Vec::new();
         for (i, row) in reader.deserialize::<Row>().enumerate() {
             let row = row.map_err(|e| csv_error(path, format!("row {}", i + 2), e))?;

@@ -26,6 +26,7 @@ use specula_core::materials::conductor::RoughConductor;
 use specula_core::materials::microfacet::IsotropicCosines;
 use specula_core::materials::{Base, Distribution, Material};
 use specula_core::merl::{Bin, MerlBrdf, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::request::{parse_choice, ChoiceError};
 use specula_core::scattering::fresnel::conductor_index_from_reflectivity;
 use specula_core::tabulate::tabulate;
 use specula_core::Rgb;
@@ -97,6 +98,60 @@ impl FitModel {
             }
         };
         Material::new(name, base)
+    }
+}
+
+/// Which models a fit tries, by the name the front ends give: `conductor`, `coat` or `both`
+/// (the better one is exported).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FitChoice {
+    /// [`FitModel::Conductor`] alone.
+    Conductor,
+    /// [`FitModel::Coat`] alone.
+    Coat,
+    /// Both models.
+    Both,
+}
+
+impl FitChoice {
+    /// `conductor`, `coat` or `both`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FitChoice::Conductor => "conductor",
+            FitChoice::Coat => "coat",
+            FitChoice::Both => "both",
+        }
+    }
+
+    /// The models fitted.
+    pub fn models(self) -> &'static [FitModel] {
+        match self {
+            FitChoice::Conductor => &[FitModel::Conductor],
+            FitChoice::Coat => &[FitModel::Coat],
+            FitChoice::Both => &[FitModel::Conductor, FitModel::Coat],
+        }
+    }
+}
+
+impl std::str::FromStr for FitChoice {
+    type Err = ChoiceError;
+
+    /// [`FitChoice::name`].
+    fn from_str(text: &str) -> Result<Self, ChoiceError> {
+        parse_choice(
+            "model",
+            text,
+            &[FitChoice::Conductor, FitChoice::Coat, FitChoice::Both],
+            &["conductor", "coat", "both"],
+            FitChoice::name,
+        )
+    }
+}
+
+impl std::fmt::Display for FitChoice {
+    /// [`FitChoice::name`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 

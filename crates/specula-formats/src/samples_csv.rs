@@ -13,6 +13,7 @@
 use crate::input::{file_error, file_stem, io_error, open_input, Malformed, Result};
 use glam::DVec3;
 use specula_core::merl::{Bin, CELLS};
+use specula_core::shown::excerpt;
 use specula_core::{Brdf, HalfDiff, MerlBrdf, Rgb, Sample};
 use std::io::Write;
 use std::path::Path;
@@ -100,6 +101,10 @@ impl SampleSet {
     /// Parses the text of a samples CSV file, streamed; the error says which row is wrong and
     /// why.
     pub fn from_csv(name: impl Into<String>, text: impl std::io::Read) -> Result<Self, Malformed> {
+        let text = specula_core::bounded_read::BoundedText::new(
+            text,
+            specula_core::bounded_read::CSV_LIMITS,
+        );
         let mut reader = csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .from_reader(text);
@@ -110,7 +115,7 @@ impl SampleSet {
         if header.iter().ne(HEADER.iter().copied()) {
             return Err(format!(
                 "header is '{}', expected '{}'",
-                header.iter().collect::<Vec<_>>().join(","),
+                excerpt(&header.iter().collect::<Vec<_>>().join(",")),
                 HEADER.join(",")
             )
             .into());
@@ -304,5 +309,17 @@ mod tests {
             assert!(err.contains(expected), "{text:?}: {err}");
             assert!(!err.contains('\n'), "{err}");
         }
+        let long_header = format!("theta_h,{}\x1b\n1\n", "x".repeat(60_000));
+        let err = SampleSet::from_csv("bad", long_header.as_bytes()).unwrap_err();
+        assert!(err.len() < 200 && !err.contains('\x1b'), "{err}");
+        let long_row = format!(
+            "theta_h,phi_h,theta_d,phi_d,r,g,b\n{}\n",
+            "1".repeat(200_000)
+        );
+        let err = SampleSet::from_csv("bad", long_row.as_bytes()).unwrap_err();
+        assert!(
+            err.contains("line 2 is longer than 65536 bytes") && err.len() < 200,
+            "{err}"
+        );
     }
 }

@@ -16,10 +16,11 @@
 //! Specula writes cells it has no measurement for as -1, like MERL, and leaves negative nodes
 //! out of the interpolation (renormalising the weights of the others), `None` if all are out.
 
-use crate::input::{file_error, file_stem, io_error, read_input, Malformed, Result};
+use crate::input::{file_error, file_stem, io_error, open_input, read_input, Malformed, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 use specula_core::brdf::both_above_surface;
+use specula_core::shown::shown;
 use specula_core::{Brdf, Rgb, Spherical};
 use std::path::Path;
 
@@ -37,6 +38,11 @@ pub const THETA_MAX_DEG: f64 = THETA_STEP_DEG * (THETA_COUNT - 1) as f64;
 pub const NODES: usize = THETA_COUNT * PHI_COUNT * THETA_COUNT * PHI_COUNT;
 /// Size of a file in bytes.
 pub const FILE_BYTES: usize = 3 * NODES * 8;
+/// The largest value read, f_r in 1/sr: the bound of a MERL table
+/// ([`specula_core::merl::MAX_STORED_VALUE`]) in the units of this format, far above any
+/// real node (a mirror's peak on this 7.5 deg grid is tens of 1/sr) and small enough that
+/// sums stay finite. A larger value is refused at load.
+pub const MAX_VALUE_PER_SR: f64 = 1e10;
 /// Value written for a node that was not measured.
 pub const NOT_MEASURED: f64 = -1.0;
 
@@ -115,56 +121,82 @@ impl UtiaBrdf {
         }
     }
 
-    /// Reads a `.bin` file; the error names the file and the problem.
+    /// Reads a `.bin` file; the error names the file and the problem. A file longer than a
+    /// table is refused by its size, before it is read.
     pub fn read(path: &Path) -> Result<Self> {
+        let size = open_input(path)?
+            .metadata()
+            .map_err(|cause| io_error(path, "read", cause))?
+            .len();
+        if size > FILE_BYTES as u64 {
+            return Err(file_error(path, length_problem(size, &[])));
+        }
         let bytes = read_input(path)?;
         Self::from_bytes(file_stem(path), &bytes).map_err(|problem| file_error(path, problem))
     }
 
-    /// Parses the bytes of a `.bin` file; the error says what is wrong.
+    /// Parses the bytes of a `.bin` file; the error says what is wrong. Every value must be
+    /// finite and at most [`MAX_VALUE_PER_SR`] (a negative one marks its node not measured),
+    /// and at least one node measured.
     pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, Malformed> {
         if bytes.len() != FILE_BYTES {
-            let kind = if bytes.len() < FILE_BYTES {
-                "truncated"
-            } else {
-                "over-long"
-            };
-            let looks_like = if bytes.starts_with(crate::rgl::MAGIC) {
-                " (it starts like an RGL .bsdf tensor file)"
-            } else if bytes.len() >= 12 && bytes[..12] == merl_header() {
-                " (it starts with a MERL .binary header)"
-            } else {
-                ""
-            };
-            return Err(format!(
-                "{kind}: {} bytes, a UTIA BRDF file has {FILE_BYTES} (3 x 6 x 48 x 6 x 48 f64){looks_like}",
-                bytes.len()
-            )
-            .into());
+            return Err(length_problem(bytes.len() as u64, bytes));
         }
         let values: Vec<f64> = bytes
             .chunks_exact(8)
             .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
             .collect();
-        if let Some(pos) = values.iter().position(|v| !v.is_finite()) {
+        let plausible = |v: &f64| v.is_finite() && *v <= MAX_VALUE_PER_SR;
+        if let Some(pos) = values.iter().position(|v| !plausible(v)) {
             let node = Node::from_index(pos % NODES);
+            let [theta_i, phi_i, theta_v, phi_v] = node.angles_deg();
+            let value = values[pos];
+            let what = if value.is_finite() {
+                format!(
+                    "value {} above {MAX_VALUE_PER_SR:e} 1/sr, the most a UTIA table may hold,",
+                    shown(value)
+                )
+            } else {
+                format!("non-finite value {value}")
+            };
             return Err(format!(
-                "non-finite value {} in the {} channel at theta_i {} phi_i {} theta_v {} phi_v {} deg",
-                values[pos],
+                "{what} in the {} channel at theta_i {theta_i} phi_i {phi_i} theta_v {theta_v} phi_v {phi_v} deg",
                 ["red", "green", "blue"][pos / NODES],
-                node.theta_i as f64 * THETA_STEP_DEG,
-                node.phi_i as f64 * PHI_STEP_DEG,
-                node.theta_v as f64 * THETA_STEP_DEG,
-                node.phi_v as f64 * PHI_STEP_DEG,
             )
             .into());
         }
-        Ok(Self {
+        let table = Self {
             name: name.into(),
             values,
-        })
+        };
+        if table.measured_count() == 0 {
+            return Err(
+                "no measured node: every node holds a negative value, \"not measured\"".into(),
+            );
+        }
+        Ok(table)
     }
+}
 
+/// What is wrong with a file of `len` bytes (not [`FILE_BYTES`]) starting with `start`.
+fn length_problem(len: u64, start: &[u8]) -> Malformed {
+    let kind = if len < FILE_BYTES as u64 {
+        "truncated"
+    } else {
+        "over-long"
+    };
+    let looks_like = if start.starts_with(crate::rgl::MAGIC) {
+        " (it starts like an RGL .bsdf tensor file)"
+    } else if start.len() >= 12 && start[..12] == merl_header() {
+        " (it starts with a MERL .binary header)"
+    } else {
+        ""
+    };
+    format!("{kind}: {len} bytes, a UTIA BRDF file has {FILE_BYTES} (3 x 6 x 48 x 6 x 48 f64){looks_like}")
+        .into()
+}
+
+impl UtiaBrdf {
     /// The bytes of the `.bin` file.
     pub fn to_bytes(&self) -> Vec<u8> {
         self.values.iter().flat_map(|v| v.to_le_bytes()).collect()

@@ -144,3 +144,27 @@ fn bad_files_are_described() {
         "{err}"
     );
 }
+
+#[test]
+fn absurd_values_are_refused_at_load() {
+    let mut huge = index_table().to_bytes();
+    huge[8 * 5..8 * 6].copy_from_slice(&1e308f64.to_le_bytes());
+    let err = UtiaBrdf::from_bytes("x", &huge).unwrap_err();
+    assert_eq!(
+        err.0,
+        "value 1e308 above 1e10 1/sr, the most a UTIA table may hold, in the red channel at theta_i 0 phi_i 0 theta_v 0 phi_v 37.5 deg"
+    );
+    let negative: Vec<u8> = (0..3 * NODES)
+        .flat_map(|_| (-3.0f64).to_le_bytes())
+        .collect();
+    let err = UtiaBrdf::from_bytes("x", &negative).unwrap_err();
+    assert!(err.starts_with("no measured node"), "{err}");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("long.bin");
+    std::fs::File::create(&path)
+        .unwrap()
+        .set_len(100 << 20)
+        .unwrap();
+    let err = UtiaBrdf::read(&path).unwrap_err().to_string();
+    assert!(err.contains("over-long: 104857600 bytes"), "{err}");
+}

@@ -3,11 +3,8 @@
 use crate::errors::{invalid, OrRaise};
 use crate::table::{table_of, to_array};
 use glam::DVec3;
-use numpy::ndarray::{Array2, ArrayD, ArrayViewD, CowArray, Ix2, IxDyn};
-use numpy::{
-    AllowTypeChange, IntoPyArray, PyArray2, PyArray4, PyArrayDyn, PyArrayLike2, PyArrayLikeDyn,
-    PyReadonlyArray4,
-};
+use numpy::ndarray::{ArrayD, ArrayView2, ArrayViewD, Axis, CowArray, Ix2, IxDyn};
+use numpy::{AllowTypeChange, IntoPyArray, PyArray4, PyArrayDyn, PyArrayLikeDyn, PyReadonlyArray4};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -43,30 +40,42 @@ impl PyBrdf {
     }
 
     /// f_r (1/sr) at direction pairs: `wi` (towards the light) and `wo` (towards the camera)
-    /// are `(N, 3)` arrays of unit vectors in the sample frame (z along the normal); returns
-    /// an `(N, 3)` array of R, G, B. Runs in parallel without the GIL; C-contiguous float64
-    /// inputs are read in place. A row whose length is not within 1e-6 of 1 (NaN included)
-    /// raises `SpeculaError` naming the first.
+    /// are `(N, 3)` arrays of unit vectors in the sample frame (z along the normal), or one
+    /// direction each as `(3,)`; returns an `(N, 3)` array of R, G, B, or `(3,)` for one
+    /// pair. Runs in parallel without the GIL; C-contiguous float64 inputs are read in
+    /// place. A row whose length is not within 1e-6 of 1 (NaN included) raises
+    /// `SpeculaError` naming the first.
     fn eval<'py>(
         &self,
         py: Python<'py>,
-        wi: PyArrayLike2<'py, f64, AllowTypeChange>,
-        wo: PyArrayLike2<'py, f64, AllowTypeChange>,
-    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        wi: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
+        wo: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let (wi, wo) = (wi.as_array(), wo.as_array());
-        if wi.ncols() != 3 || wo.ncols() != 3 || wi.nrows() != wo.nrows() {
-            return Err(invalid(format!(
-                "wi and wo must be (N, 3) arrays of the same N, got {:?} and {:?}",
+        let one_pair = wi.ndim() == 1 && wo.ndim() == 1;
+        let shapes = || {
+            invalid(format!(
+                "wi and wo must be (3,) directions or (N, 3) arrays of the same N, got {:?} and {:?}",
                 wi.shape(),
                 wo.shape()
-            )));
+            ))
+        };
+        let (Some(wi), Some(wo)) = (direction_rows(&wi), direction_rows(&wo)) else {
+            return Err(shapes());
+        };
+        if wi.nrows() != wo.nrows() {
+            return Err(shapes());
         }
         let (wi, wo) = (wi.as_standard_layout(), wo.as_standard_layout());
         let (wi, wo) = (directions(&wi), directions(&wo));
         let brdf = self.inner.as_ref();
         let values = py.detach(|| eval_pairs(brdf, wi, wo))?;
-        let n = values.len() / 3;
-        Ok(Array2::from_shape_vec((n, 3), values)
+        let shape = if one_pair {
+            vec![3]
+        } else {
+            vec![values.len() / 3, 3]
+        };
+        Ok(ArrayD::from_shape_vec(IxDyn(&shape), values)
             .expect("3 values per pair")
             .into_pyarray(py))
     }
@@ -149,6 +158,21 @@ const PAIRS_PER_CALL: usize = 256;
 /// The rows of a standard-layout `(N, 3)` array as vectors, in place.
 fn directions<'a>(rows: &'a CowArray<'_, f64, Ix2>) -> &'a [DVec3] {
     bytemuck::cast_slice(rows.as_slice().expect("standard layout"))
+}
+
+/// Directions as rows: a `(3,)` array as one row, an `(N, 3)` array as it is; `None` for
+/// any other shape.
+fn direction_rows<'a>(array: &'a ArrayViewD<'a, f64>) -> Option<ArrayView2<'a, f64>> {
+    let rows = match array.ndim() {
+        1 => array
+            .view()
+            .insert_axis(Axis(0))
+            .into_dimensionality::<Ix2>()
+            .ok()?,
+        2 => array.view().into_dimensionality::<Ix2>().ok()?,
+        _ => return None,
+    };
+    (rows.ncols() == 3).then_some(rows)
 }
 
 /// f_r at the direction pairs `(wi[k], wo[k])`, R, G, B a row, NaN where the BRDF does not

@@ -10,7 +10,9 @@
 mod appearance;
 mod brdf;
 mod errors;
+mod export;
 mod interrupt;
+mod picture;
 mod plan;
 mod reconstruction;
 mod sampling;
@@ -22,11 +24,16 @@ use pyo3::prelude::*;
 /// The native module; `python/specula/__init__.py` re-exports it as `specula`.
 #[pymodule]
 fn _specula(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("SpeculaError", m.py().get_type::<errors::SpeculaError>())?;
     m.add_class::<brdf::PyBrdf>()?;
     m.add_function(wrap_pyfunction!(brdf::load, m)?)?;
     m.add_function(wrap_pyfunction!(brdf::compare, m)?)?;
     m.add_function(wrap_pyfunction!(brdf::materials, m)?)?;
+    m.add_function(wrap_pyfunction!(export::convert, m)?)?;
+    m.add_function(wrap_pyfunction!(export::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(picture::render, m)?)?;
+    m.add_function(wrap_pyfunction!(picture::report, m)?)?;
     m.add_function(wrap_pyfunction!(appearance::appearance, m)?)?;
     m.add_function(wrap_pyfunction!(table::read_merl, m)?)?;
     m.add_function(wrap_pyfunction!(table::write_merl, m)?)?;

@@ -10,8 +10,10 @@ use specula_accuracy::GridPlan;
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::grid::{GridOverrides, GridSpec, PhiDSpan, ThetaDSteps};
+use specula_core::request::{GridPreset, GridRequest};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::Spherical;
+use specula_session::workflow::PlanOrder;
 use std::path::PathBuf;
 
 /// The options of a measurement grid shared by `plan`, `evaluate` and `measure` (the CLI's
@@ -34,50 +36,47 @@ pub(crate) struct GridArgs<'a, 'py> {
 }
 
 impl Grid {
-    /// The grid of the arguments given, from `grid_preset`, else `resumed` (a session's own
-    /// grid), else [`GridSpec::recommended`]; checked ([`GridSpec::check`]).
-    /// `theta_d_step_deg` is a number (an even step) or a str `"STEP:GRAZING@FROM"`.
+    /// The grid of the arguments given ([`GridRequest::grid`]): from `grid_preset`, else
+    /// `resumed` (a session's own grid), else [`GridSpec::recommended`]; every range checked
+    /// as the CLI checks it. `theta_d_step_deg` is a number (an even step) or a str
+    /// `"STEP:GRAZING@FROM"`.
     pub(crate) fn new(args: &GridArgs<'_, '_>, resumed: Option<GridSpec>) -> PyResult<Self> {
-        let base = match (args.grid_preset, resumed) {
-            (Some(name), _) => GridSpec::preset(name).or_raise()?,
-            (None, Some(grid)) => grid,
-            (None, None) => GridSpec::recommended(),
-        };
-        let theta_d = args.theta_d_step_deg.map(theta_d_steps).transpose()?;
-        let spec = base.with(&GridOverrides {
-            theta_h_samples: args.theta_h_samples,
-            theta_d,
-            phi_d_step_deg: args.phi_d_step_deg,
-            phi_d_span: args
-                .phi_d_span
-                .map(|name| name.parse::<PhiDSpan>())
+        let request = GridRequest {
+            preset: args
+                .grid_preset
+                .map(str::parse::<GridPreset>)
                 .transpose()
                 .or_raise()?,
-            phi_h_deg: args.phi_h_deg,
-        });
-        spec.check().or_raise()?;
+            overrides: GridOverrides {
+                theta_h_samples: args.theta_h_samples,
+                theta_d: args.theta_d_step_deg.map(theta_d_steps).transpose()?,
+                phi_d_step_deg: args.phi_d_step_deg,
+                phi_d_span: args
+                    .phi_d_span
+                    .map(str::parse::<PhiDSpan>)
+                    .transpose()
+                    .or_raise()?,
+                phi_h_deg: args.phi_h_deg,
+            },
+        };
         Ok(Self {
             family: family(args.family)?,
-            spec,
+            spec: request.grid(resumed).or_raise()?,
         })
     }
 }
 
-/// theta_d's steps from a number (an even step, degrees) or a str (`"3"`, `"3:1@60"`).
+/// theta_d's steps from a number (an even step, degrees) or a str (`"3"`, `"3:1@60"`); the
+/// ranges are checked with the rest of the request.
 fn theta_d_steps(value: &Bound<'_, PyAny>) -> PyResult<ThetaDSteps> {
-    let steps = match value.extract::<f64>() {
-        Ok(step_deg) => {
-            let steps = ThetaDSteps::even(step_deg);
-            steps.check().or_raise()?;
-            steps
-        }
+    match value.extract::<f64>() {
+        Ok(step_deg) => Ok(ThetaDSteps::even(step_deg)),
         Err(_) => value
             .extract::<String>()
             .map_err(|_| invalid("theta_d_step_deg must be a number of degrees or a str STEP:GRAZING@FROM, e.g. '3:1@60'"))?
             .parse::<ThetaDSteps>()
-            .or_raise()?,
-    };
-    Ok(steps)
+            .or_raise(),
+    }
 }
 
 /// The device description at `path`, or the paper's UTIA gonioreflectometer.
@@ -148,15 +147,7 @@ pub(crate) fn plan<'py>(
             list
         }
     };
-    let optimized = match order {
-        "optimized" => true,
-        "nested" => false,
-        other => {
-            return Err(invalid(format!(
-                "order must be 'optimized' or 'nested', got '{other}'"
-            )))
-        }
-    };
+    let optimized = order.parse::<PlanOrder>().or_raise()? == PlanOrder::Optimized;
     let device = self::device(device)?;
     let grid = GridPlan::on(theta_h, &grid.spec);
     let (chosen, nested_summary, optimized_summary) =

@@ -11,10 +11,8 @@ use numpy::ndarray::Array3;
 use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
-use specula_accuracy::{evaluate as evaluate_samples, Measurement, PlanSettings, ThetaHPlacement};
+use specula_accuracy::{Measurement, PlacementChoice, PlanSettings};
 use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
-use specula_core::sampling::SamplingFunction;
-use specula_core::tabulate::tabulate;
 use specula_core::{HalfDiff, Sample};
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
@@ -155,7 +153,9 @@ pub(crate) fn reconstruct<'py>(
 /// probe; theta_d and phi_d in steps at `phi_h_deg`, the grid arguments as `plan`'s (default
 /// the recommended grid) — keep the samples `device` reaches, take them without noise,
 /// reconstruct with `method` (by halves of phi_d when the samples measure both) and compare
-/// with the truth tabulated at the bin centres.
+/// with the truth tabulated at the bin centres. With `through_instrument=True` the samples
+/// are taken through the device's response (the light's disk blurs them) and the method
+/// reconstructs through it, as `specula evaluate --through-instrument`.
 ///
 /// Returns `{"name", "k" (None for the probe placement), "measured", "within", "all",
 /// "samples"}`: the figures as `compare`'s, over the cells within `max_elevation_deg` and
@@ -164,7 +164,7 @@ pub(crate) fn reconstruct<'py>(
 #[pyo3(signature = (truth, method = "lobe", k = None, placement = "function",
     family = "exponential", grid_preset = None, theta_h_samples = None, theta_d_step_deg = None,
     phi_d_step_deg = None, phi_d_span = None, phi_h_deg = None, max_elevation_deg = 75.0,
-    device = None))]
+    device = None, through_instrument = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate<'py>(
     py: Python<'py>,
@@ -181,6 +181,7 @@ pub(crate) fn evaluate<'py>(
     phi_h_deg: Option<f64>,
     max_elevation_deg: f64,
     device: Option<PathBuf>,
+    through_instrument: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let method = self::method(method)?;
     check_elevation(max_elevation_deg)?;
@@ -196,18 +197,11 @@ pub(crate) fn evaluate<'py>(
         },
         None,
     )?;
-    let placement = match (placement, k) {
-        ("function", Some(k)) => {
-            ThetaHPlacement::Function(SamplingFunction::new(grid.family, k).or_raise()?)
-        }
-        ("function", None) => ThetaHPlacement::FittedFunction(grid.family),
-        ("probe", _) => ThetaHPlacement::Probe,
-        (other, _) => {
-            return Err(invalid(format!(
-                "placement must be 'function' or 'probe', got '{other}'"
-            )))
-        }
-    };
+    let placement = placement
+        .parse::<PlacementChoice>()
+        .or_raise()?
+        .placement(grid.family, k)
+        .or_raise()?;
     let settings = PlanSettings {
         placement,
         grid: grid.spec,
@@ -216,18 +210,18 @@ pub(crate) fn evaluate<'py>(
     let device = self::device(device)?;
     let (name, k, samples, accuracy) = interrupt::run(py, Stop::Abandon, move |_| {
         let name = truth.name();
-        let measurement = Measurement::simulate(truth.as_ref(), &settings, &device)?;
-        let table = tabulate(truth.as_ref(), settings.grid.phi_h_deg.to_radians());
-        let (_, accuracy) =
-            evaluate_samples(&measurement.samples, method, &table, max_elevation_deg).map_err(
-                |e| {
-                    format!(
-                        "{name}: reconstructing {} samples: {}",
-                        measurement.samples.len(),
-                        one_line(&e)
-                    )
-                },
-            )?;
+        let response = through_instrument.then(|| device.response());
+        let measurement =
+            Measurement::simulate_through(truth.as_ref(), &settings, &device, response.as_ref())?;
+        let accuracy = measurement
+            .accuracy(truth.as_ref(), method, max_elevation_deg, response.as_ref())
+            .map_err(|e| {
+                format!(
+                    "{name}: reconstructing {} samples: {}",
+                    measurement.samples.len(),
+                    one_line(&e)
+                )
+            })?;
         Ok::<_, Box<dyn std::error::Error + Send + Sync>>((
             name,
             measurement.k,

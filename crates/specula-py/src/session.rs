@@ -9,14 +9,15 @@ use crate::sampling::probe_dict;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use specula_core::request::ProbeRequest;
 use specula_core::ProbeSpec;
 use specula_reconstruct::Method;
 use specula_sampling::Probe;
 use specula_session::journal::{Journal, SourceRecord};
 use specula_session::workflow::{
     default_session_path, measure as run_measurement, measured_samples, probe_samples,
-    session_grid, FitRecord, HdrChoice, MeasureOutcome, MeasureSettings, PlanOrder, Quiet, Source,
-    Summary, STAGE_MAIN, STAGE_PROBE,
+    session_grid, FitRecord, MeasureOutcome, MeasureSettings, Quiet, Source, Summary, STAGE_MAIN,
+    STAGE_PROBE,
 };
 use std::path::PathBuf;
 
@@ -78,42 +79,23 @@ pub(crate) fn measure<'py>(
         },
         session_grid(&session).or_raise()?,
     )?;
-    let probe_samples = probe_samples.unwrap_or(ProbeSpec::paper().samples);
-    if probe_samples < 2 {
-        return Err(invalid("probe_samples must be at least 2"));
-    }
-    if !tilt_deg.is_finite() || !tilt_azimuth_deg.is_finite() {
-        return Err(invalid(
-            "tilt_deg and tilt_azimuth_deg must be numbers of degrees",
-        ));
-    }
+    let probe = ProbeRequest {
+        samples: probe_samples.unwrap_or(ProbeSpec::paper().samples),
+        tilt_deg,
+        tilt_azimuth_deg,
+    };
+    probe.validate().or_raise()?;
     let method: Method = method.parse().map_err(invalid)?;
     let settings = MeasureSettings {
         deblur,
         seed,
         ideal,
         point_light,
-        probe_samples,
+        probe_samples: probe.samples,
         family: grid.family,
         grid: grid.spec,
-        order: match order {
-            "optimized" => PlanOrder::Optimized,
-            "nested" => PlanOrder::Nested,
-            other => {
-                return Err(invalid(format!(
-                    "order must be 'optimized' or 'nested', got '{other}'"
-                )))
-            }
-        },
-        hdr: match hdr {
-            "predicted" => HdrChoice::Predicted,
-            "bracket" => HdrChoice::Bracket,
-            other => {
-                return Err(invalid(format!(
-                    "hdr must be 'predicted' or 'bracket', got '{other}'"
-                )))
-            }
-        },
+        order: order.parse().or_raise()?,
+        hdr: hdr.parse().or_raise()?,
         method,
         checks,
         tilt_deg,

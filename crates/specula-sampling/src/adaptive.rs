@@ -19,8 +19,7 @@ impl AdaptiveSamples {
     /// Reads the file; every value must be a finite number, and there must be a row.
     pub fn read_csv(path: &Path) -> Result<Self, SamplingError> {
         let csv_error = |place: String| SamplingError::csv(path, place);
-        let mut reader =
-            csv::Reader::from_path(path).map_err(csv_error("cannot read".to_string()))?;
+        let mut reader = SamplingError::open_csv(path)?;
         let headers = reader
             .headers()
             .map_err(csv_error("cannot read the header".to_string()))?
@@ -30,7 +29,7 @@ impl AdaptiveSamples {
             return Err(SamplingError::NoColumn {
                 path: path.to_path_buf(),
                 column: "theta_h",
-                found: headers.iter().collect::<Vec<_>>().join(","),
+                found: specula_core::shown::excerpt(&headers.iter().collect::<Vec<_>>().join(",")),
             });
         };
         let rgb = match (column("r"), column("g"), column("b")) {

@@ -224,8 +224,7 @@ impl ErrorTable {
     /// columns are passed over. A file without rows is an error.
     pub fn read_csv(path: &Path, statistic: Statistic) -> Result<Self, SamplingError> {
         let csv_error = |place: String| SamplingError::csv(path, place);
-        let mut reader =
-            csv::Reader::from_path(path).map_err(csv_error("cannot read".to_string()))?;
+        let mut reader = SamplingError::open_csv(path)?;
         let mut families: Vec<String> = Vec::new();
         let mut theta_d_deg: Vec<f64> = Vec::new();
         let mut cells: Vec<(usize, f64, f64)> = Vec::new();

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum SamplingError {
     /// A file or folder that cannot be opened, read, listed or written.
-    #[error("{path}: cannot {action}: {cause}")]
+    #[error("{path}: cannot {action}: {}", specula_core::shown::io_cause(cause))]
     Io {
         /// The file or folder.
         path: PathBuf,
@@ -97,12 +97,14 @@ pub enum SamplingError {
     #[error("a probe needs at least 2 samples, got {0}")]
     ProbeSamples(usize),
     /// A probe angle outside its range.
-    #[error("{what} = {value_deg} deg is outside [0, {max_deg}]")]
+    #[error("{what} = {value_deg} deg is outside [{min_deg}, {max_deg}]")]
     ProbeAngle {
         /// `theta_d`, `phi_d` or `phi_h`.
         what: &'static str,
         /// The angle, degrees.
         value_deg: f64,
+        /// The smallest accepted angle, degrees.
+        min_deg: f64,
         /// The largest accepted angle, degrees.
         max_deg: f64,
     },
@@ -141,6 +143,22 @@ impl SamplingError {
             action,
             cause,
         }
+    }
+
+    /// The CSV file at `path` opened through the bounded reader
+    /// ([`specula_core::bounded_read::CSV_LIMITS`]), its header read; the error names the
+    /// file.
+    pub(crate) fn open_csv(
+        path: &std::path::Path,
+    ) -> Result<csv::Reader<impl std::io::Read>, Self> {
+        let text =
+            specula_core::bounded_read::open_text(path, specula_core::bounded_read::CSV_LIMITS)
+                .map_err(Self::io(path, "read"))?;
+        let mut reader = csv::Reader::from_reader(text);
+        reader
+            .headers()
+            .map_err(Self::csv(path, "cannot read the header".to_string()))?;
+        Ok(reader)
     }
 
     /// The error of the CSV file at `path`, `place` saying what was being done or where.

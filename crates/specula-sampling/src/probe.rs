@@ -52,15 +52,18 @@ impl Probe {
         if settings.samples < 2 {
             return Err(SamplingError::ProbeSamples(settings.samples));
         }
-        for (what, value, max) in [
-            ("theta_d", settings.theta_d_deg, 90.0),
-            ("phi_d", settings.phi_d_deg, 360.0),
-            ("phi_h", settings.phi_h_deg, 360.0),
+        // phi_h is an azimuth either way round, as the front ends accept it.
+        let azimuth = specula_core::request::AZIMUTH_DEG;
+        for (what, value, min, max) in [
+            ("theta_d", settings.theta_d_deg, 0.0, 90.0),
+            ("phi_d", settings.phi_d_deg, 0.0, 360.0),
+            ("phi_h", settings.phi_h_deg, azimuth.min, azimuth.max),
         ] {
-            if !(0.0..=max).contains(&value) {
+            if !(min..=max).contains(&value) {
                 return Err(SamplingError::ProbeAngle {
                     what,
                     value_deg: value,
+                    min_deg: min,
                     max_deg: max,
                 });
             }
@@ -144,15 +147,14 @@ impl Probe {
     /// Reads a CSV file written by [`Probe::write_csv`] (or by hand, or by a device).
     pub fn read_csv(path: &Path) -> Result<Self, SamplingError> {
         let csv_error = |place: String| SamplingError::csv(path, place);
-        let mut reader =
-            csv::Reader::from_path(path).map_err(csv_error("cannot open".to_string()))?;
+        let mut reader = SamplingError::open_csv(path)?;
         let headers = reader
             .headers()
             .map_err(csv_error("cannot read the header".to_string()))?;
         if headers.iter().map(str::trim).collect::<Vec<_>>() != ["theta_h", "r", "g", "b"] {
             return Err(SamplingError::ProbeHeader {
                 path: path.to_path_buf(),
-                found: headers.iter().collect::<Vec<_>>().join(","),
+                found: specula_core::shown::excerpt(&headers.iter().collect::<Vec<_>>().join(",")),
             });
         }
         let mut theta_h_deg = Vec::new();
@@ -236,7 +238,20 @@ mod tests {
             "{:#}",
             Probe::read_csv(&dir.path().join("missing.csv")).unwrap_err()
         );
-        assert!(err.contains("missing.csv"), "{err}");
+        assert!(
+            err.ends_with("missing.csv: cannot read: no such file"),
+            "{err}"
+        );
+        let err = Probe::read_csv(Path::new("/dev/zero"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            err,
+            "/dev/zero: cannot read the header: line 1 is longer than 65536 bytes, the most a line may hold"
+        );
+        std::fs::write(&path, format!("theta_h,{}\n", "\x1b".repeat(200_000 / 3))).unwrap();
+        let err = Probe::read_csv(&path).unwrap_err().to_string();
+        assert!(err.len() < 300 && !err.contains('\x1b'), "{err}");
     }
 
     #[test]

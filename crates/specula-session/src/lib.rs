@@ -11,6 +11,7 @@
 //! - [`ideal`], [`pace`]: a noise-free simulated device, and a simulated one paced in real
 //!   time.
 
+pub mod choices;
 pub mod engine;
 pub mod ideal;
 pub mod inputs;

@@ -534,20 +534,10 @@ pub fn measure(
         .as_ref()
         .filter(|_| result.resolution_deg.is_some())
         .map(|fit| DeblurRecord::new(fit, result.lobe.as_ref()));
-    result
-        .brdf
-        .write(out)
-        .map_err(|cause| WorkflowError::WriteTable {
-            path: out.to_path_buf(),
-            cause,
-        })?;
-    result
-        .provenance
-        .write(&sidecar_path(out))
-        .map_err(|cause| WorkflowError::WriteProvenance {
-            path: sidecar_path(out),
-            cause,
-        })?;
+    specula_core::atomic_file::write_together(&[
+        (out, &result.brdf.to_bytes()),
+        (&sidecar_path(out), &result.provenance.to_npy()),
+    ])?;
 
     let summary = summarise(
         &journal,

@@ -9,8 +9,6 @@ use crate::journal::{JournalError, SourceRecord, Stage};
 use crate::protocol::Endpoint;
 use specula_acquisition::calibration::CalibrationError;
 use specula_acquisition::instrument::InstrumentError;
-use specula_core::merl::MerlError;
-use specula_reconstruct::provenance::ProvenanceError;
 use specula_reconstruct::ReconstructError;
 use specula_sampling::column::ColumnError;
 use specula_sampling::fit::FitError;
@@ -81,22 +79,10 @@ pub enum WorkflowError {
         /// The cause.
         cause: ReconstructError,
     },
-    /// The reconstructed table cannot be written.
-    #[error("{path}: cannot write: {cause}")]
-    WriteTable {
-        /// The table's file.
-        path: PathBuf,
-        /// The cause.
-        cause: MerlError,
-    },
-    /// The provenance beside the table cannot be written.
-    #[error("{path}: cannot write: {cause}")]
-    WriteProvenance {
-        /// The provenance's file.
-        path: PathBuf,
-        /// The cause.
-        cause: ProvenanceError,
-    },
+    /// The reconstructed table or the provenance beside it cannot be written (neither
+    /// then changes: they are written together).
+    #[error(transparent)]
+    WriteTable(#[from] specula_core::atomic_file::WriteError),
     /// The summary beside the table cannot be written.
     #[error("{path}: cannot write: {cause}")]
     WriteSummary {

@@ -31,6 +31,7 @@
 
 use crate::camera::{Camera, Ray};
 use crate::environment::Environment;
+use crate::error::VisualError;
 use crate::hit::Hit;
 use crate::linear_image::LinearImage;
 use crate::lobe::ProxyLobe;
@@ -62,6 +63,21 @@ impl Lighting {
         Lighting::Point {
             position: DVec3::new(-2.5, 3.0, 4.0),
             intensity: DVec3::splat(60.0),
+        }
+    }
+
+    /// The lighting a front end asks for: the standard point light when `point_light`, else
+    /// the environment `env` names ([`Environment::from_spec`]; the built-in studio when
+    /// `None`). Both at once is refused.
+    pub fn chosen(point_light: bool, env: Option<&str>) -> Result<Self, VisualError> {
+        match (point_light, env) {
+            (true, Some(env)) => Err(VisualError::Data(format!(
+                "light point and env {env}: choose one light"
+            ))),
+            (true, None) => Ok(Lighting::standard_point()),
+            (false, env) => Ok(Lighting::Environment(Arc::new(Environment::from_spec(
+                env.unwrap_or("studio"),
+            )?))),
         }
     }
 }

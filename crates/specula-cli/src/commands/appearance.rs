@@ -67,7 +67,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
             resolution_deg: args.resolution_deg,
         };
         let brdf = specula_formats::load_brdf(spec)?;
-        names.push(brdf.name());
+        names.push(specula_core::shown::excerpt(&brdf.name()));
         let result = appearance(brdf.as_ref(), &options);
         for warning in &result.warnings {
             eprintln!("warning: {spec}: {warning}");
@@ -79,14 +79,14 @@ pub(crate) fn run(args: Args) -> Result<()> {
         .as_ref()
         .map(|_| figures.iter().map(|f| f.against(&figures[0])).collect());
     if args.csv {
-        let mut out = csv::Writer::from_writer(std::io::stdout().lock());
+        let mut out = csv::Writer::from_writer(crate::output::Stdout);
         out.write_record(csv_header(differences.is_some()))?;
         for (k, (spec, f)) in sources.iter().zip(&figures).enumerate() {
             out.write_record(csv_row(spec, f, differences.as_ref().map(|d| &d[k])))?;
         }
         out.flush()?;
     } else {
-        print!("{}", text_table(&names, &figures, differences.as_deref()));
+        out!("{}", text_table(&names, &figures, differences.as_deref()));
     }
     Ok(())
 }
@@ -119,10 +119,12 @@ fn text_table(
             .zip(&widths)
             .enumerate()
             .map(|(c, (cell, w))| {
+                // Padded by hand: a width from `{:w$}` above 65,535 would panic.
+                let pad = " ".repeat(w.saturating_sub(cell.chars().count()));
                 if c == 0 {
-                    format!("{cell:<w$}")
+                    format!("{cell}{pad}")
                 } else {
-                    format!("{cell:>w$}")
+                    format!("{pad}{cell}")
                 }
             })
             .collect();

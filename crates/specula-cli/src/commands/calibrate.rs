@@ -27,7 +27,7 @@ pub(crate) struct Args {
     #[arg(long)]
     pub truth: String,
     /// Where to write the calibration (TOML).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
     /// Reflectance of the white reference (0.99 for a Spectralon tile). Range: a fraction
     /// above 0 and at most 1.

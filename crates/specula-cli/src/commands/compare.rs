@@ -1,7 +1,7 @@
 //! `specula compare`: error figures between two BRDFs.
 
 use anyhow::Result;
-use specula_accuracy::Accuracy;
+use specula_accuracy::{Accuracy, USED_ELEVATION_DEG};
 use specula_core::tabulate::tabulate;
 
 /// Compare BRDF A against the reference B over the MERL grid (both are tabulated at the
@@ -18,8 +18,11 @@ use specula_core::tabulate::tabulate;
 ///   slice_mae      the paper's figure: mean |a - b| (1/sr) on the characteristic slice
 ///                  phi_d = 90 deg.
 ///
-/// Each is given over all cells above the surface and over the cells whose light and camera
-/// are both within --max-elevation of the normal (the device's reach, 75 deg by default).
+/// The first row, `within`, is over the cells whose light and camera are both within
+/// --max-elevation of the normal (the device's reach and the region people use, 75 deg by
+/// default); the second, `all`, adds the grazing cells beyond it, where the surface is seen
+/// edge-on and f_r can be large and change fast (they may dominate `all`). A note on stderr
+/// says so.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The BRDF to judge.
@@ -28,7 +31,7 @@ pub(crate) struct Args {
     pub b: String,
     /// Largest elevation (degrees from the normal) of light and camera for the second set.
     /// Range: degrees above 0 and at most 90.
-    #[arg(long, default_value_t = 75.0, value_parser = crate::range::ELEVATION_DEG)]
+    #[arg(long, default_value_t = USED_ELEVATION_DEG, value_parser = crate::range::ELEVATION_DEG)]
     pub max_elevation: f64,
 }
 
@@ -38,7 +41,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let b = tabulate(specula_formats::load_brdf(&args.b)?.as_ref(), phi_h_rad);
     let accuracy = Accuracy::of(&a, &b, args.max_elevation);
     outln!("set,cells,relative_rmse,log_rmse,slice_mae");
-    for (label, e) in [("all", accuracy.all), ("within", accuracy.within)] {
+    for (label, e) in [("within", accuracy.within), ("all", accuracy.all)] {
         outln!(
             "{label},{},{:.6},{:.6},{:.6e}",
             e.cells,
@@ -47,5 +50,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
             e.slice_mae
         );
     }
+    eprintln!(
+        "note: within: light and camera within {} deg of the normal; all: also the grazing cells beyond, where the surface is seen edge-on",
+        args.max_elevation
+    );
     Ok(())
 }

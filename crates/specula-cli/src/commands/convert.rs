@@ -37,6 +37,7 @@ pub(crate) struct Args {
     /// The BRDF to convert: a .binary, .bin, .bsdf or .csv file, a preset or a model:name fit.
     pub input: String,
     /// The file to write; .binary (MERL), .bin (UTIA), .bsdf (RGL) or .csv (samples).
+    #[arg(value_parser = crate::output::OUTPUT_FILE)]
     pub output: PathBuf,
     /// Azimuth of the half vector (degrees) at which MERL cells and MERL-grid samples are
     /// taken. Range: degrees from -360 to 360.
@@ -47,8 +48,8 @@ pub(crate) struct Args {
     pub phi_h_deg: f64,
     /// Where to sample a continuous source (RGL file, fit, preset) written as CSV: `merl`,
     /// the 1,458,000 MERL bin centres, or `utia`, the 82,944 UTIA nodes.
-    #[arg(long, value_enum, default_value_t = Grid::Merl)]
-    pub grid: Grid,
+    #[arg(long, default_value_t = CsvGrid::Merl)]
+    pub grid: CsvGrid,
     /// RGL output: incident elevations (slices), evenly spaced in cos(theta_i) from the
     /// normal to 89.9 deg. Each adds ndf-size^2 + 4 sample-size^2 floats to the file. Range: a
     /// whole number from 2 to 90.
@@ -66,19 +67,10 @@ pub(crate) struct Args {
 }
 
 /// Sample placement for continuous sources written as CSV.
-#[derive(Clone, Copy, clap::ValueEnum)]
-pub(crate) enum Grid {
-    Merl,
-    Utia,
-}
-
 pub(crate) fn run(args: Args) -> Result<()> {
     let options = ConvertOptions {
         phi_h_rad: args.phi_h_deg.to_radians(),
-        csv_grid: match args.grid {
-            Grid::Merl => CsvGrid::Merl,
-            Grid::Utia => CsvGrid::Utia,
-        },
+        csv_grid: args.grid,
         rgl: RglResolution {
             elevations: args.rgl_elevations,
             ndf_size: args.rgl_ndf_size,

@@ -5,7 +5,7 @@ use super::grid_args::GridArgs;
 use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
 use specula_accuracy::summary::{SetSummary, REAL_SET};
-use specula_accuracy::{Accuracy, Measurement, PlanSettings, ThetaHPlacement};
+use specula_accuracy::{Accuracy, Measurement, PlacementChoice, PlanSettings};
 use specula_acquisition::device::Device;
 use specula_acquisition::response::InstrumentResponse;
 use specula_core::materials::builtin_database;
@@ -72,8 +72,8 @@ pub(crate) struct Args {
     pub k: Option<f64>,
     /// How theta_h positions are placed: `function` (the sampling function, paper 5.2) or
     /// `probe` (the least-error placement on the material's probe).
-    #[arg(long, value_enum, default_value_t = Placement::Function)]
-    pub placement: Placement,
+    #[arg(long, default_value_t = PlacementChoice::Function)]
+    pub placement: PlacementChoice,
     #[command(flatten)]
     pub grid: GridArgs,
     /// Device description (TOML) deciding which samples are taken; default: the paper's
@@ -94,7 +94,7 @@ pub(crate) struct Args {
     pub through_instrument: bool,
     /// Also write the simulated samples (CSV, the input of `specula reconstruct`); one
     /// --truth only.
-    #[arg(long, conflicts_with_all = ["builtin", "merl_fits"])]
+    #[arg(long, conflicts_with_all = ["builtin", "merl_fits"], value_parser = crate::output::OUTPUT_FILE)]
     pub samples_out: Option<PathBuf>,
 }
 
@@ -120,12 +120,6 @@ impl MerlFits {
             MerlFits::Nbrdf => Ok(NbrdfSet::Merl100.load_all()?),
         }
     }
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum Placement {
-    Function,
-    Probe,
 }
 
 /// One evaluated material.
@@ -200,13 +194,7 @@ fn check_args(args: &Args) -> Result<()> {
 
 /// The plan settings the flags describe, on `grid`.
 fn plan_settings(args: &Args, grid: GridSpec) -> Result<PlanSettings> {
-    let placement = match (args.placement, args.k) {
-        (Placement::Function, Some(k)) => {
-            ThetaHPlacement::Function(SamplingFunction::new(args.grid.family, k)?)
-        }
-        (Placement::Function, None) => ThetaHPlacement::FittedFunction(args.grid.family),
-        (Placement::Probe, _) => ThetaHPlacement::Probe,
-    };
+    let placement = args.placement.placement(args.grid.family, args.k)?;
     Ok(PlanSettings { placement, grid })
 }
 
@@ -252,8 +240,8 @@ fn print_rows(args: &Args, grid: &GridSpec, rows: &[Row]) {
         },
         grid,
         match args.placement {
-            Placement::Function => format!("the {} function", args.grid.family),
-            Placement::Probe => "probe placement".to_string(),
+            PlacementChoice::Function => format!("the {} function", args.grid.family),
+            PlacementChoice::Probe => "probe placement".to_string(),
         },
         args.max_elevation
     );

@@ -5,7 +5,7 @@ use anyhow::{Context, Result};
 use specula_core::atomic_file::write_bytes;
 use specula_core::tabulate::tabulate;
 use specula_core::GridSpec;
-use specula_formats::material_fit::{fit_models, FitModel, MaterialFit};
+use specula_formats::material_fit::{fit_models, FitChoice, MaterialFit};
 use specula_formats::renderer_export::{
     gltf_document, mitsuba_scene, mitsuba_warning, pbrt_material,
 };
@@ -39,8 +39,8 @@ pub(crate) struct Args {
     /// The BRDF to fit: a preset, a material .toml, a measured file or a model:name fit.
     pub brdf: String,
     /// Which models to fit: `conductor`, `coat` or `both` (the better one is exported).
-    #[arg(long, value_enum, default_value_t = Model::Both)]
-    pub model: Model,
+    #[arg(long, default_value_t = FitChoice::Both)]
+    pub model: FitChoice,
     /// Largest elevation (degrees from the normal) of light and camera of the fitted cells.
     /// Range: degrees above 0 and at most 90.
     #[arg(long, default_value_t = 75.0, value_parser = range::ELEVATION_DEG)]
@@ -59,25 +59,17 @@ pub(crate) struct Args {
     pub gltf: Option<PathBuf>,
 }
 
-/// The models `--model` selects.
-#[derive(Clone, Copy, clap::ValueEnum)]
-pub(crate) enum Model {
-    Conductor,
-    Coat,
-    Both,
-}
-
 pub(crate) fn run(args: Args) -> Result<()> {
     let brdf = specula_formats::load_brdf(&args.brdf)?;
-    let models: &[FitModel] = match args.model {
-        Model::Conductor => &[FitModel::Conductor],
-        Model::Coat => &[FitModel::Coat],
-        Model::Both => &[FitModel::Conductor, FitModel::Coat],
-    };
     let spinner = crate::progress::spinner("fitting");
     let table = tabulate(brdf.as_ref(), GridSpec::paper().phi_h_deg.to_radians());
-    let fits = fit_models(&table, models, args.max_elevation, &brdf.name())
-        .with_context(|| format!("{}: cannot fit", args.brdf))?;
+    let fits = fit_models(
+        &table,
+        args.model.models(),
+        args.max_elevation,
+        &brdf.name(),
+    )
+    .with_context(|| format!("{}: cannot fit", args.brdf))?;
     spinner.finish_and_clear();
     outln!("model,set,cells,relative_rmse,log_rmse,slice_mae");
     for fit in &fits {
@@ -87,6 +79,20 @@ pub(crate) fn run(args: Args) -> Result<()> {
         outln!("{}: {}", fit.model.label(), parameters(fit));
     }
     let best = &fits[0].material;
+    let exporting =
+        args.out.is_some() || args.mitsuba.is_some() || args.pbrt.is_some() || args.gltf.is_some();
+    if exporting {
+        let why = if fits.len() > 1 {
+            format!(
+                ", the lower log_rmse within {} deg of the {} models fitted",
+                args.max_elevation,
+                fits.len()
+            )
+        } else {
+            String::new()
+        };
+        outln!("exported model: {}{why}", fits[0].model.label());
+    }
     if let Some(path) = &args.out {
         save(path, &best.to_toml_string())?;
     }

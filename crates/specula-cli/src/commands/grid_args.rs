@@ -3,12 +3,10 @@
 //! quarter or the half turn, at one phi_h. Shared by `plan`, `measure` and `evaluate`.
 
 use crate::range;
-use anyhow::{bail, Result};
+use anyhow::Result;
 use specula_core::grid::{GridOverrides, GridSpec, PhiDSpan, ThetaDSteps};
+use specula_core::request::{GridPreset, GridRequest};
 use specula_core::sampling::Family;
-
-/// The largest grid a plan may hold (the paper's: 6300 samples).
-pub(crate) const MAX_GRID_SAMPLES: usize = 1_000_000;
 
 #[derive(clap::Args, Clone, Debug)]
 pub(crate) struct GridArgs {
@@ -31,7 +29,7 @@ pub(crate) struct GridArgs {
     ///
     /// The options below replace the preset's values one by one. `measure` resuming a
     /// session starts from the session's own grid instead.
-    #[arg(long, value_enum)]
+    #[arg(long)]
     pub grid_preset: Option<GridPreset>,
     /// Sampling function family: exponential (paper eq. 3), power (eq. 2) or base (eq. 4).
     #[arg(long, default_value = "exponential")]
@@ -64,8 +62,8 @@ pub(crate) struct GridArgs {
     /// swap, reconstructed apart: real measured materials are not reciprocal near grazing,
     /// and the half of the table they differ in holds 67 to 99 % of the folded error on the
     /// RGL files); default: the preset's (recommended half-turn, paper quarter).
-    #[arg(long, value_enum)]
-    pub phi_d_span: Option<PhiDSpanArg>,
+    #[arg(long)]
+    pub phi_d_span: Option<PhiDSpan>,
     /// phi_h in degrees: the sample's orientation, chosen to avoid anisotropic scratches
     /// (paper 4.3). Range: degrees from -360 to 360.
     ///
@@ -75,62 +73,23 @@ pub(crate) struct GridArgs {
     pub phi_h: f64,
 }
 
-/// A named grid ([`GridSpec::recommended`], [`GridSpec::paper`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum GridPreset {
-    Recommended,
-    Paper,
-}
-
-/// The span of phi_d ([`PhiDSpan`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum PhiDSpanArg {
-    Quarter,
-    HalfTurn,
-}
-
 impl GridArgs {
-    /// The grid the options describe, checked: starting from --grid-preset when given, else
-    /// from `resumed` (the grid of the session a `measure` resumes), else from the
-    /// recommended grid; each option given replaces the value it names.
+    /// The grid the options describe ([`GridRequest::grid`]): starting from --grid-preset
+    /// when given, else from `resumed` (the grid of the session a `measure` resumes), else
+    /// from the recommended grid; each option given replaces the value it names.
     pub(crate) fn grid(&self, resumed: Option<GridSpec>) -> Result<GridSpec> {
-        let base = match (self.grid_preset, resumed) {
-            (Some(GridPreset::Paper), _) => GridSpec::paper(),
-            (Some(GridPreset::Recommended), _) | (None, None) => GridSpec::recommended(),
-            (None, Some(grid)) => grid,
+        let request = GridRequest {
+            preset: self.grid_preset,
+            overrides: GridOverrides {
+                theta_h_samples: self.theta_h_samples,
+                theta_d: self.theta_d_step,
+                phi_d_step_deg: self.phi_d_step,
+                phi_d_span: self.phi_d_span,
+                phi_h_deg: Some(self.phi_h),
+            },
         };
-        let grid = base.with(&GridOverrides {
-            theta_h_samples: self.theta_h_samples,
-            theta_d: self.theta_d_step,
-            phi_d_step_deg: self.phi_d_step,
-            phi_d_span: self.phi_d_span.map(|span| match span {
-                PhiDSpanArg::Quarter => PhiDSpan::Quarter,
-                PhiDSpanArg::HalfTurn => PhiDSpan::HalfTurn,
-            }),
-            phi_h_deg: Some(self.phi_h),
-        });
-        check_size(&grid)?;
-        Ok(grid)
+        Ok(request.grid(resumed)?)
     }
-}
-
-/// Rejects a grid too large to plan: the ranges of the single options are checked as they
-/// are parsed ([`crate::range`]); the grid's size is checked here.
-fn check_size(grid: &GridSpec) -> Result<()> {
-    let samples = grid.configurations();
-    if samples > MAX_GRID_SAMPLES {
-        bail!(
-            "--theta-h-samples {} x --theta-d-step {} x --phi-d-step {} over the {}: a grid of {samples} samples ({} x {} x {}); at most {MAX_GRID_SAMPLES}: take fewer theta_h samples or larger steps",
-            grid.theta_h_samples,
-            grid.theta_d,
-            grid.phi_d_step_deg,
-            grid.phi_d_span,
-            grid.theta_h_samples,
-            grid.theta_d_deg().len(),
-            grid.phi_d_deg().len(),
-        );
-    }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -221,7 +180,7 @@ mod tests {
         // 360 x (0, 0.5, ..., 89.5) x (0, 0.5, ..., 180): more than a million.
         let err = huge.grid(None).unwrap_err().to_string();
         assert!(err.contains("(360 x 180 x 361)"), "{err}");
-        assert!(err.contains("--theta-d-step 3:0.5@0"), "{err}");
+        assert!(err.contains("theta_d_step_deg 3:0.5@0"), "{err}");
         assert!(err.contains("over the half-turn"), "{err}");
         let quarter = args(&[
             "--theta-h-samples",

@@ -2,8 +2,9 @@
 
 use crate::output::plain;
 use anyhow::Result;
+use specula_accuracy::{within_elevation, USED_ELEVATION_DEG};
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
-use specula_core::statistics::ChannelStats;
+use specula_core::statistics::{ChannelStats, Peak};
 use specula_core::tabulate::tabulate;
 use specula_formats::convert::Loaded;
 use specula_formats::samples_csv::SampleSet;
@@ -99,18 +100,42 @@ fn describe_merl(table: &MerlBrdf, provenance: Option<&Provenance>, among: &str)
         outln!("provenance: cells {}", p.summary());
     }
     print_channels(&stats);
-    if let Some(peak) = stats.peak {
-        let bin = Bin::from_index(peak.index);
-        let [theta_h_deg, theta_d_deg, phi_d_deg] = bin.centre_deg();
+    let used =
+        |index: usize| within_elevation(Bin::from_index(index).centre(0.0), USED_ELEVATION_DEG);
+    let peak_where = |keep: &dyn Fn(usize) -> bool| {
+        ChannelStats::of(
+            (0..CELLS)
+                .filter(|&i| chosen(i) && keep(i))
+                .filter_map(|i| table.cell(i).map(|v| (i, v))),
+        )
+        .peak
+    };
+    if let Some(peak) = peak_where(&used) {
         outln!(
-            "peak: {} 1/sr (mean of R, G, B) at theta_h {} deg, theta_d {theta_d_deg} deg, phi_d {phi_d_deg} deg (bin {}, {}, {}), among {among}",
-            plain(peak.mean),
-            plain(theta_h_deg),
-            bin.theta_h_i,
-            bin.theta_d_i,
-            bin.phi_d_i
+            "peak within {USED_ELEVATION_DEG} deg: {}, among {among} with light and camera within {USED_ELEVATION_DEG} deg of the normal",
+            merl_peak(&peak)
         );
     }
+    if let Some(peak) = peak_where(&|i| !used(i)) {
+        outln!(
+            "peak of the grazing cells: {} (light or camera beyond {USED_ELEVATION_DEG} deg of the normal, the surface seen edge-on)",
+            merl_peak(&peak)
+        );
+    }
+}
+
+/// A peak cell in words: its value and where it lies.
+fn merl_peak(peak: &Peak) -> String {
+    let bin = Bin::from_index(peak.index);
+    let [theta_h_deg, theta_d_deg, phi_d_deg] = bin.centre_deg();
+    format!(
+        "{} 1/sr (mean of R, G, B) at theta_h {} deg, theta_d {theta_d_deg} deg, phi_d {phi_d_deg} deg (bin {}, {}, {})",
+        plain(peak.mean),
+        plain(theta_h_deg),
+        bin.theta_h_i,
+        bin.theta_d_i,
+        bin.phi_d_i
+    )
 }
 
 fn describe_utia(table: &UtiaBrdf) {

@@ -1,7 +1,6 @@
 //! `specula measure`: the paper's whole measurement in one command, resumable.
 
 use super::grid_args::GridArgs;
-use super::plan::Order;
 use super::token_args::TokenArgs;
 use crate::interrupt::{blame_stop, stop_on_ctrl_c, Interrupted};
 use crate::range;
@@ -84,12 +83,12 @@ pub(crate) struct Args {
     pub grid: GridArgs,
     /// Order of the samples: optimized (a short path through axis space) or nested
     /// (theta_h, theta_d, phi_d loops, as the paper).
-    #[arg(long, value_enum, default_value_t = Order::Optimized)]
-    pub order: Order,
+    #[arg(long, default_value_t = PlanOrder::Optimized)]
+    pub order: PlanOrder,
     /// HDR at each sample: predicted (adaptive from the probe and the previous sample, one or
     /// two captures) or bracket (the device file's fixed bracket, the paper's way).
-    #[arg(long, value_enum, default_value_t = HdrArg::Predicted)]
-    pub hdr: HdrArg,
+    #[arg(long, default_value_t = HdrChoice::Predicted)]
+    pub hdr: HdrChoice,
     /// Reconstruction method: lobe, prior, log or linear (see `specula reconstruct --help`).
     #[arg(long, default_value = "lobe")]
     pub method: specula_reconstruct::Method,
@@ -130,14 +129,8 @@ pub(crate) struct Args {
     #[arg(long, value_parser = range::SPEEDUP)]
     pub speedup: Option<f64>,
     /// The MERL .binary to write.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum HdrArg {
-    Predicted,
-    Bracket,
 }
 
 impl Args {
@@ -150,14 +143,8 @@ impl Args {
             probe_samples: self.probe_samples,
             family: self.grid.family,
             grid,
-            order: match self.order {
-                Order::Optimized => PlanOrder::Optimized,
-                Order::Nested => PlanOrder::Nested,
-            },
-            hdr: match self.hdr {
-                HdrArg::Predicted => HdrChoice::Predicted,
-                HdrArg::Bracket => HdrChoice::Bracket,
-            },
+            order: self.order,
+            hdr: self.hdr,
             method: self.method,
             deblur: !self.no_deblur,
             checks: !self.skip_checks,

@@ -39,7 +39,7 @@ pub(crate) struct Args {
     pub log: bool,
     /// Also write every material's errors as CSV
     /// (material,k_hat,domain,square_root,paper,probe_samples,ours,oracle).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: Option<PathBuf>,
 }
 

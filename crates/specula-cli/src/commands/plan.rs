@@ -7,6 +7,7 @@ use specula_acquisition::ordering::{order, transition_time_s};
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::sampling::SamplingFunction;
 use specula_core::GridSpec;
+use specula_session::workflow::PlanOrder;
 use std::path::PathBuf;
 
 /// Plan a measurement: turn a theta_h x theta_d x phi_d grid (paper 5.3) into goniometer
@@ -52,20 +53,14 @@ pub(crate) struct Args {
     pub device: Option<PathBuf>,
     /// Execution order written to PLAN.csv: `optimized` (a travelling-salesman path over the
     /// axes) or `nested` (theta_h, theta_d, phi_d loops, as the paper).
-    #[arg(long, value_enum, default_value_t = Order::Optimized)]
-    pub order: Order,
+    #[arg(long, default_value_t = PlanOrder::Optimized)]
+    pub order: PlanOrder,
     /// Where to write the plan (CSV).
-    #[arg(long, required_unless_present = "print_device")]
+    #[arg(long, required_unless_present = "print_device", value_parser = crate::output::OUTPUT_FILE)]
     pub out: Option<PathBuf>,
     /// Print the device description (the default, or --device) as TOML and exit.
     #[arg(long)]
     pub print_device: bool,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum Order {
-    Optimized,
-    Nested,
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
@@ -89,8 +84,8 @@ pub(crate) fn run(args: Args) -> Result<()> {
     spinner.finish_and_clear();
 
     let chosen = match args.order {
-        Order::Optimized => &optimized,
-        Order::Nested => &nested,
+        PlanOrder::Optimized => &optimized,
+        PlanOrder::Nested => &nested,
     };
     specula_core::atomic_file::write_with(&out, |file| {
         chosen.write_csv(file).map_err(std::io::Error::other)
@@ -115,11 +110,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         transition_time_s(&optimized) / 3600.0,
         100.0 * (1.0 - transition_time_s(&optimized) / transition_time_s(&nested).max(1e-9))
     );
-    let label = match args.order {
-        Order::Optimized => "optimized",
-        Order::Nested => "nested",
-    };
-    outln!("wrote {} ({label} order)", out.display());
+    outln!("wrote {} ({} order)", out.display(), args.order);
     Ok(())
 }
 

@@ -45,7 +45,7 @@ pub(crate) struct SliceArgs {
     /// The BRDF: a preset name, a material .toml, a MERL .binary or a model:name fit.
     pub brdf: String,
     /// The PNG to write.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
     /// theta_h axis: merl (square root, MERL's bins) or linear.
     #[arg(long, default_value = "merl")]
@@ -70,7 +70,7 @@ pub(crate) struct SamplesArgs {
     /// The samples CSV file.
     pub samples: PathBuf,
     /// The PNG to write.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
     /// theta_h axis: merl (square root) or linear.
     #[arg(long, default_value = "merl")]
@@ -90,7 +90,7 @@ pub(crate) struct ProbeArgs {
     /// The probe CSV file (header theta_h,r,g,b; degrees, 1/sr), e.g. from `specula probe`.
     pub probe: PathBuf,
     /// The PNG to write.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
     /// A CSV of the adaptive samples: a theta_h column (degrees) and optionally r,g,b (1/sr).
     #[arg(long, conflicts_with_all = ["positions", "k"])]
@@ -121,7 +121,7 @@ pub(crate) struct HeatmapArgs {
     /// The analysis CSV file.
     pub analysis: PathBuf,
     /// The PNG to write.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
     /// Colour by the median error instead of the mean.
     #[arg(long)]

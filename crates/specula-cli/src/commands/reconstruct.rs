@@ -56,7 +56,7 @@ pub(crate) struct Args {
     #[arg(long, requires = "session")]
     pub no_deblur: bool,
     /// The MERL .binary file to write.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
 }
 
@@ -84,9 +84,11 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let result = reconstruct_halves(&samples, args.method, &name, response.as_ref());
     spinner.finish_and_clear();
     let r = result.with_context(|| input.display().to_string())?;
-    r.brdf.write(&args.out)?;
     let sidecar = sidecar_path(&args.out);
-    r.provenance.write(&sidecar)?;
+    specula_core::atomic_file::write_together(&[
+        (&args.out, &r.brdf.to_bytes()),
+        (&sidecar, &r.provenance.to_npy()),
+    ])?;
     let [nh, nd, np] = r.lattice_shape;
     outln!("samples: {} on a lattice of {nh} theta_h x {nd} theta_d x {np} phi_d ({} nodes measured, {} extrapolated)", samples.len(), r.measured_nodes, r.filled_nodes);
     if let Some(lobe) = r.lobe {

@@ -3,9 +3,8 @@
 use anyhow::{bail, Result};
 use specula_visual::grid::{self, Tile};
 use specula_visual::linear_image::ImageFormat;
-use specula_visual::{Environment, Lighting, RenderSettings, Scene, ShapeKind};
+use specula_visual::{Lighting, RenderSettings, Scene, ShapeKind};
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::time::Instant;
 
 /// Render a material on a sphere or a speedshape under a point light or an environment.
@@ -33,11 +32,12 @@ use std::time::Instant;
 ///   specula render silver-925 chrome --side-by-side --out compare.png
 #[derive(clap::Args)]
 pub(crate) struct Args {
-    /// The BRDFs: preset names, material .toml files, MERL .binary files or model:name fits.
+    /// The BRDFs: preset names, material .toml files, MERL .binary files, RGL .bsdf files or
+    /// model:name fits.
     #[arg(required = true)]
     pub brdfs: Vec<String>,
     /// The picture to write: .png (tone-mapped) or .exr (linear radiance).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
     /// The object: sphere or speedshape.
     #[arg(long, default_value = "sphere")]
@@ -93,15 +93,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
             args.out.display()
         );
     }
-    let lighting = match (args.light, &args.env) {
-        (Some(LightKind::Point), Some(env)) => {
-            bail!("--light point and --env {env}: choose one light")
-        }
-        (Some(LightKind::Point), None) => Lighting::standard_point(),
-        (None, env) => Lighting::Environment(Arc::new(Environment::from_spec(
-            env.as_deref().unwrap_or("studio"),
-        )?)),
-    };
+    let lighting = Lighting::chosen(args.light.is_some(), args.env.as_deref())?;
     let brdfs = args
         .brdfs
         .iter()

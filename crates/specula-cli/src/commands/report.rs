@@ -27,7 +27,7 @@ pub(crate) struct Args {
     /// The measured BRDF (a MERL .binary file) or a session journal (.sqlite).
     pub input: PathBuf,
     /// The HTML file to write.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
     /// The true BRDF, when known (a simulation): a preset, .toml, .binary or model:name.
     #[arg(long)]

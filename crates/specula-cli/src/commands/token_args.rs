@@ -3,7 +3,7 @@
 //! (a token on the command line shows in the process list; a file or the environment does
 //! not).
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use specula_session::protocol::Token;
 use std::path::PathBuf;
 
@@ -32,17 +32,18 @@ impl TokenArgs {
         let (secret, origin) = if let Some(token) = &self.token {
             (token.clone(), "--token".to_string())
         } else if let Some(path) = &self.token_file {
-            let size = std::fs::metadata(path)
-                .with_context(|| format!("{}: cannot read the token file", path.display()))?
-                .len();
-            if size > MAX_TOKEN_FILE_BYTES {
-                bail!(
-                    "{}: a token file holds at most {MAX_TOKEN_FILE_BYTES} bytes, this one {size}",
-                    path.display()
-                );
-            }
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("{}: cannot read the token file", path.display()))?;
+            // Bounded: /dev/zero or a growing file claims a size of 0 and never ends.
+            let bytes = specula_core::bounded_read::read_bounded(path, MAX_TOKEN_FILE_BYTES)
+                .map_err(|e| {
+                    anyhow::anyhow!(
+                        "{}: cannot read the token file: {}",
+                        path.display(),
+                        specula_core::shown::io_cause(&e)
+                    )
+                })?;
+            let text = String::from_utf8(bytes).map_err(|_| {
+                anyhow::anyhow!("{}: the token file is not UTF-8 text", path.display())
+            })?;
             (text, path.display().to_string())
         } else if let Some(value) = std::env::var_os(TOKEN_VAR) {
             let text = value

@@ -10,6 +10,7 @@ pub mod sgd;
 use crate::brdf_source::BrdfSource;
 use crate::input::argument_error;
 use crate::input::{csv_error, data_file, file_error, read_input, Malformed, Result};
+use specula_core::bounded_read::{BoundedText, CSV_LIMITS};
 use specula_core::Rgb;
 use std::path::Path;
 use std::sync::Arc;
@@ -75,7 +76,7 @@ pub fn load_model(model: FitModel) -> Result<Vec<BrdfSource>> {
 
 /// The fits of a table's bytes; errors name `path`.
 fn parse_fits(path: &Path, bytes: &[u8]) -> Result<Vec<BrdfSource>> {
-    let mut reader = csv::Reader::from_reader(bytes);
+    let mut reader = csv::Reader::from_reader(BoundedText::new(bytes, CSV_LIMITS));
     let headers = reader
         .headers()
         .map_err(|e| csv_error(path, "cannot read the header", e))?

@@ -13,6 +13,17 @@
 use crate::malformed::Malformed;
 use std::collections::HashMap;
 
+/// The longest field name read, bytes (Mitsuba's and the RGL database's are under 16:
+/// `theta_i`, `vndf`, `luminance`, `description`). Every length field of the header is
+/// checked against a bound like this one, or against the bytes left, before it is used.
+const MAX_FIELD_NAME_BYTES: usize = 64;
+
+/// The highest rank of a field read (the RGL files' largest is 5).
+const MAX_RANK: usize = 8;
+
+/// Bytes of the smallest field entry of the header: name length, rank, dtype, offset.
+const MIN_FIELD_ENTRY_BYTES: usize = 2 + 2 + 1 + 8;
+
 /// The first 12 bytes of every tensor file.
 pub const MAGIC: &[u8; 12] = b"tensor_file\0";
 
@@ -248,6 +259,13 @@ impl<'a> TensorFile<'a> {
             .into());
         }
         let count = cursor.u32("field count")?;
+        let left = bytes.len() - cursor.at;
+        if count as usize > left / MIN_FIELD_ENTRY_BYTES {
+            return Err(format!(
+                "truncated header: it claims {count} fields, more than its remaining {left} bytes can hold"
+            )
+            .into());
+        }
         let mut fields = HashMap::new();
         for index in 0..count {
             let (name, field) = Self::parse_field(&mut cursor, index)?;
@@ -260,13 +278,35 @@ impl<'a> TensorFile<'a> {
 
     fn parse_field(cursor: &mut Cursor<'a>, index: u32) -> Result<(String, Field), Malformed> {
         let name_len = cursor.u16("field name length")? as usize;
-        let name = String::from_utf8_lossy(cursor.take(name_len, "field name")?).into_owned();
+        if name_len > MAX_FIELD_NAME_BYTES {
+            return Err(format!(
+                "field #{index} claims a name of {name_len} bytes, more than the {MAX_FIELD_NAME_BYTES} a field name may hold"
+            )
+            .into());
+        }
+        let raw_name = cursor.take(name_len, "field name")?;
+        let name = match std::str::from_utf8(raw_name) {
+            Ok(name) if !name.chars().any(char::is_control) => name.to_string(),
+            _ => {
+                return Err(format!(
+                    "field #{index} has a name that is not printable text: '{}'",
+                    specula_core::shown::excerpt_bytes(raw_name)
+                )
+                .into())
+            }
+        };
         let rank = cursor.u16("field rank")? as usize;
+        if rank > MAX_RANK {
+            return Err(format!(
+                "field '{name}' claims rank {rank}, more than the {MAX_RANK} a field may have"
+            )
+            .into());
+        }
         let code = cursor.u8("field dtype")?;
         let dtype = Dtype::from_code(code)
             .ok_or_else(|| format!("field '{name}' (#{index}) has unknown dtype code {code}"))?;
         let offset = cursor.u64("field offset")?;
-        let mut shape = Vec::with_capacity(rank.min(16));
+        let mut shape = Vec::with_capacity(rank);
         for _ in 0..rank {
             shape.push(cursor.u64("field shape")?);
         }
@@ -460,5 +500,36 @@ mod tests {
             .err()
             .unwrap()
             .contains("unknown dtype code 42"));
+    }
+
+    #[test]
+    fn length_fields_are_bounded_and_errors_quote_little() {
+        // A field whose name claims 65535 bytes of what follows, escape bytes included.
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend_from_slice(&[1, 0]);
+        bytes.extend_from_slice(&1u32.to_le_bytes());
+        bytes.extend_from_slice(&u16::MAX.to_le_bytes());
+        bytes.extend(std::iter::repeat_n(0x1b, 120_000));
+        let err = TensorFile::parse(&bytes).err().unwrap();
+        assert_eq!(
+            err.0,
+            "field #0 claims a name of 65535 bytes, more than the 64 a field name may hold"
+        );
+        let escape = build(&[("a\x1b[2J\nb", 10, vec![1], f32_bytes(&[1.0]))]);
+        let err = TensorFile::parse(&escape).err().unwrap();
+        assert!(
+            err.contains("not printable text: 'a\\u{1b}[2J\\nb'"),
+            "{err}"
+        );
+        let mut rank = build(&[("a", 10, vec![1], f32_bytes(&[1.0]))]);
+        let at = MAGIC.len() + 2 + 4 + 2 + 1;
+        rank[at..at + 2].copy_from_slice(&u16::MAX.to_le_bytes());
+        let err = TensorFile::parse(&rank).err().unwrap();
+        assert!(err.contains("claims rank 65535"), "{err}");
+        let mut count = build(&[("a", 10, vec![1], f32_bytes(&[1.0]))]);
+        count[14..18].copy_from_slice(&u32::MAX.to_le_bytes());
+        let err = TensorFile::parse(&count).err().unwrap();
+        assert!(err.contains("claims 4294967295 fields"), "{err}");
+        assert!(err.starts_with("truncated header"), "{err}");
     }
 }

@@ -7,11 +7,14 @@ See ``docs/python.md`` for a tutorial.
 """
 
 from ._specula import (
+    __version__,
     Brdf,
     SpeculaError,
     appearance,
     compare,
+    convert,
     evaluate,
+    fit,
     fit_k,
     load,
     materials,
@@ -22,15 +25,20 @@ from ._specula import (
     read_provenance,
     read_session,
     reconstruct,
+    render,
+    report,
     write_merl,
 )
 
 __all__ = [
+    "__version__",
     "Brdf",
     "SpeculaError",
     "appearance",
     "compare",
+    "convert",
     "evaluate",
+    "fit",
     "fit_k",
     "load",
     "materials",
@@ -41,5 +49,7 @@ __all__ = [
     "read_provenance",
     "read_session",
     "reconstruct",
+    "render",
+    "report",
     "write_merl",
 ]

@@ -10,6 +10,8 @@ Path = Union[str, "os.PathLike[str]"]
 FloatArray = npt.NDArray[np.float64]
 ArrayLike = npt.ArrayLike
 
+__version__: str
+
 class SpeculaError(Exception):
     """A Specula error, with the CLI's one-line message (the file and the problem)."""
 
@@ -82,6 +84,53 @@ def read_provenance(merl_path: Path) -> Optional[npt.NDArray[np.uint8]]:
 
 def load(source: Path) -> Brdf:
     """Any BRDF the CLI takes: preset, material .toml, MERL, RGL .bsdf, UTIA, model:name fits."""
+
+def convert(
+    source: Path,
+    out: Path,
+    phi_h_deg: float = 45.0,
+    grid: str = "merl",
+    rgl_elevations: int = ...,
+    rgl_ndf_size: int = ...,
+    rgl_sample_size: int = ...,
+) -> dict[str, Any]:
+    """`specula convert SOURCE OUT`: the format follows OUT's extension."""
+
+def fit(
+    brdf: BrdfLike,
+    model: str = "both",
+    max_elevation_deg: float = 75.0,
+    out: Optional[Path] = None,
+    mitsuba: Optional[Path] = None,
+    pbrt: Optional[Path] = None,
+    gltf: Optional[Path] = None,
+) -> dict[str, Any]:
+    """`specula fit`: analytic materials fitted, the best exported; {"exported", "fits"}."""
+
+def render(
+    brdf: BrdfLike,
+    out: Optional[Path] = None,
+    shape: str = "sphere",
+    env: Optional[str] = None,
+    light: Optional[str] = None,
+    spp: int = 256,
+    size: int = 512,
+    exposure: float = 0.0,
+    seed: int = 1,
+) -> FloatArray:
+    """`specula render`: the linear radiance as (size, size, 3); `out` written as the CLI does."""
+
+def report(
+    source: Path,
+    out: Path,
+    truth: Optional[str] = None,
+    samples_csv: Optional[Path] = None,
+    table: Optional[Path] = None,
+    size: int = 320,
+    spp: int = 32,
+    title: Optional[str] = None,
+) -> Path:
+    """`specula report`: one self-contained HTML page about a measured BRDF; returns `out`."""
 
 def materials() -> list[str]:
     """Names of the built-in material database (presets first), each a source for load()."""
@@ -158,8 +207,10 @@ def evaluate(
     phi_h_deg: Optional[float] = None,
     max_elevation_deg: float = 75.0,
     device: Optional[Path] = None,
+    through_instrument: bool = False,
 ) -> Evaluation:
-    """The accuracy harness (`specula evaluate --truth`); the grid arguments as `plan`'s."""
+    """The accuracy harness (`specula evaluate --truth`); the grid arguments as `plan`'s;
+    `through_instrument=True` as `--through-instrument`."""
 
 def measure(
     truth: BrdfLike,
