@@ -12,14 +12,13 @@
 //! [`MerlBrdf::interpolate`]). A table that invents a feature the samples do not hold, or
 //! loses one they do, predicts them badly where it did. Two figures per region of theta_h:
 //!
-//! - the **normalised chi-square** `mean ((P_i - S_i) / u_i)^2` over samples and channels, with
-//!   `u_i^2 = sigma_i^2 + u_pos,i^2`: the sample's noise (the HDR merge's standard deviation,
-//!   when the caller has it) and the angular positioning's effect, `|P(theta_h + delta) -
-//!   P(theta_h - delta)| / 2` for the device's angular accuracy `delta` (on a specular flank
-//!   a hundredth of a degree changes f by percents). About 1 means the table reproduces the
-//!   samples within what the measurement itself is uncertain by;
+//! - the **normalised chi-square** `mean ((P_i - S_i) / u_i)^2` over samples and channels,
+//!   with the caller's standard uncertainty `u_i` of each prediction: what the measurement and
+//!   the table's own representation are uncertain by (see [`crate::safeguard`], which puts in
+//!   the device's angular positioning through the local slope and the table's binning of the
+//!   fitted lobe). About 1 means the table reproduces the samples within that;
 //! - the **relative reproduction error** `sqrt(sum (P - S)^2 / sum S^2)`, the share of the
-//!   samples' signal the table misses, which the noise model does not enter.
+//!   samples' signal the table misses, which the uncertainty model does not enter.
 //!
 //! Regions: `peak` (theta_h within twice the instrument's resolution, where deblurring acts),
 //! `flank` (up to [`BLUR_THETA_H_DEG`]) and `body` (beyond), and `all`.
@@ -62,8 +61,6 @@ pub struct Instrument<'a> {
     pub nodes: &'a [CaptureNode],
     /// The instrument's resolution in theta_h, degrees (`None`: a point instrument).
     pub resolution_deg: Option<f64>,
-    /// The device's angular positioning accuracy, degrees.
-    pub angular_accuracy_deg: f64,
 }
 
 /// One sample's prediction and the residual's figures.
@@ -78,21 +75,18 @@ struct Residual {
 }
 
 impl Consistency {
-    /// Checks `table` against `samples` measured through `instrument`, with each sample's
-    /// noise `sigma` (standard deviation per channel, 1/sr; `None`: the positioning alone).
+    /// Checks `table` against `samples` measured through `instrument`, with the standard
+    /// uncertainty `u` of each sample's prediction (per channel, 1/sr; one per sample).
     pub fn check(
         samples: &[Sample],
-        sigma: Option<&[Rgb]>,
+        u: &[Rgb],
         table: &MerlBrdf,
         instrument: Instrument<'_>,
     ) -> Self {
         let residuals: Vec<Residual> = samples
             .par_iter()
-            .enumerate()
-            .map(|(i, s)| {
-                let noise = sigma.and_then(|all| all.get(i)).copied();
-                residual(s, noise.unwrap_or(Rgb::ZERO), table, instrument)
-            })
+            .zip(u)
+            .map(|(s, &u)| residual(s, u, table, instrument.nodes))
             .collect();
         let peak_limit_deg = instrument
             .resolution_deg
@@ -152,28 +146,12 @@ pub(crate) fn predicted(table: &MerlBrdf, nodes: &[CaptureNode], hd: HalfDiff) -
     })
 }
 
-fn residual(
-    sample: &Sample,
-    sigma: Rgb,
-    table: &MerlBrdf,
-    instrument: Instrument<'_>,
-) -> Residual {
-    let p = predicted(table, instrument.nodes, sample.hd);
-    let delta_rad = instrument.angular_accuracy_deg.to_radians();
-    let shifted = |by: f64| HalfDiff {
-        theta_h: (sample.hd.theta_h + by).max(0.0),
-        ..sample.hd
-    };
-    let slope = (predicted(table, instrument.nodes, shifted(delta_rad))
-        - predicted(table, instrument.nodes, shifted(-delta_rad)))
-    .abs()
-        / 2.0;
-    let error = p - sample.value;
-    let variance = sigma * sigma + slope * slope;
+fn residual(sample: &Sample, u: Rgb, table: &MerlBrdf, nodes: &[CaptureNode]) -> Residual {
+    let error = predicted(table, nodes, sample.hd) - sample.value;
     let chi2 = (0..3)
         .map(|c| {
-            if variance[c] > 0.0 {
-                error[c] * error[c] / variance[c]
+            if u[c] > 0.0 {
+                (error[c] / u[c]).powi(2)
             } else if error[c] == 0.0 {
                 0.0
             } else {
@@ -187,6 +165,50 @@ fn residual(
         squared_error: error.length_squared(),
         squared_signal: sample.value.length_squared(),
     }
+}
+
+/// The device's angular positioning accuracy, degrees (the UTIA device's, which the default
+/// device file states).
+pub const POSITIONING_ACCURACY_DEG: f64 = 0.03;
+
+/// Per sample, the standard uncertainty of its capture for a positioning error of
+/// [`POSITIONING_ACCURACY_DEG`] in theta_h: `|P(theta_h + d) - P(theta_h - d)| / 2`, predicted
+/// from `table` through `nodes`. On a sharp flank a hundredth of a degree changes f by
+/// percents, which no reconstruction should be asked to reproduce.
+pub fn positioning_uncertainty(
+    samples: &[Sample],
+    table: &MerlBrdf,
+    nodes: &[CaptureNode],
+) -> Vec<Rgb> {
+    let delta = POSITIONING_ACCURACY_DEG.to_radians();
+    samples
+        .par_iter()
+        .map(|s| {
+            let at = |by: f64| {
+                let shifted = HalfDiff {
+                    theta_h: (s.hd.theta_h + by).max(0.0),
+                    ..s.hd
+                };
+                predicted(table, nodes, shifted)
+            };
+            (at(delta) - at(-delta)).abs() / 2.0
+        })
+        .collect()
+}
+
+/// Per sample, `P_table - M_lobe`: how far `lobe_table` (the fitted `lobe` tabulated in MERL
+/// bins) blurred through `nodes` predicts the lobe's exact capture `M_lobe`. Near a sharp peak
+/// the bins' interpolation alone is a few percent off, however right the table is.
+pub fn representation_error(
+    samples: &[Sample],
+    lobe: &crate::lobe::Lobe,
+    lobe_table: &MerlBrdf,
+    nodes: &[CaptureNode],
+) -> Vec<Rgb> {
+    samples
+        .par_iter()
+        .map(|s| predicted(lobe_table, nodes, s.hd) - lobe.measured(nodes, s.hd))
+        .collect()
 }
 
 fn figures<'a>(
@@ -256,12 +278,12 @@ mod tests {
             resolution_deg: Some(specula_core::capture::CaptureResponse::resolution_deg(
                 &response,
             )),
-            angular_accuracy_deg: 0.03,
         };
         let (samples, table) = measured(&lobe(0.05), &nodes);
-        let good = Consistency::check(&samples, None, &table, instrument);
+        let u = positioning_uncertainty(&samples, &table, &nodes);
+        let good = Consistency::check(&samples, &u, &table, instrument);
         let (_, sharper) = measured(&lobe(0.0125), &nodes);
-        let bad = Consistency::check(&samples, None, &sharper, instrument);
+        let bad = Consistency::check(&samples, &u, &sharper, instrument);
         let peak_good = good.region("peak").unwrap();
         let peak_bad = bad.region("peak").unwrap();
         assert!(peak_good.relative_error < 0.01, "{good:?}");

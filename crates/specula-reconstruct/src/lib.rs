@@ -25,6 +25,7 @@ pub mod prior;
 pub mod prior_reconstruct;
 pub mod provenance;
 pub mod reconstruct;
+pub mod safeguard;
 pub mod sample;
 
 pub use method::Method;

@@ -2,6 +2,7 @@
 //! samples on their lattice in the method's value domain, extrapolate the nodes the device
 //! could not reach, interpolate at every MERL bin centre, and record each cell's provenance.
 
+use crate::consistency;
 use crate::domain::log_of_measured;
 use crate::extrapolate::fill_missing;
 use crate::grid::{extrapolated_cells, interpolate_to_merl};
@@ -48,6 +49,9 @@ pub struct Reconstruction {
     pub measured_nodes: usize,
     /// Lattice nodes filled by extrapolation.
     pub filled_nodes: usize,
+    /// What the checks of a deblurred table found ([`crate::safeguard`]); `None` when the
+    /// table was not deblurred.
+    pub safeguard: Option<crate::safeguard::Safeguard>,
 }
 
 /// The lobe as a capture at `hd` measures it: through the nodes near the peak, where the fit
@@ -213,10 +217,6 @@ fn corrected_through(
     table
 }
 
-/// The device's angular positioning accuracy the corrections allow for, degrees (the UTIA
-/// device's, which the default device file states).
-const POSITIONING_ACCURACY_DEG: f64 = 0.03;
-
 /// A sample's miss is corrected only by what exceeds this many of its uncertainties.
 const DEADBAND_UNCERTAINTIES: f64 = 2.0;
 
@@ -226,30 +226,21 @@ fn shrunk(x: f64, band: f64) -> f64 {
     x.signum() * (x.abs() - band).max(0.0)
 }
 
-/// Per sample of `which`, the log change of its capture for a positioning error of
-/// [`POSITIONING_ACCURACY_DEG`] in theta_h, from `table` through `nodes`: on a sharp
-/// flank several percent, which no correction should chase.
+/// Per sample of `which`, the log change of its capture for the device's positioning error
+/// ([`consistency::positioning_uncertainty`] relative to the capture), from `table` through
+/// `nodes`: on a sharp flank several percent, which no correction should chase.
 fn positioning_log_uncertainty(
     samples: &[Sample],
     which: &[usize],
     table: &MerlBrdf,
     nodes: &[CaptureNode],
 ) -> Vec<[f64; 3]> {
-    let delta = POSITIONING_ACCURACY_DEG.to_radians();
-    which
-        .par_iter()
-        .map(|&i| {
-            let hd = samples[i].hd;
-            let at = |by: f64| {
-                let shifted = HalfDiff {
-                    theta_h: (hd.theta_h + by).max(0.0),
-                    ..hd
-                };
-                crate::consistency::predicted(table, nodes, shifted)
-            };
-            let (up, down) = (at(delta), at(-delta));
-            std::array::from_fn(|c| 0.5 * (log_of_measured(up[c]) - log_of_measured(down[c])).abs())
-        })
+    let chosen: Vec<Sample> = which.iter().map(|&i| samples[i]).collect();
+    let u = consistency::positioning_uncertainty(&chosen, table, nodes);
+    let at = predict(samples, which, table, nodes);
+    u.iter()
+        .zip(&at)
+        .map(|(u, p)| std::array::from_fn(|c| u[c] / p[c].max(f64::MIN_POSITIVE)))
         .collect()
 }
 
@@ -257,7 +248,7 @@ fn positioning_log_uncertainty(
 fn predict(samples: &[Sample], which: &[usize], table: &MerlBrdf, nodes: &[CaptureNode]) -> Vec<Rgb> {
     which
         .par_iter()
-        .map(|&i| crate::consistency::predicted(table, nodes, samples[i].hd))
+        .map(|&i| consistency::predicted(table, nodes, samples[i].hd))
         .collect()
 }
 
@@ -360,5 +351,6 @@ pub(crate) fn table_of_domain_values(
         lattice_shape: lattice.shape(),
         measured_nodes,
         filled_nodes: lattice.status.len() - measured_nodes,
+        safeguard: None,
     }
 }
