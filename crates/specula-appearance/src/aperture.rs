@@ -174,7 +174,7 @@ pub fn collect(brdf: &dyn Brdf, beams: &Beams, extrapolated: Option<&Extrapolate
             let wo = direction(theta, a, b, false);
             let w = source_weight * weight * b.cos() * wo.z;
             sums.weight += w;
-            match brdf.eval(wi, wo) {
+            match brdf.eval_smooth(wi, wo) {
                 Some(f) => {
                     let y = luminance(f) * w;
                     sums.flux += y;

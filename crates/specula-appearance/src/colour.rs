@@ -59,7 +59,7 @@ pub fn multi_angle(brdf: &dyn Brdf) -> Vec<Option<LabD65>> {
         .iter()
         .map(|&gamma| {
             let (wi, wo) = reading_directions(gamma);
-            brdf.eval(wi, wo).map(|f| lab_of_reflectance(f * PI))
+            brdf.eval_smooth(wi, wo).map(|f| lab_of_reflectance(f * PI))
         })
         .collect()
 }

@@ -142,6 +142,9 @@ pub struct Appearance {
     pub doi: f64,
     /// Haze at 20 deg, ASTM E430 Test Method B / ISO 13803, relative to the gloss standard.
     pub haze_20: f64,
+    /// Haze index of ASTM D4039 (section 3.2.3): `G60 - G20`, the 60 deg gloss less the
+    /// 20 deg gloss, for high-gloss nonmetallic specimens (60 deg gloss above 70, section 4.2).
+    pub haze_d4039: f64,
     /// CIELAB under D65 at each of [`ASPECULAR_DEG`] (`None`: not measured).
     pub colour: Vec<Option<LabD65>>,
     /// Flop index from L* at 15, 45 and 110 deg (`None` when one is missing).
@@ -212,10 +215,16 @@ pub fn appearance(brdf: &dyn Brdf, options: &Options) -> Appearance {
         haze: e430.haze,
         doi: e430.doi,
         haze_20: haze_20.1,
+        haze_d4039: d4039_haze_index(&gloss_readings.map(|(_, gu)| gu)),
         colour,
         flop_index,
         warnings,
     }
+}
+
+/// ASTM D4039's haze index from the gloss at 20, 60 and 85 deg: `G60 - G20`.
+pub fn d4039_haze_index(gloss: &[f64; 3]) -> f64 {
+    gloss[1] - gloss[0]
 }
 
 /// The larger of two readings' unmeasured and extrapolated fractions (a ratio figure
@@ -239,6 +248,8 @@ pub struct Differences {
     pub doi: f64,
     /// Haze at 20 deg, ASTM E430 Test Method B / ISO 13803.
     pub haze_20: f64,
+    /// Haze index, ASTM D4039.
+    pub haze_d4039: f64,
     /// Flop index (`None` when either lacks one).
     pub flop_index: Option<f64>,
     /// CIEDE2000 at each of [`ASPECULAR_DEG`].
@@ -253,6 +264,7 @@ impl Appearance {
             haze: self.haze - reference.haze,
             doi: self.doi - reference.doi,
             haze_20: self.haze_20 - reference.haze_20,
+            haze_d4039: self.haze_d4039 - reference.haze_d4039,
             flop_index: self
                 .flop_index
                 .zip(reference.flop_index)
@@ -267,12 +279,54 @@ impl Appearance {
     }
 }
 
-/// The CSV header: `source,gloss_20,gloss_60,gloss_85,haze,doi`, then `haze_20`, the
+/// The names of the differences to a reference, in column order: `gloss_20`, `gloss_60`,
+/// `gloss_85`, `haze`, `doi`, `haze_20`, `haze_d4039`, `flop_index` (material minus
+/// reference), then
+/// `de00_15` ... `de00_110` (CIEDE2000 per aspecular angle). The CSV's difference columns
+/// and a tolerance file's keys ([`crate::tolerance`]) are these names.
+pub fn difference_names() -> Vec<String> {
+    let mut names: Vec<String> = DIFFERENCE_FIGURES.map(String::from).to_vec();
+    names.extend(ASPECULAR_DEG.iter().map(|gamma| format!("de00_{gamma}")));
+    names
+}
+
+/// The figures whose differences are plain subtractions, in column order.
+const DIFFERENCE_FIGURES: [&str; 8] = [
+    "gloss_20",
+    "gloss_60",
+    "gloss_85",
+    "haze",
+    "doi",
+    "haze_20",
+    "haze_d4039",
+    "flop_index",
+];
+
+impl Differences {
+    /// The differences in [`difference_names`] order (`None` where unknown).
+    pub fn values(&self) -> Vec<Option<f64>> {
+        let mut values: Vec<Option<f64>> = self.gloss.map(Some).to_vec();
+        values.extend([self.haze, self.doi, self.haze_20, self.haze_d4039].map(Some));
+        values.push(self.flop_index);
+        values.extend(self.delta_e00.iter().copied());
+        values
+    }
+}
+
+/// The CSV header: `source,gloss_20,gloss_60,gloss_85,haze,doi`, then `haze_20`,
+/// `haze_d4039`, the
 /// CIELAB columns per aspecular angle (`L_15,a_15,b_15,...`), `flop_index`, and with a
 /// reference the differences (`d_gloss_20,...,d_flop_index`, `de00_15,...`).
 pub fn csv_header(with_reference: bool) -> Vec<String> {
     let mut header: Vec<String> = [
-        "source", "gloss_20", "gloss_60", "gloss_85", "haze", "doi", "haze_20",
+        "source",
+        "gloss_20",
+        "gloss_60",
+        "gloss_85",
+        "haze",
+        "doi",
+        "haze_20",
+        "haze_d4039",
     ]
     .map(String::from)
     .to_vec();
@@ -283,20 +337,13 @@ pub fn csv_header(with_reference: bool) -> Vec<String> {
     }
     header.push("flop_index".into());
     if with_reference {
-        for name in [
-            "gloss_20",
-            "gloss_60",
-            "gloss_85",
-            "haze",
-            "doi",
-            "haze_20",
-            "flop_index",
-        ] {
-            header.push(format!("d_{name}"));
-        }
-        for gamma in ASPECULAR_DEG {
-            header.push(format!("de00_{gamma}"));
-        }
+        header.extend(difference_names().into_iter().map(|name| {
+            if DIFFERENCE_FIGURES.contains(&name.as_str()) {
+                format!("d_{name}")
+            } else {
+                name
+            }
+        }));
     }
     header
 }
@@ -310,16 +357,21 @@ fn cell(value: Option<f64>) -> String {
 /// columns of the CSV and of the Python package's `specula.appearance`.
 pub fn column_values(figures: &Appearance, differences: Option<&Differences>) -> Vec<Option<f64>> {
     let mut values: Vec<Option<f64>> = figures.gloss.iter().map(|v| Some(*v)).collect();
-    values.extend([figures.haze, figures.doi, figures.haze_20].map(Some));
+    values.extend(
+        [
+            figures.haze,
+            figures.doi,
+            figures.haze_20,
+            figures.haze_d4039,
+        ]
+        .map(Some),
+    );
     for lab in &figures.colour {
         values.extend((0..3).map(|i| lab.map(|c| c[i])));
     }
     values.push(figures.flop_index);
     if let Some(d) = differences {
-        values.extend(d.gloss.map(Some));
-        values.extend([d.haze, d.doi, d.haze_20].map(Some));
-        values.push(d.flop_index);
-        values.extend(d.delta_e00.iter().copied());
+        values.extend(d.values());
     }
     values
 }
@@ -372,6 +424,11 @@ pub fn text_rows(figures: &[&Appearance], differences: Option<&[Differences]>) -
         "haze 20 deg, ISO 13803".into(),
         &|f| Some(f.haze_20),
         &|d| Some(d.haze_20),
+    );
+    add(
+        "haze index, D4039 (G60 - G20)".into(),
+        &|f| Some(f.haze_d4039),
+        &|d| Some(d.haze_d4039),
     );
     for (k, gamma) in ASPECULAR_DEG.iter().enumerate() {
         for (i, channel) in ["L*", "a*", "b*"].iter().enumerate() {

@@ -11,5 +11,7 @@ pub mod colour;
 pub mod figures;
 pub mod gloss;
 pub mod haze;
+pub mod tolerance;
 
 pub use figures::{appearance, Appearance, Differences, Options, Warning};
+pub use tolerance::{Tolerances, Verdict};

@@ -292,3 +292,24 @@ fn haze_of_the_standard_geometry_is_relative_to_the_gloss_standard() {
         "{haze_20} vs {expected}"
     );
 }
+
+/// ASTM D4039's haze index `G60 - G20` of a clear coat rises as the coat roughens: the
+/// narrow 20 deg receptor loses the widening lobe before the wide 60 deg one does (over
+/// the high-gloss range the method is for).
+#[test]
+fn the_d4039_haze_index_is_g60_less_g20_and_rises_with_roughness() {
+    let index = |alpha: f64| {
+        let coat = ClearCoat::new(Distribution::Ggx, alpha, 1.49, Rgb::new(0.03, 0.25, 0.06));
+        let figures = appearance(
+            &Material::new("coat", Base::ClearCoat(coat)),
+            &Options::default(),
+        );
+        assert!((figures.haze_d4039 - (figures.gloss[1] - figures.gloss[0])).abs() < 1e-9);
+        figures.haze_d4039
+    };
+    let indices: Vec<f64> = [0.002, 0.005, 0.01].into_iter().map(index).collect();
+    assert!(
+        indices.windows(2).all(|w| w[1] > w[0]) && indices[2] - indices[0] > 10.0,
+        "{indices:?}"
+    );
+}

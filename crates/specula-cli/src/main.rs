@@ -8,6 +8,7 @@ mod commands;
 mod interrupt;
 mod progress;
 mod range;
+mod verdict;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
@@ -111,6 +112,10 @@ fn main() -> ExitCode {
         Err(err) if err.is::<interrupt::Interrupted>() => {
             eprintln!("{err}");
             ExitCode::from(interrupt::INTERRUPTED_EXIT)
+        }
+        Err(err) if err.is::<verdict::Failed>() => {
+            eprintln!("{err}");
+            ExitCode::from(verdict::FAILED_EXIT)
         }
         Err(err) => {
             eprintln!("error: {err:#}");

@@ -111,3 +111,118 @@ fn bad_input_is_one_line_or_a_usage_error() {
     assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
     assert!(stderr.contains("no-such.binary"));
 }
+
+/// Writes a tolerance file into `dir` and returns its path as a string.
+fn tolerance_file(dir: &std::path::Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+#[test]
+fn tolerance_verdicts_pass_exit_0_and_a_failing_batch_exits_3() {
+    let dir = tempfile::tempdir().unwrap();
+    // silver-925 against itself: every difference is 0, inside any tolerance.
+    let tight = tolerance_file(
+        dir.path(),
+        "tight.toml",
+        "[tolerances]\ngloss_20 = 0.5\ngloss_60 = 0.5\nde00_15 = 0.1\nde00_45 = 0.1\n",
+    );
+    let (stdout, _) = run(&[
+        "appearance",
+        "silver-925",
+        "--against",
+        "silver-925",
+        "--tolerances",
+        &tight,
+        "--csv",
+    ]);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert!(lines[0].ends_with(",verdict"), "{}", lines[0]);
+    assert!(lines[1].ends_with(",reference") && lines[2].ends_with(",pass"));
+
+    // A batch of two samples, one of them chrome: one CSV, chrome fails on the figures it
+    // misses by, silver passes; the run exits 3.
+    let out = specula()
+        .args([
+            "appearance",
+            "silver-925",
+            "chrome",
+            "--against",
+            "silver-925",
+            "--tolerances",
+            &tight,
+            "--csv",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3), "{out:?}");
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 4, "{stdout}");
+    assert!(lines[2].starts_with("silver-925,") && lines[2].ends_with(",pass"));
+    assert!(
+        lines[3].starts_with("chrome,")
+            && lines[3].contains(",\"fail: gloss_20, gloss_60, de00_15, de00_45\""),
+        "{}",
+        lines[3]
+    );
+    assert!(String::from_utf8(out.stderr)
+        .unwrap()
+        .contains("1 of 2 samples outside their tolerances"));
+
+    // The text table has a verdict row.
+    let out = specula()
+        .args([
+            "appearance",
+            "chrome",
+            "--against",
+            "silver-925",
+            "--tolerances",
+            &tight,
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let verdict = text.lines().find(|l| l.starts_with("verdict")).unwrap();
+    assert!(verdict.contains("reference") && verdict.contains("fail: gloss_20"));
+}
+
+#[test]
+fn a_bad_tolerance_file_is_one_line_naming_the_file_and_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let unknown = tolerance_file(dir.path(), "t.toml", "[tolerances]\ngloss_30 = 5.0\n");
+    let negative = tolerance_file(dir.path(), "n.toml", "[tolerances]\ngloss_20 = -1\n");
+    let broken = tolerance_file(dir.path(), "b.toml", "[tolerances\ngloss_20 = 1\n");
+    for (file, words) in [
+        (&unknown, "unknown figure `gloss_30`"),
+        (&negative, "`gloss_20` must be a number of at least 0"),
+        (&broken, "line 1"),
+    ] {
+        let out = specula()
+            .args([
+                "appearance",
+                "chrome",
+                "--against",
+                "silver-925",
+                "--tolerances",
+                file,
+            ])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{out:?}");
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains(file.as_str()) && stderr.contains(words),
+            "{stderr}"
+        );
+    }
+    // Tolerances need a reference to be differences to.
+    let out = specula()
+        .args(["appearance", "chrome", "--tolerances", &unknown])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -96,6 +96,8 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
         &html,
         &[
             "Session report: silver-925".into(),
+            // The date is the session's start.
+            "<th>date</th><td>".into(),
             "<th>measured</th><td>simulated: silver-925</td>".into(),
             format!(
                 "k-hat</th><td>{:.3} (exponential sampling function, fit error {:.3e} 1/sr; fitted to a probe of {probe_done} samples, places 8 samples along theta_h)",
@@ -110,7 +112,7 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
                 "MERL cells holding a value</th><td>{} of 1458000",
                 measured.measured_count()
             ),
-            "Against <b>silver-925 (the truth the session simulated)</b>".into(),
+            "Against <b>silver-925 (truth)</b>".into(),
             // The reconstruction equals the table `measure` wrote.
             error_row(&measured),
             "Render, sphere".into(),
@@ -143,7 +145,7 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
         &html,
         &[
             format!("<th>table</th><td>{table_arg} (--table)</td>"),
-            "Against <b>chrome</b>".into(),
+            "Against <b>chrome (truth)</b>".into(),
             "cells measured directly</th><td>".into(),
         ],
     );
@@ -228,4 +230,37 @@ fn files_that_are_not_journals_get_one_line_errors() {
         "--samples-csv is for a .binary input",
     );
     assert!(!out.exists());
+}
+
+/// The figures' warnings (here: flux from cells the small plan's reconstruction
+/// extrapolated) come back with the page, for whoever prints the figures elsewhere (`specula
+/// demo` prints them under its figure lines), and are the warnings the page shows.
+#[test]
+fn the_figures_warnings_come_with_the_page_that_shows_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (session, table) = measure_small(dir.path(), None);
+    let pictures = dir.path().join("pictures");
+    std::fs::create_dir(&pictures).unwrap();
+    let options = specula_report::ReportOptions {
+        truth: Some("silver-925".into()),
+        table: Some(table),
+        size_px: SIZE_PX,
+        spp: 1,
+        ..specula_report::ReportOptions::new(&session)
+    };
+    let (page, files) =
+        specula_report::write_session_pictures(&options, &pictures, &specula_report::NoProgress)
+            .unwrap();
+    let html = std::fs::read_to_string(files.last().unwrap()).unwrap();
+    assert!(
+        page.warnings
+            .iter()
+            .any(|w| w.contains("extrapolated cells")),
+        "{:?}",
+        page.warnings
+    );
+    for warning in &page.warnings {
+        let shown = specula_visual::report::escape(&format!("Warning, {warning}."));
+        assert!(html.contains(&shown), "the page lacks {shown}");
+    }
 }

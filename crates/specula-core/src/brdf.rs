@@ -44,6 +44,14 @@ pub trait Brdf: Send + Sync {
         eval_pairs_one_by_one(self, wi, wo, out);
     }
 
+    /// f_r as a continuous function of the directions, for integrals over apertures (gloss,
+    /// haze) and readings between a table's samples: a table of samples interpolates between
+    /// them instead of returning the nearest one, whose steps an integral would otherwise add
+    /// up. The default is [`Brdf::eval`], right for every BRDF that is a function already.
+    fn eval_smooth(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+        self.eval(wi, wo)
+    }
+
     /// A short human-readable name (a preset, a file name, a fit's material).
     fn name(&self) -> String;
 }
@@ -111,6 +119,9 @@ macro_rules! brdf_through_pointer {
             }
             fn eval_pairs(&self, wi: &[DVec3], wo: &[DVec3], out: &mut [Option<Rgb>]) {
                 (**self).eval_pairs(wi, wo, out)
+            }
+            fn eval_smooth(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+                (**self).eval_smooth(wi, wo)
             }
             fn name(&self) -> String {
                 (**self).name()

@@ -28,3 +28,4 @@ pub mod scattering;
 pub mod shown;
 pub mod statistics;
 pub mod tabulate;
+pub mod toml_error;

@@ -314,43 +314,41 @@ pub fn theta_h_deg_at(coordinate: f64) -> f64 {
     coordinate * coordinate / THETA_H_BINS as f64
 }
 
-/// The two bin centres around an index coordinate (centre of bin `i` at `i + 0.5`) and the
-/// weight of each, for [`MerlBrdf::interpolate`].
-struct CentreBracket {
-    lower: usize,
-    upper: usize,
-    upper_weight: f64,
+/// `cos theta_i cos theta_o` of a configuration of half-difference angles (radians):
+/// `cos^2 theta_h cos^2 theta_d - sin^2 theta_h sin^2 theta_d cos^2 phi_d`, the projection
+/// factor every flux integral weights f_r by; at most 0 when a direction is below the
+/// horizon.
+fn cos_theta_i_cos_theta_o(theta_h: f64, theta_d: f64, phi_d: f64) -> f64 {
+    let (sin_h, cos_h) = theta_h.sin_cos();
+    let (sin_d, cos_d) = theta_d.sin_cos();
+    let cos_p = phi_d.cos();
+    (cos_h * cos_d).powi(2) - (sin_h * sin_d * cos_p).powi(2)
 }
 
-impl CentreBracket {
-    /// Beyond the first or the last centre the end bin alone.
-    fn clamped(coordinate: f64, bins: usize) -> Self {
-        let x = (coordinate - 0.5).clamp(0.0, (bins - 1) as f64);
-        let lower = (x.floor() as usize).min(bins - 1);
-        Self {
-            lower,
-            upper: (lower + 1).min(bins - 1),
-            upper_weight: x - lower as f64,
-        }
-    }
+/// The two bins whose centres (at `i + 0.5`) bracket `coordinate` and their linear
+/// weights; beyond the first or last centre, that bin alone.
+fn clamped_neighbours(coordinate: f64, bins: usize) -> [(usize, f64); 2] {
+    let x = if coordinate.is_nan() {
+        0.0
+    } else {
+        (coordinate - 0.5).clamp(0.0, (bins - 1) as f64)
+    };
+    let lower = (x.floor() as usize).min(bins - 2);
+    let t = x - lower as f64;
+    [(lower, 1.0 - t), (lower + 1, t)]
+}
 
-    /// On a circle of `bins` bins: past the last centre the first bin follows.
-    fn periodic(coordinate: f64, bins: usize) -> Self {
-        let x = (coordinate - 0.5).rem_euclid(bins as f64);
-        let lower = (x.floor() as usize).min(bins - 1);
-        Self {
-            lower,
-            upper: (lower + 1) % bins,
-            upper_weight: x - lower as f64,
-        }
-    }
-
-    fn corners(&self) -> [(usize, f64); 2] {
-        [
-            (self.lower, 1.0 - self.upper_weight),
-            (self.upper, self.upper_weight),
-        ]
-    }
+/// The two bins whose centres bracket `coordinate` on a periodic axis of `bins` unit bins,
+/// and their linear weights.
+fn periodic_neighbours(coordinate: f64, bins: usize) -> [(usize, f64); 2] {
+    let x = if coordinate.is_nan() {
+        0.0
+    } else {
+        (coordinate - 0.5).rem_euclid(bins as f64)
+    };
+    let lower = (x.floor() as usize).min(bins - 1);
+    let t = x - lower as f64;
+    [(lower, 1.0 - t), ((lower + 1) % bins, t)]
 }
 
 fn clamp_bin(value: f64, bins: usize) -> usize {
@@ -603,37 +601,65 @@ impl MerlBrdf {
         self.cell(Bin::of(hd).index())
     }
 
-    /// The table between its bin centres: trilinear in MERL's index coordinates (theta_h's
-    /// square-root coordinate [`theta_h_coordinate`], theta_d and phi_d in degrees), each
-    /// centre at its index plus one half. phi_d is periodic over 180 deg (reciprocity), so
-    /// the last bin and the first are neighbours; theta_h and theta_d hold their end centres'
-    /// values beyond them. `None` when a cell it needs is not measured.
+    /// f_r at half-difference angles interpolated between cell centres, for integrals and
+    /// readings between a table's samples (where [`MerlBrdf::lookup`]'s nearest bin is off by
+    /// up to a sixth on a glossy lobe 7 deg from its peak, and more near grazing).
     ///
-    /// Where the nearest-bin [`Self::lookup`] jumps by a whole bin's change (on a specular
-    /// flank, a bin of theta_d or phi_d is 1 deg), this changes continuously: what comparing a
-    /// table with samples at arbitrary angles needs.
+    /// What is interpolated is the projected BRDF `f cos theta_i cos theta_o` (smooth at
+    /// grazing angles, where f itself grows as `1 / cos^2`), trilinearly in the grid's index
+    /// coordinates (theta_h's square-root coordinate, theta_d and phi_d in degrees) and in
+    /// its logarithm (so that a lobe's exponential or power-law fall is followed between
+    /// centres, not cut by chords), then divided by the query's own projection. phi_d is
+    /// periodic over 180 deg (reciprocity); theta_h and theta_d are held at the first and
+    /// last centres beyond them. Where a neighbour is zero the values are averaged instead of
+    /// their logarithms, and below the horizon f itself is interpolated. A table reads back
+    /// its samples exactly at the centres.
+    ///
+    /// `None` when the nearest cell is not measured, like [`MerlBrdf::lookup`]; neighbours
+    /// that are not measured are left out and the weights of the others renormalised.
     pub fn interpolate(&self, hd: HalfDiff) -> Option<Rgb> {
-        let theta_h =
-            CentreBracket::clamped(theta_h_coordinate(hd.theta_h.to_degrees()), THETA_H_BINS);
-        let theta_d = CentreBracket::clamped(hd.theta_d.to_degrees(), THETA_D_BINS);
-        let phi_d = CentreBracket::periodic(hd.phi_d.to_degrees().rem_euclid(180.0), PHI_D_BINS);
+        self.cell(Bin::of(hd).index())?;
+        let [theta_h_deg, theta_d_deg, phi_d_deg] = reader_degrees(hd);
+        let theta_h = clamped_neighbours(theta_h_coordinate(theta_h_deg), THETA_H_BINS);
+        let theta_d = clamped_neighbours(theta_d_deg, THETA_D_BINS);
+        let phi_d = periodic_neighbours(phi_d_deg, PHI_D_BINS);
+        let projection = cos_theta_i_cos_theta_o(hd.theta_h, hd.theta_d, hd.phi_d);
+        // Above the horizon, the projected BRDF is interpolated (see the doc comment).
+        let weighted = projection > 0.0;
         let mut sum = Rgb::ZERO;
-        for (i, wi) in theta_h.corners() {
-            for (j, wj) in theta_d.corners() {
-                for (k, wk) in phi_d.corners() {
-                    let w = wi * wj * wk;
-                    if w > 0.0 {
-                        let bin = Bin {
-                            theta_h_i: i,
-                            theta_d_i: j,
-                            phi_d_i: k,
+        let mut log_sum = Rgb::ZERO;
+        let mut weight = 0.0;
+        for (theta_h_i, w_h) in theta_h {
+            for (theta_d_i, w_d) in theta_d {
+                for (phi_d_i, w_p) in phi_d {
+                    let w = w_h * w_d * w_p;
+                    let bin = Bin {
+                        theta_h_i,
+                        theta_d_i,
+                        phi_d_i,
+                    };
+                    if let (true, Some(value)) = (w > 0.0, self.cell(bin.index())) {
+                        let node = if weighted {
+                            let [h, d, p] = bin.centre_deg().map(f64::to_radians);
+                            cos_theta_i_cos_theta_o(h, d, p).max(0.0)
+                        } else {
+                            1.0
                         };
-                        sum += self.cell(bin.index())? * w;
+                        sum += w * node * value;
+                        log_sum += w * (node * value).map(f64::ln);
+                        weight += w;
                     }
                 }
             }
         }
-        Some(sum)
+        let scale = if weighted { projection } else { 1.0 };
+        let geometric = (log_sum / weight).exp();
+        let mean = if geometric.is_finite() && geometric.min_element() > 0.0 {
+            geometric
+        } else {
+            sum / weight
+        };
+        (weight > 0.0).then(|| mean / scale)
     }
 
     /// The directional albedo at incidence `theta_i_deg`, `rho(wi) = integral f(wi, wo)
@@ -844,6 +870,13 @@ impl Brdf for MerlBrdf {
         self.lookup(hd)
     }
 
+    fn eval_smooth(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+        if !both_above_surface(wi, wo) {
+            return Some(Rgb::ZERO);
+        }
+        self.interpolate(HalfDiff::from_directions(wi, wo))
+    }
+
     fn name(&self) -> String {
         self.name.clone()
     }
@@ -861,6 +894,99 @@ mod tests {
         t
     }
 
+    /// The logarithm of the projected BRDF of [`interpolation_table`], affine in the grid's
+    /// index coordinates (theta_h's square-root coordinate, theta_d and phi_d in degrees).
+    fn log_projected(theta_h_coordinate: f64, theta_d_deg: f64, phi_d_deg: f64) -> f64 {
+        -3.0 + 0.05 * theta_h_coordinate + 0.02 * theta_d_deg + 0.01 * phi_d_deg
+    }
+
+    /// `cos theta_i cos theta_o` at angles in degrees.
+    fn projection_deg(theta_h_deg: f64, theta_d_deg: f64, phi_d_deg: f64) -> f64 {
+        cos_theta_i_cos_theta_o(
+            theta_h_deg.to_radians(),
+            theta_d_deg.to_radians(),
+            phi_d_deg.to_radians(),
+        )
+    }
+
+    /// A table whose projected BRDF `f cos theta_i cos theta_o` is `exp` of
+    /// [`log_projected`] at the cell centres (not measured below the horizon).
+    fn interpolation_table() -> MerlBrdf {
+        MerlBrdf::from_fn("log-affine", |index| {
+            let bin = Bin::from_index(index);
+            let [theta_h_deg, theta_d_deg, phi_d_deg] = bin.centre_deg();
+            let projection = projection_deg(theta_h_deg, theta_d_deg, phi_d_deg);
+            let log = log_projected(bin.theta_h_i as f64 + 0.5, theta_d_deg, phi_d_deg);
+            (projection > 0.0).then(|| Rgb::splat(log.exp() / projection))
+        })
+    }
+
+    #[test]
+    fn interpolation_is_log_linear_in_the_projected_brdf_between_centres() {
+        let table = interpolation_table();
+        let at = |theta_h_deg: f64, theta_d_deg: f64, phi_d_deg: f64| {
+            let hd = HalfDiff::from_degrees(theta_h_deg, 20.0, theta_d_deg, phi_d_deg);
+            table.interpolate(hd).unwrap().x
+        };
+        let close = |got: f64, expected: f64| (got - expected).abs() < 1e-9 * expected;
+        // Between centres (phi_d away from the seam): exp of the affine function over the
+        // query's own projection, where the nearest bin is off by up to half a step.
+        for (theta_h_deg, theta_d_deg, phi_d_deg) in [
+            (7.5, 37.5, 90.0),
+            (0.3, 12.2, 45.7),
+            (33.3, 40.9, 170.1),
+            (1.0, 0.6, 1.2),
+            (2.0, 84.7, 30.2),
+        ] {
+            let log = log_projected(theta_h_coordinate(theta_h_deg), theta_d_deg, phi_d_deg);
+            let expected = log.exp() / projection_deg(theta_h_deg, theta_d_deg, phi_d_deg);
+            let got = at(theta_h_deg, theta_d_deg, phi_d_deg);
+            assert!(
+                close(got, expected),
+                "({theta_h_deg}, {theta_d_deg}, {phi_d_deg}): {got}, expected {expected}"
+            );
+            let hd = HalfDiff::from_degrees(theta_h_deg, 20.0, theta_d_deg, phi_d_deg);
+            let nearest = table.lookup(hd).unwrap().x;
+            assert!((nearest - expected).abs() > 1e-4 * expected);
+        }
+        // Beyond the first and last centres, theta_h and theta_d hold their edge values.
+        let edge = |theta_h_deg: f64, theta_d_deg: f64, coordinates: [f64; 3]| {
+            let [h, d, p] = coordinates;
+            log_projected(h, d, p).exp() / projection_deg(theta_h_deg, theta_d_deg, p)
+        };
+        assert!(close(at(0.0, 0.2, 90.5), edge(0.0, 0.2, [0.5, 0.5, 90.5])));
+        assert!(close(at(1.0, 89.9, 90.5), {
+            let h = theta_h_coordinate(1.0);
+            edge(1.0, 89.9, [h, 89.5, 90.5])
+        }));
+        // phi_d is periodic over 180 deg: 0.2 deg lies between the centres 179.5 and 0.5.
+        let theta_h_deg = theta_h_centre_deg(9);
+        let seam = 0.3 * log_projected(9.5, 40.5, 179.5) + 0.7 * log_projected(9.5, 40.5, 0.5);
+        let expected = seam.exp() / projection_deg(theta_h_deg, 40.5, 0.2);
+        assert!(close(at(theta_h_deg, 40.5, 0.2), expected));
+    }
+
+    #[test]
+    fn interpolation_leaves_out_unmeasured_neighbours_and_follows_the_nearest_cell() {
+        let mut table = interpolation_table();
+        let hd = HalfDiff::from_degrees(theta_h_centre_deg(20), 0.0, 40.2, 90.5);
+        // Nearest cell (theta_d 40) measured, its neighbour across theta_d (39, weight 0.3)
+        // not: the nearest cell's projected value alone, over the query's projection.
+        let [nearest, neighbour] = [40, 39].map(|theta_d_i| Bin {
+            theta_h_i: 20,
+            theta_d_i,
+            phi_d_i: 90,
+        });
+        table.set_cell(neighbour.index(), None);
+        let [h, d, p] = nearest.centre_deg();
+        let expected = table.cell(nearest.index()).unwrap().x * projection_deg(h, d, p)
+            / projection_deg(theta_h_centre_deg(20), 40.2, 90.5);
+        let got = table.interpolate(hd).unwrap().x;
+        assert!((got - expected).abs() < 1e-9 * expected, "{got} {expected}");
+        table.set_cell(nearest.index(), None);
+        assert_eq!(table.interpolate(hd), None);
+    }
+
     #[test]
     fn planes_per_sr_are_the_cells_with_nan_holes() {
         let mut t = sample_table();
@@ -875,38 +1001,6 @@ mod tests {
             }
         }
         assert!(t.cell(14).is_none() && t.cell(21).is_some());
-    }
-
-    #[test]
-    fn interpolation_is_exact_on_trilinear_tables_and_wraps_phi_d() {
-        // A table linear in each index coordinate (theta_h's square-root one, theta_d, and a
-        // phi_d term that is linear inside [0.5, 179.5]) is reproduced between centres;
-        // at the centres it is the cell; across phi_d's wrap it blends bins 179 and 0.
-        let value = |i: f64, j: f64, k: f64| 1.0 + 0.25 * i + 0.5 * j + 0.125 * k;
-        let table = MerlBrdf::from_fn("lin", |index| {
-            let b = Bin::from_index(index);
-            let v = value(b.theta_h_i as f64, b.theta_d_i as f64, b.phi_d_i as f64);
-            Some(Rgb::splat(v))
-        });
-        for (h, d, p) in [(3.2, 10.7, 40.25), (0.5, 0.5, 0.5), (47.9, 61.5, 120.0)] {
-            let coordinate = theta_h_coordinate(h);
-            let hd = HalfDiff::from_degrees(h, 0.0, d, p);
-            let want = value(coordinate - 0.5, d - 0.5, p - 0.5);
-            let got = table.interpolate(hd).unwrap().x;
-            assert!((got - want).abs() < 1e-9, "{h} {d} {p}: {got} vs {want}");
-        }
-        let centre = Bin {
-            theta_h_i: 7,
-            theta_d_i: 30,
-            phi_d_i: 90,
-        };
-        let [h, d, p] = centre.centre_deg();
-        let at_centre = table.interpolate(HalfDiff::from_degrees(h, 0.0, d, p)).unwrap();
-        assert!((at_centre - table.cell(centre.index()).unwrap()).abs().max_element() < 1e-9);
-        // phi_d 0 deg lies halfway between the centres of bins 179 (179.5) and 0 (0.5).
-        let wrap = table.interpolate(HalfDiff::from_degrees(h, 0.0, d, 0.0)).unwrap().x;
-        let want = 0.5 * (value(7.0, 30.0, 179.0) + value(7.0, 30.0, 0.0));
-        assert!((wrap - want).abs() < 1e-9, "{wrap} vs {want}");
     }
 
     #[test]

@@ -14,13 +14,14 @@ use std::sync::Arc;
 
 /// The appearance figures of `brdf`, as `specula appearance --csv` gives them, in a dict
 /// keyed by its column names: `gloss_20`, `gloss_60`, `gloss_85` (GU, ISO 2813 / ASTM
-/// D523), `haze` and `doi` (ASTM E430 at 30 deg), `haze_20` (ISO 13803), CIELAB under D65
+/// D523), `haze` and `doi` (ASTM E430 at 30 deg), `haze_20` (ISO 13803), `haze_d4039`
+/// (ASTM D4039, `gloss_60 - gloss_20`), CIELAB under D65
 /// `L_g`, `a_g`, `b_g` at the aspecular angles g = 15, 25, 45, 75, 110 deg, and
 /// `flop_index`; plus `name` (the BRDF's) and `warnings` (the CLI's warning lines).
 ///
 /// `brdf` is a `Brdf`, a source for `load` (str or path) or a `(90, 90, 180, 3)` array; a
 /// list of them gives a list of dicts. With `against` (one BRDF of the same kinds) each
-/// dict also holds the differences to it: `d_gloss_20` ... `d_haze_20`, `d_flop_index`
+/// dict also holds the differences to it: `d_gloss_20` ... `d_haze_20`, `d_haze_d4039`, `d_flop_index`
 /// (material minus reference) and CIEDE2000 `de00_g` per aspecular angle.
 /// `resolution_deg` (in (0, 90]) is the measuring instrument's angular resolution: figures
 /// that read the BRDF at a finer angle get a warning. A MERL `.binary` given by its path

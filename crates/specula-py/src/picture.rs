@@ -90,13 +90,13 @@ pub(crate) fn report(
     title: Option<String>,
 ) -> PyResult<PathBuf> {
     let options = ReportOptions {
-        input: source,
         truth,
         samples: samples_csv,
         table,
         size_px: size,
         spp,
         title,
+        ..ReportOptions::new(source)
     };
     let written = out.clone();
     interrupt::run(py, Stop::Abandon, move |_| {

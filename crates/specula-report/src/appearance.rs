@@ -4,7 +4,7 @@
 use crate::error::{OrReport, ReportError};
 use specula_appearance::aperture::ExtrapolatedCells;
 use specula_appearance::figures::text_rows;
-use specula_appearance::{appearance, Appearance, Differences, Options};
+use specula_appearance::{appearance, Appearance, Differences, Options, Tolerances, Verdict};
 use specula_core::Brdf;
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_visual::report::TableSection;
@@ -33,37 +33,84 @@ pub fn extrapolated_cells_of(provenance: &Provenance) -> Option<ExtrapolatedCell
     )
 }
 
-/// The report's appearance section: the figures of the measured table (with `options`)
-/// and, when known, of the truth it is compared with, first, the table's differences to it.
+/// The report's appearance section, the verdict on the sample and the figures' warnings.
+#[derive(Debug, Clone)]
+pub struct AppearanceSection {
+    /// The section's table.
+    pub table: TableSection,
+    /// The verdict of the tolerances on the sample, when tolerances were given.
+    pub verdict: Option<Verdict>,
+    /// Where a figure rests on extrapolated or unmeasured cells, or on angles finer than
+    /// the instrument resolves, each line naming the BRDF (`chrome (reference): gloss_85:
+    /// ...`): the page shows them, and whoever prints the figures elsewhere prints them too.
+    pub warnings: Vec<String>,
+}
+
+/// The report's appearance section: the figures of the sample (with `options`) and, when
+/// known, of the reference (or truth) it is compared with, first, the sample's differences
+/// to it and, with `tolerances`, the verdict on them. Labels are given whole ("chrome
+/// (reference)").
 pub fn report_section(
-    truth: Option<(&str, &dyn Brdf)>,
-    table: (&str, &dyn Brdf),
+    reference: Option<(&str, &dyn Brdf)>,
+    sample: (&str, &dyn Brdf),
     options: Options,
-) -> TableSection {
+    tolerances: Option<&Tolerances>,
+) -> AppearanceSection {
     let mut labels = Vec::new();
     let mut figures = Vec::new();
-    if let Some((label, brdf)) = truth {
-        labels.push(format!("{label} (truth)"));
+    if let Some((label, brdf)) = reference {
+        labels.push(label.to_string());
         figures.push(appearance(brdf, &Options::default()));
     }
-    labels.push(table.0.to_string());
-    figures.push(appearance(table.1, &options));
-    let differences: Option<Vec<Differences>> = truth
+    labels.push(sample.0.to_string());
+    figures.push(appearance(sample.1, &options));
+    let differences: Option<Vec<Differences>> = reference
         .is_some()
         .then(|| figures.iter().map(|f| f.against(&figures[0])).collect());
+    let verdict = tolerances
+        .zip(differences.as_ref())
+        .and_then(|(t, d)| d.last().map(|d| t.verdict(d)));
     let refs: Vec<&Appearance> = figures.iter().collect();
     let mut header = vec!["figure".to_string()];
     header.extend(labels.iter().cloned());
+    let mut rows = text_rows(&refs, differences.as_deref());
     let mut notes = vec![
-        "Gloss per ISO 2813 / ASTM D523 (GU; black glass of index 1.567 = 100), haze and DOI per ASTM E430 (30 deg), haze at 20 deg per ISO 13803, CIELAB under D65 at the aspecular angles of ASTM E2194 (illumination 45 deg). R, G, B are taken as linear sRGB (Rec. 709 primaries, D65 white). In brackets: the difference to the truth; dE00: CIEDE2000 to it.".to_string(),
+        "Gloss per ISO 2813 / ASTM D523 (GU; black glass of index 1.567 = 100), haze and DOI per ASTM E430 (30 deg), haze at 20 deg per ISO 13803, CIELAB under D65 at the aspecular angles of ASTM E2194 (illumination 45 deg). R, G, B are taken as linear sRGB (Rec. 709 primaries, D65 white).".to_string(),
     ];
-    for (label, f) in labels.iter().zip(&figures) {
-        notes.extend(f.warnings.iter().map(|w| format!("Warning, {label}: {w}.")));
+    if let Some((label, _)) = reference {
+        notes.push(format!(
+            "In brackets: the difference to {label}; dE00: CIEDE2000 to it."
+        ));
     }
-    TableSection {
-        title: "Appearance".into(),
-        header,
-        rows: text_rows(&refs, differences.as_deref()),
-        notes,
+    if let (Some(verdict), Some(tolerances)) = (&verdict, tolerances) {
+        let mut row = vec!["verdict".to_string()];
+        row.extend(labels[..labels.len() - 1].iter().map(|_| String::new()));
+        row.push(verdict.to_string());
+        rows.push(row);
+        let limits: Vec<String> = tolerances
+            .limits()
+            .iter()
+            .map(|(name, limit)| format!("{name} {limit}"))
+            .collect();
+        notes.push(format!(
+            "Verdict: pass when every figure's |difference| is within its tolerance ({}).",
+            limits.join(", ")
+        ));
+    }
+    let warnings: Vec<String> = labels
+        .iter()
+        .zip(&figures)
+        .flat_map(|(label, f)| f.warnings.iter().map(move |w| format!("{label}: {w}")))
+        .collect();
+    notes.extend(warnings.iter().map(|w| format!("Warning, {w}.")));
+    AppearanceSection {
+        table: TableSection {
+            title: "Appearance".into(),
+            header,
+            rows,
+            notes,
+        },
+        verdict,
+        warnings,
     }
 }

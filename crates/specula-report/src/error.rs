@@ -6,9 +6,20 @@ use std::path::PathBuf;
 /// Why a report could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
-    /// The input is neither a MERL table nor a session journal.
-    #[error("{}: expected a MERL .binary file or a session journal (.sqlite)", .0.display())]
-    UnknownInput(PathBuf),
+    /// The report's file is neither `.html` nor `.pdf`.
+    #[error("{}: a report is written as .html or .pdf (by the file's extension)", .0.display())]
+    OutputFormat(PathBuf),
+    /// A PDF was asked for and no Chromium is installed to print it.
+    #[error("{}: a PDF report is printed by headless Chromium, and none is installed (chromium, chromium-browser or google-chrome on PATH); write .html instead", .0.display())]
+    NoChromium(PathBuf),
+    /// Chromium did not print the PDF.
+    #[error("{}: {problem}", path.display())]
+    Pdf {
+        /// The PDF file.
+        path: PathBuf,
+        /// What went wrong, on one line.
+        problem: String,
+    },
     /// The options do not fit together or lie out of range.
     #[error("{0}")]
     Options(&'static str),

@@ -107,14 +107,16 @@ pub(crate) fn errors(
 
 /// Renders on a sphere and on a speedshape in the studio; beside the truth when known.
 pub(crate) fn renders(
-    table: &MerlBrdf,
-    truth: Option<&dyn Brdf>,
+    sample: (&MerlBrdf, &str),
+    other: Option<(&dyn Brdf, &str)>,
     options: &ReportOptions,
     progress: &dyn Progress,
 ) -> Result<Vec<Figure>, ReportError> {
     let studio = Lighting::Environment(Arc::new(Environment::studio()));
     let settings = RenderSettings::square(options.size_px, options.spp);
-    let materials: Vec<&dyn Brdf> = std::iter::once(table as &dyn Brdf).chain(truth).collect();
+    let materials: Vec<&dyn Brdf> = std::iter::once(sample.0 as &dyn Brdf)
+        .chain(other.map(|(brdf, _)| brdf))
+        .collect();
     let shapes = [ShapeKind::Sphere, ShapeKind::Speedshape];
     let pixels = (options.size_px * options.size_px) as u64;
     progress.start(
@@ -138,13 +140,10 @@ pub(crate) fn renders(
             ShapeKind::Sphere => "sphere",
             ShapeKind::Speedshape => "speedshape",
         };
-        let labels = match truth {
-            Some(truth) => vec![
-                format!("{} (measured)", table.name()),
-                format!("{} (truth)", truth.name()),
-            ],
-            None => vec![table.name()],
-        };
+        let labels: Vec<String> = std::iter::once(sample.1)
+            .chain(other.map(|(_, label)| label))
+            .map(String::from)
+            .collect();
         let mut caption = format!(
             "{} on a {shape_name} in the built-in studio environment, {} x {} pixels, {} samples per pixel.",
             labels.join(" and "),
@@ -188,13 +187,13 @@ pub(crate) fn renders(
 /// scale when the truth is known (paper Fig. 11).
 pub(crate) fn slice_figures(
     table: &MerlBrdf,
-    truth: Option<&dyn Brdf>,
+    truth: Option<(&dyn Brdf, &str)>,
 ) -> Result<Vec<Figure>, ReportError> {
     let name = table.name();
     let caption = "f_r (mean of R, G, B) at φ_d = 90 deg over θ_d and θ_h, θ_h on MERL's \
          square-root axis, log false colour (paper Fig. 11); blue: not measured.";
     let options = SliceOptions::default();
-    let Some(truth) = truth else {
+    let Some((truth, role)) = truth else {
         return Ok(vec![Figure::new(
             "Characteristic slice",
             caption,
@@ -208,20 +207,22 @@ pub(crate) fn slice_figures(
     Ok(vec![
         Figure::new(
             "Characteristic slice",
-            format!("{caption} On one colour scale with the truth's slice and the difference."),
+            format!("{caption} On one colour scale with the {role}'s slice and the difference."),
             &measured,
         )
         .or_report()?,
         Figure::new(
-            "Characteristic slice of the truth",
+            format!("Characteristic slice of the {role}"),
             format!("The same slice of {truth_name}, on the same colour scale."),
             &true_slice,
         )
         .or_report()?,
         Figure::new(
             "Characteristic slice of the difference",
-            "|measured - truth| on the same slice and the same colour scale: where it is as \
-             bright as the truth, the error there is 100 %.",
+            format!(
+                "|measured - {role}| on the same slice and the same colour scale: where it is \
+                 as bright as the {role}, the error there is 100 %."
+            ),
             &difference,
         )
         .or_report()?,

@@ -11,10 +11,13 @@
 pub mod appearance;
 mod error;
 mod figures;
+mod pdf;
 mod session;
 mod table;
 
 pub use error::ReportError;
+pub use specula_appearance::Verdict;
+use specula_visual::report::Layout;
 pub use specula_visual::report::Report;
 
 use std::path::{Path, PathBuf};
@@ -28,11 +31,67 @@ pub use specula_visual::render::MAX_SAMPLES_PER_PIXEL;
 /// Adaptive samples the paper places along theta_h with the fitted k (section 5.3).
 const PLACED_SAMPLES: usize = specula_core::GridSpec::paper().theta_h_samples;
 
+/// Whom a report is for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Audience {
+    /// The customer: the sample, the figures and verdicts, the pictures.
+    Customer,
+    /// The engineer: every section (k-hat, coverage, duration, error figures, slices,
+    /// probe).
+    #[default]
+    Engineering,
+}
+
+impl std::str::FromStr for Audience {
+    type Err = String;
+
+    /// `customer` or `engineering`.
+    fn from_str(text: &str) -> Result<Self, String> {
+        match text {
+            "customer" => Ok(Audience::Customer),
+            "engineering" => Ok(Audience::Engineering),
+            _ => Err(format!(
+                "unknown audience `{text}` (customer or engineering)"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Audience {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Audience::Customer => "customer",
+            Audience::Engineering => "engineering",
+        })
+    }
+}
+
+/// Who the sample is and who measured it, for the report's first page.
+#[derive(Clone, Debug, Default)]
+pub struct SampleInfo {
+    /// The sample's identifier.
+    pub sample_id: Option<String>,
+    /// Who measured it.
+    pub operator: Option<String>,
+    /// For whom.
+    pub customer: Option<String>,
+}
+
 /// What to report on and how; the fields are `specula report`'s options.
 #[derive(Clone, Debug)]
 pub struct ReportOptions {
-    /// The measured BRDF (a MERL .binary file) or a session journal (.sqlite).
+    /// What to report on: a session journal (.sqlite) or any BRDF source
+    /// (`specula_formats::load_brdf`'s: a MERL .binary, RGL .bsdf, material .toml, preset,
+    /// fit, ...).
     pub input: PathBuf,
+    /// A reference BRDF to compare the figures with (labelled "reference").
+    pub against: Option<String>,
+    /// A tolerance file: a verdict on the figures' differences to the reference.
+    pub tolerances: Option<PathBuf>,
+    /// The sample, operator and customer shown on the first page.
+    pub sample: SampleInfo,
+    /// Whom the report is for.
+    pub audience: Audience,
     /// The true BRDF, when known (a simulation): a preset, .toml, .binary or model:name
     /// (as `specula_formats::load_brdf` reads it).
     pub truth: Option<String>,
@@ -52,10 +111,15 @@ pub struct ReportOptions {
 
 impl ReportOptions {
     /// Options for `input` with the command's defaults: 320 x 320 renders at 32 rays per
-    /// pixel, no truth, samples, table or title.
+    /// pixel, the engineering audience, no reference, tolerances, sample facts, truth,
+    /// samples, table or title.
     pub fn new(input: impl Into<PathBuf>) -> Self {
         ReportOptions {
             input: input.into(),
+            against: None,
+            tolerances: None,
+            sample: SampleInfo::default(),
+            audience: Audience::Engineering,
             truth: None,
             samples: None,
             table: None,
@@ -85,9 +149,9 @@ impl Progress for NoProgress {
     fn finish(&self) {}
 }
 
-/// The kind of input, told by the file's extension.
+/// The kind of input, told by the file's extension: a session journal, or a BRDF source.
 enum Input {
-    Table,
+    Source,
     Session,
 }
 
@@ -98,9 +162,8 @@ fn check(options: &ReportOptions) -> Result<Input, ReportError> {
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     let input = match extension.as_deref() {
-        Some("binary") => Input::Table,
         Some("sqlite") => Input::Session,
-        _ => return Err(ReportError::UnknownInput(options.input.clone())),
+        _ => Input::Source,
     };
     // The message below spells the bounds out in words.
     const _: () = assert!(MAX_IMAGE_PX == 8192 && MAX_SAMPLES_PER_PIXEL == 65536);
@@ -115,53 +178,127 @@ fn check(options: &ReportOptions) -> Result<Input, ReportError> {
         Input::Session if options.samples.is_some() => Err(ReportError::Options(
             "--samples-csv is for a .binary input: a session journal holds its own samples",
         )),
-        Input::Table if options.table.is_some() => Err(ReportError::Options(
-            "--table is for a session journal input: the .binary input is the table",
+        Input::Source if options.table.is_some() => Err(ReportError::Options(
+            "--table is for a session journal input: a BRDF input is the table",
         )),
+        _ if options.tolerances.is_some() && options.against.is_none() => Err(
+            ReportError::Options("--tolerances needs --against: a reference to judge against"),
+        ),
         _ => Ok(input),
     }
 }
 
-/// The report of `options.input`: of a MERL table or of a session journal, by extension.
-pub fn build_report(
-    options: &ReportOptions,
-    progress: &dyn Progress,
-) -> Result<Report, ReportError> {
+/// A report and the verdict on its sample (with tolerances).
+#[derive(Debug, Clone)]
+pub struct Page {
+    /// The report.
+    pub report: Report,
+    /// The verdict of the tolerances on the sample's figures, when tolerances were given.
+    pub verdict: Option<Verdict>,
+    /// The appearance figures' warnings (extrapolated or unmeasured cells, angles finer
+    /// than the instrument resolves), each naming its BRDF; the page shows them too.
+    pub warnings: Vec<String>,
+}
+
+/// The report of `options.input`: of a session journal or of a BRDF source, by extension.
+pub fn build_report(options: &ReportOptions, progress: &dyn Progress) -> Result<Page, ReportError> {
     let start = Instant::now();
-    let mut report = match check(options)? {
+    let mut page = match check(options)? {
         Input::Session => session::report(options, progress)?,
-        Input::Table => table::report(options, progress)?,
+        Input::Source => table::report(options, progress)?,
     };
-    report.notes.push(format!(
+    page.report.notes.push(format!(
         "Report made in {:.1} s from {}.",
         start.elapsed().as_secs_f64(),
         options.input.display()
     ));
-    Ok(report)
+    Ok(page)
 }
 
-/// Build the report of `options.input` and write it to `out` as one HTML file (pictures
-/// embedded, no other file needed).
+/// The format of the report's file, told by its extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// One self-contained HTML page.
+    Html,
+    /// A PDF, the HTML page printed by headless Chromium.
+    Pdf,
+}
+
+impl OutputFormat {
+    /// The format of `out` by its extension (`.html`/`.htm` or `.pdf`); any other is refused.
+    pub fn of(out: &Path) -> Result<Self, ReportError> {
+        let extension = out
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match extension.as_deref() {
+            Some("html" | "htm") => Ok(OutputFormat::Html),
+            Some("pdf") => Ok(OutputFormat::Pdf),
+            _ => Err(ReportError::OutputFormat(out.to_path_buf())),
+        }
+    }
+}
+
+/// Build the report of `options.input` and write it to `out`: one HTML file (pictures
+/// embedded, no other file needed), or a PDF of that page when `out` ends in `.pdf`.
 pub fn write_report(
     options: &ReportOptions,
     out: &Path,
     progress: &dyn Progress,
-) -> Result<Report, ReportError> {
-    let report = build_report(options, progress)?;
-    report.write(out).map_err(ReportError::from_source)?;
-    Ok(report)
+) -> Result<Page, ReportError> {
+    let format = OutputFormat::of(out)?;
+    let page = build_report(options, progress)?;
+    match format {
+        OutputFormat::Html => page.report.write(out).map_err(ReportError::from_source)?,
+        OutputFormat::Pdf => pdf::print(&page.report.to_html(), out)?,
+    }
+    Ok(page)
+}
+
+/// The first page's facts: the sample, operator and customer given, and the date.
+fn header(options: &ReportOptions, date: String) -> Vec<(String, String)> {
+    let sample = &options.sample;
+    [
+        ("sample ID", sample.sample_id.clone()),
+        ("operator", sample.operator.clone()),
+        ("customer", sample.customer.clone()),
+        ("date", Some(date)),
+    ]
+    .into_iter()
+    .filter_map(|(label, value)| Some((label.to_string(), value?)))
+    .collect()
+}
+
+/// Today's date (UTC), `YYYY-MM-DD`.
+fn today() -> String {
+    date_of(std::time::SystemTime::now())
+}
+
+/// The date (UTC) of a time, `YYYY-MM-DD`.
+fn date_of(time: std::time::SystemTime) -> String {
+    let mut text = humantime::format_rfc3339_seconds(time).to_string();
+    text.truncate(10);
+    text
+}
+
+/// The page's layout for the options' audience.
+fn layout(options: &ReportOptions) -> Layout {
+    match options.audience {
+        Audience::Customer => Layout::Customer,
+        Audience::Engineering => Layout::Engineering,
+    }
 }
 
 /// The report of the session journal `options.input` written as `dir/report.html`, and each
 /// of its figures as a PNG file beside it named after the figure's title
-/// (`render_sphere.png`, ...); returns the report and the files written, the page last.
+/// (`render_sphere.png`, ...); returns the page and the files written, the HTML last.
 pub fn write_session_pictures(
     options: &ReportOptions,
     dir: &Path,
     progress: &dyn Progress,
-) -> Result<(Report, Vec<PathBuf>), ReportError> {
+) -> Result<(Page, Vec<PathBuf>), ReportError> {
     check(options)?;
-    let report = session::report(options, progress)?;
+    let page = session::report(options, progress)?;
+    let report = &page.report;
     let mut files = Vec::new();
     for figure in &report.figures {
         let path = dir.join(format!("{}.png", file_stem_of(&figure.title)));
@@ -173,10 +310,10 @@ pub fn write_session_pictures(
         })?;
         files.push(path);
     }
-    let page = dir.join("report.html");
-    report.write(&page).map_err(ReportError::from_source)?;
-    files.push(page);
-    Ok((report, files))
+    let html = dir.join("report.html");
+    report.write(&html).map_err(ReportError::from_source)?;
+    files.push(html);
+    Ok((page, files))
 }
 
 /// A figure's title as a file name: lower case, words joined by `_`.
@@ -240,7 +377,7 @@ mod tests {
             "Against <b>steel</b>",
             "Render, sphere",
             "Render, speedshape",
-            "Characteristic slice of the truth",
+            "Characteristic slice of the reference",
             "Characteristic slice of the difference",
             "Probe against the adaptive samples",
             "Raw samples",
@@ -264,15 +401,83 @@ mod tests {
         let error =
             |options: ReportOptions| chain(&write_report(&options, &out, &NoProgress).unwrap_err());
         assert!(error(options("missing.sqlite")).contains("missing.sqlite"));
-        assert!(
-            error(options("x.csv")).contains("x.csv: expected a MERL .binary file or a session")
-        );
+        assert!(error(options("x.csv")).contains("x.csv: no such file, preset or model fit"));
         assert!(error(options("missing.binary")).contains("missing.binary"));
+        for refused in ["r.docx", "r", "r.htmlx"] {
+            let written = dir.path().join(refused);
+            let message =
+                chain(&write_report(&options("steel"), &written, &NoProgress).unwrap_err());
+            assert!(
+                message.contains(refused) && message.contains("as .html or .pdf"),
+                "{message}"
+            );
+            assert!(!written.exists());
+        }
+        let tolerances = ReportOptions {
+            tolerances: Some(dir.path().join("t.toml")),
+            ..options("steel")
+        };
+        assert!(error(tolerances).contains("--tolerances needs --against"));
         let with_table = ReportOptions {
             table: Some(dir.path().join("t.binary")),
             ..options("m.binary")
         };
         assert!(error(with_table).contains("--table is for a session journal"));
+    }
+
+    /// A customer's report of a material file against a reference: the sample's facts and
+    /// the date on the page, the title from the file's `name`, figures labelled "reference"
+    /// and the verdict, and none of the engineer's sections or the word "truth".
+    #[test]
+    fn a_customer_report_shows_the_sample_the_verdict_and_no_truth() {
+        let dir = tempfile::tempdir().unwrap();
+        let toml = dir.path().join("panel.toml");
+        let mut material = specula_core::materials::preset("silver-925").unwrap();
+        material.name = "Panel 17 satin silver".into();
+        std::fs::write(&toml, material.to_toml_string()).unwrap();
+        let tolerances = dir.path().join("t.toml");
+        std::fs::write(&tolerances, "[tolerances]\ngloss_20 = 1.0\nde00_15 = 1.0\n").unwrap();
+        let out = dir.path().join("r.html");
+        let options = ReportOptions {
+            against: Some("chrome".into()),
+            tolerances: Some(tolerances),
+            sample: SampleInfo {
+                sample_id: Some("P-17".into()),
+                operator: Some("A. Lee".into()),
+                customer: Some("Acme Coatings".into()),
+            },
+            audience: Audience::Customer,
+            size_px: 16,
+            spp: 1,
+            ..ReportOptions::new(&toml)
+        };
+        let page = write_report(&options, &out, &NoProgress).unwrap();
+        let html = std::fs::read_to_string(&out).unwrap();
+        for text in [
+            "<title>BRDF report: Panel 17 satin silver</title>",
+            "<th>sample ID</th><td>P-17</td>",
+            "<th>operator</th><td>A. Lee</td>",
+            "<th>customer</th><td>Acme Coatings</td>",
+            &format!("<th>date</th><td>{}</td>", today()),
+            "chrome (reference)",
+            "<td>fail: gloss_20, de00_15</td>",
+            "Render, sphere",
+        ] {
+            assert!(html.contains(text), "missing: {text}");
+        }
+        for absent in ["truth", "k-hat", "Error figures", "Characteristic slice"] {
+            assert!(!html.contains(absent), "shows {absent}");
+        }
+        assert_eq!(page.verdict.unwrap().failing, ["gloss_20", "de00_15"]);
+        // The engineer's page of the same sample has its sections, and no "truth" either.
+        let engineering = ReportOptions {
+            audience: Audience::Engineering,
+            ..options
+        };
+        write_report(&engineering, &out, &NoProgress).unwrap();
+        let html = std::fs::read_to_string(&out).unwrap();
+        assert!(html.contains("k-hat") && html.contains("P-17"));
+        assert!(!html.contains("truth"));
     }
 
     #[test]

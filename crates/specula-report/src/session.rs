@@ -8,13 +8,16 @@ use crate::figures::{
     coverage_rows, errors, peak_fact, probe_figure, provenance_rows, raw_samples_figure, renders,
     slice_figures,
 };
-use crate::{generator, Progress, ReportOptions, PLACED_SAMPLES};
+use crate::{
+    generator, header, layout, today, Audience, Page, Progress, ReportOptions, PLACED_SAMPLES,
+};
 use specula_acquisition::calibration::response::ResponseFit;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::InstrumentInfo;
 use specula_appearance::aperture::ExtrapolatedCells;
 use specula_appearance::Options;
+use specula_appearance::Tolerances;
 use specula_core::merl::CELLS;
 use specula_core::{MerlBrdf, ProbePoint, Sample};
 use specula_formats::BrdfSource;
@@ -392,15 +395,21 @@ fn utc_text(unix_s: f64) -> String {
     humantime::format_rfc3339_seconds(std::time::UNIX_EPOCH + since_epoch).to_string()
 }
 
-/// The truth to compare with: --truth, else the one a simulated session measured.
+/// The truth to compare with: --truth, else the one a simulated session measured; labelled
+/// "truth" when the session was simulated, else "reference".
 fn truth(
     options: &ReportOptions,
     session: &Session,
     notes: &mut Vec<String>,
 ) -> Result<Option<(String, BrdfSource)>, ReportError> {
+    let role = if session.simulated_truth().is_some() {
+        "truth"
+    } else {
+        "reference"
+    };
     if let Some(spec) = &options.truth {
         return Ok(Some((
-            spec.clone(),
+            format!("{spec} ({role})"),
             specula_formats::load_brdf(spec).or_report()?,
         )));
     }
@@ -408,10 +417,7 @@ fn truth(
         return Ok(None);
     };
     match specula_formats::load_brdf(name) {
-        Ok(brdf) => Ok(Some((
-            format!("{name} (the truth the session simulated)"),
-            brdf,
-        ))),
+        Ok(brdf) => Ok(Some((format!("{name} (truth)"), brdf))),
         Err(e) => {
             notes.push(format!(
                 "The session simulated {name}, which does not load by that name ({e:#}); give \
@@ -536,32 +542,62 @@ fn shown_table(
 pub(crate) fn report(
     options: &ReportOptions,
     progress: &dyn Progress,
-) -> Result<Report, ReportError> {
+) -> Result<Page, ReportError> {
     let session = Session::read(&options.input)?;
     let name = session.material_name();
+    let engineering = options.audience == Audience::Engineering;
     let mut notes: Vec<String> = session.progress_note().into_iter().collect();
     let truth = truth(options, &session, &mut notes)?;
+    let against = options
+        .against
+        .as_deref()
+        .map(|spec| {
+            let brdf = specula_formats::load_brdf(spec).or_report()?;
+            Ok::<_, ReportError>((format!("{} (reference)", brdf.name()), brdf))
+        })
+        .transpose()?;
+    let tolerances = options
+        .tolerances
+        .as_deref()
+        .map(Tolerances::read)
+        .transpose()
+        .or_report()?;
     let shown = shown_table(options, &session, &name, &mut notes, progress)?;
     notes.extend(session.duration_note());
 
     let mut facts = session.facts();
     let mut coverage = session.coverage_rows();
+    let date = session
+        .created_unix_s
+        .map_or_else(today, |t| utc_text(t)[..10].to_string());
     let mut report = Report {
         title: options
             .title
             .clone()
             .unwrap_or_else(|| format!("Session report: {name}")),
         generator: generator(),
+        layout: layout(options),
+        header: header(options, date),
         k_hat: session.k_hat(),
         duration: session.duration(),
         ..Report::default()
     };
+    let mut verdict = None;
+    let mut warnings = Vec::new();
     let truth_brdf = truth.as_ref().map(|(_, brdf)| brdf.as_ref());
+    let truth_role = if session.simulated_truth().is_some() {
+        "truth"
+    } else {
+        "reference"
+    };
+    // The figures are compared with the reference when one is given, else with the truth.
+    let reference = against.as_ref().or(truth.as_ref());
+    let sample_label = format!("{name} (measured)");
     if let Some(shown) = &shown {
         facts.push(("table".into(), shown.origin.clone()));
         facts.extend(peak_fact(&shown.table, shown.provenance.as_ref()));
         coverage.extend(shown.rows.iter().cloned());
-        if let Some((label, brdf)) = &truth {
+        if let (Some((label, brdf)), true) = (&truth, engineering) {
             report.errors = Some(errors(&shown.table, brdf.as_ref(), label, progress));
             let disk_light = session.simulated_truth().is_some()
                 && session
@@ -573,24 +609,32 @@ pub(crate) fn report(
             }
         }
         let resolution_deg = session.resolution_deg();
-        report.tables.push(appearance::report_section(
-            truth
-                .as_ref()
-                .map(|(label, brdf)| (label.as_str(), brdf.as_ref())),
-            (&format!("{name}, measured"), &shown.table),
+        let section = appearance::report_section(
+            reference.map(|(label, brdf)| (label.as_str(), brdf.as_ref())),
+            (&sample_label, &shown.table),
             Options {
                 extrapolated: shown.extrapolated.clone(),
                 resolution_deg,
             },
-        ));
-        report
-            .figures
-            .extend(renders(&shown.table, truth_brdf, options, progress)?);
-        report
-            .figures
-            .extend(slice_figures(&shown.table, truth_brdf)?);
+            tolerances.as_ref(),
+        );
+        report.tables.push(section.table);
+        verdict = section.verdict;
+        warnings = section.warnings;
+        report.figures.extend(renders(
+            (&shown.table, &sample_label),
+            reference.map(|(label, brdf)| (brdf.as_ref(), label.as_str())),
+            options,
+            progress,
+        )?);
+        if engineering {
+            report.figures.extend(slice_figures(
+                &shown.table,
+                truth_brdf.map(|t| (t, truth_role)),
+            )?);
+        }
     }
-    if let (Some(fit), false) = (&session.fit, session.probe.is_empty()) {
+    if let (Some(fit), false, true) = (&session.fit, session.probe.is_empty(), engineering) {
         report.figures.push(probe_figure(
             &session.probe,
             &fit.function,
@@ -599,7 +643,7 @@ pub(crate) fn report(
             &format!("{name} (k-hat {:.2})", fit.function.k),
         )?);
     }
-    if !session.main.is_empty() {
+    if !session.main.is_empty() && engineering {
         report.figures.push(raw_samples_figure(
             &session.main,
             &format!("{name}: measured samples"),
@@ -613,7 +657,11 @@ pub(crate) fn report(
     });
     report.coverage = Some(CoverageSection { rows: coverage });
     report.notes = notes;
-    Ok(report)
+    Ok(Page {
+        report,
+        verdict,
+        warnings,
+    })
 }
 
 #[cfg(test)]

@@ -1,45 +1,145 @@
-//! The report of a MERL table: its probe and k-hat are taken from the table itself.
+//! The report of a BRDF source (a MERL table, a measured file, a material, a fit): its
+//! probe and k-hat are taken from its table.
 
 use crate::error::{OrReport, ReportError};
 use crate::figures::{
     coverage_rows, errors, peak_fact, probe_figure, raw_samples_figure, renders, slice_figures,
 };
-use crate::{generator, Progress, ReportOptions, PLACED_SAMPLES};
+use crate::{
+    generator, header, layout, today, Audience, Page, Progress, ReportOptions, PLACED_SAMPLES,
+};
+use specula_appearance::Tolerances;
 use specula_core::merl::MerlBrdf;
 use specula_core::sampling::Family;
+use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, ProbeSpec};
+use specula_formats::BrdfSource;
 use specula_reconstruct::provenance::Provenance;
 use specula_sampling::Probe;
 use specula_visual::plot::raw_samples::SampleGrid;
 use specula_visual::report::{CoverageSection, KHatSection, MaterialSection, Report};
 use std::path::Path;
 
-/// The report of the MERL table `options.input`.
+/// The report of the BRDF source `options.input`: a MERL `.binary` as it is, any other
+/// source tabulated on the MERL grid for the renders and the engineering sections (probe,
+/// coverage, slices); the appearance figures are the source's own.
 pub(crate) fn report(
     options: &ReportOptions,
     progress: &dyn Progress,
-) -> Result<Report, ReportError> {
-    let table = MerlBrdf::read(&options.input).or_report()?;
+) -> Result<Page, ReportError> {
+    let spec = options.input.to_string_lossy();
+    let is_binary = options
+        .input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("binary"));
+    // A .binary is its own table; any other source is tabulated for the pictures.
+    let (table, source): (MerlBrdf, Option<BrdfSource>) = if is_binary {
+        (MerlBrdf::read(&options.input).or_report()?, None)
+    } else {
+        let source = specula_formats::load_brdf(&spec).or_report()?;
+        progress.start("tabulating on the MERL grid", None);
+        let mut table = tabulate(source.as_ref(), 0.0);
+        table.set_name(source.name());
+        progress.finish();
+        (table, Some(source))
+    };
+    let brdf: &dyn Brdf = source.as_deref().unwrap_or(&table);
+    let name = brdf.name();
     let truth = options
         .truth
         .as_deref()
         .map(specula_formats::load_brdf)
         .transpose()
         .or_report()?;
-    let name = table.name();
+    let against = options
+        .against
+        .as_deref()
+        .map(specula_formats::load_brdf)
+        .transpose()
+        .or_report()?;
+    let tolerances = options
+        .tolerances
+        .as_deref()
+        .map(Tolerances::read)
+        .transpose()
+        .or_report()?;
+    let engineering = options.audience == Audience::Engineering;
     let mut report = Report {
         title: options
             .title
             .clone()
             .unwrap_or_else(|| format!("BRDF report: {name}")),
         generator: generator(),
-        material: Some(material(&table, &options.input)),
+        layout: layout(options),
+        header: header(options, today()),
+        material: Some(material(&table, &options.input, &spec, is_binary)),
         ..Report::default()
     };
-    let mut coverage = coverage_rows(&table, &options.input)?;
+    // A file holds a measurement; a preset, a material file or a fit is a model.
+    let sample_label = if is_measured_file(&options.input) {
+        format!("{name} (measured)")
+    } else {
+        name.clone()
+    };
+    // Without a session nothing here was simulated: a truth given is a reference.
+    let reference = match (&against, &truth) {
+        (Some(brdf), _) => Some(brdf),
+        (None, Some(brdf)) => Some(brdf),
+        _ => None,
+    }
+    .map(|brdf| (format!("{} (reference)", brdf.name()), brdf.as_ref()));
+    let section = crate::appearance::report_section(
+        reference
+            .as_ref()
+            .map(|(label, brdf)| (label.as_str(), *brdf)),
+        (&sample_label, brdf),
+        specula_appearance::Options {
+            extrapolated: crate::appearance::extrapolated_cells(&spec)?,
+            resolution_deg: None,
+        },
+        tolerances.as_ref(),
+    );
+    report.tables.push(section.table);
+    report.figures.extend(renders(
+        (&table, &sample_label),
+        reference
+            .as_ref()
+            .map(|(label, brdf)| (*brdf, label.as_str())),
+        options,
+        progress,
+    )?);
+    if engineering {
+        engineering_sections(&mut report, options, &table, truth.as_deref(), progress)?;
+    }
+    Ok(Page {
+        report,
+        verdict: section.verdict,
+        warnings: section.warnings,
+    })
+}
+
+/// True when `input` is a measured file (not a material `.toml`, a preset or a fit).
+fn is_measured_file(input: &Path) -> bool {
+    input.is_file()
+        && !input
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+}
+
+/// The engineer's sections of a table's report: k-hat of its probe, the coverage, the error
+/// figures against a truth, the slices, the probe and the raw samples.
+fn engineering_sections(
+    report: &mut Report,
+    options: &ReportOptions,
+    table: &MerlBrdf,
+    truth: Option<&dyn Brdf>,
+    progress: &dyn Progress,
+) -> Result<(), ReportError> {
+    let name = table.name();
+    let mut coverage = coverage_rows(table, &options.input)?;
     progress.start("probe and k-hat", None);
     let settings = ProbeSpec::paper();
-    let probe = Probe::take(&table, &settings);
+    let probe = Probe::take(table, &settings);
     let fit = probe
         .as_ref()
         .ok()
@@ -60,30 +160,17 @@ pub(crate) fn report(
         (Err(e), _) => report.notes.push(format!("No probe could be taken: {e:#}")),
         _ => {}
     }
-    if let Some(truth) = &truth {
+    if let Some(truth) = truth {
         report.errors = Some(errors(
-            &table,
-            truth.as_ref(),
+            table,
+            truth,
             options.truth.as_deref().unwrap_or(""),
             progress,
         ));
     }
-    report.tables.push(crate::appearance::report_section(
-        truth
-            .as_ref()
-            .map(|t| (options.truth.as_deref().unwrap_or(""), t.as_ref())),
-        (&name, &table),
-        specula_appearance::Options {
-            extrapolated: crate::appearance::extrapolated_cells(&options.input.to_string_lossy())?,
-            resolution_deg: None,
-        },
-    ));
     report
         .figures
-        .extend(renders(&table, truth.as_deref(), options, progress)?);
-    report
-        .figures
-        .extend(slice_figures(&table, truth.as_deref())?);
+        .extend(slice_figures(table, truth.map(|t| (t, "reference")))?);
     if let (Ok(probe), Some(fit)) = (&probe, &fit) {
         let points = probe.points();
         report.figures.push(probe_figure(
@@ -115,20 +202,22 @@ pub(crate) fn report(
         ));
     }
     report.coverage = Some(CoverageSection { rows: coverage });
-    Ok(report)
+    Ok(())
 }
 
 /// Name, source and peak of the table.
-fn material(table: &MerlBrdf, path: &Path) -> MaterialSection {
-    let mut facts = vec![(
-        "format".to_string(),
-        "MERL .binary (90 x 90 x 180 cells)".to_string(),
-    )];
+fn material(table: &MerlBrdf, path: &Path, spec: &str, is_binary: bool) -> MaterialSection {
+    let format = if is_binary {
+        "MERL .binary (90 x 90 x 180 cells)"
+    } else {
+        "read by its format; tabulated on the MERL grid (90 x 90 x 180 cells) for the pictures"
+    };
+    let mut facts = vec![("format".to_string(), format.to_string())];
     let provenance = Provenance::beside(path).ok().flatten();
     facts.extend(peak_fact(table, provenance.as_ref()));
     MaterialSection {
         name: table.name(),
-        source: path.display().to_string(),
+        source: spec.to_string(),
         facts,
     }
 }

@@ -120,6 +120,17 @@ impl Figure {
     }
 }
 
+/// Whom the page is for, which decides the sections it shows.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Layout {
+    /// Every section; those not known say so.
+    #[default]
+    Engineering,
+    /// The header, the material, the tables and the pictures: no measurement or error
+    /// sections.
+    Customer,
+}
+
 /// The whole report; every section is optional.
 #[derive(Debug, Clone, Default)]
 pub struct Report {
@@ -127,6 +138,10 @@ pub struct Report {
     pub title: String,
     /// Who made it, e.g. "specula 0.1.0".
     pub generator: String,
+    /// Whom the page is for.
+    pub layout: Layout,
+    /// Facts shown under the title (sample ID, operator, customer, date), in order.
+    pub header: Vec<(String, String)>,
     /// What the material is.
     pub material: Option<MaterialSection>,
     /// k-hat of the adaptive theta_h sampling (paper 5.2).
@@ -205,9 +220,18 @@ impl Report {
             escape(&self.generator),
             escape(&self.generator)
         );
+        if !self.header.is_empty() {
+            html.push_str("<table>\n");
+            for (label, value) in &self.header {
+                row(&mut html, label, value);
+            }
+            html.push_str("</table>\n");
+        }
         self.material_html(&mut html);
-        self.measurement_html(&mut html);
-        self.errors_html(&mut html);
+        if self.layout == Layout::Engineering {
+            self.measurement_html(&mut html);
+            self.errors_html(&mut html);
+        }
         for table in &self.tables {
             table_html(&mut html, table);
         }
@@ -298,7 +322,7 @@ impl Report {
         let Some(errors) = &self.errors else {
             missing(
                 html,
-                "No error figures: no ground truth, or no table to compare with it.",
+                "No error figures: no known BRDF to compare the table with, or no table.",
             );
             return;
         };
@@ -440,6 +464,7 @@ mod tests {
             }],
             figures: vec![figure()],
             notes: vec!["x < y".into()],
+            ..Report::default()
         };
         let html = report.to_html();
         assert!(html.contains("<h2>Appearance</h2>"));
@@ -467,6 +492,21 @@ mod tests {
             [10, 200, 30]
         );
         assert!(!html.contains("src=\"http") && !html.contains("<link"));
+    }
+
+    #[test]
+    fn a_customer_page_has_its_header_and_no_measurement_or_error_sections() {
+        let report = Report {
+            layout: Layout::Customer,
+            header: vec![("sample ID".into(), "P<17>".into())],
+            ..Report::default()
+        };
+        let html = report.to_html();
+        assert!(html.contains("<th>sample ID</th><td>P&lt;17&gt;</td>"));
+        for absent in ["Measurement", "k-hat", "Error figures"] {
+            assert!(!html.contains(absent), "{absent}");
+        }
+        assert!(html.contains("No pictures."));
     }
 
     #[test]

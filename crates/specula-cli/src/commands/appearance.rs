@@ -2,7 +2,7 @@
 
 use anyhow::Result;
 use specula_appearance::figures::{csv_header, csv_row, text_rows};
-use specula_appearance::{appearance, Appearance, Differences, Options};
+use specula_appearance::{appearance, Differences, Options, Tolerances, Verdict};
 use specula_report::appearance::extrapolated_cells;
 
 /// The appearance figures the coatings industry reads from a glossmeter and a multi-angle
@@ -21,6 +21,8 @@ use specula_report::appearance::extrapolated_cells;
 ///   haze_20                        haze at 20 deg, ASTM E430 method B / ISO 13803: receptors
 ///                                  at 18.1 and 21.9 deg, relative to the gloss standard x 100.
 ///
+///   haze_d4039                     ASTM D4039 haze index G60 - G20 (high-gloss nonmetals).
+///
 ///   L_g, a_g, b_g                  CIELAB under D65 at the aspecular angles g = 15, 25, 45, 75,
 ///                                  110 deg, illumination at 45 deg (ASTM E2194, DIN 6175-2).
 ///
@@ -32,7 +34,11 @@ use specula_report::appearance::extrapolated_cells;
 /// integration: an instrument's D65 readings of a real pigment would differ.
 ///
 /// With --against REF every figure is followed by its difference to REF, and colour by
-/// CIEDE2000 per angle. Warnings (on standard error) say where a figure rests on cells of a
+/// CIEDE2000 per angle. With --tolerances T.toml too, each sample gets a verdict (`pass`, or
+/// `fail:` and the figures outside their tolerances): a `verdict` column in the CSV, a
+/// `verdict` row in the table; the command exits 3 when any sample fails, 0 when all pass.
+/// T.toml holds one table, [tolerances], of the largest allowed |difference| per figure,
+/// keyed by the difference columns' names without `d_` (gloss_20 = 5.0, de00_15 = 1.0). Warnings (on standard error) say where a figure rests on cells of a
 /// measured table that were extrapolated (from OUT.provenance.npy beside a .binary) or not
 /// measured, and, with --resolution-deg, where it reads the BRDF at a finer angle than the
 /// instrument resolved.
@@ -54,9 +60,18 @@ pub(crate) struct Args {
     /// 90.
     #[arg(long = "resolution", alias = "resolution-deg", value_parser = crate::range::RESOLUTION_DEG)]
     pub resolution_deg: Option<f64>,
+    /// A tolerance file (TOML, [tolerances]: gloss_20 = 5.0, de00_15 = 1.0, ...): a pass/fail
+    /// verdict per sample; exit 3 when any fails.
+    #[arg(long, requires = "against")]
+    pub tolerances: Option<std::path::PathBuf>,
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
+    let tolerances = args
+        .tolerances
+        .as_deref()
+        .map(Tolerances::read)
+        .transpose()?;
     let mut sources: Vec<String> = args.against.iter().cloned().collect();
     sources.extend(args.brdfs.iter().cloned());
     let mut figures = Vec::with_capacity(sources.len());
@@ -78,27 +93,50 @@ pub(crate) fn run(args: Args) -> Result<()> {
         .against
         .as_ref()
         .map(|_| figures.iter().map(|f| f.against(&figures[0])).collect());
+    // One verdict per row; the reference (first) is not a sample and shows as such.
+    let verdicts: Option<Vec<Verdict>> = tolerances
+        .as_ref()
+        .zip(differences.as_ref())
+        .map(|(t, d)| d.iter().map(|d| t.verdict(d)).collect());
     if args.csv {
         let mut out = csv::Writer::from_writer(crate::output::Stdout);
-        out.write_record(csv_header(differences.is_some()))?;
+        let mut header = csv_header(differences.is_some());
+        header.extend(verdicts.as_ref().map(|_| "verdict".to_string()));
+        out.write_record(header)?;
         for (k, (spec, f)) in sources.iter().zip(&figures).enumerate() {
-            out.write_record(csv_row(spec, f, differences.as_ref().map(|d| &d[k])))?;
+            let mut row = csv_row(spec, f, differences.as_ref().map(|d| &d[k]));
+            row.extend(verdicts.as_ref().map(|v| verdict_text(v, k)));
+            out.write_record(row)?;
         }
         out.flush()?;
     } else {
-        out!("{}", text_table(&names, &figures, differences.as_deref()));
+        let mut rows = text_rows(&figures.iter().collect::<Vec<_>>(), differences.as_deref());
+        if let Some(verdicts) = &verdicts {
+            rows.push(verdict_row(verdicts));
+        }
+        out!("{}", text_table(&names, rows));
     }
-    Ok(())
+    verdicts.map_or(Ok(()), |v| crate::verdict::check(&v[1..]))
 }
 
-/// Figures as rows, BRDFs (by name) as columns, aligned.
-fn text_table(
-    sources: &[String],
-    figures: &[Appearance],
-    differences: Option<&[Differences]>,
-) -> String {
-    let refs: Vec<&Appearance> = figures.iter().collect();
-    let rows = text_rows(&refs, differences);
+/// The verdict shown for row `k`: `reference` for the reference (row 0), else the verdict.
+fn verdict_text(verdicts: &[Verdict], k: usize) -> String {
+    if k == 0 {
+        "reference".into()
+    } else {
+        verdicts[k].to_string()
+    }
+}
+
+/// The text table's verdict row.
+fn verdict_row(verdicts: &[Verdict]) -> Vec<String> {
+    std::iter::once("verdict".to_string())
+        .chain((0..verdicts.len()).map(|k| verdict_text(verdicts, k)))
+        .collect()
+}
+
+/// Figure rows under a header of the BRDFs' names, aligned.
+fn text_table(sources: &[String], rows: Vec<Vec<String>>) -> String {
     let mut header = vec![String::new()];
     header.extend(sources.iter().cloned());
     let mut table = vec![header];

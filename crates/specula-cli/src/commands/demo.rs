@@ -140,7 +140,7 @@ const RENDER_SPP: usize = 32;
 
 /// The session report of one measured material (what `specula report SESSION --table TABLE
 /// --truth NAME` writes) as report.html, and each of its pictures as a PNG file beside it;
-/// prints the error against the truth.
+/// prints the appearance figures with their warnings and the error against the truth.
 fn pictures(dir: &Path, name: &str, table: &Path, session: &Path) -> Result<Vec<PathBuf>> {
     let options = ReportOptions {
         truth: Some(name.to_string()),
@@ -150,8 +150,9 @@ fn pictures(dir: &Path, name: &str, table: &Path, session: &Path) -> Result<Vec<
         title: Some(format!("{name} measured on the simulated device")),
         ..ReportOptions::new(session)
     };
-    let (report, files) =
+    let (page, files) =
         write_session_pictures(&options, dir, &crate::progress::Terminal::default())?;
+    let report = &page.report;
     for table in &report.tables {
         for row in table.rows.iter().filter(|r| {
             ["gloss", "haze", "DOI", "dE00", "flop"]
@@ -160,6 +161,9 @@ fn pictures(dir: &Path, name: &str, table: &Path, session: &Path) -> Result<Vec<
         }) {
             outln!("{name} {}: {}", row[0], row[1..].join(" / "));
         }
+    }
+    for warning in &page.warnings {
+        eprintln!("warning: {name}: {warning}");
     }
     for row in report.errors.iter().flat_map(|e| &e.rows) {
         outln!(

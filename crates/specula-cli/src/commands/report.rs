@@ -1,39 +1,67 @@
-//! `specula report`: one self-contained HTML page about a measured BRDF (`specula-report`).
+//! `specula report`: one self-contained HTML page (or its PDF) about a measured BRDF
+//! (`specula-report`).
 
 use anyhow::Result;
-use specula_report::{write_report, ReportOptions};
+use specula_report::{write_report, Audience, ReportOptions, SampleInfo};
 use std::path::PathBuf;
 
-/// Write one self-contained HTML report (pictures embedded, no other file needed) about a
-/// measured BRDF or a measurement session: the material, k-hat of its probe (paper 5.2), the
-/// coverage, renders on a sphere and a speedshape in the studio, the characteristic slice
-/// (Fig. 11) and the probe against the adaptive samples (Fig. 13); with a truth, the error
-/// figures and the renders beside the truth with their difference.
+/// Write one self-contained report (HTML with the pictures embedded, or a PDF of it when
+/// --out ends in .pdf, printed by headless Chromium) about a measured BRDF or a measurement
+/// session.
 ///
-/// INPUT is a MERL .binary (for instance from `specula reconstruct`; its provenance sidecar
-/// OUT.provenance.npy is used when present; --samples-csv adds the raw samples, Fig. 15) or a
-/// session journal (.sqlite, from `specula measure` or `specula demo`). From a journal the
-/// report shows k-hat and the probe as measured, the samples measured of each stage's plan,
-/// the duration (device time: the simulated clock on the simulator) against the time
-/// model's estimate, the raw samples of the main stage, and the table reconstructed from
-/// them with the session's method (or --table); a simulated session's own truth gives the
-/// error figures unless --truth names another. An interrupted session is reported as far as
-/// it got.
+/// INPUT is any BRDF source the other commands take (a MERL .binary, an RGL .bsdf, a UTIA
+/// .bin, a samples .csv, a material .toml, a preset, a model:name fit) or a session journal
+/// (.sqlite, from `specula measure` or `specula demo`).
 ///
-/// Examples: specula report silver.binary --truth silver-925 --out silver.html;
+/// --audience customer gives the sample's page: sample ID, operator, customer and date, the
+/// material, the appearance figures against --against with the verdict of --tolerances, and
+/// the renders. --audience engineering (the default) adds the measurement: k-hat of its probe
+/// (paper 5.2), the coverage, the duration, the characteristic slice (Fig. 11), the probe
+/// against the adaptive samples (Fig. 13), the raw samples (Fig. 15, --samples-csv or the
+/// journal's) and, with a truth, the error figures. A MERL .binary's provenance sidecar
+/// OUT.provenance.npy is used when present. From a journal the report also shows the
+/// instrument and its calibration, the samples measured of each stage's plan and the table
+/// reconstructed from them with the session's method (or --table); a simulated session's
+/// own truth is labelled "truth" (and gives the error figures unless --truth names another).
+/// An interrupted session is reported as far as it got. The date is the session's start,
+/// else today.
+///
+/// With --tolerances the command exits 3 when the sample fails them.
+///
+/// Examples: specula report panel.bsdf --against chrome --sample-id P-17 --operator "A. Lee"
+/// --audience customer --out panel.pdf;
 /// specula report demo-out/silver-925/silver-925.session.sqlite --out silver.html
 #[derive(clap::Args)]
 pub(crate) struct Args {
-    /// The measured BRDF (a MERL .binary file) or a session journal (.sqlite).
+    /// What to report on: a BRDF source (.binary, .bsdf, .toml, preset, fit, ...) or a session
+    /// journal (.sqlite).
     pub input: PathBuf,
-    /// The HTML file to write.
+    /// The report's file: .html, or .pdf (printed by headless Chromium).
     #[arg(long, value_parser = crate::output::OUTPUT_FILE)]
     pub out: PathBuf,
+    /// A reference BRDF to compare the figures with (e.g. chrome).
+    #[arg(long)]
+    pub against: Option<String>,
+    /// A tolerance file (TOML, [tolerances]: gloss_20 = 5.0, ...): a verdict; exit 3 on fail.
+    #[arg(long, requires = "against")]
+    pub tolerances: Option<PathBuf>,
+    /// The sample's identifier, on the first page.
+    #[arg(long = "sample-id")]
+    pub sample_id: Option<String>,
+    /// Who measured the sample, on the first page.
+    #[arg(long)]
+    pub operator: Option<String>,
+    /// For whom, on the first page.
+    #[arg(long)]
+    pub customer: Option<String>,
+    /// Whom the report is for: customer (figures, verdicts, pictures) or engineering (all).
+    #[arg(long, default_value_t = Audience::Engineering)]
+    pub audience: Audience,
     /// The true BRDF, when known (a simulation): a preset, .toml, .binary or model:name.
     #[arg(long)]
     pub truth: Option<String>,
     /// The raw samples of the measurement (CSV theta_h,phi_h,theta_d,phi_d,r,g,b); with a
-    /// .binary input only (a journal holds its samples).
+    /// BRDF input only (a journal holds its samples).
     #[arg(long = "samples-csv")]
     pub samples: Option<PathBuf>,
     /// With a session journal: the MERL .binary to show instead of reconstructing the
@@ -54,6 +82,14 @@ pub(crate) struct Args {
 pub(crate) fn run(args: Args) -> Result<()> {
     let options = ReportOptions {
         input: args.input,
+        against: args.against,
+        tolerances: args.tolerances,
+        sample: SampleInfo {
+            sample_id: args.sample_id,
+            operator: args.operator,
+            customer: args.customer,
+        },
+        audience: args.audience,
         truth: args.truth,
         samples: args.samples,
         table: args.table,
@@ -61,7 +97,10 @@ pub(crate) fn run(args: Args) -> Result<()> {
         spp: args.spp,
         title: args.title,
     };
-    write_report(&options, &args.out, &crate::progress::Terminal::default())?;
+    let page = write_report(&options, &args.out, &crate::progress::Terminal::default())?;
     outln!("wrote {}", args.out.display());
-    Ok(())
+    if let Some(verdict) = &page.verdict {
+        outln!("verdict: {verdict}");
+    }
+    crate::verdict::check(page.verdict.as_slice())
 }

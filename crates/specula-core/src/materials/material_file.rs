@@ -142,23 +142,9 @@ fn parse(text: &str, origin: &str) -> Result<Material, MaterialError> {
         origin: origin.to_string(),
         problem,
     };
-    let file: MaterialFile = toml::from_str(text).map_err(|e| {
-        let message = e.message().trim().replace('\n', " ");
-        match e.span() {
-            Some(span) => invalid(format!("line {}: {message}", line_of(text, span.start))),
-            None => invalid(message),
-        }
-    })?;
+    let file: MaterialFile =
+        toml::from_str(text).map_err(|e| invalid(crate::toml_error::one_line(text, &e)))?;
     Material::try_from(file).map_err(invalid)
-}
-
-/// 1-based line number of a byte offset.
-fn line_of(text: &str, offset: usize) -> usize {
-    text.as_bytes()[..offset.min(text.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
-        + 1
 }
 
 fn check(ok: bool, field: &str, rule: &str, value: impl std::fmt::Debug) -> Result<(), String> {
