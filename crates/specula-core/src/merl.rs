@@ -672,7 +672,11 @@ impl MerlBrdf {
     /// phi_h, the table between its bins by [`Self::interpolate`]. Cells not measured count
     /// as zero.
     pub fn directional_albedo(&self, theta_i_deg: f64) -> Rgb {
-        let wi = DVec3::new(theta_i_deg.to_radians().sin(), 0.0, theta_i_deg.to_radians().cos());
+        let wi = DVec3::new(
+            theta_i_deg.to_radians().sin(),
+            0.0,
+            theta_i_deg.to_radians().cos(),
+        );
         let du = 1.0 / ALBEDO_THETA_H_NODES as f64;
         let dphi = std::f64::consts::TAU / ALBEDO_PHI_H_NODES as f64;
         (0..ALBEDO_THETA_H_NODES)
@@ -701,7 +705,9 @@ impl MerlBrdf {
                 }
                 sum
             })
-            .reduce(|| Rgb::ZERO, |a, b| a + b)
+            .collect::<Vec<Rgb>>()
+            .into_iter()
+            .fold(Rgb::ZERO, |a, b| a + b)
     }
 
     /// Renames the table (the name reports and written files show).
@@ -1203,9 +1209,11 @@ mod tests {
         for theta_i in [0.0, 30.0, 60.0, 80.0] {
             let albedo = table.directional_albedo(theta_i);
             for c in 0..3 {
-                assert!((albedo[c] / rho[c] - 1.0).abs() < 5e-3, "{theta_i}: {albedo:?}");
+                assert!(
+                    (albedo[c] / rho[c] - 1.0).abs() < 5e-3,
+                    "{theta_i}: {albedo:?}"
+                );
             }
         }
     }
-
 }

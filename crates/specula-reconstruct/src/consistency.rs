@@ -43,6 +43,8 @@ pub struct RegionFigures {
     pub chi2_per_value: f64,
     /// `sqrt(sum (P - S)^2 / sum S^2)`.
     pub relative_error: f64,
+    /// `sqrt(sum u^2 / sum S^2)`: the reproduction error the uncertainties alone explain.
+    pub expected_error: f64,
 }
 
 /// How well a table reproduces its samples, per region (see the module documentation).
@@ -70,6 +72,8 @@ struct Residual {
     chi2: f64,
     /// `(P - S)^2` summed over channels.
     squared_error: f64,
+    /// `u^2` summed over channels.
+    squared_uncertainty: f64,
     /// `S^2` summed over channels.
     squared_signal: f64,
 }
@@ -119,16 +123,18 @@ impl Consistency {
         self.regions.iter().find(|r| r.name == name)
     }
 
-    /// One line per region: `consistency_NAME=chi2/value X, reproduction error Y %, N samples`.
+    /// One line per region: `consistency_NAME=chi2 per value X, reproduction error Y % (Z %
+    /// expected), N samples`.
     pub fn lines(&self) -> Vec<String> {
         self.regions
             .iter()
             .map(|r| {
                 format!(
-                    "consistency_{}=chi2 per value {:.3e}, reproduction error {:.2} %, {} samples",
+                    "consistency_{}=chi2 per value {:.3e}, reproduction error {:.2} % ({:.2} % expected), {} samples",
                     r.name,
                     r.chi2_per_value,
                     100.0 * r.relative_error,
+                    100.0 * r.expected_error,
                     r.samples
                 )
             })
@@ -163,6 +169,7 @@ fn residual(sample: &Sample, u: Rgb, table: &MerlBrdf, nodes: &[CaptureNode]) ->
         theta_h_deg: sample.hd.theta_h.to_degrees(),
         chi2,
         squared_error: error.length_squared(),
+        squared_uncertainty: u.length_squared(),
         squared_signal: sample.value.length_squared(),
     }
 }
@@ -215,22 +222,27 @@ fn figures<'a>(
     name: &'static str,
     residuals: impl Iterator<Item = &'a Residual>,
 ) -> Option<RegionFigures> {
-    let (mut n, mut chi2, mut error, mut signal) = (0usize, 0.0, 0.0, 0.0);
+    let (mut n, mut chi2, mut error, mut uncertainty, mut signal) = (0usize, 0.0, 0.0, 0.0, 0.0);
     for r in residuals {
         n += 1;
         chi2 += r.chi2;
         error += r.squared_error;
+        uncertainty += r.squared_uncertainty;
         signal += r.squared_signal;
     }
+    let relative = |x: f64| {
+        if signal > 0.0 {
+            (x / signal).sqrt()
+        } else {
+            0.0
+        }
+    };
     (n > 0).then(|| RegionFigures {
         name,
         samples: n,
         chi2_per_value: chi2 / (3 * n) as f64,
-        relative_error: if signal > 0.0 {
-            (error / signal).sqrt()
-        } else {
-            0.0
-        },
+        relative_error: relative(error),
+        expected_error: relative(uncertainty),
     })
 }
 
@@ -287,7 +299,10 @@ mod tests {
         let peak_good = good.region("peak").unwrap();
         let peak_bad = bad.region("peak").unwrap();
         assert!(peak_good.relative_error < 0.01, "{good:?}");
-        assert!(peak_bad.relative_error > 10.0 * peak_good.relative_error, "{bad:?}");
+        assert!(
+            peak_bad.relative_error > 10.0 * peak_good.relative_error,
+            "{bad:?}"
+        );
         assert!(peak_bad.chi2_per_value > 100.0 * peak_good.chi2_per_value.max(1e-3));
         assert_eq!(good.region("all").unwrap().samples, samples.len());
         assert_eq!(good.lines().len(), good.regions.len());

@@ -208,8 +208,12 @@ fn corrected_through(
             break;
         }
         let gain = 1.0 - candidate_error / error;
-        (values, table, predictions, error) =
-            (candidate_values, candidate, candidate_predictions, candidate_error);
+        (values, table, predictions, error) = (
+            candidate_values,
+            candidate,
+            candidate_predictions,
+            candidate_error,
+        );
         if gain < MIN_CORRECTION_GAIN {
             break;
         }
@@ -245,7 +249,12 @@ fn positioning_log_uncertainty(
 }
 
 /// What the captures of the samples `which` measure of the table through `nodes`.
-fn predict(samples: &[Sample], which: &[usize], table: &MerlBrdf, nodes: &[CaptureNode]) -> Vec<Rgb> {
+fn predict(
+    samples: &[Sample],
+    which: &[usize],
+    table: &MerlBrdf,
+    nodes: &[CaptureNode],
+) -> Vec<Rgb> {
     which
         .par_iter()
         .map(|&i| consistency::predicted(table, nodes, samples[i].hd))
@@ -265,7 +274,12 @@ impl LobeTableFloor<'_> {
     /// the bins' interpolation alone is a few percent off; [`corrected_through`] subtracts
     /// this from each sample's miss, so it corrects the material's departure from the lobe
     /// and not the table's representation of it.
-    fn log_errors(&self, samples: &[Sample], which: &[usize], nodes: &[CaptureNode]) -> Vec<[f64; 3]> {
+    fn log_errors(
+        &self,
+        samples: &[Sample],
+        which: &[usize],
+        nodes: &[CaptureNode],
+    ) -> Vec<[f64; 3]> {
         let tabulated = predict(samples, which, self.table, nodes);
         which
             .par_iter()

@@ -13,16 +13,20 @@
 //!    table, which invents nothing), the table's binning of the fitted lobe under the
 //!    response (`|P_lobe table - M_lobe|`: what a table of MERL bins loses of a sharp peak
 //!    however right it is) and a relative floor `r` = [`RELATIVE_FLOOR`] for the binning of
-//!    the material's departure from the lobe. A region whose normalised chi-square exceeds
-//!    [`CHI2_LIMIT`] fails.
+//!    the material's departure from the lobe. The normalised chi-square is reported; a region
+//!    fails when its reproduction error exceeds [`FAIL_FACTOR`] times the one its
+//!    uncertainties explain (`sqrt(sum u^2 / sum S^2)`): weighted by the signal, so that a
+//!    few samples of tiny uncertainty on a dark flank cannot decide alone.
 //! 2. **Energy**: the table's directional albedo ([`MerlBrdf::directional_albedo`]) must stay
 //!    at most 1 (plus the quadrature's [`ALBEDO_TOLERANCE`]) at every incidence; an invented
 //!    spike breaks it first.
 //!
 //! Where either fails, the table is reconstructed again without the response (the samples
 //! as measured, blur and all) and its cells below the failing region's upper theta_h take
-//! the deblurred ones' place when they reproduce the samples there better. The summary says
-//! so: a bound at the instrument's resolution, not a resolved peak.
+//! the deblurred ones' place when they reproduce the samples of every region there better
+//! (lower reproduction error). The summary says so: a bound at the instrument's resolution,
+//! not a resolved peak. Where they do not, the deblurred table stays and the summary says
+//! which check it failed.
 
 use crate::consistency::{self, Consistency, Instrument};
 use crate::lobe::{Lobe, LobeOnGrid};
@@ -32,9 +36,9 @@ use specula_core::capture::{CaptureNode, CaptureResponse};
 use specula_core::merl::{Bin, MerlBrdf};
 use specula_core::{Rgb, Sample};
 
-/// A region fails when its normalised chi-square exceeds this: the table misses its samples
-/// by more than three of their standard uncertainties, root mean square.
-pub const CHI2_LIMIT: f64 = 9.0;
+/// A region fails when its reproduction error exceeds this many times the one its
+/// uncertainties explain.
+pub const FAIL_FACTOR: f64 = 3.0;
 
 /// The relative floor of a prediction's uncertainty (see the module documentation).
 pub const RELATIVE_FLOOR: f64 = 0.01;
@@ -63,16 +67,22 @@ pub struct Safeguard {
 }
 
 impl Safeguard {
+    /// True when the deblurred table failed a check (whether or not it was replaced).
+    pub fn failed(&self) -> bool {
+        self.reason.is_some()
+    }
+
     /// The summary's lines: the consistency per region, the albedo and any fallback.
     pub fn lines(&self) -> Vec<String> {
         let mut lines = self.consistency.lines();
         lines.push(format!("max_directional_albedo={:.4}", self.max_albedo));
-        match (self.fallback_below_deg, &self.reason) {
-            (Some(limit), Some(reason)) => lines.push(format!(
+        lines.push(match (self.fallback_below_deg, &self.reason) {
+            (Some(limit), Some(reason)) => format!(
                 "deblur_fallback=theta_h below {limit:.2} deg holds the un-deblurred values ({reason})"
-            )),
-            _ => lines.push("deblur_fallback=none".into()),
-        }
+            ),
+            (None, Some(reason)) => format!("deblur_fallback=none, check failed: {reason}"),
+            _ => "deblur_fallback=none, checks passed".into(),
+        });
         if let Some(d) = &self.deblurred {
             lines.extend(d.lines().into_iter().map(|l| format!("deblurred_{l}")));
         }
@@ -110,7 +120,7 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
     let merged = replaced_below(&deblurred.brdf, &plain.brdf, limit_deg);
     let merged_check = Consistency::check(samples, &u, &merged, instrument);
     let merged_albedo = max_albedo(&merged);
-    let better = fits_better(&merged_check, &check, limit_deg) || albedo > ALBEDO_TOLERANCE;
+    let better = fits_better(&merged_check, &check, limit_deg);
     if !better {
         deblurred.safeguard = Some(Safeguard {
             consistency: check,
@@ -174,8 +184,14 @@ fn failure(check: &Consistency, max_albedo: f64) -> Option<(f64, String)> {
     let failed = |name: &str| {
         check
             .region(name)
-            .filter(|r| r.chi2_per_value > CHI2_LIMIT)
-            .map(|r| format!("{name} chi2 per value {:.3e} above {CHI2_LIMIT}", r.chi2_per_value))
+            .filter(|r| r.relative_error > FAIL_FACTOR * r.expected_error)
+            .map(|r| {
+                format!(
+                    "{name} reproduction error {:.2} % above {FAIL_FACTOR} x the {:.2} % its uncertainties explain",
+                    100.0 * r.relative_error,
+                    100.0 * r.expected_error
+                )
+            })
     };
     let mut reasons: Vec<String> = Vec::new();
     let mut limit = None;
@@ -194,22 +210,16 @@ fn failure(check: &Consistency, max_albedo: f64) -> Option<(f64, String)> {
     limit.map(|l| (l, reasons.join("; ")))
 }
 
-/// True when `merged` reproduces the samples below `limit_deg` better than `deblurred`.
+/// True when `merged` reproduces the samples of every region below `limit_deg` better
+/// (lower reproduction error) than `deblurred`.
 fn fits_better(merged: &Consistency, deblurred: &Consistency, limit_deg: f64) -> bool {
-    let chi2_below = |c: &Consistency| {
-        let regions: Vec<_> = ["peak", "flank"]
-            .iter()
-            .filter(|name| *name == &"peak" || limit_deg > c.peak_limit_deg)
-            .filter_map(|name| c.region(name))
-            .collect();
-        let n: usize = regions.iter().map(|r| r.samples).sum();
-        regions
-            .iter()
-            .map(|r| r.chi2_per_value * r.samples as f64)
-            .sum::<f64>()
-            / n.max(1) as f64
-    };
-    chi2_below(merged) < chi2_below(deblurred)
+    ["peak", "flank"]
+        .iter()
+        .filter(|name| **name == "peak" || limit_deg > deblurred.peak_limit_deg)
+        .all(|name| match (merged.region(name), deblurred.region(name)) {
+            (Some(m), Some(d)) => m.relative_error < d.relative_error,
+            _ => true,
+        })
 }
 
 /// `deblurred` with every cell whose theta_h centre lies below `limit_deg` taken from `plain`.
@@ -233,4 +243,97 @@ fn max_albedo(table: &MerlBrdf) -> f64 {
             a.x.max(a.y).max(a.z)
         })
         .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lobe::{Geometry, Shape};
+    use crate::provenance::Provenance;
+    use specula_acquisition::device::Device;
+    use specula_core::merl::CELLS;
+    use specula_core::HalfDiff;
+
+    fn lobe(alpha: f64) -> Lobe {
+        Lobe {
+            shape: Shape { alpha, gamma: 2.0 },
+            diffuse: Rgb::splat(0.05),
+            specular: Rgb::splat(0.8),
+            grazing: Rgb::splat(0.2),
+        }
+    }
+
+    fn tabulated(truth: &Lobe) -> MerlBrdf {
+        MerlBrdf::from_fn("t", |index| {
+            let [h, d, p] = Bin::from_index(index).centre_deg();
+            Some(truth.eval(&Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p))))
+        })
+    }
+
+    fn reconstruction(table: MerlBrdf, fitted: Lobe, resolution_deg: f64) -> Reconstruction {
+        Reconstruction {
+            brdf: table,
+            provenance: Provenance::new(&[], &vec![false; CELLS]),
+            lobe: Some(fitted),
+            resolution_deg: Some(resolution_deg),
+            lattice_shape: [1, 1, 1],
+            measured_nodes: 1,
+            filled_nodes: 0,
+            safeguard: None,
+        }
+    }
+
+    #[test]
+    fn an_invented_spike_falls_back_to_the_values_as_measured_and_the_truth_stays() {
+        // GGX alpha 0.05 measured through the UTIA response along theta_h at theta_d 40,
+        // phi_d 90. A "deblurred" table with a peak four times sharper (and the lobe fitted
+        // to it) reproduces the peak's samples badly: the check fails there, and the
+        // un-deblurred table (here the truth itself) takes the peak's cells. The truth as
+        // the deblurred table passes and is kept as it is.
+        let response = Device::utia().response();
+        let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
+        let truth = lobe(0.05);
+        let samples: Vec<Sample> = (0..40)
+            .map(|k| {
+                let h = (k as f64 * 1.5).powi(2) / 90.0;
+                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 90.0);
+                Sample::new(hd, truth.measured(&nodes, hd))
+            })
+            .collect();
+        let resolution = response.resolution_deg();
+        let spiky = reconstruction(tabulated(&lobe(0.0125)), lobe(0.0125), resolution);
+        let kept = safeguarded(&samples, spiky, &response, || {
+            Ok::<_, ()>(reconstruction(tabulated(&truth), truth, resolution))
+        })
+        .unwrap();
+        let guard = kept.safeguard.as_ref().unwrap();
+        assert!(guard.fallback_below_deg.is_some(), "{guard:?}");
+        let peak = Bin {
+            theta_h_i: 0,
+            theta_d_i: 40,
+            phi_d_i: 90,
+        }
+        .index();
+        assert_eq!(kept.brdf.cell(peak), tabulated(&truth).cell(peak));
+        let failed = guard.deblurred.as_ref().unwrap().region("peak").unwrap();
+        assert!(
+            failed.relative_error > FAIL_FACTOR * failed.expected_error,
+            "{failed:?}"
+        );
+        assert!(guard
+            .lines()
+            .iter()
+            .any(|l| l.starts_with("deblur_fallback=theta_h below")));
+
+        let honest = reconstruction(tabulated(&truth), truth, resolution);
+        let kept = safeguarded(&samples, honest, &response, || Err("not needed")).unwrap();
+        let guard = kept.safeguard.unwrap();
+        assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
+        let peak = guard.consistency.region("peak").unwrap();
+        assert!(
+            peak.relative_error < FAIL_FACTOR * peak.expected_error,
+            "{peak:?}"
+        );
+        assert!(guard.max_albedo < 1.0, "{}", guard.max_albedo);
+    }
 }

@@ -297,6 +297,9 @@ pub struct DeblurRecord {
     /// deblurred ones failed a check.
     #[serde(default)]
     pub fallback_below_deg: Option<f64>,
+    /// True when the deblurred table failed a check ([`specula_reconstruct::safeguard`]).
+    #[serde(default)]
+    pub check_failed: bool,
 }
 
 impl DeblurRecord {
@@ -310,13 +313,14 @@ impl DeblurRecord {
             peak_half_width_deg: reconstruction.lobe.map(|l| l.shape.half_width_deg()),
             checks: safeguard.map_or_else(Vec::new, |s| s.lines()),
             fallback_below_deg: safeguard.and_then(|s| s.fallback_below_deg),
+            check_failed: safeguard.is_some_and(|s| s.failed()),
         }
     }
 
     /// True when the peak is at least as wide as the instrument resolves and the deblurred
-    /// table passed its checks there.
+    /// table passed its checks.
     pub fn resolved(&self) -> bool {
-        self.fallback_below_deg.is_none()
+        !self.check_failed
             && self
                 .peak_half_width_deg
                 .is_some_and(|w| w >= self.resolution_deg)
@@ -326,6 +330,9 @@ impl DeblurRecord {
     pub fn describe(&self) -> String {
         let resolution = format!("resolution {:.3} deg in theta_h", self.resolution_deg);
         match self.peak_half_width_deg {
+            _ if self.check_failed && self.fallback_below_deg.is_none() => format!(
+                "{resolution}; the deblurred table does not reproduce its samples within their uncertainty, so its peak is not a measurement"
+            ),
             _ if self.fallback_below_deg.is_some() => format!(
                 "{resolution}; the deblurred peak did not reproduce the samples, so theta_h below {:.2} deg holds the values as measured (a bound, not a measurement)",
                 self.fallback_below_deg.unwrap_or_default()
@@ -356,6 +363,8 @@ impl DeblurRecord {
                 format!(
                     "peak_resolved=false (the deblurred peak failed its checks: theta_h below {limit:.2} deg holds the values as measured, a bound at the instrument's resolution)"
                 )
+            } else if self.check_failed {
+                "peak_resolved=false (the deblurred table does not reproduce its samples within their uncertainty: see deblur_fallback; its peak is not a measurement)".into()
             } else {
                 format!(
                     "peak_resolved=false (the peak is narrower than the instrument's resolution of {:.2} deg: its width is a bound, not a measurement)",
