@@ -52,37 +52,48 @@ impl Sums {
     }
 }
 
+/// Cells per chunk of [`compare`]'s sums.
+const COMPARE_CHUNK: usize = 16_384;
+
 /// Compares `a` against the reference `b` over the cells whose light and camera directions
 /// are within `max_elevation_deg` of the normal.
 pub fn compare(a: &MerlBrdf, b: &MerlBrdf, max_elevation_deg: f64) -> ErrorFigures {
     let min_cos = max_elevation_deg.to_radians().cos().max(1e-12);
-    let sums = (0..CELLS)
+    // Fixed chunks summed in order: the same figures to the last bit on every run (a
+    // work-stealing reduction would associate the sums differently from run to run).
+    let partial: Vec<Sums> = (0..CELLS.div_ceil(COMPARE_CHUNK))
         .into_par_iter()
-        .fold(Sums::default, |mut s, index| {
-            let (Some(fa), Some(fb)) = (a.cell(index), b.cell(index)) else {
-                return s;
-            };
-            let bin = Bin::from_index(index);
-            let (wi, wo) = bin.centre(0.0).to_directions();
-            if wi.z < min_cos || wo.z < min_cos {
-                return s;
-            }
-            let w = wi.z * wo.z;
-            s.cells += 1;
-            s.weighted_sq_diff += (w * w) * (fa - fb).length_squared();
-            s.weighted_sq_ref += (w * w) * fb.length_squared();
-            for c in 0..3 {
-                let la = (fa[c] * wi.z).ln_1p();
-                let lb = (fb[c] * wi.z).ln_1p();
-                s.log_sq_diff += (la - lb).powi(2);
-            }
-            if bin.phi_d_i == 90 {
-                s.slice_cells += 1;
-                s.slice_abs_diff += (fa - fb).abs().element_sum() / 3.0;
-            }
-            s
+        .map(|chunk| {
+            (chunk * COMPARE_CHUNK..((chunk + 1) * COMPARE_CHUNK).min(CELLS)).fold(
+                Sums::default(),
+                |mut s, index| {
+                    let (Some(fa), Some(fb)) = (a.cell(index), b.cell(index)) else {
+                        return s;
+                    };
+                    let bin = Bin::from_index(index);
+                    let (wi, wo) = bin.centre(0.0).to_directions();
+                    if wi.z < min_cos || wo.z < min_cos {
+                        return s;
+                    }
+                    let w = wi.z * wo.z;
+                    s.cells += 1;
+                    s.weighted_sq_diff += (w * w) * (fa - fb).length_squared();
+                    s.weighted_sq_ref += (w * w) * fb.length_squared();
+                    for c in 0..3 {
+                        let la = (fa[c] * wi.z).ln_1p();
+                        let lb = (fb[c] * wi.z).ln_1p();
+                        s.log_sq_diff += (la - lb).powi(2);
+                    }
+                    if bin.phi_d_i == 90 {
+                        s.slice_cells += 1;
+                        s.slice_abs_diff += (fa - fb).abs().element_sum() / 3.0;
+                    }
+                    s
+                },
+            )
         })
-        .reduce(Sums::default, Sums::merge);
+        .collect();
+    let sums = partial.into_iter().fold(Sums::default(), Sums::merge);
     ErrorFigures {
         cells: sums.cells,
         relative_rmse: (sums.weighted_sq_diff / sums.weighted_sq_ref).sqrt(),

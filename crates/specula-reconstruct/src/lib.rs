@@ -10,6 +10,7 @@
 
 pub mod axis;
 pub mod breakdown;
+pub mod consistency;
 pub mod deblur;
 pub mod domain;
 pub mod extrapolate;
@@ -24,6 +25,7 @@ pub mod prior;
 pub mod prior_reconstruct;
 pub mod provenance;
 pub mod reconstruct;
+pub mod safeguard;
 pub mod sample;
 
 pub use method::Method;

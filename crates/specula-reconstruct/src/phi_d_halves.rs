@@ -62,16 +62,27 @@ pub fn measures_both_halves(samples: &[Sample]) -> bool {
 /// Reconstructs the table named `name` with each half of phi_d from its own samples when
 /// they measure both ([`measures_both_halves`]; see the module documentation), otherwise as
 /// [`reconstruct_through`]. The lobe, resolution and lattice figures reported are the first
-/// half's; the node counts are the two halves' sums.
+/// half's; the node counts are the two halves' sums. A table deblurred through `response` is
+/// checked against the samples and falls back where it fails ([`crate::safeguard`]).
 pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
     samples: &[Sample],
     method: crate::Method,
     name: &str,
     response: Option<&R>,
 ) -> Result<Reconstruction, ReconstructError> {
-    reconstruct_halves_with(samples, |half| {
+    let table = reconstruct_halves_with(samples, |half| {
         reconstruct_through(half, method, name, response)
-    })
+    })?;
+    match response {
+        Some(response) if table.resolution_deg.is_some() => {
+            crate::safeguard::safeguarded(samples, table, response, || {
+                reconstruct_halves_with(samples, |half| {
+                    reconstruct_through(half, method, name, None::<&R>)
+                })
+            })
+        }
+        _ => Ok(table),
+    }
 }
 
 /// As [`reconstruct_halves`], with `reconstruct_half` turning the samples of one half (or of
@@ -117,6 +128,7 @@ fn joined(first: Reconstruction, second: Reconstruction) -> Reconstruction {
         lattice_shape: first.lattice_shape,
         measured_nodes: first.measured_nodes + second.measured_nodes,
         filled_nodes: first.filled_nodes + second.filled_nodes,
+        safeguard: None,
     }
 }
 

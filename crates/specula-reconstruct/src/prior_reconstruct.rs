@@ -410,29 +410,35 @@ mod tests {
 
     #[test]
     fn without_the_prior_s_weight_it_is_the_lobe_method() {
-        // w = 0 makes the model the lobe alone: the table must be the `lobe` method's, with a
-        // point light and through the UTIA device's response (the lobe fitted through it).
+        // w = 0 makes the model the lobe alone: the table must be the `lobe` method's with a
+        // point light. (Through a response the `lobe` method then corrects its residual
+        // through the response, `reconstruct::corrected_through`, which this method does not:
+        // there the two differ by that correction, and only the lobe and resolution agree.)
         let basis = basis_of(&["chrome", "green-paint", "steel"]);
         let samples = samples_of(&preset("silver-925").unwrap());
         let utia = specula_acquisition::device::Device::utia().response();
-        for response in [None, Some(&utia)] {
-            let (prior, _) =
-                reconstruct_with_prior(&samples, &basis, "p", Some((0.0, 0.1)), response).unwrap();
-            let lobe =
-                crate::reconstruct_through(&samples, crate::Method::LOBE, "l", response).unwrap();
-            assert_eq!(prior.resolution_deg, lobe.resolution_deg);
-            assert_eq!(prior.provenance, lobe.provenance);
-            for index in (0..specula_core::merl::CELLS).step_by(997) {
-                let (a, b) = (
-                    prior.brdf.cell(index).unwrap(),
-                    lobe.brdf.cell(index).unwrap(),
-                );
-                let scale = b.abs().max_element().max(1e-6);
-                assert!(
-                    (a - b).abs().max_element() < 1e-9 * scale,
-                    "cell {index}: {a:?} against {b:?}"
-                );
-            }
+        let (prior, _) =
+            reconstruct_with_prior(&samples, &basis, "p", Some((0.0, 0.1)), Some(&utia)).unwrap();
+        let lobe =
+            crate::reconstruct_through(&samples, crate::Method::LOBE, "l", Some(&utia)).unwrap();
+        assert_eq!(prior.resolution_deg, lobe.resolution_deg);
+        assert_eq!(prior.lobe, lobe.lobe);
+        let response = None::<&dyn CaptureResponse>;
+        let (prior, _) =
+            reconstruct_with_prior(&samples, &basis, "p", Some((0.0, 0.1)), response).unwrap();
+        let lobe =
+            crate::reconstruct_through(&samples, crate::Method::LOBE, "l", response).unwrap();
+        assert_eq!(prior.provenance, lobe.provenance);
+        for index in (0..specula_core::merl::CELLS).step_by(997) {
+            let (a, b) = (
+                prior.brdf.cell(index).unwrap(),
+                lobe.brdf.cell(index).unwrap(),
+            );
+            let scale = b.abs().max_element().max(1e-6);
+            assert!(
+                (a - b).abs().max_element() < 1e-9 * scale,
+                "cell {index}: {a:?} against {b:?}"
+            );
         }
     }
 }

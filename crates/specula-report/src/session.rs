@@ -498,6 +498,13 @@ fn shown_table(
     progress.finish();
     match result {
         Ok(r) => {
+            let deblurred = match (&session.response, r.resolution_deg) {
+                (Some(fit), Some(_)) => format!(
+                    ", fitted through the instrument's response: {}",
+                    DeblurRecord::new(fit, &r).describe()
+                ),
+                _ => ", not deblurred (as measured, blurred by the light's disk)".into(),
+            };
             let mut rows = vec![(
                 "MERL cells holding a value".to_string(),
                 r.brdf.measured_count(),
@@ -517,13 +524,7 @@ fn shown_table(
                     } else {
                         ""
                     },
-                    match (&session.response, r.resolution_deg) {
-                        (Some(fit), Some(_)) => format!(
-                            ", fitted through the instrument's response: {}",
-                            DeblurRecord::new(fit, r.lobe.as_ref()).describe()
-                        ),
-                        _ => ", not deblurred (as measured, blurred by the light's disk)".into(),
-                    }
+                    deblurred
                 ),
             }))
         }

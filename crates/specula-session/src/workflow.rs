@@ -290,29 +290,54 @@ pub struct DeblurRecord {
     pub resolution_deg: f64,
     /// The fitted lobe's half width at half maximum in theta_h, degrees.
     pub peak_half_width_deg: Option<f64>,
+    /// What the checks of the deblurred table found, as summary lines
+    /// ([`specula_reconstruct::safeguard::Safeguard::lines`]).
+    #[serde(default)]
+    pub checks: Vec<String>,
+    /// Below this theta_h (degrees) the table holds the un-deblurred values, because the
+    /// deblurred ones failed a check.
+    #[serde(default)]
+    pub fallback_below_deg: Option<f64>,
+    /// True when the deblurred table failed a check ([`specula_reconstruct::safeguard`]).
+    #[serde(default)]
+    pub check_failed: bool,
 }
 
 impl DeblurRecord {
-    /// Of a response and the lobe fitted through it.
-    pub fn new(fit: &ResponseFit, lobe: Option<&specula_reconstruct::lobe::Lobe>) -> Self {
+    /// Of a response and the reconstruction made through it.
+    pub fn new(fit: &ResponseFit, reconstruction: &specula_reconstruct::Reconstruction) -> Self {
+        let safeguard = reconstruction.safeguard.as_ref();
         Self {
             light_radius_deg: fit.response.light.radius_deg,
             measured_with: fit.reference.clone(),
             resolution_deg: fit.response.resolution_deg(),
-            peak_half_width_deg: lobe.map(|l| l.shape.half_width_deg()),
+            peak_half_width_deg: reconstruction.lobe.map(|l| l.shape.half_width_deg()),
+            checks: safeguard.map_or_else(Vec::new, |s| s.lines()),
+            fallback_below_deg: safeguard.and_then(|s| s.fallback_below_deg),
+            check_failed: safeguard.is_some_and(|s| s.failed()),
         }
     }
 
-    /// True when the peak is at least as wide as the instrument resolves.
+    /// True when the peak is at least as wide as the instrument resolves and the deblurred
+    /// table passed its checks.
     pub fn resolved(&self) -> bool {
-        self.peak_half_width_deg
-            .is_some_and(|w| w >= self.resolution_deg)
+        !self.check_failed
+            && self
+                .peak_half_width_deg
+                .is_some_and(|w| w >= self.resolution_deg)
     }
 
     /// One sentence: the resolution and whether the peak is resolved.
     pub fn describe(&self) -> String {
         let resolution = format!("resolution {:.3} deg in theta_h", self.resolution_deg);
         match self.peak_half_width_deg {
+            _ if self.check_failed && self.fallback_below_deg.is_none() => format!(
+                "{resolution}; the deblurred table does not reproduce its samples within their uncertainty, so its peak is not a measurement"
+            ),
+            _ if self.fallback_below_deg.is_some() => format!(
+                "{resolution}; the deblurred peak did not reproduce the samples, so theta_h below {:.2} deg holds the values as measured (a bound, not a measurement)",
+                self.fallback_below_deg.unwrap_or_default()
+            ),
             Some(w) if self.resolved() => {
                 format!("{resolution}; the peak's half width {w:.3} deg is resolved")
             }
@@ -335,6 +360,12 @@ impl DeblurRecord {
             lines.push(format!("peak_half_width_deg={w:.4}"));
             lines.push(if self.resolved() {
                 "peak_resolved=true".into()
+            } else if let Some(limit) = self.fallback_below_deg {
+                format!(
+                    "peak_resolved=false (the deblurred peak failed its checks: theta_h below {limit:.2} deg holds the values as measured, a bound at the instrument's resolution)"
+                )
+            } else if self.check_failed {
+                "peak_resolved=false (the deblurred table does not reproduce its samples within their uncertainty: see deblur_fallback; its peak is not a measurement)".into()
             } else {
                 format!(
                     "peak_resolved=false (the peak is narrower than the instrument's resolution of {:.2} deg: its width is a bound, not a measurement)",
@@ -342,6 +373,7 @@ impl DeblurRecord {
                 )
             });
         }
+        lines.extend(self.checks.iter().cloned());
         lines
     }
 }
@@ -534,7 +566,7 @@ pub fn measure(
     let deblur = response_fit
         .as_ref()
         .filter(|_| result.resolution_deg.is_some())
-        .map(|fit| DeblurRecord::new(fit, result.lobe.as_ref()));
+        .map(|fit| DeblurRecord::new(fit, &result));
     specula_core::atomic_file::write_together(&[
         (out, &result.brdf.to_bytes()),
         (&sidecar_path(out), &result.provenance.to_npy()),

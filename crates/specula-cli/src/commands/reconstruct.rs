@@ -95,6 +95,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
             }
         );
     }
+    for line in r.safeguard.iter().flat_map(|s| s.lines()) {
+        outln!("{line}");
+    }
     outln!("cells: {}", r.provenance.summary());
     let share = r.provenance.extrapolated_share();
     if share > MOSTLY_EXTRAPOLATED {
