@@ -55,7 +55,10 @@ fn assert_holds(predicted: f64, simulated: f64, planned: f64) {
         (predicted / simulated - 1.0).abs() < 0.10,
         "predicted {predicted} h, simulated {simulated} h"
     );
-    assert_eq!(planned, predicted, "plan's predicted_hours vs the summary's");
+    assert_eq!(
+        planned, predicted,
+        "plan's predicted_hours vs the summary's"
+    );
 }
 
 #[test]

@@ -34,7 +34,10 @@ use std::path::PathBuf;
 /// index,theta_h,phi_h,theta_d,phi_d,theta_i,phi_i,theta_o,phi_o,status (degrees), then
 /// turntable_deg,camera_deg,light_azimuth_deg,light_elevation_deg (empty when excluded) and
 /// time_s (move from the previous sample + settle + capture). Prints a summary with the time
-/// of the nested-loop order and of the optimized order.
+/// of the nested-loop order and of the optimized order, and `predicted_hours=H` for the
+/// written order: the capture at each sample follows --hdr as `measure` takes it (`predicted`:
+/// one frame at the exposure for the brightness of --truth, default silver-925; `bracket`: the
+/// device file's bracket). The `captures:` line says which.
 ///
 /// Example: specula plan --k 4.78 --out plan.csv
 #[derive(clap::Args)]
