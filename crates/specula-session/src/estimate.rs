@@ -127,3 +127,52 @@ pub fn price_before_probe(
          simulated camera's exact calibration)"
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn predicted_exposures_price_one_frame_a_sample_and_the_bracket_keeps_the_device_file() {
+        let device = Device::utia();
+        let grid = |device: &Device| {
+            Plan::from_grid(
+                &[1.0, 10.0, 40.0],
+                &[30.0, 60.0],
+                &[0.0, 90.0],
+                45.0,
+                device,
+            )
+        };
+        let mut bracket = grid(&device);
+        let before = bracket.clone();
+        let truth: Arc<dyn Brdf> = Arc::new(specula_core::materials::preset("silver-925").unwrap());
+        price_before_probe(&mut [&mut bracket], &device, None, 45.0).unwrap();
+        assert_eq!(bracket, before);
+
+        let mut predicted = grid(&device);
+        let said = price_before_probe(&mut [&mut predicted], &device, Some(truth), 45.0).unwrap();
+        assert!(said.contains("silver-925"), "{said}");
+        let (_, capturer) = assumed_brightness(
+            &device,
+            Arc::new(specula_core::materials::preset("silver-925").unwrap()),
+            45.0,
+        )
+        .unwrap();
+        let (longest_s, frame_s) = (
+            capturer.settings.exposure_range_s.1,
+            device.capture.readout_s,
+        );
+        let steps = predicted.steps();
+        assert!(!steps.is_empty());
+        for step in &steps {
+            assert!(step.capture_s >= frame_s, "{step:?}");
+            assert!(
+                step.capture_s <= frame_s + longest_s + device.capture.light_change_s,
+                "{step:?}"
+            );
+        }
+        let motion = |p: &Plan| p.steps().iter().map(|s| s.move_s + s.settle_s).sum::<f64>();
+        assert_eq!(motion(&predicted), motion(&before));
+    }
+}
