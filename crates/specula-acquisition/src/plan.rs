@@ -74,6 +74,9 @@ pub struct PlannedSample {
     /// This sample's step: the move from the previous measured sample (the park position for
     /// the first), settling and the capture, seconds; 0 for an excluded sample.
     pub time_s: f64,
+    /// This sample's capture, seconds: the device's bracket until
+    /// [`Plan::set_capture_times_s`] prices another HDR scheme.
+    pub capture_s: f64,
 }
 
 impl PlannedSample {
@@ -192,12 +195,16 @@ impl Plan {
             .filter_map(|s| s.axes().map(|axes| (s, axes)))
     }
 
-    /// The step of each measured sample from the one before (the park position first).
+    /// The step of each measured sample from the one before (the park position first), with
+    /// the sample's own capture time.
     pub fn steps(&self) -> Vec<StepTime> {
         let mut previous = self.time_model.park;
         self.measured()
-            .map(|(_, axes)| {
-                let step = self.time_model.step(&previous, &axes);
+            .map(|(sample, axes)| {
+                let step = StepTime {
+                    capture_s: sample.capture_s,
+                    ..self.time_model.step(&previous, &axes)
+                };
                 previous = axes;
                 step
             })
@@ -206,17 +213,25 @@ impl Plan {
 
     /// Recomputes every `time_s` from the execution order.
     pub fn retime(&mut self) {
-        let mut previous = self.time_model.park;
+        let steps = self.steps();
+        let mut steps = steps.iter();
         for sample in &mut self.samples {
             sample.time_s = match sample.axes() {
-                Some(axes) => {
-                    let t = self.time_model.step(&previous, &axes).total_s();
-                    previous = axes;
-                    t
-                }
+                Some(_) => steps.next().map_or(0.0, StepTime::total_s),
                 None => 0.0,
             };
         }
+    }
+
+    /// Prices the capture of each measured sample, in execution order (seconds, e.g. from
+    /// [`crate::timing::predicted_capture_times_s`]), and retimes the plan. Extra times are
+    /// ignored; samples without one keep theirs.
+    pub fn set_capture_times_s(&mut self, capture_s: &[f64]) {
+        let measured = self.samples.iter_mut().filter(|s| s.status.is_ok());
+        for (sample, &t) in measured.zip(capture_s) {
+            sample.capture_s = t;
+        }
+        self.retime();
     }
 
     /// Counts by status and the time, split into moves, settling and captures.
@@ -324,6 +339,7 @@ fn plan_sample(
         wo,
         status,
         time_s: 0.0,
+        capture_s: time_model.capture_s,
     }
 }
 

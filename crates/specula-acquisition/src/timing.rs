@@ -7,13 +7,40 @@
 //!   `v`, decelerate at `a`; a triangle when the distance is too short to reach `v`); the axes
 //!   move at the same time, so the move lasts as long as the slowest axis;
 //! - settling: the longest settle time among the axes that moved;
-//! - the capture: at each light level, a change of the LED current and one frame per
-//!   exposure of the bracket (exposure plus read-out), then a fixed overhead.
+//! - the capture, by the HDR scheme the measurement uses:
+//!   - the device's fixed bracket: at each light level, a change of the LED current and one
+//!     frame per exposure (exposure plus read-out), then a fixed overhead
+//!     ([`crate::capture_bracket::CaptureBracket::duration_s`]);
+//!   - predicted exposures ([`crate::hdr::HdrCapturer::choose`]): one frame at the exposure
+//!     chosen from the sample's predicted brightness, plus a change of the LED current
+//!     whenever the chosen level differs from the sample's before
+//!     ([`predicted_capture_times_s`]).
 //!
 //! Axes that would move less than the device's accuracy do not move.
 
+use crate::capture_bracket::CaptureBracket;
 use crate::device::Device;
+use crate::hdr::Exposure;
 use crate::kinematics::AxisPositions;
+
+/// The capture time of each sample measured with predicted exposures, in execution order,
+/// seconds: the chosen exposure plus the read-out of `capture`, plus its light change where
+/// the level differs from the sample's before (the first sample sets the light).
+pub fn predicted_capture_times_s(exposures: &[Exposure], capture: &CaptureBracket) -> Vec<f64> {
+    let mut level: Option<f64> = None;
+    exposures
+        .iter()
+        .map(|e| {
+            let change_s = if level == Some(e.light_level) {
+                0.0
+            } else {
+                capture.light_change_s
+            };
+            level = Some(e.light_level);
+            change_s + e.exposure_s + capture.readout_s
+        })
+        .collect()
+}
 
 /// The motion of one axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -114,7 +141,6 @@ impl TimeModel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::capture_bracket::CaptureBracket;
     use proptest::prelude::*;
 
     fn axis() -> AxisMotion {
@@ -196,6 +222,29 @@ mod tests {
         // A move below the accuracy is no move: no time, no settling.
         let tiny = AxisPositions::from_degrees(0.01, 0.0, 0.0, 10.0);
         assert_eq!(model.transition_s(&from, &tiny), 0.0);
+    }
+
+    #[test]
+    fn predicted_captures_pay_a_frame_each_and_a_light_change_only_when_it_changes() {
+        let bracket = CaptureBracket {
+            exposures_s: vec![1.0],
+            light_levels: vec![1.0],
+            readout_s: 0.3,
+            light_change_s: 0.5,
+            overhead_s: 9.0,
+        };
+        let at = |light_level, exposure_s| Exposure {
+            light_level,
+            exposure_s,
+        };
+        let times = predicted_capture_times_s(
+            &[at(1.0, 0.01), at(1.0, 0.2), at(0.1, 0.05), at(1.0, 0.01)],
+            &bracket,
+        );
+        let expected = [0.5 + 0.31, 0.5, 0.5 + 0.35, 0.5 + 0.31];
+        for (t, e) in times.iter().zip(expected) {
+            assert!((t - e).abs() < 1e-12, "{times:?}");
+        }
     }
 
     #[test]

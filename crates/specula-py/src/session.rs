@@ -141,6 +141,7 @@ fn summary_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict
     dict.set_item("lower_bound_samples", s.lower_bounds)?;
     dict.set_item("device_s", s.device_s)?;
     dict.set_item("main_device_s", s.main_device_s)?;
+    dict.set_item("predicted_main_s", s.predicted_main_s)?;
     dict.set_item("simulated", s.simulated)?;
     dict.set_item("method", s.method.name())?;
     dict.set_item("grid", s.grid.to_string())?;

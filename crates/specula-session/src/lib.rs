@@ -6,6 +6,7 @@
 //! - [`protocol`]: the JSON-lines driver protocol for real hardware (client and server);
 //! - [`engine`]: the acquisition loop: move, HDR capture, calibrate, journal; Ctrl-C;
 //! - [`predict`]: predicted exposures from the probe and the previous sample;
+//! - [`estimate`]: how long a stage will take, with the HDR scheme it uses;
 //! - [`inputs`]: content hashes of the inputs and the device identity, checked on resume;
 //! - [`workflow`]: the paper's workflow behind `specula measure`;
 //! - [`calibrate`]: the calibration behind `specula calibrate`, on any device;
@@ -15,6 +16,7 @@
 pub mod calibrate;
 pub mod choices;
 pub mod engine;
+pub mod estimate;
 pub mod ideal;
 pub mod inputs;
 pub mod journal;

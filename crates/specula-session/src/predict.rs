@@ -21,7 +21,7 @@
 use crate::journal::{PlannedRow, SampleRecord};
 use specula_acquisition::calibration::Calibration;
 use specula_core::merl;
-use specula_core::{ProbePoint, Rgb};
+use specula_core::{HalfDiff, ProbePoint, Rgb};
 
 /// The largest correction applied, either way: beyond it the previous sample is taken to be
 /// unlike this one (an occlusion, a lower bound) and ignored.
@@ -92,11 +92,16 @@ impl Predictor {
 
     /// The model's rate for a planned sample, if there is a model.
     fn model_rate(&self, row: &PlannedRow) -> Option<f64> {
+        self.model_rate_at(row.hd)
+    }
+
+    /// The model's brightest-channel rate (DN/s at full light) of a sample, if there is a
+    /// model: what a time estimate prices the sample's exposure from.
+    pub fn model_rate_at(&self, hd: HalfDiff) -> Option<f64> {
         let model = self.model.as_ref()?;
-        let f = model.brdf(row.hd.theta_h.to_degrees());
-        let rate = self
-            .calibration
-            .predicted_rate_dn_s(f, cos_theta_i(row).max(1e-3));
+        let f = model.brdf(hd.theta_h.to_degrees());
+        let cos_i = hd.to_directions().0.z;
+        let rate = self.calibration.predicted_rate_dn_s(f, cos_i.max(1e-3));
         (rate.is_finite() && rate > 0.0).then_some(rate)
     }
 
@@ -135,7 +140,6 @@ mod tests {
     use super::*;
     use specula_acquisition::hdr::NoiseModel;
     use specula_acquisition::kinematics::AxisPositions;
-    use specula_core::HalfDiff;
 
     fn calibration() -> Calibration {
         Calibration {

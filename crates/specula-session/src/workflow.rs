@@ -19,6 +19,7 @@
 //! the same seed, writes byte for byte the same table as an uninterrupted run.
 
 use crate::engine::{is_retryable, Engine, EngineSettings, HdrMode, Progress, StageOutcome};
+use crate::estimate::{price_captures, PredictedExposures};
 use crate::ideal::{exact_calibration, NoiselessSimulator};
 use crate::inputs::{
     brdf_fingerprint, check_device, check_inputs, sha256_hex, DeviceIdentity, InputHashes,
@@ -205,6 +206,9 @@ pub struct Summary {
     pub device_s: f64,
     /// Device time of the main measurement alone, seconds.
     pub main_device_s: f64,
+    /// The time model's prediction for the main measurement, made before it ([`crate::estimate`]),
+    /// seconds.
+    pub predicted_main_s: f64,
     /// True when the device time is a simulated clock.
     pub simulated: bool,
     /// The reconstruction method.
@@ -258,6 +262,10 @@ impl Summary {
             "device"
         };
         lines.push(format!("{clock}_hours={:.3}", hours(self.device_s)));
+        lines.push(format!(
+            "predicted_main_hours={:.3}",
+            hours(self.predicted_main_s)
+        ));
         lines.push(format!(
             "{clock}_main_hours={:.3}",
             hours(self.main_device_s)
@@ -534,22 +542,24 @@ pub fn measure(
     }
 
     // The plan (5.3) with k-hat, then the acquisition.
+    let predictor = Predictor::new(calibration.clone(), ProbeModel::new(&probe));
     let plan = main_plan(
         engine.journal,
         device,
-        &grid,
-        &fit.function,
-        phi_h_deg,
-        settings.order,
+        &MainPlanSpec {
+            grid: &grid,
+            function: &fit.function,
+            phi_h_deg,
+            order: settings.order,
+            hdr: settings.hdr,
+        },
+        &PredictedExposures {
+            predictor: &predictor,
+            capturer: engine.hdr,
+        },
         observer,
     )?;
-    let model = ProbeModel::new(&probe);
-    let outcome = run_stage(
-        &mut engine,
-        STAGE_MAIN,
-        &Predictor::new(calibration.clone(), model),
-        observer,
-    )?;
+    let outcome = run_stage(&mut engine, STAGE_MAIN, &predictor, observer)?;
     if !outcome.complete() {
         return Ok(stopped(STAGE_MAIN, &outcome));
     }
@@ -1176,15 +1186,23 @@ fn nested_plan(
     )
 }
 
-/// The main plan (5.3) on `grid`: made, ordered and journaled the first time, read back
-/// afterwards.
+/// What the main plan is made of: the grid, theta_h's sampling function, phi_h, the order
+/// and the HDR scheme its captures are priced with.
+struct MainPlanSpec<'a> {
+    grid: &'a GridSpec,
+    function: &'a SamplingFunction,
+    phi_h_deg: f64,
+    order: PlanOrder,
+    hdr: HdrChoice,
+}
+
+/// The main plan (5.3): made, ordered, timed with the session's HDR scheme
+/// ([`price_captures`]) and journaled the first time, read back afterwards.
 fn main_plan(
     journal: &mut Journal,
     device: &Device,
-    grid: &GridSpec,
-    function: &SamplingFunction,
-    phi_h_deg: f64,
-    plan_order: PlanOrder,
+    spec: &MainPlanSpec,
+    predicted: &PredictedExposures,
     observer: &mut dyn Observer,
 ) -> Result<PlanRecord, WorkflowError> {
     let stored_rows = journal.plan(STAGE_MAIN)?.len();
@@ -1198,10 +1216,10 @@ fn main_plan(
         }
         return Ok(record);
     }
-    grid.check()?;
+    spec.grid.check()?;
     observer.step("planning and ordering the samples");
-    let nested = nested_plan(device, grid, function, phi_h_deg);
-    let chosen = match plan_order {
+    let nested = nested_plan(device, spec.grid, spec.function, spec.phi_h_deg);
+    let mut chosen = match spec.order {
         PlanOrder::Optimized => order(&nested),
         PlanOrder::Nested => nested.clone(),
     };
@@ -1214,6 +1232,7 @@ fn main_plan(
         nested_bracket_s: summary.duration_s(),
         ordered_bracket_s: chosen.summary(device).duration_s(),
     };
+    price_captures(&mut chosen, device, spec.hdr, predicted);
     journal.set_plan(STAGE_MAIN, &rows_of(&chosen))?;
     journal.put_record(&record)?;
     Ok(record)
@@ -1297,6 +1316,11 @@ fn summarise(
         lower_bounds,
         device_s: checks_s + probe.device_s_done + main.device_s_done,
         main_device_s: main.device_s_done,
+        predicted_main_s: journal
+            .plan(STAGE_MAIN)?
+            .iter()
+            .map(|row| row.predicted_s)
+            .sum(),
         simulated,
         method: settings.method,
         phi_d_halves,

@@ -7,6 +7,8 @@ use specula_acquisition::ordering::{order, transition_time_s};
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::sampling::SamplingFunction;
 use specula_core::GridSpec;
+use specula_session::estimate::{price_before_probe, ASSUMED_MATERIAL};
+use specula_session::journal::HdrChoice;
 use specula_session::workflow::PlanOrder;
 use std::path::PathBuf;
 
@@ -27,6 +29,13 @@ pub(crate) struct Args {
     /// Order written to PLAN.csv: `optimized` or `nested` (the paper's).
     #[arg(long, default_value_t = PlanOrder::Optimized)]
     pub order: PlanOrder,
+    /// HDR capture priced at each sample, as `measure --hdr`: `predicted` or `bracket`.
+    #[arg(long, default_value_t = HdrChoice::Predicted)]
+    pub hdr: HdrChoice,
+    /// With --hdr predicted: the material whose brightness the exposures are predicted for
+    /// (as `measure --truth`); default silver-925.
+    #[arg(long)]
+    pub truth: Option<String>,
     /// Where to write the plan (CSV).
     #[arg(long, required_unless_present = "print_device", value_parser = crate::output::OUTPUT_FILE)]
     pub out: Option<PathBuf>,
@@ -50,10 +59,25 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let theta_d = grid.theta_d_deg();
     let phi_d = grid.phi_d_deg();
 
-    let nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, grid.phi_h_deg, &device);
+    let mut nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, grid.phi_h_deg, &device);
     let spinner = crate::progress::spinner("ordering");
-    let optimized = order(&nested);
+    let mut optimized = order(&nested);
     spinner.finish_and_clear();
+    if args.truth.is_some() && args.hdr == HdrChoice::Bracket {
+        bail!("--truth sets the brightness of predicted exposures: it needs --hdr predicted");
+    }
+    let truth = match args.hdr {
+        HdrChoice::Predicted => Some(specula_formats::source::load_brdf(
+            args.truth.as_deref().unwrap_or(ASSUMED_MATERIAL),
+        )?),
+        HdrChoice::Bracket => None,
+    };
+    let assumed = price_before_probe(
+        &mut [&mut nested, &mut optimized],
+        &device,
+        truth,
+        grid.phi_h_deg,
+    )?;
 
     let chosen = match args.order {
         PlanOrder::Optimized => &optimized,
@@ -81,6 +105,11 @@ pub(crate) fn run(args: Args) -> Result<()> {
         transition_time_s(&nested) / 3600.0,
         transition_time_s(&optimized) / 3600.0,
         100.0 * (1.0 - transition_time_s(&optimized) / transition_time_s(&nested).max(1e-9))
+    );
+    outln!("captures: {assumed}");
+    outln!(
+        "predicted_hours={:.3}",
+        chosen.summary(&device).duration_s() / 3600.0
     );
     outln!("wrote {} ({} order)", out.display(), args.order);
     Ok(())
