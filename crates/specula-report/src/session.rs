@@ -662,7 +662,11 @@ pub(crate) fn report(
         if let Some((label, brdf)) = reference {
             shown_sources.push((label, brdf.as_ref(), None, None));
         }
-        report.viewer = Some(crate::view::viewer_of(&shown_sources));
+        // The interactive viewer is the engineer's: the customer's page keeps to the
+        // figures, the verdict and the pictures.
+        if engineering {
+            report.viewer = Some(crate::view::viewer_of(&shown_sources));
+        }
     }
     if let (Some(fit), false, true) = (&session.fit, session.probe.is_empty(), engineering) {
         report.figures.push(probe_figure(

@@ -119,8 +119,10 @@ pub(crate) fn report(
     if let Some((label, brdf)) = &reference {
         shown.push((label, *brdf, None, None));
     }
-    report.viewer = Some(crate::view::viewer_of(&shown));
+    // The interactive viewer is the engineer's: the customer's page keeps to the
+    // figures, the verdict and the pictures.
     if engineering {
+        report.viewer = Some(crate::view::viewer_of(&shown));
         engineering_sections(&mut report, options, &table, truth.as_deref(), progress)?;
     }
     Ok(Page {
