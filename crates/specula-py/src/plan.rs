@@ -13,7 +13,9 @@ use specula_core::grid::{GridOverrides, GridSpec, PhiDSpan, ThetaDSteps};
 use specula_core::request::{GridPreset, GridRequest};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::Spherical;
-use specula_session::workflow::PlanOrder;
+use specula_session::estimate::{price_before_probe, ASSUMED_MATERIAL};
+use specula_session::workflow::{HdrChoice, PlanOrder};
+use specula_session::workflow_error::WorkflowError;
 use std::path::PathBuf;
 
 /// The options of a measurement grid shared by `plan`, `evaluate` and `measure` (the CLI's
@@ -101,12 +103,15 @@ pub(crate) fn device(path: Option<PathBuf>) -> PyResult<Device> {
 /// `specula plan`'s CSV: `index`, `theta_h_deg`, `phi_h_deg`, `theta_d_deg`, `phi_d_deg`,
 /// `theta_i_deg`, `phi_i_deg`, `theta_o_deg`, `phi_o_deg`, `status` (str), `turntable_deg`,
 /// `camera_deg`, `light_azimuth_deg`, `light_elevation_deg` (NaN when excluded), `time_s`;
-/// and `"summary"`: counts and times (s) of the nested and the optimized order. Ctrl-C
-/// returns at once (the ordering is not stoppable; its result is dropped).
+/// and `"summary"`: counts and times (s) of the nested and the optimized order, and
+/// `"captures"`, what the capture times assume. The capture at each sample follows `hdr` as
+/// `specula measure` takes it (`"predicted"`: one frame at the exposure for the brightness of
+/// `truth`, default silver-925; `"bracket"`: the device file's bracket), as `specula plan`.
+/// Ctrl-C returns at once (the ordering is not stoppable; its result is dropped).
 #[pyfunction]
 #[pyo3(signature = (k = None, theta_h_deg = None, family = "exponential", grid_preset = None,
     theta_h_samples = None, theta_d_step_deg = None, phi_d_step_deg = None, phi_d_span = None,
-    phi_h_deg = None, order = "optimized", device = None))]
+    phi_h_deg = None, order = "optimized", device = None, hdr = "predicted", truth = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn plan<'py>(
     py: Python<'py>,
@@ -121,7 +126,21 @@ pub(crate) fn plan<'py>(
     phi_h_deg: Option<f64>,
     order: &str,
     device: Option<PathBuf>,
+    hdr: &str,
+    truth: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let hdr = hdr.parse::<HdrChoice>().or_raise()?;
+    if truth.is_some() && hdr == HdrChoice::Bracket {
+        return Err(invalid(
+            "truth sets the brightness of predicted exposures: it needs hdr=\"predicted\"",
+        ));
+    }
+    let truth = match hdr {
+        HdrChoice::Predicted => {
+            Some(specula_formats::source::load_brdf(truth.unwrap_or(ASSUMED_MATERIAL)).or_raise()?)
+        }
+        HdrChoice::Bracket => None,
+    };
     let grid = Grid::new(
         &GridArgs {
             family,
@@ -150,21 +169,29 @@ pub(crate) fn plan<'py>(
     let optimized = order.parse::<PlanOrder>().or_raise()? == PlanOrder::Optimized;
     let device = self::device(device)?;
     let grid = GridPlan::on(theta_h, &grid.spec);
-    let (chosen, nested_summary, optimized_summary) =
+    let (chosen, nested_summary, optimized_summary, assumed) =
         interrupt::run(py, Stop::Abandon, move |_| {
-            let nested = Plan::from_grid(
+            let mut nested = Plan::from_grid(
                 &grid.theta_h_deg,
                 &grid.theta_d_deg,
                 &grid.phi_d_deg,
                 grid.phi_h_deg,
                 &device,
             );
-            let ordered = specula_acquisition::ordering::order(&nested);
+            let mut ordered = specula_acquisition::ordering::order(&nested);
+            let assumed = price_before_probe(
+                &mut [&mut nested, &mut ordered],
+                &device,
+                truth,
+                grid.phi_h_deg,
+            )?;
             let summaries = (nested.summary(&device), ordered.summary(&device));
             let chosen = if optimized { ordered } else { nested };
-            (chosen, summaries.0, summaries.1)
-        })?;
+            Ok::<_, WorkflowError>((chosen, summaries.0, summaries.1, assumed))
+        })?
+        .or_raise()?;
     let dict = plan_dict(py, &chosen)?;
+    dict.set_item("captures", assumed)?;
     let summary = PyDict::new(py);
     summary.set_item("nested", summary_dict(py, &nested_summary)?)?;
     summary.set_item("optimized", summary_dict(py, &optimized_summary)?)?;

@@ -57,6 +57,14 @@ def test_plan_matches_the_cli(cli, tmp_path):
     summary = plan["summary"]["nested"]
     assert summary["total"] == 8 * 6 * 4 == len(plan["index"])
     assert summary["measurable"] == columns["status"].count("ok")
+    assert "silver-925" in plan["captures"]
+    # The device's bracket prices every capture alike, in both front ends.
+    bracket_path = tmp_path / "bracket.csv"
+    cli("plan", "--k", "4.78", *SMALL_GRID, "--hdr", "bracket", "--out", bracket_path)
+    bracket = specula.plan(k=4.78, hdr="bracket", **SMALL)
+    np.testing.assert_allclose(bracket["time_s"],
+                               np.array(csv_columns(bracket_path)["time_s"], float), atol=1.01e-3)
+    assert bracket["time_s"].sum() > plan["time_s"].sum()
 
 
 def test_plan_takes_the_recommended_grid_by_default_and_its_notation():
