@@ -203,19 +203,45 @@ pub fn positioning_uncertainty(
         .collect()
 }
 
-/// Per sample, `P_table - M_lobe`: how far `lobe_table` (the fitted `lobe` tabulated in MERL
-/// bins) blurred through `nodes` predicts the lobe's exact capture `M_lobe`. Near a sharp peak
-/// the bins' interpolation alone is a few percent off, however right the table is.
-pub fn representation_error(
-    samples: &[Sample],
-    lobe: &crate::lobe::Lobe,
-    lobe_table: &MerlBrdf,
-    nodes: &[CaptureNode],
-) -> Vec<Rgb> {
-    samples
-        .par_iter()
-        .map(|s| predicted(lobe_table, nodes, s.hd) - lobe.measured(nodes, s.hd))
-        .collect()
+/// The fitted lobe's capture at each sample, two ways: `tabulated`, predicted from
+/// `lobe_table` (the lobe tabulated in MERL bins) blurred through `nodes`, and `exact`, the
+/// lobe's own capture `M_lobe`. Their difference is what MERL bins lose of a sharp peak
+/// however right the table is (a few percent near it).
+pub struct LobeCaptures {
+    /// `P_table` per sample.
+    pub tabulated: Vec<Rgb>,
+    /// `M_lobe` per sample.
+    pub exact: Vec<Rgb>,
+}
+
+impl LobeCaptures {
+    /// Of `lobe` and its table `lobe_table` at `samples` through `nodes`.
+    pub fn of(
+        samples: &[Sample],
+        lobe: &crate::lobe::Lobe,
+        lobe_table: &MerlBrdf,
+        nodes: &[CaptureNode],
+    ) -> Self {
+        let (tabulated, exact) = samples
+            .par_iter()
+            .map(|s| {
+                (
+                    predicted(lobe_table, nodes, s.hd),
+                    lobe.measured(nodes, s.hd),
+                )
+            })
+            .unzip();
+        Self { tabulated, exact }
+    }
+
+    /// `P_table - M_lobe` per sample: the table's representation error.
+    pub fn representation_error(&self) -> Vec<Rgb> {
+        self.tabulated
+            .iter()
+            .zip(&self.exact)
+            .map(|(p, m)| *p - *m)
+            .collect()
+    }
 }
 
 fn figures<'a>(

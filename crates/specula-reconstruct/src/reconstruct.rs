@@ -187,8 +187,10 @@ fn corrected_through(
     let blurred: Vec<usize> = (0..samples.len())
         .filter(|&i| samples[i].hd.theta_h.to_degrees() < BLUR_THETA_H_DEG)
         .collect();
-    let representation = floor.log_errors(samples, &blurred, nodes);
-    let positioning = positioning_log_uncertainty(samples, &blurred, floor.table, nodes);
+    let chosen: Vec<Sample> = blurred.iter().map(|&i| samples[i]).collect();
+    let lobe = consistency::LobeCaptures::of(&chosen, floor.lobe, floor.table, nodes);
+    let representation = log_errors(&lobe);
+    let positioning = positioning_log_uncertainty(&chosen, &lobe.tabulated, floor.table, nodes);
     let mut table = build(&values);
     let mut predictions = predict(samples, &blurred, &table.brdf, nodes);
     let mut error = reproduction_error(samples, &blurred, &predictions);
@@ -230,20 +232,18 @@ fn shrunk(x: f64, band: f64) -> f64 {
     x.signum() * (x.abs() - band).max(0.0)
 }
 
-/// Per sample of `which`, the log change of its capture for the device's positioning error
-/// ([`consistency::positioning_uncertainty`] relative to the capture), from `table` through
-/// `nodes`: on a sharp flank several percent, which no correction should chase.
+/// Per sample, the log change of its capture for the device's positioning error
+/// ([`consistency::positioning_uncertainty`] through `table`, relative to its capture
+/// `tabulated` there): on a sharp flank several percent, which no correction should chase.
 fn positioning_log_uncertainty(
     samples: &[Sample],
-    which: &[usize],
+    tabulated: &[Rgb],
     table: &MerlBrdf,
     nodes: &[CaptureNode],
 ) -> Vec<[f64; 3]> {
-    let chosen: Vec<Sample> = which.iter().map(|&i| samples[i]).collect();
-    let u = consistency::positioning_uncertainty(&chosen, table, nodes);
-    let at = predict(samples, which, table, nodes);
+    let u = consistency::positioning_uncertainty(samples, table, nodes);
     u.iter()
-        .zip(&at)
+        .zip(tabulated)
         .map(|(u, p)| std::array::from_fn(|c| u[c] / p[c].max(f64::MIN_POSITIVE)))
         .collect()
 }
@@ -268,28 +268,17 @@ struct LobeTableFloor<'a> {
     table: &'a MerlBrdf,
 }
 
-impl LobeTableFloor<'_> {
-    /// Per sample of `which`, `ln(P_lobe / M)`: the log error with which the lobe's table,
-    /// blurred through `nodes`, predicts the lobe's exact capture `M`. Near a sharp peak
-    /// the bins' interpolation alone is a few percent off; [`corrected_through`] subtracts
-    /// this from each sample's miss, so it corrects the material's departure from the lobe
-    /// and not the table's representation of it.
-    fn log_errors(
-        &self,
-        samples: &[Sample],
-        which: &[usize],
-        nodes: &[CaptureNode],
-    ) -> Vec<[f64; 3]> {
-        let tabulated = predict(samples, which, self.table, nodes);
-        which
-            .par_iter()
-            .zip(&tabulated)
-            .map(|(&i, p)| {
-                let exact = self.lobe.measured(nodes, samples[i].hd);
-                std::array::from_fn(|c| log_of_measured(p[c]) - log_of_measured(exact[c]))
-            })
-            .collect()
-    }
+/// Per sample, `ln(P_table / M_lobe)`: the log error with which the lobe's table, blurred
+/// through the response, predicts the lobe's exact capture. Near a sharp peak the bins'
+/// interpolation alone is a few percent off; [`corrected_through`] subtracts this from each
+/// sample's miss, so it corrects the material's departure from the lobe and not the table's
+/// representation of it.
+fn log_errors(lobe: &consistency::LobeCaptures) -> Vec<[f64; 3]> {
+    lobe.tabulated
+        .iter()
+        .zip(&lobe.exact)
+        .map(|(p, m)| std::array::from_fn(|c| log_of_measured(p[c]) - log_of_measured(m[c])))
+        .collect()
 }
 
 /// `sqrt(sum (P - S)^2 / sum S^2)` over the samples `which`.

@@ -163,7 +163,8 @@ fn prediction_uncertainty(
     let on_grid = LobeOnGrid::new(*lobe);
     let lobe_table = MerlBrdf::from_fn("lobe", |index| Some(on_grid.at(index)));
     let positioning = consistency::positioning_uncertainty(samples, &lobe_table, nodes);
-    let representation = consistency::representation_error(samples, lobe, &lobe_table, nodes);
+    let representation =
+        consistency::LobeCaptures::of(samples, lobe, &lobe_table, nodes).representation_error();
     samples
         .iter()
         .zip(positioning)
