@@ -21,7 +21,7 @@ if [ "$#" -eq 0 ]; then
     set -- "$rgl"/*.bsdf
 fi
 score() { "$bin" compare "$1" "$2" 2>/dev/null | awk -F, '$1 == "within" { print $3, $4 }'; }
-echo "| truth | default rel / log | paper's way rel / log | ratio | wall s | peak reproduction (expected) | fallback |"
+echo "| truth | default rel / log | paper's way rel / log | ratio | wall s | peak reproduction (expected) | check |"
 echo "|---|---|---|---|---|---|---|"
 for truth in "$@"; do
     n=$(basename "$truth" .toml); n=${n%.bsdf}; n=${n//:/_}
@@ -35,7 +35,7 @@ for truth in "$@"; do
     read -r pr pl <<< "$(score "$work/$n.p.binary" "$work/$n.truth.binary")"
     summary="$work/$n.d.summary.txt"
     peak=$(sed -n 's/^consistency_peak=.*reproduction error \([0-9.]* %\) (\([0-9.]* %\) expected).*/\1 (\2)/p' "$summary")
-    fallback=$(sed -n 's/^deblur_fallback=\([^,(]*\).*/\1/p' "$summary")
+    fallback=$(sed -n 's/^deblur_fallback=\([^:(]*\).*/\1/p' "$summary")
     awk -v n="$n" -v a="$dr" -v b="$dl" -v c="$pr" -v d="$pl" -v w="$wall" -v p="$peak" -v f="$fallback" \
         'BEGIN { r = a / c; l = b / d; m = (r > l) ? r : l;
                  printf "| %s | %.4f / %.4f | %.4f / %.4f | %.2f | %.0f | %s | %s |\n", n, a, b, c, d, m, w, p, f }'
