@@ -1048,6 +1048,31 @@ mod tests {
     }
 
     #[test]
+    fn bins_of_degrees_and_of_radians_agree_beside_every_bin_edge() {
+        // Each edge of each axis, approached from both sides by 1e-7 deg (far beyond the
+        // float noise of the trip through radians, far inside the narrowest bin).
+        const BESIDE_DEG: f64 = 1e-7;
+        let agree = |h: f64, d: f64, p: f64| {
+            assert_eq!(
+                Bin::of(HalfDiff::from_degrees(h, 0.0, d, p)),
+                Bin::of_degrees(h, d, p),
+                "theta_h {h}, theta_d {d}, phi_d {p}"
+            );
+        };
+        for side in [-BESIDE_DEG, BESIDE_DEG] {
+            for i in 1..THETA_H_BINS {
+                agree(theta_h_deg_at(i as f64) + side, 20.5, 70.5);
+            }
+            for j in 1..THETA_D_BINS {
+                agree(30.0, j as f64 + side, 70.5);
+            }
+            for k in 1..PHI_D_BINS {
+                agree(30.0, 20.5, k as f64 + side);
+            }
+        }
+    }
+
+    #[test]
     fn theta_h_coordinate_inverts_and_clamps() {
         assert_eq!(theta_h_coordinate(1.0), 90f64.sqrt());
         assert_eq!(theta_h_coordinate(-1.0), 0.0);

@@ -15,8 +15,8 @@
 //!
 //! Beside `OUT.binary` it is written as `OUT.provenance.npy`.
 
-use specula_core::merl::{Bin, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
-use specula_core::Sample;
+use specula_core::merl::{self, Bin, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::{HalfDiff, Sample};
 use std::path::{Path, PathBuf};
 
 /// Where a cell's value comes from (the code stored in the file).
@@ -114,7 +114,8 @@ const HEADER: &str = "{'descr': '|u1', 'fortran_order': False, 'shape': (90, 90,
 
 impl Provenance {
     /// Cells are extrapolated where `extrapolated` says so, otherwise interpolated, and
-    /// measured where a sample lies in the bin.
+    /// measured in the bins of a sample and of its mirror image (phi_d to 180 - phi_d), by
+    /// [`Bin::of_degrees`] after [`edge_snapped_degrees`].
     pub fn new(samples: &[Sample], extrapolated: &[bool]) -> Self {
         let mut cells: Vec<CellOrigin> = extrapolated
             .iter()
@@ -127,9 +128,9 @@ impl Provenance {
             })
             .collect();
         for s in samples {
-            let phi_d_deg = s.hd.phi_d.to_degrees().rem_euclid(180.0);
+            let [theta_h_deg, theta_d_deg, phi_d_deg] = edge_snapped_degrees(s.hd);
             for phi in [phi_d_deg, 180.0 - phi_d_deg] {
-                cells[bin_of(s.hd.theta_h.to_degrees(), s.hd.theta_d.to_degrees(), phi).index()] =
+                cells[Bin::of_degrees(theta_h_deg, theta_d_deg, phi).index()] =
                     CellOrigin::Measured;
             }
         }
@@ -266,17 +267,24 @@ impl Provenance {
     }
 }
 
-/// The MERL bin of angles in degrees as MERL's reader bins them, except that a value within
-/// float noise (1e-9) below a bin boundary counts as on it: plans put samples on whole
-/// degrees, which the round trip through radians may leave a hair below.
-fn bin_of(theta_h_deg: f64, theta_d_deg: f64, phi_d_deg: f64) -> Bin {
+/// The half-difference angles of `hd` in degrees, `[theta_h, theta_d, phi_d]`, each put on a
+/// MERL bin edge when within float noise (1e-9 in the axis's index coordinate) of it: plans
+/// put samples on whole degrees, which the round trip through radians may leave a hair below
+/// the edge, and a sample and its reciprocal (phi_d + 180) must mark the same cells.
+fn edge_snapped_degrees(hd: HalfDiff) -> [f64; 3] {
     const NOISE: f64 = 1e-9;
-    let index = |x: f64, bins: usize| ((x + NOISE).floor().max(0.0) as usize).min(bins - 1);
-    Bin {
-        theta_h_i: index((theta_h_deg.max(0.0) * 90.0).sqrt(), THETA_H_BINS),
-        theta_d_i: index(theta_d_deg, THETA_D_BINS),
-        phi_d_i: index(phi_d_deg.rem_euclid(180.0), PHI_D_BINS),
-    }
+    let snap = |x: f64| {
+        if (x - x.round()).abs() < NOISE {
+            x.round()
+        } else {
+            x
+        }
+    };
+    [
+        merl::theta_h_deg_at(snap(merl::theta_h_coordinate(hd.theta_h.to_degrees()))),
+        snap(hd.theta_d.to_degrees()),
+        snap(hd.phi_d.to_degrees().rem_euclid(180.0)),
+    ]
 }
 
 /// The sidecar path of a MERL output: `OUT.binary` -> `OUT.provenance.npy`.

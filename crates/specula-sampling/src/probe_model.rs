@@ -13,6 +13,7 @@
 //! straight lines between the probe's samples (mean absolute error, checked with SciPy).
 
 use crate::column::Column;
+use specula_core::merl;
 
 /// The column modelled on `nodes >= 2` square-root-spaced theta_h nodes over the probe's
 /// range (see the module documentation).
@@ -21,7 +22,7 @@ pub fn dense_model(probe: &Column, nodes: usize) -> Column {
     let t: Vec<f64> = probe
         .theta_h_deg()
         .iter()
-        .map(|x| (90.0 * x).sqrt())
+        .map(|&x| merl::theta_h_coordinate(x))
         .collect();
     let z: Vec<f64> = probe.values().iter().map(|y| (y + floor).ln()).collect();
     let spline = LogSpline::new(t, z);
@@ -30,7 +31,7 @@ pub fn dense_model(probe: &Column, nodes: usize) -> Column {
     let mut ys = Vec::with_capacity(nodes);
     for i in 0..nodes {
         let ti = t0 + (t1 - t0) * i as f64 / (nodes - 1) as f64;
-        xs.push((ti * ti / 90.0).min(90.0));
+        xs.push(merl::theta_h_deg_at(ti).min(90.0));
         ys.push((spline.at(ti).exp() - floor).max(0.0));
     }
     // Keep the probe's end points exactly (rounding in t -> theta_h).
