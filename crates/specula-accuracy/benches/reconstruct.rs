@@ -29,7 +29,7 @@ fn bench(c: &mut Criterion) {
     let samples = paper_task();
     let mut group = c.benchmark_group("reconstruct_4316_samples_to_1458000_cells");
     group.sample_size(20);
-    for method in [Method::LINEAR, Method::LOG, Method::LOBE] {
+    for method in [Method::Linear, Method::Log, Method::Lobe] {
         group.bench_function(method.name(), |b| {
             b.iter(|| reconstruct(black_box(&samples), method, "bench").unwrap())
         });

@@ -92,22 +92,22 @@ fn configs(
         Config {
             name: "paper".into(),
             plan: paper,
-            method: Recon::Method(Method::LINEAR),
+            method: Recon::Method(Method::Linear),
         },
         Config {
             name: "paper-plan+lobe".into(),
             plan: paper,
-            method: Recon::Method(Method::LOBE),
+            method: Recon::Method(Method::Lobe),
         },
         Config {
             name: "paper-plan+log".into(),
             plan: paper,
-            method: Recon::Method(Method::LOG),
+            method: Recon::Method(Method::Log),
         },
         Config {
             name: "paper-plan+prior".into(),
             plan: paper,
-            method: Recon::Method(Method::PRIOR),
+            method: Recon::Method(Method::Prior),
         },
     ];
     for &(w, s2) in trusts {
@@ -121,7 +121,7 @@ fn configs(
         out.retain(|c| {
             !matches!(
                 c.method,
-                Recon::ForcedPrior(..) | Recon::Method(Method::PRIOR)
+                Recon::ForcedPrior(..) | Recon::Method(Method::Prior)
             )
         });
     }
@@ -133,13 +133,13 @@ fn configs(
         out.push(Config {
             name: format!("lobe-{spec}"),
             plan,
-            method: Recon::Method(Method::LOBE),
+            method: Recon::Method(Method::Lobe),
         });
         if with_prior {
             out.push(Config {
                 name: format!("prior-{spec}"),
                 plan,
-                method: Recon::Method(Method::PRIOR),
+                method: Recon::Method(Method::Prior),
             });
         }
     }

@@ -528,10 +528,10 @@ mod tests {
         assert_eq!(sharp.samples[0].hd, blurred.samples[0].hd);
         assert!(blurred.samples[0].value.y < 0.5 * sharp.samples[0].value.y);
         let table = tabulate(&truth, 45f64.to_radians());
-        let (_, kept) = evaluate(&blurred.samples, Method::LOBE, &table, 75.0).unwrap();
+        let (_, kept) = evaluate(&blurred.samples, Method::Lobe, &table, 75.0).unwrap();
         let (_, deblurred) = evaluate_through(
             &blurred.samples,
-            Method::LOBE,
+            Method::Lobe,
             &table,
             75.0,
             Some(&response),
@@ -543,7 +543,7 @@ mod tests {
         );
         assert_eq!(
             blurred
-                .accuracy(&truth, Method::LOBE, 75.0, Some(&response))
+                .accuracy(&truth, Method::Lobe, 75.0, Some(&response))
                 .unwrap(),
             deblurred
         );
@@ -626,8 +626,8 @@ mod tests {
         let samples = measure(&truth, &reached);
         assert_eq!(samples.len(), reached.len());
         let table = tabulate(&truth, 0.0);
-        let (_, linear) = evaluate(&samples, Method::LINEAR, &table, 75.0).unwrap();
-        let (_, lobe) = evaluate(&samples, Method::LOBE, &table, 75.0).unwrap();
+        let (_, linear) = evaluate(&samples, Method::Linear, &table, 75.0).unwrap();
+        let (_, lobe) = evaluate(&samples, Method::Lobe, &table, 75.0).unwrap();
         assert!(linear.within.relative_rmse < 0.5, "{linear:?}");
         // The lobe method is the better one on a microfacet material.
         assert!(

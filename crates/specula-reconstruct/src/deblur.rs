@@ -6,7 +6,7 @@
 
 use crate::domain::Domain;
 use crate::lobe::Lobe;
-use crate::reconstruct::{FIT_RESPONSE_NODES, RESIDUAL_RESPONSE_NODES};
+use crate::response_nodes::{FIT_RESPONSE_NODES, RESIDUAL_RESPONSE_NODES};
 use specula_core::capture::CaptureResponse;
 use specula_core::{Rgb, Sample};
 

@@ -25,8 +25,11 @@ pub mod prior;
 pub mod prior_reconstruct;
 pub mod provenance;
 pub mod reconstruct;
+pub mod reconstruction;
+pub mod response_nodes;
 pub mod safeguard;
 pub mod sample;
 
 pub use method::Method;
-pub use reconstruct::{reconstruct, reconstruct_through, ReconstructError, Reconstruction};
+pub use reconstruct::{reconstruct, reconstruct_through};
+pub use reconstruction::{ReconstructError, Reconstruction};

@@ -7,44 +7,22 @@ use crate::kernel::Kernel;
 
 /// How samples become a full table (see [`crate::reconstruct`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Method {
-    /// The value domain the lattice is interpolated in.
-    pub domain: Domain,
-    /// The interpolation kernel along each axis.
-    pub kernel: Kernel,
-    /// Whether the model of the `LobeResidual` domain is the lobe blended with the MERL-100
-    /// prior by a trust the samples choose ([`crate::prior_reconstruct`]), not the lobe
-    /// alone.
-    pub prior: bool,
+pub enum Method {
+    /// The paper's baseline (5.3): f linear in theta_h, theta_d and phi_d, with nearest-node
+    /// extrapolation.
+    Linear,
+    /// ln f, monotone cubic.
+    Log,
+    /// The log ratio to a fitted microfacet lobe, monotone cubic.
+    Lobe,
+    /// The log ratio to the lobe blended with the MERL-100 prior, monotone cubic
+    /// ([`crate::prior_reconstruct`]).
+    Prior,
 }
 
 impl Method {
-    /// The paper's baseline (5.3): f linear in theta_h, theta_d and phi_d, with nearest-node
-    /// extrapolation.
-    pub const LINEAR: Method = Method {
-        domain: Domain::Linear,
-        kernel: Kernel::Linear,
-        prior: false,
-    };
-    /// ln f, monotone cubic.
-    pub const LOG: Method = Method {
-        domain: Domain::Log,
-        kernel: Kernel::MonotoneCubic,
-        prior: false,
-    };
-    /// The log ratio to a fitted microfacet lobe, monotone cubic.
-    pub const LOBE: Method = Method {
-        domain: Domain::LobeResidual,
-        kernel: Kernel::MonotoneCubic,
-        prior: false,
-    };
-    /// The log ratio to the lobe blended with the MERL-100 prior, monotone cubic
-    /// ([`crate::prior_reconstruct`]).
-    pub const PRIOR: Method = Method {
-        domain: Domain::LobeResidual,
-        kernel: Kernel::MonotoneCubic,
-        prior: true,
-    };
+    /// Every method, in the order of [`Method::NAMES`].
+    pub const ALL: [Method; 4] = [Method::Linear, Method::Log, Method::Lobe, Method::Prior];
 
     /// The names accepted by [`Method::from_str`], with what each does.
     pub const NAMES: [(&'static str, &'static str); 4] = [
@@ -63,13 +41,37 @@ impl Method {
         ),
     ];
 
+    /// The value domain the lattice is interpolated in.
+    pub fn domain(self) -> Domain {
+        match self {
+            Method::Linear => Domain::Linear,
+            Method::Log => Domain::Log,
+            Method::Lobe | Method::Prior => Domain::LobeResidual,
+        }
+    }
+
+    /// The interpolation kernel along each axis.
+    pub fn kernel(self) -> Kernel {
+        match self {
+            Method::Linear => Kernel::Linear,
+            Method::Log | Method::Lobe | Method::Prior => Kernel::MonotoneCubic,
+        }
+    }
+
+    /// Whether the model of the `LobeResidual` domain is the lobe blended with the MERL-100
+    /// prior by a trust the samples choose ([`crate::prior_reconstruct`]), not the lobe
+    /// alone.
+    pub fn uses_prior(self) -> bool {
+        self == Method::Prior
+    }
+
     /// The method's name, as accepted by [`Method::from_str`].
-    pub fn name(&self) -> &'static str {
-        match *self {
-            Method::LINEAR => "linear",
-            Method::LOG => "log",
-            Method::PRIOR => "prior",
-            _ => "lobe",
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Linear => "linear",
+            Method::Log => "log",
+            Method::Lobe => "lobe",
+            Method::Prior => "prior",
         }
     }
 }
@@ -77,16 +79,16 @@ impl Method {
 impl std::str::FromStr for Method {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        match s.to_ascii_lowercase().as_str() {
-            "linear" => Ok(Method::LINEAR),
-            "log" => Ok(Method::LOG),
-            "lobe" => Ok(Method::LOBE),
-            "prior" => Ok(Method::PRIOR),
-            other => Err(format!(
-                "unknown reconstruction method '{other}' (expected {})",
-                Method::NAMES.map(|(n, _)| n).join(", ")
-            )),
-        }
+        let s = s.to_ascii_lowercase();
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                format!(
+                    "unknown reconstruction method '{s}' (expected {})",
+                    Method::NAMES.map(|(n, _)| n).join(", ")
+                )
+            })
     }
 }
 
@@ -110,5 +112,18 @@ mod tests {
             .parse::<Method>()
             .unwrap_err()
             .contains("expected linear, log, lobe, prior"));
+    }
+
+    #[test]
+    fn each_method_has_its_own_domain_kernel_and_prior() {
+        let parts: Vec<_> = Method::ALL
+            .iter()
+            .map(|m| (m.domain(), m.kernel(), m.uses_prior()))
+            .collect();
+        for (i, a) in parts.iter().enumerate() {
+            assert!(parts[i + 1..].iter().all(|b| b != a), "{a:?}");
+        }
+        assert_eq!(Method::Lobe.domain(), Domain::LobeResidual);
+        assert!(Method::Prior.uses_prior() && !Method::Lobe.uses_prior());
     }
 }

@@ -75,10 +75,22 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
     })?;
     match response {
         Some(response) if table.resolution_deg.is_some() => {
-            crate::safeguard::safeguarded(samples, table, response, || {
-                reconstruct_halves_with(samples, |half| {
-                    reconstruct_through(half, method, name, None::<&R>)
-                })
+            let (brdf, safeguard) = crate::safeguard::safeguarded(
+                samples,
+                table.brdf,
+                table.lobe.as_ref(),
+                response,
+                || {
+                    reconstruct_halves_with(samples, |half| {
+                        reconstruct_through(half, method, name, None::<&R>)
+                    })
+                    .map(|plain| plain.brdf)
+                },
+            )?;
+            Ok(Reconstruction {
+                brdf,
+                safeguard: Some(safeguard),
+                ..table
             })
         }
         _ => Ok(table),
@@ -172,7 +184,7 @@ mod tests {
         let both = samples(&[0.0, 45.0, 90.0, 135.0, 180.0]);
         assert!(measures_both_halves(&both));
         let r =
-            reconstruct_halves(&both, Method::LINEAR, "t", None::<&dyn CaptureResponse>).unwrap();
+            reconstruct_halves(&both, Method::Linear, "t", None::<&dyn CaptureResponse>).unwrap();
         // Linear between the nodes of each half: cos(phi_d) interpolated at 22.5 and 157.5
         // deg (bins 22 and 157 hold 22.5 and 157.5).
         let expect = |p0: f64, p1: f64, p: f64| {
@@ -182,7 +194,7 @@ mod tests {
         assert!((value_at(&r.brdf, 22) - expect(0.0, 45.0, 22.5)).abs() < 1e-9);
         assert!((value_at(&r.brdf, 157) - expect(135.0, 180.0, 157.5)).abs() < 1e-9);
         // Folded, the two halves are averaged into one value, 2 at both.
-        let folded = crate::reconstruct(&both, Method::LINEAR, "f").unwrap();
+        let folded = crate::reconstruct(&both, Method::Linear, "f").unwrap();
         assert!((value_at(&folded.brdf, 22) - value_at(&folded.brdf, 157)).abs() < 1e-12);
         assert!((value_at(&folded.brdf, 22) - 2.0).abs() < 1e-9);
         // The cells beside the seam come from measured nodes on both sides.
@@ -197,8 +209,8 @@ mod tests {
         // marks both partners.
         let both = samples(&[0.0, 45.0, 90.0, 120.0, 180.0]);
         assert!(measures_both_halves(&both));
-        let r = reconstruct_halves(&both, Method::LOBE, "t", None::<&dyn CaptureResponse>).unwrap();
-        let folded = crate::reconstruct(&both, Method::LOBE, "f").unwrap();
+        let r = reconstruct_halves(&both, Method::Lobe, "t", None::<&dyn CaptureResponse>).unwrap();
+        let folded = crate::reconstruct(&both, Method::Lobe, "f").unwrap();
         let at =
             |phi_d_deg: f64| Bin::of(HalfDiff::from_degrees(20.0, 45.0, 25.0, phi_d_deg)).index();
         use crate::provenance::CellOrigin::Measured;
@@ -225,8 +237,8 @@ mod tests {
         let quarter = samples(&[0.0, 45.0, 90.0]);
         assert!(!measures_both_halves(&quarter));
         let a =
-            reconstruct_halves(&quarter, Method::LOBE, "a", None::<&dyn CaptureResponse>).unwrap();
-        let b = crate::reconstruct(&quarter, Method::LOBE, "b").unwrap();
+            reconstruct_halves(&quarter, Method::Lobe, "a", None::<&dyn CaptureResponse>).unwrap();
+        let b = crate::reconstruct(&quarter, Method::Lobe, "b").unwrap();
         assert!((0..CELLS).all(|i| a.brdf.cell(i) == b.brdf.cell(i)));
         assert_eq!(a.provenance, b.provenance);
     }

@@ -23,11 +23,12 @@ use crate::domain::{Domain, LOG_OFFSET};
 use crate::lattice::{sample_coordinates, Lattice, NodeStatus};
 use crate::lobe::{Geometry, Lobe, LobeOnGrid};
 use crate::merl_prior::merl_prior;
+use crate::method::Method;
 use crate::prior::{PriorBasis, PriorFit};
-use crate::reconstruct::{
-    measured_lobe, reciprocal_canonical, table_of_domain_values, ResponseNodes,
+use crate::reconstruction::{
+    measured_lobe, reciprocal_canonical, table_of_domain_values, ReconstructError, Reconstruction,
 };
-use crate::{Method, ReconstructError, Reconstruction};
+use crate::response_nodes::ResponseNodes;
 use rayon::prelude::*;
 use specula_core::capture::CaptureResponse;
 use specula_core::Sample;
@@ -118,7 +119,7 @@ pub fn reconstruct_with_prior<R: CaptureResponse + ?Sized>(
         prior: &prior,
         weight: trust.prior_weight,
     };
-    let domain = Method::PRIOR.domain;
+    let domain = Method::Prior.domain();
     let residuals: Vec<[f64; 3]> = canonical
         .par_iter()
         .map(|s| {
@@ -130,7 +131,7 @@ pub fn reconstruct_with_prior<R: CaptureResponse + ?Sized>(
     let lobe_on_grid = LobeOnGrid::new(lobe);
     let prior_on_grid = prior.on_merl_grid();
     let mut reconstruction =
-        table_of_domain_values(samples, &residuals, Method::PRIOR, name, |index| {
+        table_of_domain_values(samples, &residuals, Method::Prior, name, |index| {
             model.blend(lobe_on_grid.at(index), prior_on_grid[index])
         });
     if trust.prior_weight > 0.0 {
@@ -420,14 +421,14 @@ mod tests {
         let (prior, _) =
             reconstruct_with_prior(&samples, &basis, "p", Some((0.0, 0.1)), Some(&utia)).unwrap();
         let lobe =
-            crate::reconstruct_through(&samples, crate::Method::LOBE, "l", Some(&utia)).unwrap();
+            crate::reconstruct_through(&samples, crate::Method::Lobe, "l", Some(&utia)).unwrap();
         assert_eq!(prior.resolution_deg, lobe.resolution_deg);
         assert_eq!(prior.lobe, lobe.lobe);
         let response = None::<&dyn CaptureResponse>;
         let (prior, _) =
             reconstruct_with_prior(&samples, &basis, "p", Some((0.0, 0.1)), response).unwrap();
         let lobe =
-            crate::reconstruct_through(&samples, crate::Method::LOBE, "l", response).unwrap();
+            crate::reconstruct_through(&samples, crate::Method::Lobe, "l", response).unwrap();
         assert_eq!(prior.provenance, lobe.provenance);
         for index in (0..specula_core::merl::CELLS).step_by(997) {
             let (a, b) = (

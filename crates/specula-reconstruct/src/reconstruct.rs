@@ -4,91 +4,17 @@
 
 use crate::consistency;
 use crate::domain::log_of_measured;
-use crate::extrapolate::fill_missing;
-use crate::grid::{extrapolated_cells, interpolate_to_merl};
-use crate::lattice::Lattice;
-use crate::lobe::{Geometry, Lobe, LobeOnGrid, BLUR_THETA_H_DEG};
+use crate::lobe::{Lobe, LobeOnGrid, BLUR_THETA_H_DEG};
 use crate::method::Method;
 use crate::prior_reconstruct::reconstruct_prior_through;
-use crate::provenance::Provenance;
+use crate::reconstruction::{
+    measured_lobe, reciprocal_canonical, table_of_domain_values, ReconstructError, Reconstruction,
+};
+use crate::response_nodes::ResponseNodes;
 use rayon::prelude::*;
 use specula_core::capture::{CaptureNode, CaptureResponse};
 use specula_core::merl::MerlBrdf;
-use specula_core::Sample;
-use specula_core::{HalfDiff, Rgb};
-
-/// Why samples cannot be reconstructed.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ReconstructError {
-    /// There are no samples.
-    #[error("no samples to reconstruct from")]
-    NoSamples,
-    /// No sample has both light and camera above the surface, so no lobe can be fitted.
-    #[error("no sample has both light and camera above the surface: cannot fit a lobe")]
-    NoLobe,
-    /// The `prior` method's basis could not be derived (the message says why).
-    #[error("the prior method's MERL-100 basis: {0}")]
-    Prior(String),
-}
-
-/// A reconstructed table with what it was made from.
-#[derive(Debug, Clone)]
-pub struct Reconstruction {
-    /// The reconstructed table, f_r in 1/sr per MERL cell.
-    pub brdf: MerlBrdf,
-    /// Where each cell's value comes from.
-    pub provenance: Provenance,
-    /// The fitted lobe of the `lobe` method.
-    pub lobe: Option<Lobe>,
-    /// The instrument's resolution in theta_h (degrees) when the lobe was fitted through its
-    /// response; `None` without one.
-    pub resolution_deg: Option<f64>,
-    /// Lattice nodes along theta_h, theta_d, phi_d.
-    pub lattice_shape: [usize; 3],
-    /// Lattice nodes measured and extrapolated.
-    pub measured_nodes: usize,
-    /// Lattice nodes filled by extrapolation.
-    pub filled_nodes: usize,
-    /// What the checks of a deblurred table found ([`crate::safeguard`]); `None` when the
-    /// table was not deblurred.
-    pub safeguard: Option<crate::safeguard::Safeguard>,
-}
-
-/// The lobe as a capture at `hd` measures it: through the nodes near the peak, where the fit
-/// used them ([`crate::lobe::BLUR_THETA_H_DEG`]), else the lobe itself.
-pub(crate) fn measured_lobe(lobe: &Lobe, nodes: &[CaptureNode], hd: HalfDiff) -> Rgb {
-    if hd.theta_h.to_degrees() < BLUR_THETA_H_DEG {
-        lobe.measured(nodes, hd)
-    } else {
-        lobe.eval(&Geometry::of(hd))
-    }
-}
-
-/// The sample with phi_d folded into `[0, pi)` by reciprocity (paper 3: phi_d and
-/// phi_d + pi are the same configuration) and rounded to 1e-9 rad, far below the device's
-/// 0.03 deg accuracy. The rounding makes a sample and its light/camera swap bit-identical, so
-/// the lobe fit, which can be ill-conditioned on data far from a lobe, cannot amplify the
-/// last-bit difference between the two into different lobes. Only the lobe (its fit and the
-/// samples' ratios to it) sees it: bins and provenance keep the samples' own angles.
-pub(crate) fn reciprocal_canonical(sample: &Sample) -> Sample {
-    const QUANTUM_RAD: f64 = 1e-9;
-    let folded = sample.hd.phi_d.rem_euclid(std::f64::consts::PI);
-    let phi_d = ((folded / QUANTUM_RAD).round() * QUANTUM_RAD).rem_euclid(std::f64::consts::PI);
-    Sample::new(HalfDiff { phi_d, ..sample.hd }, sample.value)
-}
-
-/// Quadrature nodes of the response for the fit through the instrument: enough for lobes
-/// down to alpha 0.005 under a 1.8-degree disk.
-pub const FIT_RESPONSE_NODES: usize = 256;
-
-/// Quadrature nodes of the response for each sample's ratio to the lobe as measured. The fit
-/// averages the quadrature's error over many samples, the ratio does not: each sample keeps
-/// it, and the table is the sharp lobe times the ratio. With [`FIT_RESPONSE_NODES`] this
-/// error alone took a GGX alpha 0.011 conductor measured noise-free through the UTIA
-/// response (exponential theta_h, k 6.02, the paper's grid) to 0.0166 relative RMSE within
-/// 75 deg with the lobe fitted exactly (alpha 0.01111 as with a point light, whose table
-/// scores 0.0009); `specula evaluate --through-instrument` measures it.
-pub const RESIDUAL_RESPONSE_NODES: usize = 4096;
+use specula_core::{Rgb, Sample};
 
 /// Reconstructs the full MERL table named `name` from the samples with a method.
 pub fn reconstruct(
@@ -111,15 +37,30 @@ pub fn reconstruct_through<R: CaptureResponse + ?Sized>(
     name: &str,
     response: Option<&R>,
 ) -> Result<Reconstruction, ReconstructError> {
-    if method.prior {
-        return reconstruct_prior_through(samples, name, response);
+    match method {
+        Method::Prior => reconstruct_prior_through(samples, name, response),
+        Method::Linear | Method::Log | Method::Lobe => {
+            reconstruct_on_lattice(samples, method, name, response)
+        }
     }
+}
+
+/// [`reconstruct_through`] for the methods whose model is at most the fitted lobe: the
+/// samples' values in the method's domain, over the lobe as measured when the domain uses
+/// one, corrected through the response where the lobe's blur does not reproduce them
+/// ([`corrected_through`]).
+fn reconstruct_on_lattice<R: CaptureResponse + ?Sized>(
+    samples: &[Sample],
+    method: Method,
+    name: &str,
+    response: Option<&R>,
+) -> Result<Reconstruction, ReconstructError> {
     if samples.is_empty() {
         return Err(ReconstructError::NoSamples);
     }
     let canonical: Vec<Sample> = samples.iter().map(reciprocal_canonical).collect();
-    let nodes = ResponseNodes::of(response.filter(|_| method.domain.uses_lobe()));
-    let lobe = if method.domain.uses_lobe() {
+    let nodes = ResponseNodes::of(response.filter(|_| method.domain().uses_lobe()));
+    let lobe = if method.domain().uses_lobe() {
         Some(Lobe::fit_through(&canonical, &nodes.fit).ok_or(ReconstructError::NoLobe)?)
     } else {
         None
@@ -128,7 +69,7 @@ pub fn reconstruct_through<R: CaptureResponse + ?Sized>(
         .par_iter()
         .map(|s| {
             let model = lobe.map_or(Rgb::ZERO, |l| measured_lobe(&l, &nodes.residual, s.hd));
-            std::array::from_fn(|c| method.domain.forward(s.value[c], model[c]))
+            std::array::from_fn(|c| method.domain().forward(s.value[c], model[c]))
         })
         .collect();
     let lobe_on_grid = lobe.map(LobeOnGrid::new);
@@ -294,66 +235,5 @@ fn reproduction_error(samples: &[Sample], which: &[usize], predictions: &[Rgb]) 
         (error / signal).sqrt()
     } else {
         0.0
-    }
-}
-
-/// The capture nodes of an instrument's response for a lobe fitted through it
-/// ([`FIT_RESPONSE_NODES`] for the fit, [`RESIDUAL_RESPONSE_NODES`] for each sample's ratio to
-/// the lobe as measured) and its resolution; empty (a point light) without a response or
-/// with a point one.
-pub(crate) struct ResponseNodes {
-    /// The nodes of the lobe's fit.
-    pub(crate) fit: Vec<CaptureNode>,
-    /// The nodes of each sample's ratio to the lobe.
-    pub(crate) residual: Vec<CaptureNode>,
-    /// The response's resolution in theta_h (degrees).
-    pub(crate) resolution_deg: Option<f64>,
-}
-
-impl ResponseNodes {
-    pub(crate) fn of<R: CaptureResponse + ?Sized>(response: Option<&R>) -> Self {
-        let through = response.filter(|r| !r.is_point());
-        Self {
-            fit: through.map_or_else(Vec::new, |r| r.capture_nodes(FIT_RESPONSE_NODES)),
-            residual: through.map_or_else(Vec::new, |r| r.capture_nodes(RESIDUAL_RESPONSE_NODES)),
-            resolution_deg: through.map(|r| r.resolution_deg()),
-        }
-    }
-}
-
-/// The steps every method shares once each sample has its value in `method`'s domain: the
-/// lattice, its missing nodes extrapolated ([`crate::extrapolate`]), interpolation at every
-/// MERL bin centre with the method's kernel, and the way back from the domain over `model`
-/// (the model's value at a MERL cell index; zero for the methods without one). No lobe and
-/// no resolution: the caller adds its own.
-pub(crate) fn table_of_domain_values(
-    samples: &[Sample],
-    domain_values: &[[f64; 3]],
-    method: Method,
-    name: &str,
-    model: impl Fn(usize) -> Rgb + Sync,
-) -> Reconstruction {
-    let mut lattice = Lattice::of_samples(samples, domain_values);
-    let (measured_nodes, _, _) = lattice.status_counts();
-    fill_missing(&mut lattice);
-    let planes = interpolate_to_merl(&lattice, method.kernel);
-    let domain = method.domain;
-    let brdf = MerlBrdf::from_fn(name, |index| {
-        let m = model(index);
-        Some(Rgb::new(
-            domain.inverse(planes[0][index], m.x),
-            domain.inverse(planes[1][index], m.y),
-            domain.inverse(planes[2][index], m.z),
-        ))
-    });
-    Reconstruction {
-        brdf,
-        provenance: Provenance::new(samples, &extrapolated_cells(&lattice)),
-        lobe: None,
-        resolution_deg: None,
-        lattice_shape: lattice.shape(),
-        measured_nodes,
-        filled_nodes: lattice.status.len() - measured_nodes,
-        safeguard: None,
     }
 }

@@ -30,8 +30,7 @@
 
 use crate::consistency::{self, Consistency, Instrument};
 use crate::lobe::{Lobe, LobeOnGrid};
-use crate::reconstruct::FIT_RESPONSE_NODES;
-use crate::Reconstruction;
+use crate::response_nodes::FIT_RESPONSE_NODES;
 use specula_core::capture::{CaptureNode, CaptureResponse};
 use specula_core::merl::{Bin, MerlBrdf};
 use specula_core::{Rgb, Sample};
@@ -90,56 +89,56 @@ impl Safeguard {
     }
 }
 
-/// Checks `deblurred` (made through `response` from `samples`) and falls back per region to
-/// `without_response()` where it fails (see the module documentation).
+/// Checks the `deblurred` table (made through `response` from `samples`, with its fitted
+/// `lobe`) and falls back per region to the table `without_response()` makes where it fails
+/// (see the module documentation): the table to keep, and what the checks found.
 pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
     samples: &[Sample],
-    mut deblurred: Reconstruction,
+    deblurred: MerlBrdf,
+    lobe: Option<&Lobe>,
     response: &R,
-    without_response: impl FnOnce() -> Result<Reconstruction, E>,
-) -> Result<Reconstruction, E> {
+    without_response: impl FnOnce() -> Result<MerlBrdf, E>,
+) -> Result<(MerlBrdf, Safeguard), E> {
     let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
     let instrument = Instrument {
         nodes: &nodes,
         resolution_deg: Some(response.resolution_deg()),
     };
-    let u = prediction_uncertainty(samples, deblurred.lobe.as_ref(), &deblurred.brdf, &nodes);
-    let check = Consistency::check(samples, &u, &deblurred.brdf, instrument);
-    let albedo = max_albedo(&deblurred.brdf);
+    let u = prediction_uncertainty(samples, lobe, &deblurred, &nodes);
+    let check = Consistency::check(samples, &u, &deblurred, instrument);
+    let albedo = max_albedo(&deblurred);
     let Some((limit_deg, reason)) = failure(&check, albedo) else {
-        deblurred.safeguard = Some(Safeguard {
+        let passed = Safeguard {
             consistency: check,
             deblurred: None,
             fallback_below_deg: None,
             reason: None,
             max_albedo: albedo,
-        });
-        return Ok(deblurred);
+        };
+        return Ok((deblurred, passed));
     };
     let plain = without_response()?;
-    let merged = replaced_below(&deblurred.brdf, &plain.brdf, limit_deg);
+    let merged = replaced_below(&deblurred, &plain, limit_deg);
     let merged_check = Consistency::check(samples, &u, &merged, instrument);
     let merged_albedo = max_albedo(&merged);
-    let better = fits_better(&merged_check, &check, limit_deg);
-    if !better {
-        deblurred.safeguard = Some(Safeguard {
+    if !fits_better(&merged_check, &check, limit_deg) {
+        let kept = Safeguard {
             consistency: check,
             deblurred: None,
             fallback_below_deg: None,
             reason: Some(format!("{reason}; the un-deblurred values reproduce the samples no better, so the deblurred ones stay")),
             max_albedo: albedo,
-        });
-        return Ok(deblurred);
+        };
+        return Ok((deblurred, kept));
     }
-    deblurred.brdf = merged;
-    deblurred.safeguard = Some(Safeguard {
+    let replaced = Safeguard {
         consistency: merged_check,
         deblurred: Some(check),
         fallback_below_deg: Some(limit_deg),
         reason: Some(reason),
         max_albedo: merged_albedo,
-    });
-    Ok(deblurred)
+    };
+    Ok((merged, replaced))
 }
 
 /// The standard uncertainty of each sample's prediction (see the module documentation):
@@ -250,9 +249,7 @@ fn max_albedo(table: &MerlBrdf) -> f64 {
 mod tests {
     use super::*;
     use crate::lobe::{Geometry, Shape};
-    use crate::provenance::Provenance;
     use specula_acquisition::device::Device;
-    use specula_core::merl::CELLS;
     use specula_core::HalfDiff;
 
     fn lobe(alpha: f64) -> Lobe {
@@ -269,19 +266,6 @@ mod tests {
             let [h, d, p] = Bin::from_index(index).centre_deg();
             Some(truth.eval(&Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p))))
         })
-    }
-
-    fn reconstruction(table: MerlBrdf, fitted: Lobe, resolution_deg: f64) -> Reconstruction {
-        Reconstruction {
-            brdf: table,
-            provenance: Provenance::new(&[], &vec![false; CELLS]),
-            lobe: Some(fitted),
-            resolution_deg: Some(resolution_deg),
-            lattice_shape: [1, 1, 1],
-            measured_nodes: 1,
-            filled_nodes: 0,
-            safeguard: None,
-        }
     }
 
     #[test]
@@ -301,13 +285,12 @@ mod tests {
                 Sample::new(hd, truth.measured(&nodes, hd))
             })
             .collect();
-        let resolution = response.resolution_deg();
-        let spiky = reconstruction(tabulated(&lobe(0.0125)), lobe(0.0125), resolution);
-        let kept = safeguarded(&samples, spiky, &response, || {
-            Ok::<_, ()>(reconstruction(tabulated(&truth), truth, resolution))
-        })
-        .unwrap();
-        let guard = kept.safeguard.as_ref().unwrap();
+        let spiky = lobe(0.0125);
+        let (kept, guard) =
+            safeguarded(&samples, tabulated(&spiky), Some(&spiky), &response, || {
+                Ok::<_, ()>(tabulated(&truth))
+            })
+            .unwrap();
         assert!(guard.fallback_below_deg.is_some(), "{guard:?}");
         let peak = Bin {
             theta_h_i: 0,
@@ -315,7 +298,7 @@ mod tests {
             phi_d_i: 90,
         }
         .index();
-        assert_eq!(kept.brdf.cell(peak), tabulated(&truth).cell(peak));
+        assert_eq!(kept.cell(peak), tabulated(&truth).cell(peak));
         let failed = guard.deblurred.as_ref().unwrap().region("peak").unwrap();
         assert!(
             failed.relative_error > FAIL_FACTOR * failed.expected_error,
@@ -326,9 +309,10 @@ mod tests {
             .iter()
             .any(|l| l.starts_with("deblur_fallback=theta_h below")));
 
-        let honest = reconstruction(tabulated(&truth), truth, resolution);
-        let kept = safeguarded(&samples, honest, &response, || Err("not needed")).unwrap();
-        let guard = kept.safeguard.unwrap();
+        let (_, guard) = safeguarded(&samples, tabulated(&truth), Some(&truth), &response, || {
+            Err("not needed")
+        })
+        .unwrap();
         assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
         let peak = guard.consistency.region("peak").unwrap();
         assert!(

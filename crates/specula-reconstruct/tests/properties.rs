@@ -46,7 +46,7 @@ fn samples(grid: &[(f64, f64, f64)], f: impl Fn(f64, f64, f64) -> Rgb) -> Vec<Sa
         .collect()
 }
 
-const METHODS: [Method; 3] = [Method::LINEAR, Method::LOG, Method::LOBE];
+const METHODS: [Method; 3] = [Method::Linear, Method::Log, Method::Lobe];
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(6))]
@@ -105,7 +105,7 @@ fn every_sample_marks_its_cell_measured() {
                 .flat_map(move |&d| [10.3, 47.0].iter().map(move |&p| (h, d, p)))
         })
         .collect();
-    let r = reconstruct(&samples(&grid, |_, _, _| Rgb::ONE), Method::LINEAR, "m").unwrap();
+    let r = reconstruct(&samples(&grid, |_, _, _| Rgb::ONE), Method::Linear, "m").unwrap();
     for &(h, d, p) in &grid {
         let bin = Bin::of(HalfDiff::from_degrees(h, 45.0, d, p));
         assert_eq!(

@@ -33,7 +33,7 @@ fn read_samples(name: &str) -> Vec<Sample> {
 fn linear_reconstruction_matches_scipy() {
     let samples = read_samples("paper_task_samples.csv");
     assert_eq!(samples.len(), 4316);
-    let r = reconstruct(&samples, Method::LINEAR, "paper-task").unwrap();
+    let r = reconstruct(&samples, Method::Linear, "paper-task").unwrap();
     assert_eq!(r.lattice_shape, [28, 26, 7]);
     assert_eq!(
         (r.measured_nodes, r.filled_nodes),

@@ -485,7 +485,7 @@ fn shown_table(
         );
         return Ok(None);
     }
-    let method = session.settings.as_ref().map_or(Method::LOBE, |s| s.method);
+    let method = session.settings.as_ref().map_or(Method::Lobe, |s| s.method);
     progress.start("reconstructing", None);
     let response = session.response.as_ref().map(|fit| &fit.response);
     let halves = measures_both_halves(&session.main);

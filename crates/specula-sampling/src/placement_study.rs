@@ -33,7 +33,7 @@ use std::path::Path;
 
 /// A way to place the samples.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
+pub enum PlacementRule {
     /// The square-root mapping of paper eq. 1.
     SquareRoot,
     /// The paper's exponential mapping with k-hat fitted to the probe (eq. 3).
@@ -46,35 +46,35 @@ pub enum Method {
     Oracle,
 }
 
-impl Method {
+impl PlacementRule {
     /// Every method, in table order.
-    pub const ALL: [Method; 5] = [
-        Method::SquareRoot,
-        Method::PaperExponential,
-        Method::ProbeSamples,
-        Method::Ours,
-        Method::Oracle,
+    pub const ALL: [PlacementRule; 5] = [
+        PlacementRule::SquareRoot,
+        PlacementRule::PaperExponential,
+        PlacementRule::ProbeSamples,
+        PlacementRule::Ours,
+        PlacementRule::Oracle,
     ];
 
     /// The method's description in tables and plots.
     pub fn label(self) -> &'static str {
         match self {
-            Method::SquareRoot => "square root (eq. 1)",
-            Method::PaperExponential => "paper: exponential, k-hat (eq. 3)",
-            Method::ProbeSamples => "DP on the probe's own samples",
-            Method::Ours => "ours: DP on the probe's log-spline model",
-            Method::Oracle => "oracle: DP per column on the truth",
+            PlacementRule::SquareRoot => "square root (eq. 1)",
+            PlacementRule::PaperExponential => "paper: exponential, k-hat (eq. 3)",
+            PlacementRule::ProbeSamples => "DP on the probe's own samples",
+            PlacementRule::Ours => "ours: DP on the probe's log-spline model",
+            PlacementRule::Oracle => "oracle: DP per column on the truth",
         }
     }
 
     /// A short name for files.
     pub fn key(self) -> &'static str {
         match self {
-            Method::SquareRoot => "square_root",
-            Method::PaperExponential => "paper",
-            Method::ProbeSamples => "probe_samples",
-            Method::Ours => "ours",
-            Method::Oracle => "oracle",
+            PlacementRule::SquareRoot => "square_root",
+            PlacementRule::PaperExponential => "paper",
+            PlacementRule::ProbeSamples => "probe_samples",
+            PlacementRule::Ours => "ours",
+            PlacementRule::Oracle => "oracle",
         }
     }
 }
@@ -84,14 +84,14 @@ pub fn evaluated_columns() -> impl Iterator<Item = usize> {
     (0..THETA_D_COLUMNS).step_by(3)
 }
 
-/// One material's slice error per method, in [`Method::ALL`] order, 1/sr.
+/// One material's slice error per method, in [`PlacementRule::ALL`] order, 1/sr.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaterialPlacement {
     /// The material's name.
     pub name: String,
     /// The paper's k-hat, fitted to the probe.
     pub k_hat: f64,
-    /// The slice error of each method, in [`Method::ALL`] order, 1/sr.
+    /// The slice error of each method, in [`PlacementRule::ALL`] order, 1/sr.
     pub error: [f64; 5],
     /// The mean value of the evaluated cells, 1/sr: the scale of the errors.
     pub mean_value: f64,
@@ -116,12 +116,14 @@ pub fn study_slice(
     let error_of = |positions: &[f64]| {
         mean_over_cells(&columns, |c| c.reinterpolation_error(positions, domain))
     };
-    let error = Method::ALL.map(|method| match method {
-        Method::SquareRoot => error_of(&SamplingFunction::square_root().positions_deg(n)),
-        Method::PaperExponential => error_of(&k_hat.positions_deg(n)),
-        Method::ProbeSamples => error_of(&optimal_placement(&probe, n, domain).theta_h_deg),
-        Method::Ours => error_of(&place_on_probe_column(&probe, n, domain)),
-        Method::Oracle => mean_over_cells(&columns, |c| optimal_placement(c, n, domain).error),
+    let error = PlacementRule::ALL.map(|method| match method {
+        PlacementRule::SquareRoot => error_of(&SamplingFunction::square_root().positions_deg(n)),
+        PlacementRule::PaperExponential => error_of(&k_hat.positions_deg(n)),
+        PlacementRule::ProbeSamples => error_of(&optimal_placement(&probe, n, domain).theta_h_deg),
+        PlacementRule::Ours => error_of(&place_on_probe_column(&probe, n, domain)),
+        PlacementRule::Oracle => {
+            mean_over_cells(&columns, |c| optimal_placement(c, n, domain).error)
+        }
     });
     let mean_value = mean_over_cells(&columns, |c| {
         c.values().iter().sum::<f64>() / c.len() as f64
@@ -138,7 +140,7 @@ pub fn study_slice(
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MethodSummary {
     /// The method of the row.
-    pub method: Method,
+    pub method: PlacementRule,
     /// Mean over the materials of the slice error, 1/sr.
     pub mean_error: f64,
     /// `mean_error` over the oracle's.
@@ -156,14 +158,14 @@ pub struct MethodSummary {
 
 /// The comparison table over a database.
 pub fn summarize(materials: &[MaterialPlacement]) -> Vec<MethodSummary> {
-    let oracle = Method::ALL
+    let oracle = PlacementRule::ALL
         .iter()
-        .position(|m| *m == Method::Oracle)
+        .position(|m| *m == PlacementRule::Oracle)
         .expect("listed");
     let mean_of =
         |i: usize| materials.iter().map(|m| m.error[i]).sum::<f64>() / materials.len() as f64;
     let oracle_mean = mean_of(oracle);
-    Method::ALL
+    PlacementRule::ALL
         .iter()
         .enumerate()
         .map(|(i, &method)| {
@@ -188,7 +190,7 @@ pub fn summarize(materials: &[MaterialPlacement]) -> Vec<MethodSummary> {
 }
 
 /// Writes every material's errors per interpolation domain as CSV: the header
-/// `material,k_hat,domain,` and one column per method ([`Method::key`], in [`Method::ALL`]
+/// `material,k_hat,domain,` and one column per method ([`PlacementRule::key`], in [`PlacementRule::ALL`]
 /// order), then a row per material and domain; `rows[m][d]` is material `m` interpolated in
 /// `domains[d]`, errors in 1/sr.
 pub fn write_csv(
@@ -205,7 +207,7 @@ fn write_rows(
     domains: &[Interpolation],
     rows: &[Vec<MaterialPlacement>],
 ) -> std::io::Result<()> {
-    let methods: Vec<&str> = Method::ALL.iter().map(|m| m.key()).collect();
+    let methods: Vec<&str> = PlacementRule::ALL.iter().map(|m| m.key()).collect();
     writeln!(out, "material,k_hat,domain,{}", methods.join(","))?;
     for per_domain in rows {
         for (domain, row) in domains.iter().zip(per_domain) {
@@ -305,7 +307,7 @@ mod tests {
         write_csv(&path, &Interpolation::ALL, &rows).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         let lines: Vec<&str> = text.lines().collect();
-        let keys: Vec<&str> = Method::ALL.iter().map(|m| m.key()).collect();
+        let keys: Vec<&str> = PlacementRule::ALL.iter().map(|m| m.key()).collect();
         assert_eq!(
             lines[0],
             format!("material,k_hat,domain,{}", keys.join(","))

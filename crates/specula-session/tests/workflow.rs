@@ -200,7 +200,7 @@ fn a_half_turn_plan_is_measured_and_reconstructed_by_halves() {
         (0.7..1.3).contains(&(measured_ratio / truth_ratio)),
         "{measured_ratio} vs {truth_ratio}"
     );
-    let folded = specula_reconstruct::reconstruct(&samples, Method::LOBE, "folded").unwrap();
+    let folded = specula_reconstruct::reconstruct(&samples, Method::Lobe, "folded").unwrap();
     assert_eq!(ratio(&|b| folded.brdf.cell(b.index()).unwrap().y), 0.0);
 }
 

@@ -284,7 +284,7 @@ impl Default for MeasureSettings {
             grid: GridSpec::recommended(),
             order: PlanOrder::Optimized,
             hdr: HdrChoice::Predicted,
-            method: Method::LOBE,
+            method: Method::Lobe,
             deblur: true,
             checks: true,
             tilt_deg: 0.0,

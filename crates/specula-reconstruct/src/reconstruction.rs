@@ -1,0 +1,112 @@
+//! What a reconstruction returns, why it can fail, and the steps every method shares: the
+//! samples' reciprocal canonical form, the lobe as a capture measures it, and the table of
+//! values in a method's domain (lattice, extrapolation, interpolation at the MERL bin
+//! centres, provenance).
+
+use crate::extrapolate::fill_missing;
+use crate::grid::{extrapolated_cells, interpolate_to_merl};
+use crate::lattice::Lattice;
+use crate::lobe::{Geometry, Lobe, BLUR_THETA_H_DEG};
+use crate::method::Method;
+use crate::provenance::Provenance;
+use crate::safeguard::Safeguard;
+use specula_core::capture::CaptureNode;
+use specula_core::merl::MerlBrdf;
+use specula_core::{HalfDiff, Rgb, Sample};
+
+/// Why samples cannot be reconstructed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReconstructError {
+    /// There are no samples.
+    #[error("no samples to reconstruct from")]
+    NoSamples,
+    /// No sample has both light and camera above the surface, so no lobe can be fitted.
+    #[error("no sample has both light and camera above the surface: cannot fit a lobe")]
+    NoLobe,
+    /// The `prior` method's basis could not be derived (the message says why).
+    #[error("the prior method's MERL-100 basis: {0}")]
+    Prior(String),
+}
+
+/// A reconstructed table with what it was made from.
+#[derive(Debug, Clone)]
+pub struct Reconstruction {
+    /// The reconstructed table, f_r in 1/sr per MERL cell.
+    pub brdf: MerlBrdf,
+    /// Where each cell's value comes from.
+    pub provenance: Provenance,
+    /// The fitted lobe of the `lobe` method.
+    pub lobe: Option<Lobe>,
+    /// The instrument's resolution in theta_h (degrees) when the lobe was fitted through its
+    /// response; `None` without one.
+    pub resolution_deg: Option<f64>,
+    /// Lattice nodes along theta_h, theta_d, phi_d.
+    pub lattice_shape: [usize; 3],
+    /// Lattice nodes measured and extrapolated.
+    pub measured_nodes: usize,
+    /// Lattice nodes filled by extrapolation.
+    pub filled_nodes: usize,
+    /// What the checks of a deblurred table found ([`crate::safeguard`]); `None` when the
+    /// table was not deblurred.
+    pub safeguard: Option<Safeguard>,
+}
+
+/// The lobe as a capture at `hd` measures it: through the nodes near the peak, where the fit
+/// used them ([`crate::lobe::BLUR_THETA_H_DEG`]), else the lobe itself.
+pub(crate) fn measured_lobe(lobe: &Lobe, nodes: &[CaptureNode], hd: HalfDiff) -> Rgb {
+    if hd.theta_h.to_degrees() < BLUR_THETA_H_DEG {
+        lobe.measured(nodes, hd)
+    } else {
+        lobe.eval(&Geometry::of(hd))
+    }
+}
+
+/// The sample with phi_d folded into `[0, pi)` by reciprocity (paper 3: phi_d and
+/// phi_d + pi are the same configuration) and rounded to 1e-9 rad, far below the device's
+/// 0.03 deg accuracy. The rounding makes a sample and its light/camera swap bit-identical, so
+/// the lobe fit, which can be ill-conditioned on data far from a lobe, cannot amplify the
+/// last-bit difference between the two into different lobes. Only the lobe (its fit and the
+/// samples' ratios to it) sees it: bins and provenance keep the samples' own angles.
+pub(crate) fn reciprocal_canonical(sample: &Sample) -> Sample {
+    const QUANTUM_RAD: f64 = 1e-9;
+    let folded = sample.hd.phi_d.rem_euclid(std::f64::consts::PI);
+    let phi_d = ((folded / QUANTUM_RAD).round() * QUANTUM_RAD).rem_euclid(std::f64::consts::PI);
+    Sample::new(HalfDiff { phi_d, ..sample.hd }, sample.value)
+}
+
+/// The steps every method shares once each sample has its value in `method`'s domain: the
+/// lattice, its missing nodes extrapolated ([`crate::extrapolate`]), interpolation at every
+/// MERL bin centre with the method's kernel, and the way back from the domain over `model`
+/// (the model's value at a MERL cell index; zero for the methods without one). No lobe and
+/// no resolution: the caller adds its own.
+pub(crate) fn table_of_domain_values(
+    samples: &[Sample],
+    domain_values: &[[f64; 3]],
+    method: Method,
+    name: &str,
+    model: impl Fn(usize) -> Rgb + Sync,
+) -> Reconstruction {
+    let mut lattice = Lattice::of_samples(samples, domain_values);
+    let (measured_nodes, _, _) = lattice.status_counts();
+    fill_missing(&mut lattice);
+    let planes = interpolate_to_merl(&lattice, method.kernel());
+    let domain = method.domain();
+    let brdf = MerlBrdf::from_fn(name, |index| {
+        let m = model(index);
+        Some(Rgb::new(
+            domain.inverse(planes[0][index], m.x),
+            domain.inverse(planes[1][index], m.y),
+            domain.inverse(planes[2][index], m.z),
+        ))
+    });
+    Reconstruction {
+        brdf,
+        provenance: Provenance::new(samples, &extrapolated_cells(&lattice)),
+        lobe: None,
+        resolution_deg: None,
+        lattice_shape: lattice.shape(),
+        measured_nodes,
+        filled_nodes: lattice.status.len() - measured_nodes,
+        safeguard: None,
+    }
+}
