@@ -7,7 +7,7 @@ mod serve;
 
 use serve::serve;
 use specula_session::journal::Journal;
-use specula_session::workflow::{STAGE_MAIN, STAGE_PROBE};
+use specula_session::Stage;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -63,7 +63,7 @@ fn session_of(out: &Path) -> PathBuf {
 }
 
 /// Samples of a stage in the journal, read while another process may write it.
-fn done(session: &Path, stage: &str) -> usize {
+fn done(session: &Path, stage: Stage) -> usize {
     Journal::open_read_only(session)
         .ok()
         .and_then(|j| j.samples(stage).ok())
@@ -71,7 +71,7 @@ fn done(session: &Path, stage: &str) -> usize {
 }
 
 /// Waits (at most a minute) until the stage has at least `count` samples.
-fn wait_for(child: &mut Child, session: &Path, stage: &str, count: usize) {
+fn wait_for(child: &mut Child, session: &Path, stage: Stage, count: usize) {
     let start = Instant::now();
     while done(session, stage) < count {
         assert!(
@@ -98,7 +98,7 @@ fn kill_9_in_the_probe_and_in_the_main_stage_then_resume_to_the_same_bytes() {
     let session = session_of(&out);
     // Paced at 100x real time so that there is a run to interrupt.
     let paced = measure_args(&out, &["--truth", "silver-925", "--speedup", "100"]);
-    for stage in [STAGE_PROBE, STAGE_MAIN] {
+    for stage in [Stage::Probe, Stage::Main] {
         let mut child = Command::new(SPECULA)
             .args(&paced)
             .stdout(Stdio::null())
@@ -114,8 +114,8 @@ fn kill_9_in_the_probe_and_in_the_main_stage_then_resume_to_the_same_bytes() {
         assert!(!out.exists(), "no table from an interrupted run");
     }
     let journal = Journal::open_read_only(&session).unwrap();
-    let planned = journal.plan(STAGE_MAIN).unwrap().len();
-    let partial = journal.samples(STAGE_MAIN).unwrap().len();
+    let planned = journal.plan(Stage::Main).unwrap().len();
+    let partial = journal.samples(Stage::Main).unwrap().len();
     assert!(partial > 0 && partial < planned, "{partial} of {planned}");
     drop(journal);
 
@@ -171,7 +171,7 @@ fn ctrl_c_finishes_the_sample_then_stops_resumably() {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    wait_for(&mut child, &session, STAGE_MAIN, 2);
+    wait_for(&mut child, &session, Stage::Main, 2);
     let interrupt = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
@@ -384,7 +384,7 @@ fn the_default_grid_measures_both_halves_of_phi_d_and_reconstructs_them_apart() 
     );
     let journal = Journal::open_read_only(&session_of(&out)).unwrap();
     let beyond_90 = journal
-        .plan(STAGE_MAIN)
+        .plan(Stage::Main)
         .unwrap()
         .iter()
         .filter(|row| row.hd.phi_d.to_degrees() > 91.0)

@@ -8,6 +8,7 @@
 
 #![cfg(target_os = "linux")]
 
+use specula_session::Stage;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -254,7 +255,7 @@ fn wait_for_probe_plan(session: &Path, child: &mut Child) {
             assert!(child.try_wait().unwrap().is_none(), "the run ended early");
             specula_session::journal::Journal::open_read_only(session)
                 .ok()
-                .and_then(|j| j.plan("probe").ok())
+                .and_then(|j| j.plan(Stage::Probe).ok())
                 .is_some_and(|p| !p.is_empty())
         }),
         "no probe plan"

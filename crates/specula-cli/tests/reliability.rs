@@ -6,6 +6,7 @@
 mod serve;
 
 use serve::serve;
+use specula_session::Stage;
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
@@ -165,7 +166,7 @@ fn one_sigterm_stops_a_slowly_paced_run_promptly_and_resumably() {
     loop {
         let planned = specula_session::journal::Journal::open_read_only(&session)
             .ok()
-            .and_then(|j| j.plan("probe").ok())
+            .and_then(|j| j.plan(Stage::Probe).ok())
             .is_some_and(|p| !p.is_empty());
         if planned {
             break;

@@ -11,7 +11,8 @@ use specula_core::materials::preset;
 use specula_core::tabulate::tabulate;
 use specula_core::MerlBrdf;
 use specula_session::journal::Journal;
-use specula_session::workflow::{FitRecord, STAGE_MAIN, STAGE_PROBE};
+use specula_session::workflow::FitRecord;
+use specula_session::Stage;
 use specula_visual::report::duration_text;
 use std::path::Path;
 use std::process::Output;
@@ -36,7 +37,7 @@ fn assert_contains(html: &str, texts: &[String]) {
 }
 
 /// (measured, planned) samples of a stage, from the journal.
-fn counts(journal: &Journal, stage: &str) -> (usize, usize) {
+fn counts(journal: &Journal, stage: Stage) -> (usize, usize) {
     (
         journal.samples(stage).unwrap().len(),
         journal.plan(stage).unwrap().len(),
@@ -48,7 +49,7 @@ fn counts(journal: &Journal, stage: &str) -> (usize, usize) {
 fn device_and_predicted_s(journal: &Journal) -> (f64, f64) {
     let mut device_s = 0.0;
     let mut predicted_s = 0.0;
-    for stage in [STAGE_PROBE, STAGE_MAIN] {
+    for stage in [Stage::Probe, Stage::Main] {
         device_s += journal
             .samples(stage)
             .unwrap()
@@ -84,8 +85,8 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
 
     let journal = Journal::open_read_only(&session).unwrap();
     let fit: FitRecord = journal.meta("fit").unwrap().expect("a fit");
-    let (probe_done, probe_planned) = counts(&journal, STAGE_PROBE);
-    let (main_done, main_planned) = counts(&journal, STAGE_MAIN);
+    let (probe_done, probe_planned) = counts(&journal, Stage::Probe);
+    let (main_done, main_planned) = counts(&journal, Stage::Main);
     assert_eq!(main_done, main_planned, "the session is complete");
     let (device_s, predicted_s) = device_and_predicted_s(&journal);
     assert!(
@@ -179,10 +180,10 @@ fn view(sources: &[&Path], out: &Path) -> Output {
 #[test]
 fn an_interrupted_session_reports_what_it_holds() {
     let dir = tempfile::tempdir().unwrap();
-    let (session, table) = measure_small(dir.path(), Some((STAGE_MAIN, 20)));
+    let (session, table) = measure_small(dir.path(), Some((Stage::Main, 20)));
     assert!(!table.exists(), "no table from an interrupted run");
     let journal = Journal::open_read_only(&session).unwrap();
-    let (done, planned) = counts(&journal, STAGE_MAIN);
+    let (done, planned) = counts(&journal, Stage::Main);
     assert!(done >= 20 && done < planned, "{done} of {planned}");
     let (device_s, predicted_s) = device_and_predicted_s(&journal);
     let out = dir.path().join("report.html");
@@ -207,11 +208,11 @@ fn an_interrupted_session_reports_what_it_holds() {
 #[test]
 fn a_session_stopped_in_the_probe_reports_without_k_hat() {
     let dir = tempfile::tempdir().unwrap();
-    let (session, _) = measure_small(dir.path(), Some((STAGE_PROBE, 5)));
+    let (session, _) = measure_small(dir.path(), Some((Stage::Probe, 5)));
     let journal = Journal::open_read_only(&session).unwrap();
-    let (done, planned) = counts(&journal, STAGE_PROBE);
+    let (done, planned) = counts(&journal, Stage::Probe);
     assert!(done >= 5 && done < planned, "{done} of {planned}");
-    assert_eq!(counts(&journal, STAGE_MAIN), (0, 0));
+    assert_eq!(counts(&journal, Stage::Main), (0, 0));
     let out = dir.path().join("report.html");
     let html = page(&report(&session, &out, SIZE_PX, &[]), &out);
     assert_contains(

@@ -16,9 +16,9 @@ use specula_sampling::Probe;
 use specula_session::journal::{Journal, SourceRecord};
 use specula_session::workflow::{
     default_session_path, measure as run_measurement, measured_samples, probe_samples,
-    session_grid, FitRecord, MeasureOutcome, MeasureSettings, Quiet, Source, Summary, STAGE_MAIN,
-    STAGE_PROBE,
+    session_grid, FitRecord, MeasureOutcome, MeasureSettings, Quiet, Source, Summary,
 };
+use specula_session::Stage;
 use std::path::PathBuf;
 
 /// Measure a known BRDF on the simulated device (`specula measure --truth`), the paper's
@@ -168,17 +168,17 @@ pub(crate) fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, 
     let source: Option<SourceRecord> = journal.record().or_raise()?;
     let fit: Option<FitRecord> = journal.record().or_raise()?;
     let settings: Option<MeasureSettings> = journal.record().or_raise()?;
-    let has = |stage: &str| status.stages.iter().any(|s| s.stage == stage);
-    let probe = if has(STAGE_PROBE) {
+    let has = |stage: Stage| status.stages.iter().any(|s| s.stage == stage);
+    let probe = if has(Stage::Probe) {
         let points = probe_samples(&journal).or_raise()?;
         let (theta_h, rgb) = points.iter().map(|p| (p.theta_h_deg, p.value)).unzip();
         Probe::new(theta_h, rgb).ok()
     } else {
         None
     };
-    let samples = if has(STAGE_MAIN) {
-        let plan = journal.plan(STAGE_MAIN).or_raise()?;
-        measured_samples(&plan, &journal.samples(STAGE_MAIN).or_raise()?)
+    let samples = if has(Stage::Main) {
+        let plan = journal.plan(Stage::Main).or_raise()?;
+        measured_samples(&plan, &journal.samples(Stage::Main).or_raise()?)
     } else {
         Vec::new()
     };
@@ -198,7 +198,7 @@ pub(crate) fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, 
         entry.set_item("device_s_done", stage.device_s_done)?;
         entry.set_item("predicted_s_left", stage.predicted_s_left)?;
         entry.set_item("captures", stage.captures)?;
-        stages.set_item(&stage.stage, entry)?;
+        stages.set_item(stage.stage.name(), entry)?;
     }
     dict.set_item("stages", stages)?;
     dict.set_item("events", status.events.clone())?;

@@ -74,15 +74,15 @@ impl Session {
         let mut lower_bounds = 0;
         let mut main = Vec::new();
         for stage in &record.status.stages {
-            let plan = journal.plan(&stage.stage).or_report()?;
+            let plan = journal.plan(stage.stage).or_report()?;
             predicted_s += plan.iter().map(|row| row.predicted_s).sum::<f64>();
-            let samples = journal.samples(&stage.stage).or_report()?;
+            let samples = journal.samples(stage.stage).or_report()?;
             for sample in samples.values() {
                 last_unix_s = Some(
                     last_unix_s.map_or(sample.finished_unix_s, |t| t.max(sample.finished_unix_s)),
                 );
             }
-            if Stage::from_name(&stage.stage) == Some(Stage::Main) {
+            if stage.stage == Stage::Main {
                 lower_bounds = samples.values().filter(|s| s.lower_bound).count();
                 main = measured_samples(&plan, &samples);
             }
@@ -110,7 +110,7 @@ impl Session {
             lower_bounds,
             probe: probe_samples(&journal).or_report()?,
             probe_phi_h_deg: journal
-                .plan(Stage::Probe.name())
+                .plan(Stage::Probe)
                 .or_report()?
                 .first()
                 .map(|row| row.hd.phi_h.to_degrees()),
@@ -368,7 +368,7 @@ impl Session {
 
 /// The status of one stage, if it has a plan.
 fn stage(status: &SessionStatus, stage: Stage) -> Option<&StageStatus> {
-    status.stages.iter().find(|s| s.stage == stage.name())
+    status.stages.iter().find(|s| s.stage == stage)
 }
 
 fn settings_text(s: &MeasureSettings) -> String {

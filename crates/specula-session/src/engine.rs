@@ -13,7 +13,9 @@
 //! flag (a remote device's waits look at it) is not retried, not counted as a fault and
 //! not written: the stage stops as if between samples.
 
-use crate::journal::{unix_now_s, CaptureRecord, Journal, JournalError, PlannedRow, SampleRecord};
+use crate::journal::{
+    unix_now_s, CaptureRecord, Journal, JournalError, PlannedRow, SampleRecord, Stage,
+};
 use crate::predict::{cos_theta_i, Predictor};
 use crate::protocol::client::LinkNotes;
 use specula_acquisition::calibration::Calibration;
@@ -157,7 +159,7 @@ impl Engine<'_> {
     /// not hold, in execution order. `on_sample` hears the progress after each.
     pub fn run_stage(
         &mut self,
-        stage: &str,
+        stage: Stage,
         predictor: &Predictor,
         on_sample: &mut dyn FnMut(Progress),
     ) -> Result<StageOutcome, EngineError> {
@@ -233,7 +235,7 @@ impl Engine<'_> {
     /// One sample, with retries; `None` when the stop flag ended it.
     fn measure_sample(
         &mut self,
-        stage: &str,
+        stage: Stage,
         row: &PlannedRow,
         prediction: Option<f64>,
     ) -> Result<Option<SampleRecord>, EngineError> {

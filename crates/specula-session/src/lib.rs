@@ -25,3 +25,5 @@ pub mod predict;
 pub mod protocol;
 pub mod workflow;
 pub mod workflow_error;
+
+pub use journal::Stage;

@@ -32,10 +32,6 @@ use crate::journal::{
     SourceRecord, Stage, VersionRecord, EVENT_COMPLETE,
 };
 
-/// The probe's stage name in the journal.
-pub const STAGE_PROBE: &str = Stage::Probe.name();
-/// The main measurement's stage name in the journal.
-pub const STAGE_MAIN: &str = Stage::Main.name();
 use crate::pace::Paced;
 use crate::predict::{Predictor, ProbeModel};
 use crate::protocol::validate::ReplyRanges;
@@ -156,11 +152,11 @@ pub trait Observer {
     /// A step without samples of its own ("calibrating", "alignment check: ...").
     fn step(&mut self, message: &str);
     /// A stage of samples starts, `done` of `planned` already in the journal.
-    fn stage_started(&mut self, stage: &str, planned: usize, done: usize);
+    fn stage_started(&mut self, stage: Stage, planned: usize, done: usize);
     /// A sample of the current stage is in the journal.
     fn sample(&mut self, progress: &Progress);
     /// The current stage ends, complete or stopped.
-    fn stage_finished(&mut self, stage: &str, outcome: &StageOutcome);
+    fn stage_finished(&mut self, stage: Stage, outcome: &StageOutcome);
 }
 
 /// An observer that ignores everything.
@@ -168,9 +164,9 @@ pub struct Quiet;
 
 impl Observer for Quiet {
     fn step(&mut self, _: &str) {}
-    fn stage_started(&mut self, _: &str, _: usize, _: usize) {}
+    fn stage_started(&mut self, _: Stage, _: usize, _: usize) {}
     fn sample(&mut self, _: &Progress) {}
-    fn stage_finished(&mut self, _: &str, _: &StageOutcome) {}
+    fn stage_finished(&mut self, _: Stage, _: &StageOutcome) {}
 }
 
 /// What a finished measurement reports (the summary file, `key=value` lines).
@@ -510,15 +506,15 @@ pub fn measure(
 
     // The probe (5.2), then k-hat.
     let probe_rows = probe_plan(device, settings, phi_h_deg);
-    engine.journal.set_plan(STAGE_PROBE, &probe_rows)?;
+    engine.journal.set_plan(Stage::Probe, &probe_rows)?;
     let outcome = run_stage(
         &mut engine,
-        STAGE_PROBE,
+        Stage::Probe,
         &Predictor::new(calibration.clone(), None),
         observer,
     )?;
     if !outcome.complete() {
-        return Ok(stopped(STAGE_PROBE, &outcome));
+        return Ok(stopped(Stage::Probe, &outcome));
     }
     let probe = probe_samples(engine.journal)?;
     let fit = match engine.journal.record::<FitRecord>()? {
@@ -559,14 +555,14 @@ pub fn measure(
         },
         observer,
     )?;
-    let outcome = run_stage(&mut engine, STAGE_MAIN, &predictor, observer)?;
+    let outcome = run_stage(&mut engine, Stage::Main, &predictor, observer)?;
     if !outcome.complete() {
-        return Ok(stopped(STAGE_MAIN, &outcome));
+        return Ok(stopped(Stage::Main, &outcome));
     }
 
     observer.step("reconstructing");
-    let main = engine.journal.samples(STAGE_MAIN)?;
-    let samples = measured_samples(&engine.journal.plan(STAGE_MAIN)?, &main);
+    let main = engine.journal.samples(Stage::Main)?;
+    let samples = measured_samples(&engine.journal.plan(Stage::Main)?, &main);
     let name = out
         .file_stem()
         .map_or_else(|| "measured".into(), |s| s.to_string_lossy().into_owned());
@@ -1085,8 +1081,8 @@ pub fn session_main_samples(
         .record::<Calibration>()?
         .and_then(|c| c.response)
         .map(|fit| fit.response);
-    let plan = journal.plan(STAGE_MAIN)?;
-    let samples = measured_samples(&plan, &journal.samples(STAGE_MAIN)?);
+    let plan = journal.plan(Stage::Main)?;
+    let samples = measured_samples(&plan, &journal.samples(Stage::Main)?);
     if samples.is_empty() {
         return Err(WorkflowError::NoMainSamples {
             session: path.to_path_buf(),
@@ -1097,8 +1093,8 @@ pub fn session_main_samples(
 
 /// The probe's samples as points, in increasing theta_h.
 pub fn probe_samples(journal: &Journal) -> Result<Vec<ProbePoint>, JournalError> {
-    let rows = journal.plan(STAGE_PROBE)?;
-    let samples = journal.samples(STAGE_PROBE)?;
+    let rows = journal.plan(Stage::Probe)?;
+    let samples = journal.samples(Stage::Probe)?;
     let mut probe: Vec<ProbePoint> = rows
         .iter()
         .filter_map(|r| {
@@ -1205,7 +1201,7 @@ fn main_plan(
     predicted: &PredictedExposures,
     observer: &mut dyn Observer,
 ) -> Result<PlanRecord, WorkflowError> {
-    let stored_rows = journal.plan(STAGE_MAIN)?.len();
+    let stored_rows = journal.plan(Stage::Main)?.len();
     if let (Some(record), true) = (journal.record::<PlanRecord>()?, stored_rows > 0) {
         if record.measurable != stored_rows {
             return Err(WorkflowError::Damaged {
@@ -1233,14 +1229,14 @@ fn main_plan(
         ordered_bracket_s: chosen.summary(device).duration_s(),
     };
     price_captures(&mut chosen, device, spec.hdr, predicted);
-    journal.set_plan(STAGE_MAIN, &rows_of(&chosen))?;
+    journal.set_plan(Stage::Main, &rows_of(&chosen))?;
     journal.put_record(&record)?;
     Ok(record)
 }
 
 fn run_stage(
     engine: &mut Engine,
-    stage: &str,
+    stage: Stage,
     predictor: &Predictor,
     observer: &mut dyn Observer,
 ) -> Result<StageOutcome, WorkflowError> {
@@ -1252,7 +1248,7 @@ fn run_stage(
     Ok(outcome)
 }
 
-fn stopped(stage: &str, outcome: &StageOutcome) -> MeasureOutcome {
+fn stopped(stage: Stage, outcome: &StageOutcome) -> MeasureOutcome {
     MeasureOutcome::Stopped {
         stage: stage.to_string(),
         done: outcome.resumed + outcome.measured,
@@ -1285,17 +1281,11 @@ fn summarise(
     deblur: Option<DeblurRecord>,
 ) -> Result<Summary, WorkflowError> {
     let status = journal.status()?;
-    let stage = |stage: Stage| {
-        status
-            .stages
-            .iter()
-            .find(|s| s.stage == stage.name())
-            .cloned()
-    };
+    let stage = |stage: Stage| status.stages.iter().find(|s| s.stage == stage).cloned();
     let probe = stage(Stage::Probe).ok_or(WorkflowError::MissingStage("probe"))?;
     let main = stage(Stage::Main).ok_or(WorkflowError::MissingStage("main stage"))?;
     let lower_bounds = journal
-        .samples(STAGE_MAIN)?
+        .samples(Stage::Main)?
         .values()
         .filter(|s| s.lower_bound)
         .count();
@@ -1317,7 +1307,7 @@ fn summarise(
         device_s: checks_s + probe.device_s_done + main.device_s_done,
         main_device_s: main.device_s_done,
         predicted_main_s: journal
-            .plan(STAGE_MAIN)?
+            .plan(Stage::Main)?
             .iter()
             .map(|row| row.predicted_s)
             .sum(),

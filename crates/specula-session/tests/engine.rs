@@ -9,6 +9,7 @@ use specula_session::engine::{EngineError, StageOutcome};
 use specula_session::ideal::exact_calibration;
 use specula_session::journal::Journal;
 use specula_session::pace::Paced;
+use specula_session::Stage;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -114,7 +115,7 @@ fn a_motor_fault_costs_a_home_and_a_retry_not_a_different_value() {
     }
     let journal = Journal::open_read_only(&path).unwrap();
     let tries: u32 = journal
-        .samples("main")
+        .samples(Stage::Main)
         .unwrap()
         .values()
         .map(|s| s.attempts)

@@ -55,6 +55,7 @@ mod journal_damage {
     use specula_acquisition::kinematics::AxisPositions;
     use specula_core::{HalfDiff, Rgb};
     use specula_session::journal::{Journal, JournalError, PlannedRow, SampleRecord};
+    use specula_session::Stage;
     use std::path::Path;
 
     fn row(seq: u32) -> PlannedRow {
@@ -87,7 +88,7 @@ mod journal_damage {
     fn journal(path: &Path) {
         let mut journal = Journal::open(path).unwrap();
         journal
-            .set_plan("main", &(0..10).map(row).collect::<Vec<_>>())
+            .set_plan(Stage::Main, &(0..10).map(row).collect::<Vec<_>>())
             .unwrap();
         for seq in 0..5 {
             journal.record_sample(&sample(seq)).unwrap();
@@ -140,7 +141,7 @@ mod journal_damage {
         journal(&path);
         edit(&path, "UPDATE samples SET r = 9e999 WHERE seq = 3;");
         let journal = Journal::open_read_only(&path).unwrap();
-        let err = journal.samples("main").unwrap_err().to_string();
+        let err = journal.samples(Stage::Main).unwrap_err().to_string();
         assert!(
             err.contains("main sample 3") && err.contains("checksum"),
             "{err}"
@@ -198,7 +199,7 @@ mod journal_damage {
             }
             let damaged_path = dir.path().join(format!("flip{trial}.sqlite"));
             std::fs::write(&damaged_path, &bytes).unwrap();
-            let read = Journal::open_read_only(&damaged_path).and_then(|j| j.samples("main"));
+            let read = Journal::open_read_only(&damaged_path).and_then(|j| j.samples(Stage::Main));
             match read {
                 Err(e) => {
                     refused += 1;

@@ -10,8 +10,9 @@ use specula_reconstruct::Method;
 use specula_session::journal::{Journal, Record, SessionState};
 use specula_session::workflow::{
     measure, measured_samples, session_grid, session_main_samples, MeasureOutcome, MeasureSettings,
-    Quiet, Source, STAGE_MAIN, STAGE_PROBE,
+    Quiet, Source,
 };
+use specula_session::Stage;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
@@ -71,11 +72,11 @@ fn a_small_measurement_completes_and_summarises() {
     );
     let journal = Journal::open_read_only(&session).unwrap();
     assert_eq!(
-        journal.samples(STAGE_MAIN).unwrap().len(),
+        journal.samples(Stage::Main).unwrap().len(),
         summary.measured_samples
     );
     assert_eq!(
-        journal.samples(STAGE_PROBE).unwrap().len(),
+        journal.samples(Stage::Probe).unwrap().len(),
         summary.probe_samples
     );
     assert!(out.exists());
@@ -170,8 +171,8 @@ fn a_half_turn_plan_is_measured_and_reconstructed_by_halves() {
     );
     let journal = Journal::open_read_only(&session).unwrap();
     let samples = measured_samples(
-        &journal.plan(STAGE_MAIN).unwrap(),
-        &journal.samples(STAGE_MAIN).unwrap(),
+        &journal.plan(Stage::Main).unwrap(),
+        &journal.samples(Stage::Main).unwrap(),
     );
     let beyond_90 = samples
         .iter()

@@ -14,6 +14,7 @@ use specula_session::workflow::{
     default_session_path, measure, session_grid, summary_path, HdrChoice, MeasureOutcome,
     MeasureSettings, Observer, PlanOrder, Source,
 };
+use specula_session::Stage;
 use std::path::PathBuf;
 
 /// Measure a BRDF on the simulated device or on real hardware into a MERL table.
@@ -230,9 +231,9 @@ impl Observer for Bars {
         }
     }
 
-    fn stage_started(&mut self, stage: &str, planned: usize, done: usize) {
+    fn stage_started(&mut self, stage: Stage, planned: usize, done: usize) {
         self.finish();
-        let bar = crate::progress::bar(planned as u64, stage);
+        let bar = crate::progress::bar(planned as u64, stage.name());
         bar.set_position(done as u64);
         if done > 0 {
             bar.println(format!(
@@ -264,7 +265,7 @@ impl Observer for Bars {
         }
     }
 
-    fn stage_finished(&mut self, stage: &str, outcome: &StageOutcome) {
+    fn stage_finished(&mut self, stage: Stage, outcome: &StageOutcome) {
         self.finish();
         eprintln!(
             "{stage}: {} samples ({} measured now, {} from the journal){}",

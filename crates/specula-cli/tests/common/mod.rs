@@ -6,6 +6,7 @@ use specula_core::materials::preset;
 use specula_core::{GridSpec, ThetaDSteps};
 use specula_session::engine::{Progress, StageOutcome};
 use specula_session::workflow::{measure, MeasureSettings, Observer, Source};
+use specula_session::Stage;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -13,29 +14,29 @@ use std::sync::Arc;
 
 /// Raises the stop flag once `stage` has `samples` samples, as Ctrl-C would.
 struct StopAfter {
-    stage: String,
+    stage: Option<Stage>,
     samples: usize,
-    current: String,
+    current: Option<Stage>,
     stop: Arc<AtomicBool>,
 }
 
 impl Observer for StopAfter {
     fn step(&mut self, _: &str) {}
-    fn stage_started(&mut self, stage: &str, _: usize, _: usize) {
-        self.current = stage.to_string();
+    fn stage_started(&mut self, stage: Stage, _: usize, _: usize) {
+        self.current = Some(stage);
     }
     fn sample(&mut self, progress: &Progress) {
         if self.current == self.stage && progress.done >= self.samples {
             self.stop.store(true, Ordering::SeqCst);
         }
     }
-    fn stage_finished(&mut self, _: &str, _: &StageOutcome) {}
+    fn stage_finished(&mut self, _: Stage, _: &StageOutcome) {}
 }
 
 /// Measures silver-925 with a small plan (30 probe samples, 8 theta_h x 6 theta_d x 3 phi_d,
 /// no checks, seed 3) into `dir`; with `stop_after` = (stage, n) it stops once that stage
 /// has n samples. Returns the session journal and the table (written only when complete).
-pub(crate) fn measure_small(dir: &Path, stop_after: Option<(&str, usize)>) -> (PathBuf, PathBuf) {
+pub(crate) fn measure_small(dir: &Path, stop_after: Option<(Stage, usize)>) -> (PathBuf, PathBuf) {
     let settings = MeasureSettings {
         seed: 3,
         probe_samples: 30,
@@ -51,11 +52,10 @@ pub(crate) fn measure_small(dir: &Path, stop_after: Option<(&str, usize)>) -> (P
     let table = dir.join("silver.binary");
     let session = dir.join("silver.session.sqlite");
     let stop = Arc::new(AtomicBool::new(false));
-    let (stage, samples) = stop_after.unwrap_or(("none", usize::MAX));
     let mut observer = StopAfter {
-        stage: stage.to_string(),
-        samples,
-        current: String::new(),
+        stage: stop_after.map(|(stage, _)| stage),
+        samples: stop_after.map_or(usize::MAX, |(_, samples)| samples),
+        current: None,
         stop: stop.clone(),
     };
     let truth = Arc::new(preset("silver-925").expect("a preset"));

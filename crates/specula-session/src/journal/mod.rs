@@ -354,9 +354,9 @@ impl SampleRecord {
 
     /// A sample without captures from its key, its [`SampleRecord::reals`], its lower-bound
     /// flag and its tries.
-    fn from_reals(stage: &str, seq: u32, r: [f64; 16], lower_bound: bool, attempts: u32) -> Self {
+    fn from_reals(stage: Stage, seq: u32, r: [f64; 16], lower_bound: bool, attempts: u32) -> Self {
         Self {
-            stage: stage.to_string(),
+            stage: stage.name().to_string(),
             seq,
             value: Rgb::new(r[0], r[1], r[2]),
             rate_dn_s: [r[3], r[4], r[5]],
@@ -375,8 +375,8 @@ impl SampleRecord {
 /// Progress of one stage.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StageStatus {
-    /// The stage's name.
-    pub stage: String,
+    /// The stage.
+    pub stage: Stage,
     /// Samples in the stage's plan.
     pub planned: usize,
     /// Samples of the stage in the journal.
@@ -727,7 +727,7 @@ impl Journal {
 
     /// Writes a stage's plan in one transaction. If the stage already has a plan (a resumed
     /// session), it must be the same samples; the stored one is kept.
-    pub fn set_plan(&mut self, stage: &str, rows: &[PlannedRow]) -> Result<(), JournalError> {
+    pub fn set_plan(&mut self, stage: Stage, rows: &[PlannedRow]) -> Result<(), JournalError> {
         let stored = self.plan(stage)?;
         if !stored.is_empty() {
             return self.check_same_plan(stage, &stored, rows);
@@ -740,13 +740,13 @@ impl Journal {
 
     fn check_same_plan(
         &self,
-        stage: &str,
+        stage: Stage,
         stored: &[PlannedRow],
         asked: &[PlannedRow],
     ) -> Result<(), JournalError> {
         let mismatch = |problem: String| JournalError::PlanMismatch {
             path: self.name(),
-            stage: stage.to_string(),
+            stage: stage.name().to_string(),
             problem,
         };
         if stored.len() != asked.len() {
@@ -765,7 +765,7 @@ impl Journal {
     }
 
     /// A stage's plan in execution order (empty when the stage has none yet).
-    pub fn plan(&self, stage: &str) -> Result<Vec<PlannedRow>, JournalError> {
+    pub fn plan(&self, stage: Stage) -> Result<Vec<PlannedRow>, JournalError> {
         let mut statement = self
             .conn
             .prepare(
@@ -823,7 +823,7 @@ impl Journal {
     }
 
     /// The finished samples of a stage, by seq, without their captures.
-    pub fn samples(&self, stage: &str) -> Result<BTreeMap<u32, SampleRecord>, JournalError> {
+    pub fn samples(&self, stage: Stage) -> Result<BTreeMap<u32, SampleRecord>, JournalError> {
         let mut statement = self
             .conn
             .prepare(&format!(
@@ -856,7 +856,7 @@ impl Journal {
     }
 
     /// The captures of one sample, in the order they were taken.
-    pub fn captures(&self, stage: &str, seq: u32) -> Result<Vec<CaptureRecord>, JournalError> {
+    pub fn captures(&self, stage: Stage, seq: u32) -> Result<Vec<CaptureRecord>, JournalError> {
         let mut statement = self
             .conn
             .prepare(
@@ -896,8 +896,8 @@ impl Journal {
     pub fn status(&self) -> Result<SessionStatus, JournalError> {
         let mut stages = Vec::new();
         let names: Vec<String> = self.column("SELECT DISTINCT stage FROM plan ORDER BY rowid")?;
-        for stage in names {
-            stages.push(self.stage_status(&stage)?);
+        for stage in names.iter().filter_map(|name| Stage::from_name(name)) {
+            stages.push(self.stage_status(stage)?);
         }
         let mut events = BTreeMap::new();
         let mut statement = self
@@ -931,7 +931,7 @@ impl Journal {
         })
     }
 
-    fn stage_status(&self, stage: &str) -> Result<StageStatus, JournalError> {
+    fn stage_status(&self, stage: Stage) -> Result<StageStatus, JournalError> {
         let (planned, predicted_s_left, predicted_s_done): (i64, f64, f64) = self
             .conn
             .query_row(
@@ -961,7 +961,7 @@ impl Journal {
             )
             .map_err(|e| self.err(e))?;
         Ok(StageStatus {
-            stage: stage.to_string(),
+            stage,
             planned: planned as usize,
             done: done as usize,
             device_s_done,
@@ -1090,7 +1090,7 @@ fn is_at_path(file: &File, path: &Path) -> bool {
 const LOCK_TRIES: usize = 10;
 const LOCK_PAUSE: std::time::Duration = std::time::Duration::from_millis(25);
 
-fn insert_plan(tx: &Transaction, stage: &str, rows: &[PlannedRow]) -> rusqlite::Result<()> {
+fn insert_plan(tx: &Transaction, stage: Stage, rows: &[PlannedRow]) -> rusqlite::Result<()> {
     let mut statement = tx.prepare(
         "INSERT INTO plan (stage, seq, theta_h_rad, phi_h_rad, theta_d_rad, phi_d_rad,
                            turntable_rad, camera_rad, light_azimuth_rad, light_elevation_rad,
@@ -1173,9 +1173,9 @@ mod tests {
         }
     }
 
-    fn sample(stage: &str, seq: u32) -> SampleRecord {
+    fn sample(stage: Stage, seq: u32) -> SampleRecord {
         SampleRecord {
-            stage: stage.into(),
+            stage: stage.name().into(),
             seq,
             value: Rgb::new(0.1 * seq as f64, 1e-7, 1234.5),
             rate_dn_s: [1e5, 2e-3, 7.0],
@@ -1215,14 +1215,14 @@ mod tests {
         let path = dir.path().join("s.sqlite");
         let mut journal = Journal::open(&path).unwrap();
         let plan: Vec<PlannedRow> = (0..5).map(row).collect();
-        journal.set_plan("main", &plan).unwrap();
-        assert_eq!(journal.plan("main").unwrap(), plan);
-        let s = sample("main", 3);
+        journal.set_plan(Stage::Main, &plan).unwrap();
+        assert_eq!(journal.plan(Stage::Main).unwrap(), plan);
+        let s = sample(Stage::Main, 3);
         journal.record_sample(&s).unwrap();
         drop(journal);
 
         let journal = Journal::open(&path).unwrap();
-        let stored = journal.samples("main").unwrap();
+        let stored = journal.samples(Stage::Main).unwrap();
         assert_eq!(stored.len(), 1);
         let back = &stored[&3];
         assert_eq!(back.value, s.value, "f64 values are stored bit for bit");
@@ -1231,7 +1231,7 @@ mod tests {
             (back.rate_dn_s, back.sigma_dn_s, back.lower_bound),
             (s.rate_dn_s, s.sigma_dn_s, true)
         );
-        assert_eq!(journal.captures("main", 3).unwrap(), s.captures);
+        assert_eq!(journal.captures(Stage::Main, 3).unwrap(), s.captures);
         let status = journal.status().unwrap();
         assert_eq!(status.stages.len(), 1);
         let main = &status.stages[0];
@@ -1246,12 +1246,12 @@ mod tests {
         let path = dir.path().join("s.sqlite");
         let mut journal = Journal::open(&path).unwrap();
         assert_eq!(journal.status().unwrap().state(), SessionState::InProgress);
-        journal.set_plan("probe", &[row(0)]).unwrap();
-        journal.set_plan("main", &[row(1), row(2)]).unwrap();
-        journal.record_sample(&sample("probe", 0)).unwrap();
-        journal.record_sample(&sample("main", 1)).unwrap();
+        journal.set_plan(Stage::Probe, &[row(0)]).unwrap();
+        journal.set_plan(Stage::Main, &[row(1), row(2)]).unwrap();
+        journal.record_sample(&sample(Stage::Probe, 0)).unwrap();
+        journal.record_sample(&sample(Stage::Main, 1)).unwrap();
         assert_eq!(journal.status().unwrap().state(), SessionState::InProgress);
-        journal.record_sample(&sample("main", 2)).unwrap();
+        journal.record_sample(&sample(Stage::Main, 2)).unwrap();
         assert_eq!(journal.status().unwrap().state(), SessionState::Measured);
         journal.log_event(EVENT_COMPLETE, "wrote x.binary").unwrap();
         assert_eq!(journal.status().unwrap().state(), SessionState::Complete);
@@ -1261,19 +1261,19 @@ mod tests {
     fn a_sample_is_never_recorded_twice() {
         let dir = tempfile::tempdir().unwrap();
         let mut journal = Journal::open(&dir.path().join("s.sqlite")).unwrap();
-        journal.set_plan("main", &[row(0)]).unwrap();
-        journal.record_sample(&sample("main", 0)).unwrap();
-        let err = journal.record_sample(&sample("main", 0)).unwrap_err();
+        journal.set_plan(Stage::Main, &[row(0)]).unwrap();
+        journal.record_sample(&sample(Stage::Main, 0)).unwrap();
+        let err = journal.record_sample(&sample(Stage::Main, 0)).unwrap_err();
         assert!(
             matches!(err, JournalError::Duplicate { seq: 0, .. }),
             "{err}"
         );
         // The failed transaction left nothing behind: still two captures.
-        assert_eq!(journal.captures("main", 0).unwrap().len(), 2);
+        assert_eq!(journal.captures(Stage::Main, 0).unwrap().len(), 2);
         // A sample outside the plan is refused by the foreign key.
-        assert!(journal.record_sample(&sample("main", 9)).is_err());
-        assert!(journal.samples("main").unwrap().contains_key(&0));
-        assert!(!journal.samples("main").unwrap().contains_key(&9));
+        assert!(journal.record_sample(&sample(Stage::Main, 9)).is_err());
+        assert!(journal.samples(Stage::Main).unwrap().contains_key(&0));
+        assert!(!journal.samples(Stage::Main).unwrap().contains_key(&9));
     }
 
     #[test]
@@ -1281,17 +1281,20 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let mut journal = Journal::open(&dir.path().join("s.sqlite")).unwrap();
         let plan: Vec<PlannedRow> = (0..3).map(row).collect();
-        journal.set_plan("probe", &plan).unwrap();
-        journal.set_plan("probe", &plan).unwrap();
+        journal.set_plan(Stage::Probe, &plan).unwrap();
+        journal.set_plan(Stage::Probe, &plan).unwrap();
         let mut other = plan.clone();
         other[1].axes.camera_rad += 1e-6;
-        let err = journal.set_plan("probe", &other).unwrap_err().to_string();
+        let err = journal
+            .set_plan(Stage::Probe, &other)
+            .unwrap_err()
+            .to_string();
         assert!(
             err.contains("sample 1 differs") && err.contains("probe"),
             "{err}"
         );
         let err = journal
-            .set_plan("probe", &plan[..2])
+            .set_plan(Stage::Probe, &plan[..2])
             .unwrap_err()
             .to_string();
         assert!(err.contains("3 samples stored, 2 asked for"), "{err}");
@@ -1344,8 +1347,8 @@ mod tests {
         let mut writer = Journal::open(&path).unwrap();
         let err = Journal::open(&path).err().expect("second writer refused");
         assert!(err.to_string().contains("another specula process"), "{err}");
-        writer.set_plan("main", &[row(0), row(1)]).unwrap();
-        writer.record_sample(&sample("main", 1)).unwrap();
+        writer.set_plan(Stage::Main, &[row(0), row(1)]).unwrap();
+        writer.record_sample(&sample(Stage::Main, 1)).unwrap();
         let reader = Journal::open_read_only(&path).unwrap();
         assert_eq!(reader.status().unwrap().stages[0].done, 1);
         drop(writer);

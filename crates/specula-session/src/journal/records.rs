@@ -48,6 +48,13 @@ impl Stage {
     }
 }
 
+impl rusqlite::ToSql for Stage {
+    /// A stage is stored by its [`Stage::name`].
+    fn to_sql(&self) -> rusqlite::Result<rusqlite::types::ToSqlOutput<'_>> {
+        Ok(self.name().into())
+    }
+}
+
 impl std::fmt::Display for Stage {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
@@ -396,6 +403,6 @@ impl SessionRecord {
 
     /// The status of one stage, if it has a plan.
     pub fn stage(&self, stage: Stage) -> Option<&super::StageStatus> {
-        self.status.stages.iter().find(|s| s.stage == stage.name())
+        self.status.stages.iter().find(|s| s.stage == stage)
     }
 }

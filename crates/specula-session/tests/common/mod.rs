@@ -14,6 +14,7 @@ use specula_session::engine::{Engine, EngineError, EngineSettings, StageOutcome}
 use specula_session::journal::{Journal, PlannedRow};
 use specula_session::predict::Predictor;
 use specula_session::protocol::client::LinkNotes;
+use specula_session::Stage;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -63,7 +64,7 @@ pub(crate) fn run_main_stage(
     after_sample: &mut dyn FnMut(usize),
 ) -> Result<StageOutcome, EngineError> {
     let mut journal = Journal::open(path).unwrap();
-    journal.set_plan("main", stage.rows).unwrap();
+    journal.set_plan(Stage::Main, stage.rows).unwrap();
     let info = instrument.info().unwrap();
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&info), stage.calibration.noise);
     let mut engine = Engine {
@@ -76,14 +77,14 @@ pub(crate) fn run_main_stage(
         link_notes: stage.link_notes,
     };
     let predictor = Predictor::new(stage.calibration.clone(), None);
-    engine.run_stage("main", &predictor, &mut |p| after_sample(p.done))
+    engine.run_stage(Stage::Main, &predictor, &mut |p| after_sample(p.done))
 }
 
 /// The journaled value of every sample of `main`, by sequence number.
 pub(crate) fn values(path: &Path) -> BTreeMap<u32, Rgb> {
     let journal = Journal::open_read_only(path).unwrap();
     journal
-        .samples("main")
+        .samples(Stage::Main)
         .unwrap()
         .into_iter()
         .map(|(k, s)| (k, s.value))
