@@ -35,9 +35,9 @@ use specula_core::request::{parse_choice, ChoiceError};
 use specula_core::sampling::{Family, InvalidK, SamplingFunction};
 use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, GridSpec, HalfDiff, MerlBrdf, ProbePoint, ProbeSpec, Sample};
+use specula_reconstruct::deblur_probe;
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::{Method, ReconstructError, Reconstruction};
-use specula_sampling::deblur::deblur_probe;
 use specula_sampling::error::SamplingError;
 use specula_sampling::{fit_k, place_theta_h, Probe};
 

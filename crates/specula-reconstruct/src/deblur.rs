@@ -1,14 +1,14 @@
 //! Samples before the instrument's blur: the lobe fitted through the response
 //! ([`Lobe::fit_through`]) times each sample's measured ratio to that lobe as measured, the
 //! same correction the `lobe` method's lattice carries ([`crate::domain`]). The probe is
-//! deblurred this way before k is fitted to it (`specula_sampling::deblur`), so that the
-//! sampling adapts to the material and not to the light's disk.
+//! deblurred this way before k is fitted to it ([`deblur_probe`]), so that the sampling
+//! adapts to the material and not to the light's disk (paper 5.2, beyond it).
 
 use crate::domain::Domain;
 use crate::lobe::Lobe;
 use crate::response_nodes::{FIT_RESPONSE_NODES, RESIDUAL_RESPONSE_NODES};
 use specula_core::capture::CaptureResponse;
-use specula_core::{Rgb, Sample};
+use specula_core::{ProbePoint, ProbeSpec, Rgb, Sample};
 
 /// The samples as the material would give them without the blur, with the lobe fitted
 /// through the response; `None` when no sample lies above the surface.
@@ -31,6 +31,52 @@ pub fn deblur_samples(
         })
         .collect();
     Some((deblurred, lobe))
+}
+
+/// A probe's points before the instrument's blur and the lobe fitted through the response
+/// that took the blur away.
+#[derive(Debug, Clone)]
+pub struct DeblurredProbe {
+    /// The points as the material would give them without the blur; the probe as measured
+    /// where no lobe fits.
+    pub points: Vec<ProbePoint>,
+    /// The lobe fitted through the response; `None` where none fits.
+    pub lobe: Option<Lobe>,
+}
+
+impl DeblurredProbe {
+    /// True when the lobe's peak is narrower (half width at half maximum in theta_h) than
+    /// `resolution_deg`, the instrument's resolution: the blur hides the peak's shape.
+    pub fn peak_unresolved(&self, resolution_deg: f64) -> bool {
+        self.lobe
+            .is_some_and(|lobe| lobe.shape.half_width_deg() < resolution_deg)
+    }
+}
+
+/// A probe's points (its column at `column`'s theta_d, phi_d and phi_h) before the
+/// instrument's blur ([`deblur_samples`]).
+pub fn deblur_probe(
+    probe: &[ProbePoint],
+    column: &ProbeSpec,
+    response: &dyn CaptureResponse,
+) -> DeblurredProbe {
+    let samples: Vec<Sample> = probe
+        .iter()
+        .map(|p| Sample::new(column.half_diff(p.theta_h_deg), p.value))
+        .collect();
+    match deblur_samples(&samples, response) {
+        Some((sharp, lobe)) => DeblurredProbe {
+            points: sharp
+                .iter()
+                .map(|s| ProbePoint::new(s.theta_h_deg(), s.value))
+                .collect(),
+            lobe: Some(lobe),
+        },
+        None => DeblurredProbe {
+            points: probe.to_vec(),
+            lobe: None,
+        },
+    }
 }
 
 #[cfg(test)]

@@ -30,6 +30,7 @@ pub mod response_nodes;
 pub mod safeguard;
 pub mod sample;
 
+pub use deblur::{deblur_probe, DeblurredProbe};
 pub use method::Method;
 pub use reconstruct::{reconstruct, reconstruct_through};
 pub use reconstruction::{ReconstructError, Reconstruction};

@@ -3,7 +3,6 @@
 //! - [`probe`]: the dense theta_h column at theta_d = 40, phi_d = 90 degrees that a
 //!   measurement starts with, and its CSV file; [`adaptive`]: the adaptive samples drawn
 //!   against it (Fig. 13), read from a CSV file;
-//! - [`deblur`]: the probe before the instrument's blur, for fitting k through a response;
 //! - [`fit`]: k-hat of a sampling function (paper eq. 2-4) fitted to a probe;
 //! - [`slice`](mod@slice), [`merl_slice`]: the characteristic slice (phi_d = 90) of a BRDF
 //!   or of a MERL file read in one pass;
@@ -18,7 +17,6 @@ pub mod adaptive;
 pub mod analysis;
 pub mod column;
 pub mod database;
-pub mod deblur;
 pub mod error;
 pub mod fit;
 pub mod merl_slice;

@@ -59,7 +59,7 @@ use specula_core::{Brdf, GridSpec, HalfDiff, ProbePoint, ProbeSpec, Rgb, Sample}
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::Method;
-use specula_sampling::deblur::{deblur_probe, DeblurredProbe};
+use specula_reconstruct::{deblur_probe, DeblurredProbe};
 use specula_sampling::{fit_k, Probe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;

@@ -3,6 +3,7 @@
 use super::connect_args::ConnectArgs;
 use super::grid_args::GridArgs;
 use crate::interrupt::{blame_stop, stop_on_ctrl_c, Interrupted};
+use crate::progress::duration_text;
 use crate::range;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
@@ -213,16 +214,6 @@ impl Bars {
     }
 }
 
-/// `1h 23m`, `4m 05s` or `12s`.
-pub(crate) fn duration_text(seconds: f64) -> String {
-    let s = seconds.max(0.0).round() as u64;
-    match (s / 3600, (s / 60) % 60, s % 60) {
-        (0, 0, s) => format!("{s}s"),
-        (0, m, s) => format!("{m}m {s:02}s"),
-        (h, m, _) => format!("{h}h {m:02}m"),
-    }
-}
-
 impl Observer for Bars {
     fn step(&mut self, message: &str) {
         match &self.bar {
@@ -274,17 +265,5 @@ impl Observer for Bars {
             outcome.resumed,
             if outcome.stopped { ", stopped" } else { "" }
         );
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn durations_read_well() {
-        assert_eq!(duration_text(12.4), "12s");
-        assert_eq!(duration_text(245.0), "4m 05s");
-        assert_eq!(duration_text(5.0 * 3600.0 + 23.0 * 60.0), "5h 23m");
     }
 }

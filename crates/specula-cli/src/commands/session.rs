@@ -1,6 +1,6 @@
 //! `specula session`: what a measurement session's journal holds.
 
-use super::measure::duration_text;
+use crate::progress::duration_text;
 use anyhow::Result;
 use specula_session::journal::{SessionRecord, SessionState, SessionStatus};
 use std::path::PathBuf;
