@@ -24,7 +24,7 @@ pub struct CaptureBracket {
 
 /// The longest time of a capture bracket, seconds (an exposure, a read-out, a change of
 /// light, the overhead): an hour.
-pub const MAX_TIME_S: f64 = 3600.0;
+pub(crate) const MAX_TIME_S: f64 = 3600.0;
 
 impl CaptureBracket {
     /// `levels * (light_change + sum(exposure + readout)) + overhead`, seconds.

@@ -2,7 +2,7 @@
 //! planning and ordering (paper sections 4.1 and 5.3).
 
 pub mod calibration;
-pub mod capture_bracket;
+mod capture_bracket;
 pub mod checks;
 pub mod device;
 pub mod hdr;

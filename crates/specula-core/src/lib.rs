@@ -10,10 +10,10 @@ pub mod capture;
 pub mod geometry;
 pub mod grid;
 pub mod merl;
-pub mod probe;
+mod probe;
 pub mod range;
 pub mod request;
-pub mod sample;
+mod sample;
 
 pub use brdf::{Brdf, PhiDRow, Rgb};
 pub use geometry::{HalfDiff, Spherical};

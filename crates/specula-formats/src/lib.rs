@@ -1,14 +1,14 @@
 //! Reading BRDFs from everything Specula accepts: MERL tables, material presets and TOML
 //! files, and (as they land) the measured formats and published model fits.
 
-pub mod brdf_source;
+mod brdf_source;
 pub mod catalog;
 pub mod convert;
 pub mod directions_csv;
 pub mod fits;
 pub mod input;
 pub mod lafortune;
-pub mod malformed;
+mod malformed;
 pub mod material_fit;
 pub mod nbrdf;
 pub mod near_name;

@@ -5,7 +5,7 @@
 /// Where a target angle falls among the nodes: between `lower` and `lower + 1` at
 /// fraction `t`, or clamped to an end node (`outside`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Bracket {
+pub(crate) struct Bracket {
     /// Index of the node at or below the target.
     pub lower: usize,
     /// Fraction of the way from node `lower` to node `lower + 1`, in `[0, 1]`.
@@ -16,7 +16,7 @@ pub struct Bracket {
 
 /// The nodes of one axis, ascending, degrees.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Axis {
+pub(crate) struct Axis {
     /// The node angles, deg, ascending.
     pub nodes: Vec<f64>,
 }
@@ -25,7 +25,7 @@ impl Axis {
     /// The nodes found in `coords` (degrees): values closer than
     /// `tolerance` are one node (their mean); if more than `max_nodes` remain, the closest
     /// neighbours merge until `max_nodes` are left.
-    pub fn cluster(coords: &[f64], tolerance: f64, max_nodes: usize) -> Self {
+    pub(crate) fn cluster(coords: &[f64], tolerance: f64, max_nodes: usize) -> Self {
         let mut sorted = coords.to_vec();
         sorted.sort_by(f64::total_cmp);
         // Each cluster as (sum, count, last value).
@@ -61,17 +61,12 @@ impl Axis {
     }
 
     /// Number of nodes.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.nodes.len()
     }
 
-    /// Whether the axis has no node.
-    pub fn is_empty(&self) -> bool {
-        self.nodes.is_empty()
-    }
-
     /// The node nearest to a coordinate.
-    pub fn nearest(&self, u: f64) -> usize {
+    pub(crate) fn nearest(&self, u: f64) -> usize {
         let b = self.bracket(u);
         if b.t > 0.5 {
             b.lower + 1
@@ -81,7 +76,7 @@ impl Axis {
     }
 
     /// Where coordinate `u` falls among the nodes.
-    pub fn bracket(&self, u: f64) -> Bracket {
+    pub(crate) fn bracket(&self, u: f64) -> Bracket {
         let n = self.nodes.len();
         let last = n - 1;
         if n == 1 || u <= self.nodes[0] {

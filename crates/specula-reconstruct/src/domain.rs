@@ -14,11 +14,11 @@
 //! no sample's logarithm is undefined.
 
 /// The offset `eps` in 1/sr of the log domains, far below any diffuse reflectance.
-pub const LOG_OFFSET: f64 = 1e-4;
+pub(crate) const LOG_OFFSET: f64 = 1e-4;
 
 /// `ln(max(f, 0) + eps)`: the logarithm of a measured value, which noise may have taken
 /// below zero (see the module documentation).
-pub fn log_of_measured(f: f64) -> f64 {
+pub(crate) fn log_of_measured(f: f64) -> f64 {
     (f.max(0.0) + LOG_OFFSET).ln()
 }
 

@@ -17,7 +17,7 @@ use crate::lattice::{Lattice, NodeStatus};
 
 /// Fills every missing node (see the module documentation) when at least one node is
 /// measured; measured nodes are unchanged.
-pub fn fill_missing(lattice: &mut Lattice) {
+pub(crate) fn fill_missing(lattice: &mut Lattice) {
     let [nh, nd, np] = lattice.shape();
     // Axis order: theta_d (1), theta_h (0), phi_d (2).
     for axis in [1usize, 0, 2] {

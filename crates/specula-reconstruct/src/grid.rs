@@ -50,7 +50,7 @@ fn even_ends(axis: &Axis, first: Option<f64>, last: Option<f64>) -> [bool; 2] {
 
 /// The lattice's values interpolated at every MERL bin centre, one plane per channel in MERL
 /// cell order. Every node must be known (measured or filled).
-pub fn interpolate_to_merl(lattice: &Lattice, kernel: Kernel) -> [Vec<f64>; 3] {
+pub(crate) fn interpolate_to_merl(lattice: &Lattice, kernel: Kernel) -> [Vec<f64>; 3] {
     let targets = Targets::of(lattice);
     let lines = lines(lattice);
     lattice
@@ -146,7 +146,7 @@ fn interpolate_plane(
 
 /// For every MERL cell, whether its value depends on extrapolation: a bin centre beyond the
 /// lattice's end on some axis, or a filled node among the nodes that bracket it.
-pub fn extrapolated_cells(lattice: &Lattice) -> Vec<bool> {
+pub(crate) fn extrapolated_cells(lattice: &Lattice) -> Vec<bool> {
     let indicator: Vec<f64> = lattice
         .status
         .iter()

@@ -21,7 +21,7 @@ pub enum Kernel {
 
 /// An axis' nodes with what the kernel needs to know about its ends.
 #[derive(Debug, Clone)]
-pub struct Line<'a> {
+pub(crate) struct Line<'a> {
     /// The node angles, deg, ascending.
     pub nodes: &'a [f64],
     /// Whether the first and the last node lie on a symmetry point (slope zero there).
@@ -30,7 +30,7 @@ pub struct Line<'a> {
 
 impl Line<'_> {
     /// Node slopes of the monotone cubic through `values` (one per node).
-    pub fn pchip_slopes(&self, values: &[f64], slopes: &mut [f64]) {
+    pub(crate) fn pchip_slopes(&self, values: &[f64], slopes: &mut [f64]) {
         let x = self.nodes;
         let n = x.len();
         match n {
@@ -72,7 +72,7 @@ impl Line<'_> {
     }
 
     /// Interpolates `values` (one per node) at each bracket, into `out`.
-    pub fn interpolate(
+    pub(crate) fn interpolate(
         &self,
         kernel: Kernel,
         values: &[f64],

@@ -12,15 +12,15 @@ use crate::sample::fold_phi_d_rad;
 use specula_core::Sample;
 
 /// Angles closer than this (degrees) are one node.
-pub const NODE_TOLERANCE: f64 = 1e-3;
+pub(crate) const NODE_TOLERANCE: f64 = 1e-3;
 /// The lattice has at most this many nodes per sample; sparser samples are binned.
-pub const MAX_NODES_PER_SAMPLE: usize = 16;
+pub(crate) const MAX_NODES_PER_SAMPLE: usize = 16;
 /// No axis has more nodes than this.
 const MAX_NODES_PER_AXIS: usize = 512;
 
 /// Where a node's value comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum NodeStatus {
+pub(crate) enum NodeStatus {
     /// The mean of the samples at the node.
     Measured,
     /// Extrapolated from measured nodes (see [`crate::extrapolate`]).
@@ -31,7 +31,7 @@ pub enum NodeStatus {
 
 /// The tensor lattice of node values, one plane per channel, index `(h * nd + d) * np + p`.
 #[derive(Debug, Clone)]
-pub struct Lattice {
+pub(crate) struct Lattice {
     /// The theta_h axis, deg.
     pub theta_h: Axis,
     /// The theta_d axis, deg.
@@ -45,7 +45,7 @@ pub struct Lattice {
 }
 
 /// A sample's theta_h, theta_d and folded phi_d in degrees.
-pub fn sample_coordinates(sample: &Sample) -> [f64; 3] {
+pub(crate) fn sample_coordinates(sample: &Sample) -> [f64; 3] {
     [
         sample.hd.theta_h.to_degrees(),
         sample.hd.theta_d.to_degrees(),
@@ -55,7 +55,7 @@ pub fn sample_coordinates(sample: &Sample) -> [f64; 3] {
 
 impl Lattice {
     /// The lattice spanned by the samples, every node missing.
-    pub fn spanned_by(samples: &[Sample]) -> Self {
+    pub(crate) fn spanned_by(samples: &[Sample]) -> Self {
         let coords: Vec<[f64; 3]> = samples.iter().map(sample_coordinates).collect();
         let axis = |a: usize, max_nodes: usize| {
             let values: Vec<f64> = coords.iter().map(|c| c[a]).collect();
@@ -82,7 +82,7 @@ impl Lattice {
 
     /// The lattice spanned by the samples holding, at each node, the mean of the values
     /// `domain_values[i]` of the samples that fall on it.
-    pub fn of_samples(samples: &[Sample], domain_values: &[[f64; 3]]) -> Self {
+    pub(crate) fn of_samples(samples: &[Sample], domain_values: &[[f64; 3]]) -> Self {
         let mut lattice = Self::spanned_by(samples);
         let mut counts = vec![0usize; lattice.status.len()];
         for (sample, value) in samples.iter().zip(domain_values) {
@@ -109,17 +109,17 @@ impl Lattice {
     }
 
     /// Node counts along theta_h, theta_d and phi_d.
-    pub fn shape(&self) -> [usize; 3] {
+    pub(crate) fn shape(&self) -> [usize; 3] {
         [self.theta_h.len(), self.theta_d.len(), self.phi_d.len()]
     }
 
     /// The flat index of node `(h, d, p)`.
-    pub fn index(&self, h: usize, d: usize, p: usize) -> usize {
+    pub(crate) fn index(&self, h: usize, d: usize, p: usize) -> usize {
         (h * self.theta_d.len() + d) * self.phi_d.len() + p
     }
 
     /// How many nodes have each status: (measured, filled, missing).
-    pub fn status_counts(&self) -> (usize, usize, usize) {
+    pub(crate) fn status_counts(&self) -> (usize, usize, usize) {
         let count = |s| self.status.iter().filter(|x| **x == s).count();
         (
             count(NodeStatus::Measured),

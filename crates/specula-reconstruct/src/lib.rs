@@ -3,20 +3,20 @@
 //! is `specula-accuracy`.
 //!
 //! Pipeline ([`reconstruct::reconstruct`]): fold phi_d by reciprocity and the mirror symmetry
-//! ([`sample`]), place the samples on their lattice ([`lattice`]) in the method's value domain
-//! ([`domain`], optionally relative to a fitted microfacet [`lobe`]), extrapolate the nodes
-//! no sample reached ([`extrapolate`]), interpolate at the MERL bin centres ([`grid`] with a
-//! [`kernel`]) and record each cell's [`provenance`].
+//! (`sample`), place the samples on their lattice (`lattice`) in the method's value domain
+//! (`domain`, optionally relative to a fitted microfacet [`lobe`]), extrapolate the nodes
+//! no sample reached (`extrapolate`), interpolate at the MERL bin centres (`grid` with a
+//! `kernel`) and record each cell's [`provenance`].
 
-pub mod axis;
+mod axis;
 pub mod breakdown;
 pub mod consistency;
 pub mod deblur;
-pub mod domain;
-pub mod extrapolate;
-pub mod grid;
-pub mod kernel;
-pub mod lattice;
+mod domain;
+mod extrapolate;
+mod grid;
+mod kernel;
+mod lattice;
 pub mod lobe;
 pub mod merl_prior;
 pub mod method;
@@ -25,12 +25,14 @@ pub mod prior;
 pub mod prior_reconstruct;
 pub mod provenance;
 pub mod reconstruct;
-pub mod reconstruction;
-pub mod response_nodes;
+mod reconstruction;
+mod response_nodes;
 pub mod safeguard;
-pub mod sample;
+mod sample;
 
 pub use deblur::{deblur_probe, DeblurredProbe};
+pub use domain::Domain;
+pub use kernel::Kernel;
 pub use method::Method;
 pub use reconstruct::{reconstruct, reconstruct_through};
 pub use reconstruction::{ReconstructError, Reconstruction};

@@ -5,7 +5,7 @@ use specula_core::capture::{CaptureNode, CaptureResponse};
 
 /// Quadrature nodes of the response for the fit through the instrument: enough for lobes
 /// down to alpha 0.005 under a 1.8-degree disk.
-pub const FIT_RESPONSE_NODES: usize = 256;
+pub(crate) const FIT_RESPONSE_NODES: usize = 256;
 
 /// Quadrature nodes of the response for each sample's ratio to the lobe as measured. The fit
 /// averages the quadrature's error over many samples, the ratio does not: each sample keeps
@@ -14,7 +14,7 @@ pub const FIT_RESPONSE_NODES: usize = 256;
 /// response (exponential theta_h, k 6.02, the paper's grid) to 0.0166 relative RMSE within
 /// 75 deg with the lobe fitted exactly (alpha 0.01111 as with a point light, whose table
 /// scores 0.0009); `specula evaluate --through-instrument` measures it.
-pub const RESIDUAL_RESPONSE_NODES: usize = 4096;
+pub(crate) const RESIDUAL_RESPONSE_NODES: usize = 4096;
 
 /// The capture nodes of an instrument's response for a lobe fitted through it
 /// ([`FIT_RESPONSE_NODES`] for the fit, [`RESIDUAL_RESPONSE_NODES`] for each sample's ratio to

@@ -9,7 +9,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 /// Reciprocity gives `f(phi_d) = f(phi_d + pi)` and isotropy the mirror
 /// `f(phi_d) = f(pi - phi_d)` (paper 5.3, docs/book/src/design.md); together the BRDF is even about both
 /// 0 and pi/2, so `[0, pi/2]` holds every distinct value.
-pub fn fold_phi_d_rad(phi_d_rad: f64) -> f64 {
+pub(crate) fn fold_phi_d_rad(phi_d_rad: f64) -> f64 {
     let half_turn = phi_d_rad.rem_euclid(PI);
     if half_turn > FRAC_PI_2 {
         PI - half_turn
@@ -19,7 +19,7 @@ pub fn fold_phi_d_rad(phi_d_rad: f64) -> f64 {
 }
 
 /// phi_d folded into `[0, pi]` by the mirror symmetry alone (`f(phi_d) = f(-phi_d)`).
-pub fn mirror_fold_phi_d_rad(phi_d_rad: f64) -> f64 {
+pub(crate) fn mirror_fold_phi_d_rad(phi_d_rad: f64) -> f64 {
     let turn = phi_d_rad.rem_euclid(TAU);
     if turn > PI {
         TAU - turn

@@ -7,7 +7,7 @@
 //! - [`slice`](mod@slice), [`merl_slice`]: the characteristic slice (phi_d = 90) of a BRDF
 //!   or of a MERL file read in one pass;
 //! - [`analysis`], [`database`]: the database analysis of section 5.1, in parallel;
-//! - [`placement`], [`placement_study`]: the optimal placement of n samples for a known
+//! - `placement`, [`placement_study`]: the optimal placement of n samples for a known
 //!   column (the oracle), a practical placement from the probe alone, and their comparison
 //!   with the paper's functions.
 //!
@@ -20,10 +20,10 @@ pub mod database;
 pub mod error;
 pub mod fit;
 pub mod merl_slice;
-pub mod placement;
+mod placement;
 pub mod placement_study;
 pub mod probe;
-pub mod probe_model;
+mod probe_model;
 pub mod slice;
 
 pub use column::{Column, Interpolation};

@@ -105,7 +105,7 @@ fn segment_costs(column: &Column, domain: Interpolation) -> Vec<f64> {
 }
 
 /// Nodes of the probe's dense model on which [`place_theta_h`] places: three per probe sample.
-pub const MODEL_NODES: usize = 3 * 89 + 1;
+pub(crate) const MODEL_NODES: usize = 3 * 89 + 1;
 
 /// The practical placement: `n >= 2` theta_h positions in degrees (increasing, the probe's
 /// first and last positions included) chosen from the probe alone: the oracle's dynamic
@@ -117,7 +117,7 @@ pub fn place_theta_h(probe: &Probe, n: usize) -> Vec<f64> {
 }
 
 /// [`place_theta_h`] for a probe held as a column, for a reconstruction in `domain`.
-pub fn place_on_probe_column(probe: &Column, n: usize, domain: Interpolation) -> Vec<f64> {
+pub(crate) fn place_on_probe_column(probe: &Column, n: usize, domain: Interpolation) -> Vec<f64> {
     let model = dense_model(probe, MODEL_NODES.max(probe.len()));
     optimal_placement(&model, n, domain).theta_h_deg
 }

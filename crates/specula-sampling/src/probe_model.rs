@@ -17,7 +17,7 @@ use specula_core::merl;
 
 /// The column modelled on `nodes >= 2` square-root-spaced theta_h nodes over the probe's
 /// range (see the module documentation).
-pub fn dense_model(probe: &Column, nodes: usize) -> Column {
+pub(crate) fn dense_model(probe: &Column, nodes: usize) -> Column {
     let floor = probe.log_floor();
     let t: Vec<f64> = probe
         .theta_h_deg()
@@ -42,7 +42,7 @@ pub fn dense_model(probe: &Column, nodes: usize) -> Column {
 
 /// A cubic spline through `(t_i, z_i)` with `z'(t_0) = 0` and `z''(t_last) = 0`.
 #[derive(Debug, Clone)]
-pub struct LogSpline {
+pub(crate) struct LogSpline {
     t: Vec<f64>,
     z: Vec<f64>,
     /// Second derivatives at the knots.
@@ -51,7 +51,7 @@ pub struct LogSpline {
 
 impl LogSpline {
     /// The spline through at least two knots with increasing `t`.
-    pub fn new(t: Vec<f64>, z: Vec<f64>) -> Self {
+    pub(crate) fn new(t: Vec<f64>, z: Vec<f64>) -> Self {
         let n = t.len();
         assert!(n >= 2 && z.len() == n, "a spline needs two or more knots");
         let h: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
@@ -89,12 +89,12 @@ impl LogSpline {
     }
 
     /// The knots' span.
-    pub fn range(&self) -> (f64, f64) {
+    pub(crate) fn range(&self) -> (f64, f64) {
         (self.t[0], self.t[self.t.len() - 1])
     }
 
     /// The spline's value at `x` (the end cubics continue beyond the knots).
-    pub fn at(&self, x: f64) -> f64 {
+    pub(crate) fn at(&self, x: f64) -> f64 {
         let n = self.t.len();
         let i = self.t.partition_point(|&k| k <= x).clamp(1, n - 1) - 1;
         let (t0, t1) = (self.t[i], self.t[i + 1]);

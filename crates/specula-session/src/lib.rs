@@ -14,7 +14,7 @@
 //!   time.
 
 pub mod calibrate;
-pub mod choices;
+mod choices;
 pub mod engine;
 pub mod estimate;
 pub mod ideal;
