@@ -85,7 +85,7 @@ impl StageState {
             .map_or("time left not yet known".to_string(), |s| {
                 format!(
                     "{} left (device time)",
-                    crate::commands::measure::duration_text(s)
+                    specula_core::shown::duration_text(s)
                 )
             });
         format!(

@@ -1,14 +1,14 @@
 //! `specula analyze`: the database analysis of paper 5.1.
 
-use crate::output::plain;
 use crate::progress;
 use anyhow::{bail, Context, Result};
-use specula_core::sampling::Family;
 use specula_core::GridSpec;
 use specula_report::{database_heatmap, DatabaseRequest};
-use specula_sampling::analysis::{analyze_slice, write_materials_csv, DatabaseSummary};
+use specula_sampling::analysis::{
+    analyze_slice, findings_text, write_materials_csv, DatabaseSummary,
+};
 use specula_sampling::database::map_slices;
-use specula_sampling::slice::{CharacteristicSlice, PROBE_THETA_D_DEG, THETA_H_NODES};
+use specula_sampling::slice::{CharacteristicSlice, THETA_H_NODES};
 use std::path::PathBuf;
 
 /// The materials of a database: the arguments shared by `analyze` and `placement`.
@@ -75,38 +75,12 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let summary = DatabaseSummary::of(&analyses);
     summary.write_csv(&args.out.join("analysis.csv"))?;
     write_materials_csv(&analyses, &args.out.join("materials.csv"))?;
-    let Some(best) = summary.best() else {
+    let Some(findings) = findings_text(&summary, analyses.len()) else {
         bail!("no material had a measured column");
     };
     database_heatmap(&summary, analyses.len(), args.theta_h_samples)
         .write_png(&args.out.join("analysis.png"))?;
-
-    outln!(
-        "best: {} at theta_d = {} deg: mean error {} 1/sr, median {} 1/sr over {} materials",
-        best.family,
-        best.theta_d_deg,
-        plain(best.mean),
-        plain(best.median),
-        analyses.len()
-    );
-    let f = Family::ALL
-        .iter()
-        .position(|f| *f == Family::Exponential)
-        .expect("listed");
-    outln!(
-        "paper's pair: exponential at theta_d = {PROBE_THETA_D_DEG} deg: mean error {} 1/sr, median {} 1/sr",
-        plain(summary.mean[f][PROBE_THETA_D_DEG]),
-        plain(summary.median[f][PROBE_THETA_D_DEG])
-    );
-    for family in Family::ALL {
-        // A family without a measured column prints as column 0 with an infinite error.
-        let (j, mean) = summary.best_column(family).unwrap_or((0, f64::INFINITY));
-        outln!(
-            "  {family:<12} best column theta_d = {j:>2} deg: mean error {} 1/sr",
-            plain(mean)
-        );
-    }
-    outln!("  (base-k is the exponential family with k_base = e^k_exp: their errors agree to rounding)");
+    out!("{findings}");
     outln!(
         "wrote analysis.csv, materials.csv and analysis.png to {}",
         args.out.display()

@@ -96,7 +96,7 @@ impl Simulated {
             tilt_deg: self.tilt_deg,
             tilt_azimuth_deg: self.tilt_azimuth_deg,
             seed: self.seed,
-            device: super::load_device(self.device.as_deref())?,
+            device: specula_acquisition::device::Device::load_or_utia(self.device.as_deref())?,
             check,
         })
     }

@@ -60,7 +60,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     if args.samples_out.is_some() && args.truth.len() != 1 {
         bail!("--samples-out needs exactly one --truth");
     }
-    let device = super::load_device(args.device.as_deref())?;
+    let device = specula_acquisition::device::Device::load_or_utia(args.device.as_deref())?;
     let truths = TruthSets {
         sources: args.truth,
         builtin: args.builtin,

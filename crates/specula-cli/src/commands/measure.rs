@@ -8,6 +8,7 @@ use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
 use specula_core::request::ProbeRequest;
+use specula_core::shown::duration_text;
 use specula_core::ProbeSpec;
 use specula_session::engine::{Progress, StageOutcome};
 use specula_session::protocol::Endpoint;
@@ -115,7 +116,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
             bail!("--device {text}: --device is the device description (TOML); to measure a device through the driver protocol give --connect {text}");
         }
     }
-    let device = super::load_device(args.device.as_deref())?;
+    let device = specula_acquisition::device::Device::load_or_utia(args.device.as_deref())?;
     let source = source(&args)?;
     let session = request.session_path();
     let grid = request.grid()?;
@@ -201,16 +202,6 @@ impl Bars {
     }
 }
 
-/// `1h 23m`, `4m 05s` or `12s`.
-pub(crate) fn duration_text(seconds: f64) -> String {
-    let s = seconds.max(0.0).round() as u64;
-    match (s / 3600, (s / 60) % 60, s % 60) {
-        (0, 0, s) => format!("{s}s"),
-        (0, m, s) => format!("{m}m {s:02}s"),
-        (h, m, _) => format!("{h}h {m:02}m"),
-    }
-}
-
 impl Observer for Bars {
     fn step(&mut self, message: &str) {
         match &self.bar {
@@ -262,17 +253,5 @@ impl Observer for Bars {
             outcome.resumed,
             if outcome.stopped { ", stopped" } else { "" }
         );
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn durations_read_well() {
-        assert_eq!(duration_text(12.4), "12s");
-        assert_eq!(duration_text(245.0), "4m 05s");
-        assert_eq!(duration_text(5.0 * 3600.0 + 23.0 * 60.0), "5h 23m");
     }
 }

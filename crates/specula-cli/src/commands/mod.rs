@@ -28,10 +28,3 @@ pub(crate) mod session;
 pub(crate) mod tabulate;
 pub(crate) mod token_args;
 pub(crate) mod view;
-
-/// The device description `--device` names, or the paper's UTIA gonioreflectometer.
-pub(crate) fn load_device(
-    path: Option<&std::path::Path>,
-) -> anyhow::Result<specula_acquisition::device::Device> {
-    Ok(specula_acquisition::device::Device::load_or_utia(path)?)
-}
