@@ -9,11 +9,10 @@ use crate::{Accuracy, Measurement, PlacementChoice, PlacementError, PlanSettings
 use specula_acquisition::device::Device;
 use specula_core::compare::ErrorFigures;
 use specula_core::materials::builtin_database;
-use specula_core::range::RangeError;
 use specula_core::request::{
-    parse_choice, ChoiceError, GridRequest, RequestError, ELEVATION_DEG, SAMPLING_K,
+    parse_choice, sampling_function, ChoiceError, GridRequest, RequestError, ELEVATION_DEG,
 };
-use specula_core::sampling::{Family, InvalidK, SamplingFunction};
+use specula_core::sampling::Family;
 use specula_core::statistics::Statistic;
 use specula_core::{Brdf, GridSpec, Sample};
 use specula_formats::fits::{load_model, FitModel};
@@ -27,15 +26,9 @@ use std::sync::Arc;
 /// Why an evaluation is refused or fails.
 #[derive(Debug, thiserror::Error)]
 pub enum EvaluateError {
-    /// A value outside its range.
+    /// A value outside its range, k outside its family's domain, or a grid too large.
     #[error(transparent)]
-    Range(#[from] RangeError),
-    /// The grid asked for is refused.
-    #[error(transparent)]
-    Grid(#[from] RequestError),
-    /// k outside its family's domain.
-    #[error(transparent)]
-    InvalidK(#[from] InvalidK),
+    Request(#[from] RequestError),
     /// A truth could not be loaded.
     #[error(transparent)]
     Load(Box<dyn Error + Send + Sync>),
@@ -154,7 +147,7 @@ impl TruthSets {
 pub struct EvaluateRequest {
     /// The reconstruction method.
     pub method: Method,
-    /// k of the sampling function, in [`SAMPLING_K`] and its family's domain; `None`:
+    /// k of the sampling function ([`sampling_function`]); `None`:
     /// k-hat of each truth's probe.
     pub k: Option<f64>,
     /// theta_h placement.
@@ -186,9 +179,11 @@ impl EvaluateRequest {
     /// Checks every value against its range (the grid's with [`GridRequest::validate`]).
     pub fn validate(&self) -> Result<(), EvaluateError> {
         self.grid.validate()?;
-        ELEVATION_DEG.check("max_elevation_deg", self.max_elevation_deg)?;
+        ELEVATION_DEG
+            .check("max_elevation_deg", self.max_elevation_deg)
+            .map_err(RequestError::from)?;
         if let Some(k) = self.k {
-            SamplingFunction::new(self.family, SAMPLING_K.check("k", k)?)?;
+            sampling_function(self.family, k)?;
         }
         Ok(())
     }
@@ -197,7 +192,8 @@ impl EvaluateRequest {
     pub fn plan_settings(&self) -> Result<PlanSettings, EvaluateError> {
         self.validate()?;
         Ok(PlanSettings {
-            placement: self.placement.placement(self.family, self.k)?,
+            placement: (self.placement.placement(self.family, self.k))
+                .map_err(RequestError::from)?,
             grid: self.grid.grid(None)?,
         })
     }

@@ -7,6 +7,7 @@
 
 use crate::grid::{GridOverrides, GridSpec, ThetaDSteps};
 use crate::range::{CountRange, RangeError, RealRange};
+use crate::sampling::{Family, InvalidK, SamplingFunction};
 use crate::ProbeSpec;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -85,6 +86,12 @@ pub fn check_theta_d_steps(option: &str, steps: ThetaDSteps) -> Result<ThetaDSte
     }
 }
 
+/// The `family` sampling function with `k`, when k lies in [`SAMPLING_K`] (named `k`) and in
+/// the family's own domain (base-k needs k above 1).
+pub fn sampling_function(family: Family, k: f64) -> Result<SamplingFunction, RequestError> {
+    Ok(SamplingFunction::new(family, SAMPLING_K.check("k", k)?)?)
+}
+
 /// Refuses an output path whose extension is not `.binary`, for the commands that write a
 /// MERL table (`specula convert` writes the other formats).
 pub fn check_merl_out(path: &Path) -> Result<(), RequestError> {
@@ -134,6 +141,9 @@ pub enum RequestError {
     /// A value outside its range.
     #[error(transparent)]
     Range(#[from] RangeError),
+    /// k outside its sampling function's domain.
+    #[error(transparent)]
+    InvalidK(#[from] InvalidK),
     /// A file a MERL table is written to whose extension is not `.binary`.
     #[error("{}: this command writes a MERL table, so --out must end in .binary (`specula convert` turns it into .bin or .csv)", .0.display())]
     NotMerlOut(PathBuf),

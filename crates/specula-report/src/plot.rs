@@ -3,7 +3,9 @@
 //! adaptive samples (Fig. 13) and the database analysis of section 5.1 as a heatmap.
 
 use crate::error::{OrReport, ReportError};
-use specula_core::request::{AZIMUTH_DEG, PHI_D_DEG, SAMPLING_K, THETA_H_DEG, THETA_H_SAMPLES};
+use specula_core::request::{
+    sampling_function, AZIMUTH_DEG, PHI_D_DEG, THETA_H_DEG, THETA_H_SAMPLES,
+};
 use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::statistics::Statistic;
 use specula_sampling::adaptive::AdaptiveSamples;
@@ -66,7 +68,7 @@ pub enum Adaptive {
     File(PathBuf),
     /// These theta_h positions, degrees, each in [`THETA_H_DEG`].
     Positions(Vec<f64>),
-    /// Placed by the sampling function with this k, in [`SAMPLING_K`].
+    /// Placed by the sampling function with this k ([`sampling_function`]).
     K(f64),
     /// Placed by the sampling function with k fitted to the probe.
     Fitted,
@@ -122,7 +124,7 @@ impl PlotRequest {
                         }
                     }
                     Adaptive::K(k) => {
-                        SamplingFunction::new(*family, SAMPLING_K.check("k", *k)?).or_report()?;
+                        sampling_function(*family, *k).or_report()?;
                     }
                     Adaptive::File(_) | Adaptive::Fitted => {}
                 }

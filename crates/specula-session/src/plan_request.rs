@@ -10,24 +10,17 @@ use specula_acquisition::device::Device;
 use specula_acquisition::ordering::order;
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::materials::preset;
-use specula_core::range::RangeError;
-use specula_core::request::{GridRequest, RequestError, SAMPLING_K, THETA_H_DEG};
-use specula_core::sampling::{Family, InvalidK, SamplingFunction};
+use specula_core::request::{sampling_function, GridRequest, RequestError, THETA_H_DEG};
+use specula_core::sampling::Family;
 use specula_core::{Brdf, GridSpec};
 use std::sync::Arc;
 
 /// Why a plan is refused or fails.
 #[derive(Debug, thiserror::Error)]
 pub enum PlanError {
-    /// A value outside its range.
+    /// A value outside its range, k outside its family's domain, or a grid too large.
     #[error(transparent)]
-    Range(#[from] RangeError),
-    /// The grid asked for is refused.
-    #[error(transparent)]
-    Grid(#[from] RequestError),
-    /// k outside its family's domain.
-    #[error(transparent)]
-    InvalidK(#[from] InvalidK),
+    Request(#[from] RequestError),
     /// Options that do not go together, or a value missing, in words.
     #[error("{0}")]
     Refused(&'static str),
@@ -39,8 +32,8 @@ pub enum PlanError {
 /// Where the theta_h positions come from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ThetaH {
-    /// The sampling function of the request's family with this k, in [`SAMPLING_K`], at the
-    /// grid's count of positions.
+    /// The sampling function of the request's family with this k ([`sampling_function`]),
+    /// at the grid's count of positions.
     K(f64),
     /// These positions, degrees, each in [`THETA_H_DEG`].
     Positions(Vec<f64>),
@@ -84,14 +77,16 @@ impl PlanRequest {
         self.grid.validate()?;
         match &self.theta_h {
             ThetaH::K(k) => {
-                SamplingFunction::new(self.family, SAMPLING_K.check("k", *k)?)?;
+                sampling_function(self.family, *k)?;
             }
             ThetaH::Positions(positions) if positions.is_empty() => {
                 return Err(PlanError::Refused("theta_h_deg needs at least one value"));
             }
             ThetaH::Positions(positions) => {
                 for &position in positions {
-                    THETA_H_DEG.check("theta_h_deg", position)?;
+                    THETA_H_DEG
+                        .check("theta_h_deg", position)
+                        .map_err(RequestError::from)?;
                 }
             }
         }
@@ -124,9 +119,7 @@ pub fn run_plan(request: &PlanRequest, device: &Device) -> Result<PlannedMeasure
     request.validate()?;
     let grid = request.grid.grid(None)?;
     let theta_h_deg = match &request.theta_h {
-        ThetaH::K(k) => {
-            SamplingFunction::new(request.family, *k)?.positions_deg(grid.theta_h_samples)
-        }
+        ThetaH::K(k) => sampling_function(request.family, *k)?.positions_deg(grid.theta_h_samples),
         ThetaH::Positions(positions) => positions.clone(),
     };
     let (theta_d, phi_d) = (grid.theta_d_deg(), grid.phi_d_deg());
