@@ -24,7 +24,13 @@
 //! Over several materials, [`summary`] combines the figures by their median or mean, per
 //! set of truths, the real measured ones first.
 
+mod evaluation;
 pub mod summary;
+
+pub use evaluation::{
+    evaluate_truth, EvaluateError, EvaluateRequest, Evaluated, EvaluationTable, MerlFits, SetTruth,
+    TruthSets,
+};
 
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::Plan;

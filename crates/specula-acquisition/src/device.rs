@@ -201,6 +201,12 @@ impl Device {
             .expect("the embedded device file is valid (tested)")
     }
 
+    /// The device description at `path` (a front end's `--device` / `device=`), or the
+    /// paper's UTIA gonioreflectometer ([`Device::utia`]) when none is given.
+    pub fn load_or_utia(path: Option<&Path>) -> Result<Device, DeviceError> {
+        path.map_or_else(|| Ok(Device::utia()), Device::load)
+    }
+
     /// Reads a device TOML file.
     pub fn load(path: &Path) -> Result<Device, DeviceError> {
         let name = path.display().to_string();

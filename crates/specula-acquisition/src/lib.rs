@@ -14,3 +14,5 @@ pub mod plan;
 pub mod response;
 pub mod simulator;
 pub mod timing;
+
+pub use checks::{run_check, Check, CheckOutcome, CheckRequest, CheckRunError, Found};

@@ -5,6 +5,8 @@ use crate::aperture::{ExtrapolatedCells, Flux};
 use crate::colour::{self, LabD65, ASPECULAR_DEG};
 use crate::gloss::GEOMETRIES;
 use crate::haze::{self, DOI_OFFSET_DEG, HAZE_20_OFFSET_DEG, HAZE_OFFSET_DEG};
+use specula_core::range::RangeError;
+use specula_core::request::RESOLUTION_DEG;
 use specula_core::Brdf;
 use std::fmt;
 
@@ -17,6 +19,19 @@ pub struct Options {
     /// angular radius of its light source): a figure that reads the BRDF at a finer angle
     /// than this is a bound, not a measurement.
     pub resolution_deg: Option<f64>,
+}
+
+impl Options {
+    /// Checks the resolution against its range ([`RESOLUTION_DEG`], as the CLI's
+    /// `--resolution`; the error names the Python argument `resolution_deg`).
+    pub fn validate(&self) -> Result<(), RangeError> {
+        match self.resolution_deg {
+            Some(resolution_deg) => RESOLUTION_DEG
+                .check("resolution_deg", resolution_deg)
+                .map(|_| ()),
+            None => Ok(()),
+        }
+    }
 }
 
 /// Which figure a warning is about.

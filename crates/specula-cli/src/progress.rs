@@ -83,7 +83,10 @@ impl StageState {
         let eta = self
             .eta_s
             .map_or("time left not yet known".to_string(), |s| {
-                format!("{} left (device time)", duration_text(s))
+                format!(
+                    "{} left (device time)",
+                    specula_core::shown::duration_text(s)
+                )
             });
         format!(
             "progress: {} {}/{} samples, {eta}",
@@ -155,27 +158,5 @@ impl Drop for LogLines {
         if let Some(thread) = self.thread.take() {
             let _ = thread.join();
         }
-    }
-}
-
-/// `1h 23m`, `4m 05s` or `12s`.
-pub(crate) fn duration_text(seconds: f64) -> String {
-    let s = seconds.max(0.0).round() as u64;
-    match (s / 3600, (s / 60) % 60, s % 60) {
-        (0, 0, s) => format!("{s}s"),
-        (0, m, s) => format!("{m}m {s:02}s"),
-        (h, m, _) => format!("{h}h {m:02}m"),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn durations_read_well() {
-        assert_eq!(duration_text(12.4), "12s");
-        assert_eq!(duration_text(245.0), "4m 05s");
-        assert_eq!(duration_text(5.0 * 3600.0 + 23.0 * 60.0), "5h 23m");
     }
 }

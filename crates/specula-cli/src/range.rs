@@ -16,28 +16,9 @@ use specula_formats::rgl::write as rgl;
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Real(RealRange);
 
-impl Real {
-    /// Values from `min` to `max`, both included, in `unit`.
-    pub(crate) const fn from_to(min: f64, max: f64, unit: &'static str) -> Self {
-        Self(RealRange::from_to(min, max, unit))
-    }
-
-    /// Values above `min` (excluded) up to `max` (included), in `unit`.
-    pub(crate) const fn above(min: f64, max: f64, unit: &'static str) -> Self {
-        Self(RealRange::above(min, max, unit))
-    }
-}
-
 /// A whole number in a [`CountRange`], as an option's parser.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Count(CountRange);
-
-impl Count {
-    /// Counts from `min` to `max`, both included.
-    pub(crate) const fn from_to(min: usize, max: usize) -> Self {
-        Self(CountRange::from_to(min, max))
-    }
-}
 
 /// The option's flag (`--theta-h-samples`) as the library's errors name it.
 fn flag(arg: Option<&clap::Arg>) -> String {
@@ -121,64 +102,39 @@ impl TypedValueParser for ThetaDStepsArg {
     }
 }
 
-/// Angles in degrees: a turntable or half-vector azimuth, either way round.
+// The library's ranges ([`specula_core::request`], [`specula_visual::render`]), as parsers.
 pub(crate) const AZIMUTH_DEG: Real = Real(request::AZIMUTH_DEG);
-/// phi_d of MERL's half-difference angles (folded by reciprocity to [0, 180]).
-pub(crate) const PHI_D_DEG: Real = Real::from_to(0.0, 180.0, "degrees");
-/// theta_d, from the half vector: below the horizon at 90.
-pub(crate) const THETA_D_DEG: Real = Real::from_to(0.0, 89.5, "degrees");
-/// A theta_h position.
-pub(crate) const THETA_H_DEG: Real = Real::from_to(0.0, 90.0, "degrees");
-/// A step of a grid in degrees (theta_d, phi_d).
+pub(crate) const PHI_D_DEG: Real = Real(request::PHI_D_DEG);
+pub(crate) const THETA_D_DEG: Real = Real(request::THETA_D_DEG);
+pub(crate) const THETA_H_DEG: Real = Real(request::THETA_H_DEG);
 pub(crate) const GRID_STEP_DEG: Real = Real(request::GRID_STEP_DEG);
-/// An elevation from the normal that bounds the device's reach.
-pub(crate) const ELEVATION_DEG: Real = Real::above(0.0, 90.0, "degrees");
-/// The sample's tilt on the turntable (a misalignment to simulate).
+pub(crate) const ELEVATION_DEG: Real = Real(request::ELEVATION_DEG);
 pub(crate) const TILT_DEG: Real = Real(request::TILT_DEG);
-/// k of a theta_h sampling function (the family's own bound is checked as well: base-k
-/// needs k above 1).
-pub(crate) const SAMPLING_K: Real = Real::above(0.0, 100.0, "a number");
-/// A scan step of phi_h.
-pub(crate) const PHI_H_STEP_DEG: Real = Real::above(0.0, 45.0, "degrees");
-/// An elevation of the light above the sample for the alignment check.
-pub(crate) const LIGHT_ELEVATION_DEG: Real = Real::from_to(5.0, 75.0, "degrees");
-/// A reflectance (a white reference).
-pub(crate) const REFLECTANCE: Real = Real::above(0.0, 1.0, "a fraction");
-/// Radiance factor of the simulated lens flare, 1/sr.
-pub(crate) const FLARE_STRENGTH_SR: Real = Real::from_to(0.0, 10.0, "1/sr");
-/// Seconds to wait (timeouts): up to a day.
-pub(crate) const TIMEOUT_S: Real = Real::above(0.0, 86_400.0, "seconds");
-/// How much faster than real time a rehearsal runs.
-pub(crate) const SPEEDUP: Real = Real::above(0.0, 1e6, "a factor");
-/// An instrument's angular resolution, e.g. the angular radius of its light source.
-pub(crate) const RESOLUTION_DEG: Real = Real::above(0.0, 90.0, "degrees");
-/// Exposure of a tone-mapped picture.
-pub(crate) const EXPOSURE_STOPS: Real = Real::from_to(-20.0, 20.0, "stops");
-
-/// theta_h samples of a measurement's sampling function (the paper: 30; MERL has 90 bins).
+pub(crate) const SAMPLING_K: Real = Real(request::SAMPLING_K);
+pub(crate) const PHI_H_STEP_DEG: Real = Real(request::PHI_H_STEP_DEG);
+pub(crate) const LIGHT_ELEVATION_DEG: Real = Real(request::LIGHT_ELEVATION_DEG);
+pub(crate) const REFLECTANCE: Real = Real(request::REFLECTANCE);
+pub(crate) const FLARE_STRENGTH_SR: Real = Real(request::FLARE_STRENGTH_SR);
+pub(crate) const TIMEOUT_S: Real = Real(request::TIMEOUT_S);
+pub(crate) const SPEEDUP: Real = Real(request::SPEEDUP);
+pub(crate) const RESOLUTION_DEG: Real = Real(request::RESOLUTION_DEG);
+pub(crate) const EXPOSURE_STOPS: Real = Real(request::EXPOSURE_STOPS);
 pub(crate) const THETA_H_SAMPLES: Count = Count(request::THETA_H_SAMPLES);
-/// Samples of a probe (the paper: 90).
 pub(crate) const PROBE_SAMPLES: Count = Count(request::PROBE_SAMPLES);
-/// Failures in a row on one request before giving up.
-pub(crate) const FAILURES: Count = Count::from_to(1, 100);
-/// Turntable rotations of the alignment check.
-pub(crate) const ROTATIONS: Count = Count::from_to(3, 72);
-/// Width and height of a picture, pixels.
-pub(crate) const IMAGE_PX: Count = Count::from_to(8, specula_report::MAX_IMAGE_PX);
-/// Camera rays per pixel.
-pub(crate) const SAMPLES_PER_PIXEL: Count =
-    Count::from_to(1, specula_visual::render::MAX_SAMPLES_PER_PIXEL);
-/// Incident elevations of a written RGL file.
-pub(crate) const RGL_ELEVATIONS: Count =
-    Count::from_to(*rgl::ELEVATIONS_RANGE.start(), *rgl::ELEVATIONS_RANGE.end());
-/// Nodes per axis of a written RGL file's microfacet distribution.
-pub(crate) const RGL_NDF_SIZE: Count =
-    Count::from_to(*rgl::NDF_SIZE_RANGE.start(), *rgl::NDF_SIZE_RANGE.end());
-/// Samples per axis of a written RGL file's RGB grid.
-pub(crate) const RGL_SAMPLE_SIZE: Count = Count::from_to(
-    *rgl::SAMPLE_SIZE_RANGE.start(),
-    *rgl::SAMPLE_SIZE_RANGE.end(),
-);
+pub(crate) const FAILURES: Count = Count(request::FAILURES);
+pub(crate) const ROTATIONS: Count = Count(request::ROTATIONS);
+pub(crate) const IMAGE_PX: Count = Count(specula_visual::render::IMAGE_PX);
+pub(crate) const SAMPLES_PER_PIXEL: Count = Count(specula_visual::render::SAMPLES_PER_PIXEL);
+/// Incident elevations, nodes per axis of the microfacet distribution and samples per axis
+/// of the RGB grid of a written RGL file.
+pub(crate) const RGL_ELEVATIONS: Count = Count(rgl_range(rgl::ELEVATIONS_RANGE));
+pub(crate) const RGL_NDF_SIZE: Count = Count(rgl_range(rgl::NDF_SIZE_RANGE));
+pub(crate) const RGL_SAMPLE_SIZE: Count = Count(rgl_range(rgl::SAMPLE_SIZE_RANGE));
+
+/// An RGL writer's range of counts as a [`CountRange`].
+const fn rgl_range(range: std::ops::RangeInclusive<usize>) -> CountRange {
+    CountRange::from_to(*range.start(), *range.end())
+}
 
 #[cfg(test)]
 mod tests {

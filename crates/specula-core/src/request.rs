@@ -7,7 +7,10 @@
 
 use crate::grid::{GridOverrides, GridSpec, ThetaDSteps};
 use crate::range::{CountRange, RangeError, RealRange};
+use crate::sampling::{Family, InvalidK, SamplingFunction};
+use crate::ProbeSpec;
 use std::fmt;
+use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 /// theta_h positions of a measurement's sampling function (the paper: 30; MERL has 90 bins).
@@ -20,6 +23,37 @@ pub const GRID_STEP_DEG: RealRange = RealRange::from_to(0.5, 90.0, "degrees");
 pub const AZIMUTH_DEG: RealRange = RealRange::from_to(-360.0, 360.0, "degrees");
 /// The sample's tilt on the turntable (a misalignment to simulate).
 pub const TILT_DEG: RealRange = RealRange::from_to(0.0, 10.0, "degrees");
+/// phi_d of MERL's half-difference angles (folded by reciprocity to [0, 180]).
+pub const PHI_D_DEG: RealRange = RealRange::from_to(0.0, 180.0, "degrees");
+/// theta_d, from the half vector: below the horizon at 90.
+pub const THETA_D_DEG: RealRange = RealRange::from_to(0.0, 89.5, "degrees");
+/// A theta_h position.
+pub const THETA_H_DEG: RealRange = RealRange::from_to(0.0, 90.0, "degrees");
+/// An elevation from the normal that bounds the device's reach (the "within" figures).
+pub const ELEVATION_DEG: RealRange = RealRange::above(0.0, 90.0, "degrees");
+/// k of a theta_h sampling function (the family's own bound is checked as well: base-k
+/// needs k above 1).
+pub const SAMPLING_K: RealRange = RealRange::above(0.0, 100.0, "a number");
+/// A scan step of phi_h.
+pub const PHI_H_STEP_DEG: RealRange = RealRange::above(0.0, 45.0, "degrees");
+/// An elevation of the light above the sample for the alignment check.
+pub const LIGHT_ELEVATION_DEG: RealRange = RealRange::from_to(5.0, 75.0, "degrees");
+/// A reflectance (a white reference).
+pub const REFLECTANCE: RealRange = RealRange::above(0.0, 1.0, "a fraction");
+/// Radiance factor of the simulated lens flare, 1/sr.
+pub const FLARE_STRENGTH_SR: RealRange = RealRange::from_to(0.0, 10.0, "1/sr");
+/// Seconds to wait (timeouts): up to a day.
+pub const TIMEOUT_S: RealRange = RealRange::above(0.0, 86_400.0, "seconds");
+/// How much faster than real time a rehearsal runs.
+pub const SPEEDUP: RealRange = RealRange::above(0.0, 1e6, "a factor");
+/// An instrument's angular resolution, e.g. the angular radius of its light source.
+pub const RESOLUTION_DEG: RealRange = RealRange::above(0.0, 90.0, "degrees");
+/// Exposure of a tone-mapped picture.
+pub const EXPOSURE_STOPS: RealRange = RealRange::from_to(-20.0, 20.0, "stops");
+/// Failures in a row on one request before giving up.
+pub const FAILURES: CountRange = CountRange::from_to(1, 100);
+/// Turntable rotations of the alignment check.
+pub const ROTATIONS: CountRange = CountRange::from_to(3, 72);
 /// The largest grid a plan may hold (the paper's: 6300 samples).
 pub const MAX_GRID_SAMPLES: usize = 1_000_000;
 
@@ -49,6 +83,25 @@ pub fn check_theta_d_steps(option: &str, steps: ThetaDSteps) -> Result<ThetaDSte
             value: steps.to_string(),
             expected: theta_d_steps_words(),
         })
+    }
+}
+
+/// The `family` sampling function with `k`, when k lies in [`SAMPLING_K`] (named `k`) and in
+/// the family's own domain (base-k needs k above 1).
+pub fn sampling_function(family: Family, k: f64) -> Result<SamplingFunction, RequestError> {
+    Ok(SamplingFunction::new(family, SAMPLING_K.check("k", k)?)?)
+}
+
+/// Refuses an output path whose extension is not `.binary`, for the commands that write a
+/// MERL table (`specula convert` writes the other formats).
+pub fn check_merl_out(path: &Path) -> Result<(), RequestError> {
+    let is_merl = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("binary"));
+    if is_merl {
+        Ok(())
+    } else {
+        Err(RequestError::NotMerlOut(path.to_path_buf()))
     }
 }
 
@@ -88,6 +141,12 @@ pub enum RequestError {
     /// A value outside its range.
     #[error(transparent)]
     Range(#[from] RangeError),
+    /// k outside its sampling function's domain.
+    #[error(transparent)]
+    InvalidK(#[from] InvalidK),
+    /// A file a MERL table is written to whose extension is not `.binary`.
+    #[error("{}: this command writes a MERL table, so --out must end in .binary (`specula convert` turns it into .bin or .csv)", .0.display())]
+    NotMerlOut(PathBuf),
     /// The grid is too large to plan.
     #[error(
         "theta_h_samples {theta_h_samples} x theta_d_step_deg {theta_d} x phi_d_step_deg {phi_d_step_deg} over the {span}: a grid of {samples} samples ({theta_h_samples} x {theta_d_count} x {phi_d_count}); at most {MAX_GRID_SAMPLES}: take fewer theta_h samples or larger steps"
@@ -235,6 +294,19 @@ impl ProbeRequest {
     }
 }
 
+impl ProbeSpec {
+    /// Checks every value against its range, named as the Python arguments of `probe`:
+    /// theta_d [`THETA_D_DEG`], phi_d [`PHI_D_DEG`], phi_h [`AZIMUTH_DEG`], the samples
+    /// [`PROBE_SAMPLES`].
+    pub fn validate(&self) -> Result<(), RequestError> {
+        THETA_D_DEG.check("theta_d_deg", self.theta_d_deg)?;
+        PHI_D_DEG.check("phi_d_deg", self.phi_d_deg)?;
+        AZIMUTH_DEG.check("phi_h_deg", self.phi_h_deg)?;
+        PROBE_SAMPLES.check("samples", self.samples)?;
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -297,6 +369,55 @@ mod tests {
     }
 
     #[test]
+    fn each_override_replaces_the_value_it_names() {
+        let grid = |preset: Option<&str>, overrides: GridOverrides| {
+            let preset = preset.map(|p| p.parse().unwrap());
+            GridRequest { preset, overrides }.grid(None).unwrap()
+        };
+        let none = GridOverrides::default();
+        let graded = grid(
+            Some("paper"),
+            GridOverrides {
+                theta_d: Some("3:1@60".parse().unwrap()),
+                ..none
+            },
+        );
+        assert_eq!(graded.theta_d, GridSpec::recommended().theta_d);
+        assert_eq!(graded.phi_d_span, PhiDSpan::Quarter);
+        assert_eq!(graded.theta_h_samples, 30);
+        // An even step given replaces the preset's graded one entirely.
+        let even = grid(
+            None,
+            GridOverrides {
+                theta_d: Some(ThetaDSteps::even(2.0)),
+                phi_d_span: Some(PhiDSpan::Quarter),
+                ..none
+            },
+        );
+        assert_eq!(even.theta_d, ThetaDSteps::even(2.0));
+        assert_eq!(even.phi_d_deg().last(), Some(&90.0));
+        assert_eq!(even.theta_h_samples, 16);
+        assert_eq!(even.unresolved_peak, None);
+        // phi_d and phi_h keep the rule for an unresolved peak; theta_h's count and
+        // theta_d's steps replace what it would change, so they drop it.
+        let turned = grid(
+            None,
+            GridOverrides {
+                phi_d_step_deg: Some(45.0),
+                phi_h_deg: Some(30.0),
+                ..none
+            },
+        );
+        let rule = GridSpec::recommended().unresolved_peak;
+        assert_eq!(turned.unresolved_peak, rule);
+        let fewer = GridOverrides {
+            theta_h_samples: Some(20),
+            ..none
+        };
+        assert_eq!(grid(None, fewer).unresolved_peak, None);
+    }
+
+    #[test]
     fn the_preset_or_the_resumed_grid_is_the_base() {
         let paper = GridRequest {
             preset: Some("paper".parse().unwrap()),
@@ -321,6 +442,15 @@ mod tests {
 
     #[test]
     fn probe_and_tilt_ranges_are_checked() {
+        let steep = ProbeSpec {
+            theta_d_deg: 95.0,
+            ..ProbeSpec::paper()
+        };
+        assert_eq!(
+            steep.validate().unwrap_err().to_string(),
+            "theta_d_deg 95: expected degrees from 0 to 89.5"
+        );
+        assert_eq!(ProbeSpec::paper().validate(), Ok(()));
         let ok = ProbeRequest {
             samples: 90,
             tilt_deg: 0.0,

@@ -2,7 +2,7 @@
 //! `specula appearance` (specula-appearance computes them; this converts).
 
 use crate::brdf::brdf_arg;
-use crate::errors::{invalid, OrRaise};
+use crate::errors::OrRaise;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use specula_appearance::figures::{column_values, csv_header};
@@ -35,13 +35,12 @@ pub(crate) fn appearance<'py>(
     against: Option<&Bound<'py, PyAny>>,
     resolution_deg: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    if let Some(resolution_deg) = resolution_deg {
-        if !(resolution_deg > 0.0 && resolution_deg <= 90.0) {
-            return Err(invalid(format!(
-                "resolution_deg must be above 0 and at most 90 degrees, got {resolution_deg}"
-            )));
-        }
+    Options {
+        extrapolated: None,
+        resolution_deg,
     }
+    .validate()
+    .or_raise()?;
     let reference = against
         .map(|against| figures_of(py, against, resolution_deg))
         .transpose()?;

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
 use specula_core::compare::ErrorFigures;
+use specula_core::request::ELEVATION_DEG;
 use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, HalfDiff, MerlBrdf};
 use std::path::PathBuf;
@@ -316,15 +317,12 @@ pub(crate) fn figures_dict<'py>(py: Python<'py>, e: &ErrorFigures) -> PyResult<B
     Ok(dict)
 }
 
-/// Check an elevation limit in degrees, (0, 90].
-pub(crate) fn check_elevation(max_elevation_deg: f64) -> PyResult<()> {
-    if max_elevation_deg > 0.0 && max_elevation_deg <= 90.0 {
-        Ok(())
-    } else {
-        Err(invalid(format!(
-            "max_elevation_deg must be in (0, 90] degrees, got {max_elevation_deg}"
-        )))
-    }
+/// Check an elevation limit of the "within" figures ([`ELEVATION_DEG`], as the CLI's
+/// `--max-elevation`).
+pub(crate) fn check_elevation(max_elevation_deg: f64) -> PyResult<f64> {
+    ELEVATION_DEG
+        .check("max_elevation_deg", max_elevation_deg)
+        .or_raise()
 }
 
 /// Error figures of BRDF `a` against the reference `b`, the same as `specula compare A B`:

@@ -7,16 +7,10 @@ use crate::interrupt::{self, Stop};
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray3};
 use pyo3::prelude::*;
-use specula_core::range::CountRange;
-use specula_report::{write_report, NoProgress, ReportOptions, MAX_IMAGE_PX};
-use specula_visual::render::{DEFAULT_SAMPLES_PER_PIXEL, MAX_SAMPLES_PER_PIXEL};
-use specula_visual::{Lighting, RenderSettings, Scene, ShapeKind};
+use specula_report::{write_report, NoProgress, ReportOptions};
+use specula_visual::render::DEFAULT_SAMPLES_PER_PIXEL;
+use specula_visual::{render_pictures, RenderRequest};
 use std::path::PathBuf;
-
-/// Width and height of a picture, pixels (the CLI's `--size`).
-const IMAGE_PX: CountRange = CountRange::from_to(8, MAX_IMAGE_PX);
-/// Camera rays per pixel (the CLI's `--spp`).
-const SAMPLES_PER_PIXEL: CountRange = CountRange::from_to(1, MAX_SAMPLES_PER_PIXEL);
 
 /// Render a material on a `shape` (`"sphere"` or `"speedshape"`) as `specula render` does:
 /// under the environment `env` (`"studio"` by default, `"constant"`, `"constant:RADIANCE"`
@@ -43,27 +37,24 @@ pub(crate) fn render<'py>(
     exposure: f64,
     seed: u64,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
-    let shape: ShapeKind = shape.parse().map_err(invalid)?;
-    let point_light = match light {
-        None => false,
-        Some("point") => true,
-        Some(other) => return Err(invalid(format!("light '{other}': expected one of point"))),
-    };
-    let scene = Scene::new(shape, Lighting::chosen(point_light, env).or_raise()?);
-    let settings = RenderSettings {
+    let request = RenderRequest {
+        shape: shape.parse().map_err(invalid)?,
+        env: env.map(str::to_string),
+        light: light.map(str::parse).transpose().or_raise()?,
+        spp,
+        size_px: size,
+        exposure_stops: exposure,
+        side_by_side: false,
         seed,
-        ..RenderSettings::square(
-            IMAGE_PX.check("size", size).or_raise()?,
-            SAMPLES_PER_PIXEL.check("spp", spp).or_raise()?,
-        )
+        out,
     };
+    request.validate(1).or_raise()?;
     let brdf = brdf_arg(brdf)?;
-    let image = interrupt::run(py, Stop::Abandon, move |_| {
-        specula_visual::render(brdf.as_ref(), &scene, &settings, &|_| {})
-    })?;
-    if let Some(path) = out {
-        image.save(&path, exposure).or_raise()?;
-    }
+    let mut rendered = interrupt::run(py, Stop::Abandon, move |_| {
+        render_pictures(&request, &[(brdf.name(), brdf)], &|_| {})
+    })?
+    .or_raise()?;
+    let image = rendered.images.remove(0);
     let pixels = Array3::from_shape_fn((image.height, image.width, 3), |(y, x, c)| {
         image.pixels[y * image.width + x][c]
     });

@@ -2,33 +2,22 @@
 
 use crate::errors::{invalid, OrRaise};
 use crate::interrupt::{self, Stop};
-use crate::sampling::family;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use specula_accuracy::GridPlan;
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, PlanSummary};
-use specula_core::grid::{GridOverrides, GridSpec, PhiDSpan, ThetaDSteps};
+use specula_core::grid::{GridOverrides, PhiDSpan, ThetaDSteps};
 use specula_core::request::{GridPreset, GridRequest};
-use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::Spherical;
-use specula_session::estimate::{price_before_probe, ASSUMED_MATERIAL};
 use specula_session::workflow::{HdrChoice, PlanOrder};
-use specula_session::workflow_error::WorkflowError;
+use specula_session::{run_plan, PlanError, PlanRequest, ThetaH};
 use std::path::PathBuf;
 
 /// The options of a measurement grid shared by `plan`, `evaluate` and `measure` (the CLI's
-/// `GridArgs`): a preset (`"recommended"`, the default, or `"paper"`) whose values the
-/// other arguments replace one by one.
-pub(crate) struct Grid {
-    pub(crate) family: Family,
-    pub(crate) spec: GridSpec,
-}
-
-/// The grid arguments as given (`None`: the preset's value).
+/// `GridArgs`) as given (`None`: the preset's value): a preset (`"recommended"`, the
+/// default, or `"paper"`) whose values the other arguments replace one by one.
 pub(crate) struct GridArgs<'a, 'py> {
-    pub(crate) family: &'a str,
     pub(crate) grid_preset: Option<&'a str>,
     pub(crate) theta_h_samples: Option<usize>,
     pub(crate) theta_d_step_deg: Option<&'a Bound<'py, PyAny>>,
@@ -37,33 +26,27 @@ pub(crate) struct GridArgs<'a, 'py> {
     pub(crate) phi_h_deg: Option<f64>,
 }
 
-impl Grid {
-    /// The grid of the arguments given ([`GridRequest::grid`]): from `grid_preset`, else
-    /// `resumed` (a session's own grid), else [`GridSpec::recommended`]; every range checked
-    /// as the CLI checks it. `theta_d_step_deg` is a number (an even step) or a str
-    /// `"STEP:GRAZING@FROM"`.
-    pub(crate) fn new(args: &GridArgs<'_, '_>, resumed: Option<GridSpec>) -> PyResult<Self> {
-        let request = GridRequest {
-            preset: args
+impl GridArgs<'_, '_> {
+    /// The grid request of the arguments given: `theta_d_step_deg` is a number (an even
+    /// step) or a str `"STEP:GRAZING@FROM"`; the ranges are checked by the request.
+    pub(crate) fn request(&self) -> PyResult<GridRequest> {
+        Ok(GridRequest {
+            preset: self
                 .grid_preset
                 .map(str::parse::<GridPreset>)
                 .transpose()
                 .or_raise()?,
             overrides: GridOverrides {
-                theta_h_samples: args.theta_h_samples,
-                theta_d: args.theta_d_step_deg.map(theta_d_steps).transpose()?,
-                phi_d_step_deg: args.phi_d_step_deg,
-                phi_d_span: args
+                theta_h_samples: self.theta_h_samples,
+                theta_d: self.theta_d_step_deg.map(theta_d_steps).transpose()?,
+                phi_d_step_deg: self.phi_d_step_deg,
+                phi_d_span: self
                     .phi_d_span
                     .map(str::parse::<PhiDSpan>)
                     .transpose()
                     .or_raise()?,
-                phi_h_deg: args.phi_h_deg,
+                phi_h_deg: self.phi_h_deg,
             },
-        };
-        Ok(Self {
-            family: family(args.family)?,
-            spec: request.grid(resumed).or_raise()?,
         })
     }
 }
@@ -83,10 +66,7 @@ fn theta_d_steps(value: &Bound<'_, PyAny>) -> PyResult<ThetaDSteps> {
 
 /// The device description at `path`, or the paper's UTIA gonioreflectometer.
 pub(crate) fn device(path: Option<PathBuf>) -> PyResult<Device> {
-    match path {
-        Some(path) => Device::load(&path).or_raise(),
-        None => Ok(Device::utia()),
-    }
+    Device::load_or_utia(path.as_deref()).or_raise()
 }
 
 /// Plan a measurement (paper 5.3, `specula plan`): the grid of theta_h (the sampling
@@ -129,65 +109,43 @@ pub(crate) fn plan<'py>(
     hdr: &str,
     truth: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let hdr = hdr.parse::<HdrChoice>().or_raise()?;
-    if truth.is_some() && hdr == HdrChoice::Bracket {
-        return Err(invalid(
-            "truth sets the brightness of predicted exposures: it needs hdr=\"predicted\"",
-        ));
-    }
-    let truth = match hdr {
-        HdrChoice::Predicted => {
-            Some(specula_formats::source::load_brdf(truth.unwrap_or(ASSUMED_MATERIAL)).or_raise()?)
-        }
-        HdrChoice::Bracket => None,
+    let theta_h = match (k, theta_h_deg) {
+        (Some(_), Some(_)) => return Err(invalid("give k or theta_h_deg, not both")),
+        (None, None) => return Err(invalid("give k or theta_h_deg")),
+        (Some(k), None) => ThetaH::K(k),
+        (None, Some(list)) => ThetaH::Positions(list),
     };
-    let grid = Grid::new(
-        &GridArgs {
-            family,
+    let truth = truth
+        .map(specula_formats::source::load_brdf)
+        .transpose()
+        .or_raise()?;
+    let request = PlanRequest {
+        theta_h,
+        family: crate::sampling::family(family)?,
+        grid: GridArgs {
             grid_preset,
             theta_h_samples,
             theta_d_step_deg,
             phi_d_step_deg,
             phi_d_span,
             phi_h_deg,
-        },
-        None,
-    )?;
-    let theta_h = match (k, theta_h_deg) {
-        (Some(_), Some(_)) => return Err(invalid("give k or theta_h_deg, not both")),
-        (None, None) => return Err(invalid("give k or theta_h_deg")),
-        (Some(k), None) => SamplingFunction::new(grid.family, k)
-            .or_raise()?
-            .positions_deg(grid.spec.theta_h_samples),
-        (None, Some(list)) => {
-            if list.is_empty() || list.iter().any(|t| !(0.0..=90.0).contains(t)) {
-                return Err(invalid("theta_h_deg needs values between 0 and 90 degrees"));
-            }
-            list
         }
+        .request()?,
+        order: order.parse::<PlanOrder>().or_raise()?,
+        hdr: hdr.parse::<HdrChoice>().or_raise()?,
+        truth,
     };
-    let optimized = order.parse::<PlanOrder>().or_raise()? == PlanOrder::Optimized;
+    request.validate().or_raise()?;
     let device = self::device(device)?;
-    let grid = GridPlan::on(theta_h, &grid.spec);
     let (chosen, nested_summary, optimized_summary, assumed) =
         interrupt::run(py, Stop::Abandon, move |_| {
-            let mut nested = Plan::from_grid(
-                &grid.theta_h_deg,
-                &grid.theta_d_deg,
-                &grid.phi_d_deg,
-                grid.phi_h_deg,
-                &device,
-            );
-            let mut ordered = specula_acquisition::ordering::order(&nested);
-            let assumed = price_before_probe(
-                &mut [&mut nested, &mut ordered],
-                &device,
-                truth,
-                grid.phi_h_deg,
-            )?;
-            let summaries = (nested.summary(&device), ordered.summary(&device));
-            let chosen = if optimized { ordered } else { nested };
-            Ok::<_, WorkflowError>((chosen, summaries.0, summaries.1, assumed))
+            let planned = run_plan(&request, &device)?;
+            let (nested, optimized) = planned.summaries(&device);
+            let chosen = match request.order {
+                PlanOrder::Optimized => planned.optimized,
+                PlanOrder::Nested => planned.nested,
+            };
+            Ok::<_, PlanError>((chosen, nested, optimized, planned.assumed))
         })?
         .or_raise()?;
     let dict = plan_dict(py, &chosen)?;

@@ -1,17 +1,17 @@
 //! Reconstruction from sample arrays (`specula reconstruct`) and the accuracy harness
 //! (`specula evaluate`).
 
-use crate::brdf::{brdf_arg, check_elevation, figures_dict};
-use crate::errors::{invalid, one_line, OrRaise};
+use crate::brdf::{brdf_arg, figures_dict};
+use crate::errors::{invalid, OrRaise};
 use crate::interrupt::{self, Stop};
-use crate::plan::{device, Grid, GridArgs};
+use crate::plan::{device, GridArgs};
 use crate::sampling::{rgb_array, rgb_rows};
 use crate::table::to_array;
 use numpy::ndarray::Array3;
 use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
-use specula_accuracy::{Measurement, PlacementChoice, PlanSettings};
+use specula_accuracy::{evaluate_truth, EvaluateRequest, Evaluated};
 use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::{HalfDiff, Sample};
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
@@ -183,53 +183,36 @@ pub(crate) fn evaluate<'py>(
     device: Option<PathBuf>,
     through_instrument: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let method = self::method(method)?;
-    check_elevation(max_elevation_deg)?;
-    let grid = Grid::new(
-        &GridArgs {
-            family,
+    let request = EvaluateRequest {
+        method: self::method(method)?,
+        k,
+        placement: placement.parse().or_raise()?,
+        family: crate::sampling::family(family)?,
+        grid: GridArgs {
             grid_preset,
             theta_h_samples,
             theta_d_step_deg,
             phi_d_step_deg,
             phi_d_span,
             phi_h_deg,
-        },
-        None,
-    )?;
-    let placement = placement
-        .parse::<PlacementChoice>()
-        .or_raise()?
-        .placement(grid.family, k)
-        .or_raise()?;
-    let settings = PlanSettings {
-        placement,
-        grid: grid.spec,
+        }
+        .request()?,
+        max_elevation_deg,
+        through_instrument,
     };
+    let settings = request.plan_settings().or_raise()?;
     let truth = brdf_arg(truth)?;
     let device = self::device(device)?;
-    let (name, k, samples, accuracy) = interrupt::run(py, Stop::Abandon, move |_| {
-        let name = truth.name();
-        let response = through_instrument.then(|| device.response());
-        let measurement =
-            Measurement::simulate_through(truth.as_ref(), &settings, &device, response.as_ref())?;
-        let accuracy = measurement
-            .accuracy(truth.as_ref(), method, max_elevation_deg, response.as_ref())
-            .map_err(|e| {
-                format!(
-                    "{name}: reconstructing {} samples: {}",
-                    measurement.samples.len(),
-                    one_line(&e)
-                )
-            })?;
-        Ok::<_, Box<dyn std::error::Error + Send + Sync>>((
-            name,
-            measurement.k,
-            measurement.samples,
-            accuracy,
-        ))
+    let evaluated = interrupt::run(py, Stop::Abandon, move |_| {
+        evaluate_truth(&request, &settings, truth.as_ref(), &device)
     })?
     .or_raise()?;
+    let Evaluated {
+        name,
+        k,
+        samples,
+        accuracy,
+    } = evaluated;
     let dict = PyDict::new(py);
     dict.set_item("name", name)?;
     dict.set_item("k", k)?;

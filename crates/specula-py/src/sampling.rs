@@ -6,7 +6,7 @@ use numpy::ndarray::Array2;
 use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
-use specula_core::request::{PROBE_SAMPLES, THETA_H_SAMPLES};
+use specula_core::request::THETA_H_SAMPLES;
 use specula_core::sampling::Family;
 use specula_core::{GridSpec, ProbeSpec, Rgb};
 use specula_sampling::{fit_k as fit_k_hat, Probe};
@@ -68,10 +68,9 @@ pub(crate) fn probe<'py>(
         theta_d_deg: theta_d_deg.unwrap_or(paper.theta_d_deg),
         phi_d_deg: phi_d_deg.unwrap_or(paper.phi_d_deg),
         phi_h_deg: phi_h_deg.unwrap_or(paper.phi_h_deg),
-        samples: PROBE_SAMPLES
-            .check("samples", samples.unwrap_or(paper.samples))
-            .or_raise()?,
+        samples: samples.unwrap_or(paper.samples),
     };
+    settings.validate().or_raise()?;
     let probe = py
         .detach(|| Probe::take(brdf.as_ref(), &settings))
         .or_raise()?;

@@ -3,7 +3,7 @@
 use crate::brdf::brdf_arg;
 use crate::errors::{invalid, OrRaise};
 use crate::interrupt::{self, Stop};
-use crate::plan::{device, Grid, GridArgs};
+use crate::plan::{device, GridArgs};
 use crate::reconstruction::samples_dict;
 use crate::sampling::probe_dict;
 use pyo3::exceptions::PyKeyboardInterrupt;
@@ -11,14 +11,14 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use specula_core::request::ProbeRequest;
 use specula_core::ProbeSpec;
-use specula_reconstruct::Method;
 use specula_sampling::Probe;
 use specula_session::journal::{Journal, SourceRecord};
 use specula_session::workflow::{
-    default_session_path, measure as run_measurement, measured_samples, probe_samples,
-    session_grid, FitRecord, MeasureOutcome, MeasureSettings, Quiet, Source, Summary,
+    measured_samples, probe_samples, FitRecord, MeasureOutcome, MeasureSettings, Quiet, Source,
+    Summary,
 };
 use specula_session::Stage;
+use specula_session::{run_measure, MeasureRequest};
 use std::path::PathBuf;
 
 /// Measure a known BRDF on the simulated device (`specula measure --truth`), the paper's
@@ -66,49 +66,41 @@ pub(crate) fn measure<'py>(
     tilt_azimuth_deg: f64,
     device: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let session = session.unwrap_or_else(|| default_session_path(&out));
-    let grid = Grid::new(
-        &GridArgs {
-            family,
+    let request = MeasureRequest {
+        seed,
+        ideal,
+        point_light,
+        probe: ProbeRequest {
+            samples: probe_samples.unwrap_or(ProbeSpec::paper().samples),
+            tilt_deg,
+            tilt_azimuth_deg,
+        },
+        family: crate::sampling::family(family)?,
+        grid: GridArgs {
             grid_preset,
             theta_h_samples,
             theta_d_step_deg,
             phi_d_step_deg,
             phi_d_span,
             phi_h_deg,
-        },
-        session_grid(&session).or_raise()?,
-    )?;
-    let probe = ProbeRequest {
-        samples: probe_samples.unwrap_or(ProbeSpec::paper().samples),
-        tilt_deg,
-        tilt_azimuth_deg,
-    };
-    probe.validate().or_raise()?;
-    let method: Method = method.parse().map_err(invalid)?;
-    let settings = MeasureSettings {
-        deblur,
-        seed,
-        ideal,
-        point_light,
-        probe_samples: probe.samples,
-        family: grid.family,
-        grid: grid.spec,
+        }
+        .request()?,
         order: order.parse().or_raise()?,
         hdr: hdr.parse().or_raise()?,
-        method,
+        method: method.parse().map_err(invalid)?,
+        deblur,
         checks,
-        tilt_deg,
-        tilt_azimuth_deg,
+        out,
+        session,
     };
+    request.validate().or_raise()?;
     let source = Source::Simulated {
         truth: brdf_arg(truth)?,
         speedup: None,
     };
     let device = self::device(device)?;
     let outcome = interrupt::run(py, Stop::Cooperative, move |stop| {
-        run_measurement(source, &device, &settings, &session, &out, stop, &mut Quiet)
-            .map_err(Box::<dyn std::error::Error + Send + Sync>::from)
+        run_measure(&request, source, &device, stop, &mut Quiet)
     })?
     .or_raise()?;
     match outcome {

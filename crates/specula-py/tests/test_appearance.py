@@ -67,5 +67,6 @@ def test_appearance_takes_a_brdf_an_array_or_a_source_alike(cli, holed_silver):
 
 
 def test_appearance_rejects_a_resolution_out_of_range():
-    with pytest.raises(specula.SpeculaError, match="resolution_deg must be above 0"):
+    with pytest.raises(specula.SpeculaError,
+                       match="resolution_deg 0: expected degrees above 0 and at most 90"):
         specula.appearance("chrome", resolution_deg=0.0)

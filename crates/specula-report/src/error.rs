@@ -9,6 +9,12 @@ pub enum ReportError {
     /// The report's file is neither `.html` nor `.pdf`.
     #[error("{}: a report is written as .html or .pdf (by the file's extension)", .0.display())]
     OutputFormat(PathBuf),
+    /// A plot's file is not `.png`.
+    #[error("{}: plots are written as .png", .0.display())]
+    PlotFormat(PathBuf),
+    /// A request's value outside its range.
+    #[error(transparent)]
+    Range(#[from] specula_core::range::RangeError),
     /// A PDF was asked for and no Chromium is installed to print it.
     #[error("{}: a PDF report is printed by headless Chromium, and none is installed (chromium, chromium-browser or google-chrome on PATH); write .html instead", .0.display())]
     NoChromium(PathBuf),

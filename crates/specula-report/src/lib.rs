@@ -10,14 +10,20 @@
 //! viewer, which the report embeds too).
 
 pub mod appearance;
+mod database;
 mod error;
 mod figures;
 mod pdf;
+mod plot;
 mod session;
+mod source_info;
 mod table;
 pub mod view;
 
+pub use database::DatabaseRequest;
 pub use error::ReportError;
+pub use plot::{database_heatmap, plot, Adaptive, Figure, PlotRequest, Plotted};
+pub use source_info::describe_source;
 pub use specula_appearance::Verdict;
 use specula_visual::report::Layout;
 pub use specula_visual::report::Report;
@@ -25,10 +31,7 @@ pub use specula_visual::report::Report;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// The largest width and height of a render, pixels.
-pub const MAX_IMAGE_PX: usize = 8192;
-
-pub use specula_visual::render::MAX_SAMPLES_PER_PIXEL;
+pub use specula_visual::render::{MAX_IMAGE_PX, MAX_SAMPLES_PER_PIXEL};
 
 /// Adaptive samples the paper places along theta_h with the fitted k (section 5.3).
 const PLACED_SAMPLES: usize = specula_core::GridSpec::paper().theta_h_samples;

@@ -12,8 +12,9 @@
 use crate::column::{Column, Resampling};
 use crate::error::SamplingError;
 use crate::fit::{base_of_exponential, FitSearch, KFitter};
-use crate::slice::{mean_over_cells, CharacteristicSlice, THETA_D_COLUMNS};
+use crate::slice::{mean_over_cells, CharacteristicSlice, PROBE_THETA_D_DEG, THETA_D_COLUMNS};
 use specula_core::sampling::{Family, SamplingFunction};
+use specula_core::shown::plain;
 use specula_core::statistics::{median, Statistic};
 use std::path::Path;
 
@@ -108,6 +109,36 @@ pub struct BestPair {
     pub mean: f64,
     /// Median over the materials of the slice error, 1/sr.
     pub median: f64,
+}
+
+/// The findings of a database analysis over `materials` materials in words, as `specula
+/// analyze` prints them: the best pair, the paper's pair (exponential at the probe's
+/// column) and each family's best column; `None` when no material had a measured column.
+pub fn findings_text(summary: &DatabaseSummary, materials: usize) -> Option<String> {
+    let best = summary.best()?;
+    let mut text = format!(
+        "best: {} at theta_d = {} deg: mean error {} 1/sr, median {} 1/sr over {materials} materials\n",
+        best.family,
+        best.theta_d_deg,
+        plain(best.mean),
+        plain(best.median),
+    );
+    let f = Family::ALL.iter().position(|f| *f == Family::Exponential)?;
+    text.push_str(&format!(
+        "paper's pair: exponential at theta_d = {PROBE_THETA_D_DEG} deg: mean error {} 1/sr, median {} 1/sr\n",
+        plain(summary.mean[f][PROBE_THETA_D_DEG]),
+        plain(summary.median[f][PROBE_THETA_D_DEG])
+    ));
+    for family in Family::ALL {
+        // A family without a measured column shows as column 0 with an infinite error.
+        let (j, mean) = summary.best_column(family).unwrap_or((0, f64::INFINITY));
+        text.push_str(&format!(
+            "  {family:<12} best column theta_d = {j:>2} deg: mean error {} 1/sr\n",
+            plain(mean)
+        ));
+    }
+    text.push_str("  (base-k is the exponential family with k_base = e^k_exp: their errors agree to rounding)\n");
+    Some(text)
 }
 
 impl DatabaseSummary {

@@ -14,16 +14,22 @@
 //!   time.
 
 pub mod calibrate;
+mod calibration_text;
 mod choices;
 pub mod engine;
 pub mod estimate;
 pub mod ideal;
 pub mod inputs;
 pub mod journal;
+mod measure_request;
 pub mod pace;
+mod plan_request;
 pub mod predict;
 pub mod protocol;
 pub mod workflow;
 pub mod workflow_error;
 
+pub use calibration_text::{CalibrationText, CheckTable};
 pub use journal::Stage;
+pub use measure_request::{run_measure, MeasureError, MeasureRequest};
+pub use plan_request::{run_plan, PlanError, PlanRequest, PlannedMeasurement, ThetaH};

@@ -59,6 +59,12 @@ pub enum VisualError {
         /// What is wrong with its image.
         cause: Box<VisualError>,
     },
+    /// A request's value outside its range.
+    #[error(transparent)]
+    Range(#[from] specula_core::range::RangeError),
+    /// A request's choice that is none of the names it accepts.
+    #[error(transparent)]
+    Choice(#[from] specula_core::request::ChoiceError),
 }
 
 impl VisualError {

@@ -40,6 +40,7 @@ use crate::shape::{Shape, ShapeKind};
 use glam::DVec3;
 use rayon::prelude::*;
 use specula_core::brdf::Brdf;
+use specula_core::range::CountRange;
 use std::sync::Arc;
 
 /// Where the light comes from.
@@ -222,6 +223,15 @@ const TILE: usize = 16;
 
 /// Most samples per pixel: the length of the Sobol sequence.
 pub const MAX_SAMPLES_PER_PIXEL: usize = 1 << 16;
+
+/// Camera rays per pixel a request may ask for.
+pub const SAMPLES_PER_PIXEL: CountRange = CountRange::from_to(1, MAX_SAMPLES_PER_PIXEL);
+
+/// The largest width and height of a render, pixels.
+pub const MAX_IMAGE_PX: usize = 8192;
+
+/// Width and height of a picture a request may ask for, pixels.
+pub const IMAGE_PX: CountRange = CountRange::from_to(8, MAX_IMAGE_PX);
 
 /// Samples per pixel by default, a power of two as the Sobol sequence wants: two renders of
 /// `silver-925` and `green-paint` in the studio with different seeds agree per pixel within

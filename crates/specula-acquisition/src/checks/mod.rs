@@ -13,6 +13,9 @@
 pub mod alignment;
 pub mod flare;
 pub mod orientation;
+mod request;
+
+pub use request::{run_check, Check, CheckOutcome, CheckRequest, CheckRunError, Found};
 
 use crate::device::Device;
 use crate::hdr::{HdrCapturer, HdrMeasurement};

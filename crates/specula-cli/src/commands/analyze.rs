@@ -1,17 +1,15 @@
 //! `specula analyze`: the database analysis of paper 5.1.
 
-use crate::output::plain;
 use crate::progress;
 use anyhow::{bail, Context, Result};
-use specula_core::materials::database::builtin_database;
-use specula_core::sampling::Family;
 use specula_core::GridSpec;
-use specula_sampling::analysis::{analyze_slice, write_materials_csv, BestPair, DatabaseSummary};
-use specula_sampling::database::{map_slices, merl_files, SliceSource};
-use specula_sampling::slice::{CharacteristicSlice, PROBE_THETA_D_DEG, THETA_H_NODES};
-use specula_visual::heatmap::Heatmap;
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use specula_report::{database_heatmap, DatabaseRequest};
+use specula_sampling::analysis::{
+    analyze_slice, findings_text, write_materials_csv, DatabaseSummary,
+};
+use specula_sampling::database::map_slices;
+use specula_sampling::slice::{CharacteristicSlice, THETA_H_NODES};
+use std::path::PathBuf;
 
 /// The materials of a database: the arguments shared by `analyze` and `placement`.
 #[derive(clap::Args)]
@@ -29,37 +27,6 @@ pub(crate) struct DatabaseArgs {
 }
 
 impl DatabaseArgs {
-    /// The sources in the order given: arguments, then fits tables, then the built-in ones.
-    pub(crate) fn sources(&self) -> Result<Vec<SliceSource>> {
-        let mut sources = Vec::new();
-        for spec in &self.sources {
-            let path = Path::new(spec);
-            let is_merl = path
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("binary"));
-            if path.is_dir() || is_merl {
-                sources.extend(merl_files(path)?.into_iter().map(SliceSource::MerlFile));
-            } else {
-                sources.push(SliceSource::Brdf(specula_formats::load_brdf(spec)?));
-            }
-        }
-        for table in &self.fits {
-            let fits = specula_formats::fits::load_fits(table)?;
-            sources.extend(fits.into_iter().map(SliceSource::Brdf));
-        }
-        if self.builtin {
-            sources.extend(
-                builtin_database()
-                    .into_iter()
-                    .map(|m| SliceSource::Brdf(Arc::new(m))),
-            );
-        }
-        if sources.is_empty() {
-            bail!("nothing to analyse: give MERL files or folders, BRDFs, --fits FILE.csv or --builtin");
-        }
-        Ok(sources)
-    }
-
     /// Runs `work` on every material's characteristic slice (a BRDF's on `nodes` theta_h
     /// nodes) in parallel with a progress bar; the first failure (naming its source) stops
     /// the command.
@@ -69,7 +36,12 @@ impl DatabaseArgs {
         nodes: usize,
         work: impl Fn(&CharacteristicSlice) -> Result<T> + Sync,
     ) -> Result<Vec<T>> {
-        let sources = self.sources()?;
+        let request = DatabaseRequest {
+            sources: self.sources.clone(),
+            fits: self.fits.clone(),
+            builtin: self.builtin,
+        };
+        let sources = request.load()?;
         let bar = progress::bar(sources.len() as u64, label);
         let results = map_slices(&sources, nodes, work, |_| bar.inc(1));
         bar.finish_and_clear();
@@ -103,72 +75,15 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let summary = DatabaseSummary::of(&analyses);
     summary.write_csv(&args.out.join("analysis.csv"))?;
     write_materials_csv(&analyses, &args.out.join("materials.csv"))?;
-    let Some(best) = summary.best() else {
+    let Some(findings) = findings_text(&summary, analyses.len()) else {
         bail!("no material had a measured column");
     };
-    heatmap(
-        &summary,
-        analyses.len(),
-        args.theta_h_samples,
-        best_cell(&best),
-    )
-    .write_png(&args.out.join("analysis.png"))?;
-
-    outln!(
-        "best: {} at theta_d = {} deg: mean error {} 1/sr, median {} 1/sr over {} materials",
-        best.family,
-        best.theta_d_deg,
-        plain(best.mean),
-        plain(best.median),
-        analyses.len()
-    );
-    let f = Family::ALL
-        .iter()
-        .position(|f| *f == Family::Exponential)
-        .expect("listed");
-    outln!(
-        "paper's pair: exponential at theta_d = {PROBE_THETA_D_DEG} deg: mean error {} 1/sr, median {} 1/sr",
-        plain(summary.mean[f][PROBE_THETA_D_DEG]),
-        plain(summary.median[f][PROBE_THETA_D_DEG])
-    );
-    for family in Family::ALL {
-        // A family without a measured column prints as column 0 with an infinite error.
-        let (j, mean) = summary.best_column(family).unwrap_or((0, f64::INFINITY));
-        outln!(
-            "  {family:<12} best column theta_d = {j:>2} deg: mean error {} 1/sr",
-            plain(mean)
-        );
-    }
-    outln!("  (base-k is the exponential family with k_base = e^k_exp: their errors agree to rounding)");
+    database_heatmap(&summary, analyses.len(), args.theta_h_samples)
+        .write_png(&args.out.join("analysis.png"))?;
+    out!("{findings}");
     outln!(
         "wrote analysis.csv, materials.csv and analysis.png to {}",
         args.out.display()
     );
     Ok(())
-}
-
-fn best_cell(best: &BestPair) -> (usize, usize) {
-    let row = Family::ALL
-        .iter()
-        .position(|f| *f == best.family)
-        .expect("listed");
-    (row, best.theta_d_deg)
-}
-
-fn heatmap(
-    summary: &DatabaseSummary,
-    materials: usize,
-    samples: usize,
-    best: (usize, usize),
-) -> Heatmap {
-    Heatmap {
-        title: format!("Mean slice error over {materials} materials: k fitted on column theta_d, {samples} samples"),
-        x_label: "theta_d of the column k is fitted on (deg)".into(),
-        x_values: (0..summary.mean[0].len()).map(|j| j as f64).collect(),
-        row_labels: Family::ALL.iter().map(|f| f.name().to_string()).collect(),
-        values: summary.mean.to_vec(),
-        log_scale: true,
-        value_label: "mean abs. error (1/sr)".into(),
-        highlight: Some(best),
-    }
 }

@@ -4,17 +4,15 @@
 
 use super::connect_args::ConnectArgs;
 use anyhow::{Context, Result};
-use specula_acquisition::calibration::truth_check::{
-    TRUTH_CHECK_PHI_D_DEG, TRUTH_CHECK_PHI_H_DEG, TRUTH_CHECK_THETA_D_DEG,
-};
 use specula_acquisition::calibration::white::WhiteCertificate;
-use specula_acquisition::calibration::{Calibration, CalibrationOptions};
+use specula_acquisition::calibration::CalibrationOptions;
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::{Instrument, InstrumentError, MountTarget};
 use specula_acquisition::simulator::sample::{MountedSample, Tilt};
 use specula_acquisition::simulator::{Simulator, SimulatorConfig};
 use specula_core::Brdf;
-use specula_session::calibrate::{calibrate_device, CalibrationRun};
+use specula_session::calibrate::calibrate_device;
+use specula_session::{CalibrationText, CheckTable};
 use std::io::BufRead;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -55,7 +53,7 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    let device = super::load_device(args.device.as_deref())?;
+    let device = specula_acquisition::device::Device::load_or_utia(args.device.as_deref())?;
     let options = CalibrationOptions {
         white_reflectance: args.white_reflectance,
         white_certificate: args
@@ -78,9 +76,24 @@ pub(crate) fn run(args: Args) -> Result<()> {
     )?;
     spinner.finish_and_clear();
     run.calibration.save(&args.out)?;
-    print_calibration(&run.calibration, &device);
+    let calibration = &run.calibration;
+    out!(
+        "{}",
+        CalibrationText {
+            calibration,
+            device: &device
+        }
+    );
     outln!("written: {}", args.out.display());
-    print_check(&run, truth.as_deref(), &device);
+    let truth = truth.as_deref();
+    out!(
+        "{}",
+        CheckTable {
+            run: &run,
+            truth,
+            device: &device
+        }
+    );
     Ok(())
 }
 
@@ -118,91 +131,5 @@ fn mount_by_operator(target: &MountTarget, yes: bool) -> Result<(), InstrumentEr
             "mounting {target}: no answer from the operator (the input is closed); give --yes when the targets are mounted without a prompt"
         ))),
         Ok(_) => Ok(()),
-    }
-}
-
-fn print_calibration(cal: &Calibration, device: &Device) {
-    let n = &cal.noise;
-    outln!(
-        "noise model: black {:.2} DN, dark current {:.3} DN/s, read noise {:.3} DN, gain {:.4} DN/e-",
-        n.black_level_dn, n.dark_current_dn_s, n.read_noise_dn, n.gain_dn_per_e
-    );
-    let g = cal.gain_dn_s_per_sr;
-    outln!(
-        "gain to 1/sr: R {:.5e}  G {:.5e}  B {:.5e} DN/s per 1/sr",
-        g[0],
-        g[1],
-        g[2]
-    );
-    if let Some(c) = &cal.white_certificate {
-        let (r, u) = (c.reflectance, c.uncertainty);
-        outln!(
-            "white reference: R {:.4} +- {:.4}  G {:.4} +- {:.4}  B {:.4} +- {:.4} (certificate)",
-            r[0],
-            u[0],
-            r[1],
-            u[1],
-            r[2],
-            u[2]
-        );
-    }
-    outln!("colour matrix (camera to linear sRGB):");
-    for row in cal.colour_matrix {
-        outln!("  {:+.4} {:+.4} {:+.4}", row[0], row[1], row[2]);
-    }
-    outln!(
-        "ColorChecker fit: {:.4} RMS (linear sRGB reflectance)",
-        cal.colour_rms_error
-    );
-    if let Some(fit) = &cal.response {
-        outln!(
-            "response ({}): light radius {:.4} deg (device file {:.4} deg), scan centre {:+.4} deg, fit residual {:.4} of the peak; resolution {:.3} deg in theta_h",
-            fit.reference,
-            fit.response.light.radius_deg,
-            device.response().light.radius_deg,
-            fit.centre_offset_deg,
-            fit.rms_relative,
-            fit.response.resolution_deg()
-        );
-    }
-}
-
-/// The check measurement, beside the truth's values when there is one.
-fn print_check(run: &CalibrationRun, truth: Option<&dyn Brdf>, device: &Device) {
-    outln!(
-        "check on the sample (theta_d {TRUTH_CHECK_THETA_D_DEG}, phi_d {TRUTH_CHECK_PHI_D_DEG}, phi_h {TRUTH_CHECK_PHI_H_DEG} deg):"
-    );
-    let truth_of = |check: &specula_acquisition::calibration::truth_check::CheckValue| {
-        truth.and_then(|t| t.eval(check.wi, check.wo))
-    };
-    match truth {
-        Some(_) => {
-            outln!("theta_h_deg,measured_r,measured_g,measured_b,truth_r,truth_g,truth_b,ratio_g")
-        }
-        None => outln!("theta_h_deg,measured_r,measured_g,measured_b"),
-    }
-    for check in &run.checks {
-        let m = check.measured;
-        match truth_of(check) {
-            Some(t) => outln!(
-                "{},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4}",
-                check.theta_h_deg,
-                m.x,
-                m.y,
-                m.z,
-                t.x,
-                t.y,
-                t.z,
-                m.y / t.y
-            ),
-            None => outln!("{},{:.4e},{:.4e},{:.4e}", check.theta_h_deg, m.x, m.y, m.z),
-        }
-    }
-    if truth.is_some() {
-        outln!(
-            "(near the highlight the light's {:.1} deg disk blurs a sharp lobe: ratios below 1 there \
-             are the source's size, not the calibration)",
-            device.light_radius_deg()
-        );
     }
 }

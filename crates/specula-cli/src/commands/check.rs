@@ -2,16 +2,7 @@
 
 use crate::range;
 use anyhow::Result;
-use specula_acquisition::checks::alignment::{check_alignment, AlignmentSettings};
-use specula_acquisition::checks::flare::{
-    check_flare, most_retakes, simulated_ghosts, survey_samples, FlareSettings,
-};
-use specula_acquisition::checks::orientation::{check_orientation, OrientationSettings};
-use specula_acquisition::hdr::HdrCapturer;
-use specula_acquisition::instrument::Instrument;
-use specula_acquisition::simulator::optics::LensFlare;
-use specula_acquisition::simulator::sample::{MountedSample, Tilt};
-use specula_acquisition::simulator::Simulator;
+use specula_acquisition::{run_check, CheckRequest};
 use specula_core::GridSpec;
 use specula_formats::source::load_brdf_scratched;
 use std::path::PathBuf;
@@ -97,159 +88,47 @@ pub(crate) struct FlareArgs {
 }
 
 impl Simulated {
-    /// The simulated device with the truth mounted, and its HDR capturer.
-    fn build(&self, flare: Option<LensFlare>) -> Result<(Simulator, HdrCapturer)> {
-        let truth = load_brdf_scratched(&self.truth, self.scratch_orientation_deg)?;
-        let device = super::load_device(self.device.as_deref())?;
-        let tilt = Tilt::new(self.tilt_deg, self.tilt_azimuth_deg);
-        let sample = MountedSample::new(&self.truth, truth, tilt);
-        Ok(Simulator::with_hdr(device, sample, self.seed, flare)?)
+    /// The request of `check` on the simulated device with the truth mounted.
+    fn request(self, check: specula_acquisition::Check) -> Result<CheckRequest> {
+        Ok(CheckRequest {
+            truth: load_brdf_scratched(&self.truth, self.scratch_orientation_deg)?,
+            name: self.truth,
+            tilt_deg: self.tilt_deg,
+            tilt_azimuth_deg: self.tilt_azimuth_deg,
+            seed: self.seed,
+            device: specula_acquisition::device::Device::load_or_utia(self.device.as_deref())?,
+            check,
+        })
     }
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    match args.check {
-        Check::Alignment(a) => alignment(a),
-        Check::Orientation(a) => orientation(a),
-        Check::Flare(a) => flare(a),
-    }
-}
-
-fn print_effort(sim: &Simulator, hdr: &HdrCapturer) {
-    let stats = &hdr.stats;
-    outln!(
-        "effort: {} HDR measurements, {} captures ({:.2} per measurement, {:.0} % in one or two), \
-         {:.1} min of simulated device time",
-        stats.samples,
-        stats.captures,
-        stats.mean_captures(),
-        100.0 * stats.share_at_most(2),
-        sim.simulated_clock_s().unwrap_or(0.0) / 60.0
-    );
-}
-
-fn alignment(args: AlignmentArgs) -> Result<()> {
-    let (mut sim, mut hdr) = args.simulated.build(None)?;
-    let settings = AlignmentSettings {
-        light_elevation_deg: args.light_elevation_deg,
-        rotations: args.rotations,
-        ..AlignmentSettings::default()
+    use specula_acquisition::Check as Asked;
+    let (name, request) = match args.check {
+        Check::Alignment(a) => (
+            "alignment",
+            a.simulated.request(Asked::Alignment {
+                light_elevation_deg: a.light_elevation_deg,
+                rotations: a.rotations,
+            })?,
+        ),
+        Check::Orientation(a) => (
+            "orientation",
+            a.simulated.request(Asked::Orientation {
+                phi_h_deg: a.phi_h_deg,
+                phi_h_step_deg: a.phi_h_step_deg,
+            })?,
+        ),
+        Check::Flare(a) => (
+            "flare",
+            a.simulated.request(Asked::Flare {
+                strength_sr: a.flare_strength_sr,
+            })?,
+        ),
     };
-    let spinner = crate::progress::spinner("alignment");
-    let report = check_alignment(&mut sim, &mut hdr, &settings)?;
+    let spinner = crate::progress::spinner(name);
+    let outcome = run_check(&request)?;
     spinner.finish_and_clear();
-    outln!("turntable_deg,highlight_camera_deg,fwhm_deg");
-    for peak in &report.peaks {
-        outln!(
-            "{:.1},{:.4},{:.3}",
-            peak.turntable_deg,
-            peak.camera_deg,
-            peak.width_deg
-        );
-    }
-    let fit = &report.fit;
-    outln!(
-        "tilt: {:.3} deg towards azimuth {:.1} deg (fit residual {:.3} deg RMS)",
-        fit.tilt_deg,
-        fit.azimuth_deg,
-        fit.residual_rms_deg
-    );
-    let truth = &args.simulated;
-    outln!(
-        "simulated truth: {:.3} deg towards azimuth {:.1} deg",
-        truth.tilt_deg,
-        truth.tilt_azimuth_deg
-    );
-    outln!(
-        "adjustment: {}",
-        report.adjustment(sim.device().accuracy_deg)
-    );
-    print_effort(&sim, &hdr);
-    Ok(())
-}
-
-fn orientation(args: OrientationArgs) -> Result<()> {
-    let (mut sim, mut hdr) = args.simulated.build(None)?;
-    let settings = OrientationSettings {
-        phi_h_step_deg: args.phi_h_step_deg,
-        planned_phi_h_deg: args.phi_h_deg,
-        ..OrientationSettings::default()
-    };
-    let device = sim.device().clone();
-    let spinner = crate::progress::spinner("orientation");
-    let report = check_orientation(&mut sim, &mut hdr, &device, &settings)?;
-    spinner.finish_and_clear();
-    outln!("phi_h_deg,excess,contaminated");
-    for ((phi, excess), bad) in report
-        .phi_h_deg
-        .iter()
-        .zip(&report.excess)
-        .zip(&report.contaminated)
-    {
-        outln!("{phi:.1},{excess:.4},{bad}");
-    }
-    outln!(
-        "threshold: excess above {:.3} counts as the scratch lobe",
-        report.threshold
-    );
-    if report.anisotropic {
-        outln!(
-            "anisotropic: yes; recommended phi_h = {:.1} deg (the middle of the longest clean arc)",
-            report.recommended_phi_h_deg
-        );
-    } else {
-        outln!(
-            "anisotropic: no lobe found; keep phi_h = {:.1} deg",
-            report.planned_phi_h_deg
-        );
-    }
-    if report.planned_is_clean {
-        outln!("planned phi_h = {:.1} deg: clean", report.planned_phi_h_deg);
-    } else {
-        outln!(
-            "planned phi_h = {:.1} deg: CONTAMINATED; turn the sample by {:+.1} deg on its holder \
-             (or plan at phi_h = {:.1} deg)",
-            report.planned_phi_h_deg,
-            report.turn_sample_deg(),
-            report.recommended_phi_h_deg
-        );
-    }
-    print_effort(&sim, &hdr);
-    Ok(())
-}
-
-fn flare(args: FlareArgs) -> Result<()> {
-    let flare = (args.flare_strength_sr > 0.0).then(|| LensFlare {
-        strength_sr: args.flare_strength_sr,
-        ..LensFlare::default()
-    });
-    let (mut sim, mut hdr) = args.simulated.build(flare)?;
-    let device = sim.device().clone();
-    let samples = survey_samples();
-    let truth = simulated_ghosts(&sim, &device, &samples);
-    let spinner = crate::progress::spinner("flare");
-    let (report, outcomes) = check_flare(
-        &mut sim,
-        &mut hdr,
-        &device,
-        &samples,
-        &FlareSettings::default(),
-    )?;
-    spinner.finish_and_clear();
-    outln!("samples: {} reachable of {}", report.samples, samples.len());
-    outln!("clean at the first position: {}", report.clean_first);
-    outln!(
-        "flagged, retaken at another arm position: {}",
-        report.retaken
-    );
-    outln!("flagged everywhere, excluded: {}", report.excluded);
-    outln!("most retakes for one sample: {}", most_retakes(&outcomes));
-    outln!(
-        "simulated truth: a ghost in the region at {} of the {} free arm \
-         positions (harmless where the sample outshines it)",
-        truth.ghosted,
-        truth.positions
-    );
-    print_effort(&sim, &hdr);
+    out!("{outcome}");
     Ok(())
 }

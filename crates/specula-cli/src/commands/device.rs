@@ -74,7 +74,7 @@ fn serve(args: ServeArgs) -> Result<()> {
         );
     }
     let faults: FaultSchedule = args.inject_faults.parse().map_err(anyhow::Error::msg)?;
-    let device = super::load_device(args.device.as_deref())?;
+    let device = specula_acquisition::device::Device::load_or_utia(args.device.as_deref())?;
     let truth = specula_formats::source::load_brdf(&args.truth)?;
     // The truth's content hash goes in the server's name: a client reconnecting to a server
     // restarted with another truth (or an edited file of the same name) sees another device.

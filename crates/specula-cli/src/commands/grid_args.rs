@@ -3,7 +3,6 @@
 //! quarter or the half turn, at one phi_h. Shared by `plan`, `measure` and `evaluate`.
 
 use crate::range;
-use anyhow::Result;
 use specula_core::grid::{GridOverrides, GridSpec, PhiDSpan, ThetaDSteps};
 use specula_core::request::{GridPreset, GridRequest};
 use specula_core::sampling::Family;
@@ -34,11 +33,10 @@ pub(crate) struct GridArgs {
 }
 
 impl GridArgs {
-    /// The grid the options describe ([`GridRequest::grid`]): starting from --grid-preset
-    /// when given, else from `resumed` (the grid of the session a `measure` resumes), else
-    /// from the recommended grid; each option given replaces the value it names.
-    pub(crate) fn grid(&self, resumed: Option<GridSpec>) -> Result<GridSpec> {
-        let request = GridRequest {
+    /// The grid request the options describe: each option given replaces the value it
+    /// names in --grid-preset's grid (or the resumed session's, or the recommended one).
+    pub(crate) fn request(&self) -> GridRequest {
+        GridRequest {
             preset: self.grid_preset,
             overrides: GridOverrides {
                 theta_h_samples: self.theta_h_samples,
@@ -47,8 +45,7 @@ impl GridArgs {
                 phi_d_span: self.phi_d_span,
                 phi_h_deg: Some(self.phi_h),
             },
-        };
-        Ok(request.grid(resumed)?)
+        }
     }
 }
 
@@ -61,53 +58,6 @@ mod tests {
     struct Cli {
         #[command(flatten)]
         grid: GridArgs,
-    }
-
-    fn args(argv: &[&str]) -> GridArgs {
-        let mut all = vec!["test"];
-        all.extend(argv);
-        Cli::try_parse_from(all).unwrap().grid
-    }
-
-    fn grid(argv: &[&str]) -> GridSpec {
-        args(argv).grid(None).unwrap()
-    }
-
-    #[test]
-    fn the_preset_is_the_recommended_grid_and_options_override_it() {
-        assert_eq!(grid(&[]), GridSpec::recommended());
-        assert_eq!(grid(&["--grid-preset", "paper"]), GridSpec::paper());
-        let graded = grid(&["--grid-preset", "paper", "--theta-d-step", "3:1@60"]);
-        assert_eq!(graded.theta_d, GridSpec::recommended().theta_d);
-        assert_eq!(graded.phi_d_span, PhiDSpan::Quarter);
-        assert_eq!(graded.theta_h_samples, 30);
-        // An even step given replaces the preset's graded one entirely.
-        let even = grid(&["--theta-d-step", "2", "--phi-d-span", "quarter"]);
-        assert_eq!(even.theta_d, ThetaDSteps::even(2.0));
-        assert_eq!(even.phi_d_deg().last(), Some(&90.0));
-        assert_eq!(even.theta_h_samples, 16);
-        assert_eq!(even.unresolved_peak, None);
-        // phi_d and phi_h options keep the rule for an unresolved peak; theta_h's count and
-        // theta_d's steps replace what it would change, so they drop it.
-        let turned = grid(&["--phi-d-step", "45", "--phi-h", "30"]);
-        assert_eq!(
-            turned.unresolved_peak,
-            GridSpec::recommended().unresolved_peak
-        );
-        assert_eq!(grid(&["--theta-h-samples", "20"]).unresolved_peak, None);
-    }
-
-    #[test]
-    fn a_resumed_session_keeps_its_grid_unless_a_preset_is_given() {
-        let old = GridSpec {
-            theta_h_samples: 8,
-            ..GridSpec::paper()
-        };
-        assert_eq!(args(&[]).grid(Some(old)).unwrap(), old);
-        let stepped = args(&["--phi-d-step", "45"]).grid(Some(old)).unwrap();
-        assert_eq!((stepped.phi_d_step_deg, stepped.theta_h_samples), (45.0, 8));
-        let preset = args(&["--grid-preset", "recommended"]);
-        assert_eq!(preset.grid(Some(old)).unwrap(), GridSpec::recommended());
     }
 
     #[test]
@@ -125,33 +75,5 @@ mod tests {
             );
             assert_eq!(err.trim_end().lines().count(), 1, "{err}");
         }
-    }
-
-    #[test]
-    fn the_size_check_counts_the_graded_theta_d_and_the_half_turn() {
-        let huge = args(&[
-            "--theta-h-samples",
-            "360",
-            "--theta-d-step",
-            "3:0.5@0",
-            "--phi-d-step",
-            "0.5",
-        ]);
-        // 360 x (0, 0.5, ..., 89.5) x (0, 0.5, ..., 180): more than a million.
-        let err = huge.grid(None).unwrap_err().to_string();
-        assert!(err.contains("(360 x 180 x 361)"), "{err}");
-        assert!(err.contains("theta_d_step_deg 3:0.5@0"), "{err}");
-        assert!(err.contains("over the half-turn"), "{err}");
-        let quarter = args(&[
-            "--theta-h-samples",
-            "30",
-            "--theta-d-step",
-            "3:0.5@0",
-            "--phi-d-step",
-            "0.5",
-            "--phi-d-span",
-            "quarter",
-        ]);
-        assert!(quarter.grid(None).is_ok());
     }
 }

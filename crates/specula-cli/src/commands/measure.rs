@@ -3,19 +3,20 @@
 use super::connect_args::ConnectArgs;
 use super::grid_args::GridArgs;
 use crate::interrupt::{blame_stop, stop_on_ctrl_c, Interrupted};
-use crate::progress::duration_text;
 use crate::range;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use specula_acquisition::calibration::Calibration;
-use specula_core::{GridSpec, ProbeSpec};
+use specula_core::request::ProbeRequest;
+use specula_core::shown::duration_text;
+use specula_core::ProbeSpec;
 use specula_session::engine::{Progress, StageOutcome};
 use specula_session::protocol::Endpoint;
 use specula_session::workflow::{
-    default_session_path, measure, session_grid, summary_path, HdrChoice, MeasureOutcome,
-    MeasureSettings, Observer, PlanOrder, Source,
+    summary_path, HdrChoice, MeasureOutcome, Observer, PlanOrder, Source,
 };
 use specula_session::Stage;
+use specula_session::{run_measure, MeasureRequest};
 use std::path::PathBuf;
 
 /// Measure a BRDF on the simulated device or on real hardware into a MERL table.
@@ -83,61 +84,49 @@ pub(crate) struct Args {
 }
 
 impl Args {
-    /// The settings on `grid` ([`GridArgs::grid`]).
-    fn settings(&self, grid: GridSpec) -> MeasureSettings {
-        MeasureSettings {
+    /// The request the options describe.
+    fn request(&self) -> MeasureRequest {
+        MeasureRequest {
             seed: self.seed,
             ideal: self.ideal,
             point_light: self.point_light,
-            probe_samples: self.probe_samples,
+            probe: ProbeRequest {
+                samples: self.probe_samples,
+                tilt_deg: self.tilt,
+                tilt_azimuth_deg: self.tilt_azimuth,
+            },
             family: self.grid.family,
-            grid,
+            grid: self.grid.request(),
             order: self.order,
             hdr: self.hdr,
             method: self.method,
             deblur: !self.no_deblur,
             checks: !self.skip_checks,
-            tilt_deg: self.tilt,
-            tilt_azimuth_deg: self.tilt_azimuth,
+            out: self.out.clone(),
+            session: self.session.clone(),
         }
-    }
-
-    /// What the parser cannot check alone (each option's range it checks itself).
-    fn check(&self) -> Result<()> {
-        super::require_merl_out(&self.out)?;
-        if let Some(path) = &self.device {
-            let text = path.to_string_lossy();
-            if text.starts_with("tcp://") || text.starts_with("exec:") {
-                bail!("--device {text}: --device is the device description (TOML); to measure a device through the driver protocol give --connect {text}");
-            }
-        }
-        Ok(())
     }
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    args.check()?;
-    let device = super::load_device(args.device.as_deref())?;
+    let request = args.request();
+    request.validate()?;
+    if let Some(path) = &args.device {
+        let text = path.to_string_lossy();
+        if text.starts_with("tcp://") || text.starts_with("exec:") {
+            bail!("--device {text}: --device is the device description (TOML); to measure a device through the driver protocol give --connect {text}");
+        }
+    }
+    let device = specula_acquisition::device::Device::load_or_utia(args.device.as_deref())?;
     let source = source(&args)?;
-    let session = args
-        .session
-        .clone()
-        .unwrap_or_else(|| default_session_path(&args.out));
-    let grid = args.grid.grid(session_grid(&session)?)?;
+    let session = request.session_path();
+    let grid = request.grid()?;
     let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
     outln!("session: {}", session.display());
     outln!("grid: {grid}");
     let mut observer = Bars::default();
-    let outcome = measure(
-        source,
-        &device,
-        &args.settings(grid),
-        &session,
-        &args.out,
-        stop.clone(),
-        &mut observer,
-    )
-    .map_err(|e| blame_stop(e.into(), &stop))?;
+    let outcome = run_measure(&request, source, &device, stop.clone(), &mut observer)
+        .map_err(|e| blame_stop(e.into(), &stop))?;
     observer.finish();
     match outcome {
         MeasureOutcome::Complete(summary) => {

@@ -28,28 +28,3 @@ pub(crate) mod session;
 pub(crate) mod tabulate;
 pub(crate) mod token_args;
 pub(crate) mod view;
-
-/// The device description `--device` names, or the paper's UTIA gonioreflectometer.
-pub(crate) fn load_device(
-    path: Option<&std::path::Path>,
-) -> anyhow::Result<specula_acquisition::device::Device> {
-    Ok(match path {
-        Some(path) => specula_acquisition::device::Device::load(path)?,
-        None => specula_acquisition::device::Device::utia(),
-    })
-}
-
-/// Refuses an output path whose extension is not `.binary`, for the commands that write a
-/// MERL table (`specula convert` writes the other formats).
-pub(crate) fn require_merl_out(path: &std::path::Path) -> anyhow::Result<()> {
-    let is_merl = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("binary"));
-    if !is_merl {
-        anyhow::bail!(
-            "{}: this command writes a MERL table, so --out must end in .binary (`specula convert` turns it into .bin or .csv)",
-            path.display()
-        );
-    }
-    Ok(())
-}

@@ -3,13 +3,12 @@
 
 use super::grid_args::GridArgs;
 use anyhow::{bail, Context, Result};
-use specula_acquisition::ordering::{order, transition_time_s};
-use specula_acquisition::plan::{Plan, PlanSummary};
-use specula_core::sampling::SamplingFunction;
-use specula_core::GridSpec;
-use specula_session::estimate::{price_before_probe, ASSUMED_MATERIAL};
+use specula_acquisition::ordering::transition_time_s;
+use specula_acquisition::plan::PlanSummary;
+use specula_formats::source::load_brdf;
 use specula_session::journal::HdrChoice;
 use specula_session::workflow::PlanOrder;
+use specula_session::{run_plan, PlanRequest, ThetaH};
 use std::path::PathBuf;
 
 /// Plan a measurement: grid to device positions, reachability, order and time.
@@ -45,7 +44,7 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    let device = super::load_device(args.device.as_deref())?;
+    let device = specula_acquisition::device::Device::load_or_utia(args.device.as_deref())?;
     if args.print_device {
         match &args.device {
             Some(_) => out!("{}", device.to_toml_string()),
@@ -54,78 +53,57 @@ pub(crate) fn run(args: Args) -> Result<()> {
         return Ok(());
     }
     let out = args.out.clone().context("--out is required")?;
-    let grid = args.grid.grid(None)?;
-    let theta_h = theta_h_positions(&args, &grid)?;
-    let theta_d = grid.theta_d_deg();
-    let phi_d = grid.phi_d_deg();
-
-    let mut nested = Plan::from_grid(&theta_h, &theta_d, &phi_d, grid.phi_h_deg, &device);
-    let spinner = crate::progress::spinner("ordering");
-    let mut optimized = order(&nested);
-    spinner.finish_and_clear();
-    if args.truth.is_some() && args.hdr == HdrChoice::Bracket {
-        bail!("--truth sets the brightness of predicted exposures: it needs --hdr predicted");
-    }
-    let truth = match args.hdr {
-        HdrChoice::Predicted => Some(specula_formats::source::load_brdf(
-            args.truth.as_deref().unwrap_or(ASSUMED_MATERIAL),
-        )?),
-        HdrChoice::Bracket => None,
+    let theta_h = match (&args.theta_h_list, args.k) {
+        (Some(list), _) => ThetaH::Positions(list.clone()),
+        (None, Some(k)) => ThetaH::K(k),
+        (None, None) => bail!("give --k or --theta-h-list"),
     };
-    let assumed = price_before_probe(
-        &mut [&mut nested, &mut optimized],
-        &device,
+    let truth = args.truth.as_deref().map(load_brdf).transpose()?;
+    let request = PlanRequest {
+        theta_h,
+        family: args.grid.family,
+        grid: args.grid.request(),
+        order: args.order,
+        hdr: args.hdr,
         truth,
-        grid.phi_h_deg,
-    )?;
-
-    let chosen = match args.order {
-        PlanOrder::Optimized => &optimized,
-        PlanOrder::Nested => &nested,
     };
+    request.validate()?;
+    let spinner = crate::progress::spinner("ordering");
+    let planned = run_plan(&request, &device)?;
+    spinner.finish_and_clear();
+    let chosen = planned.chosen(args.order);
     specula_core::atomic_file::write_with(&out, |file| {
         chosen.write_csv(file).map_err(std::io::Error::other)
     })
     .with_context(|| format!("{}: cannot write", out.display()))?;
 
+    let (grid, nested, optimized) = (&planned.grid, &planned.nested, &planned.optimized);
     outln!("device: {}", device.name);
     outln!(
         "grid: {} theta_h x {} theta_d x {} phi_d at phi_h = {} deg (theta_d {}, phi_d step {} deg over the {})",
-        theta_h.len(),
-        theta_d.len(),
-        phi_d.len(),
+        planned.theta_h_deg.len(),
+        grid.theta_d_deg().len(),
+        grid.phi_d_deg().len(),
         grid.phi_h_deg,
         grid.theta_d,
         grid.phi_d_step_deg,
         grid.phi_d_span
     );
-    print_summary(&nested.summary(&device), &optimized.summary(&device));
+    let (nested_summary, optimized_summary) = planned.summaries(&device);
+    print_summary(&nested_summary, &optimized_summary);
     outln!(
         "motion (moves + settling): nested {:.2} h, optimized {:.2} h ({:.0}% less)",
-        transition_time_s(&nested) / 3600.0,
-        transition_time_s(&optimized) / 3600.0,
-        100.0 * (1.0 - transition_time_s(&optimized) / transition_time_s(&nested).max(1e-9))
+        transition_time_s(nested) / 3600.0,
+        transition_time_s(optimized) / 3600.0,
+        100.0 * (1.0 - transition_time_s(optimized) / transition_time_s(nested).max(1e-9))
     );
-    outln!("captures: {assumed}");
+    outln!("captures: {}", planned.assumed);
     outln!(
         "predicted_hours={:.3}",
         chosen.summary(&device).duration_s() / 3600.0
     );
     outln!("wrote {} ({} order)", out.display(), args.order);
     Ok(())
-}
-
-/// theta_h positions: the explicit list, or the sampling function's with the grid's count.
-fn theta_h_positions(args: &Args, grid: &GridSpec) -> Result<Vec<f64>> {
-    if let Some(list) = &args.theta_h_list {
-        if list.is_empty() {
-            bail!("--theta-h-list needs at least one value");
-        }
-        return Ok(list.clone());
-    }
-    let k = args.k.context("give --k or --theta-h-list")?;
-    let function = SamplingFunction::new(args.grid.family, k)?;
-    Ok(function.positions_deg(grid.theta_h_samples))
 }
 
 fn print_summary(nested: &PlanSummary, optimized: &PlanSummary) {

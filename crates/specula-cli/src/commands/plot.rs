@@ -1,21 +1,15 @@
 //! `specula plot`: the paper's figures as PNG pictures (Fig. 11, 13, 15 and the analysis of
 //! section 5.1).
 
+use crate::output::plain;
 use crate::range;
-use anyhow::{bail, Context, Result};
-use specula_core::sampling::{Family, SamplingFunction};
+use anyhow::Result;
+use specula_core::sampling::Family;
 use specula_core::statistics::Statistic;
 use specula_core::GridSpec;
-use specula_sampling::adaptive::AdaptiveSamples;
-use specula_sampling::analysis::ErrorTable;
-use specula_sampling::Probe;
-use specula_visual::heatmap::Heatmap;
-use specula_visual::plot::probe::{interpolate, plot_probe};
-use specula_visual::plot::raw_samples::plot_raw_samples;
-use specula_visual::plot::slice::{plot_slice, SliceOptions};
+use specula_report::{plot, Adaptive, Figure, PlotRequest};
 use specula_visual::plot::ThetaHAxis;
-use specula_visual::RgbImage;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Draw the paper's figures of BRDF data as PNG pictures.
 #[derive(clap::Args)]
@@ -113,229 +107,53 @@ pub(crate) struct HeatmapArgs {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    let (out, image) = match args.plot {
-        Plot::Slice(a) => (a.out.clone(), slice(a)?),
-        Plot::Samples(a) => (a.out.clone(), samples(a)?),
-        Plot::Probe(a) => (a.out.clone(), probe(a)?),
-        Plot::Heatmap(a) => (a.out.clone(), heatmap(a)?),
-    };
-    if !out
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
-    {
-        bail!("{}: plots are written as .png", out.display());
-    }
-    specula_visual::linear_image::save_png(&image, &out)?;
-    outln!("wrote {}", out.display());
-    Ok(())
-}
-
-fn slice(args: SliceArgs) -> Result<RgbImage> {
-    let brdf = specula_formats::load_brdf(&args.brdf)?;
-    let options = SliceOptions {
-        axis: args.axis,
-        phi_d_deg: args.phi_d,
-        phi_h_deg: args.phi_h,
-    };
-    Ok(plot_slice(brdf.as_ref(), &brdf.name(), &options)?)
-}
-
-fn samples(args: SamplesArgs) -> Result<RgbImage> {
-    let set = specula_formats::samples_csv::SampleSet::read(&args.samples)?;
-    plot_raw_samples(set.samples(), &stem(&args.samples), args.axis)
-        .with_context(|| args.samples.display().to_string())
-}
-
-fn probe(args: ProbeArgs) -> Result<RgbImage> {
-    let probe = Probe::read_csv(&args.probe)?;
-    let points = probe.points();
-    let adaptive = match (&args.adaptive, &args.positions, args.k) {
-        (Some(path), _, _) => match AdaptiveSamples::read_csv(path)? {
-            AdaptiveSamples::Measured(samples) => samples,
-            AdaptiveSamples::Positions(positions) => interpolate(&points, &positions),
+    let request = match args.plot {
+        Plot::Slice(a) => PlotRequest {
+            figure: Figure::Slice {
+                brdf: a.brdf,
+                axis: a.axis,
+                phi_d_deg: a.phi_d,
+                phi_h_deg: a.phi_h,
+            },
+            out: a.out,
         },
-        (None, Some(positions), _) => {
-            let mut positions = positions.clone();
-            positions.sort_by(f64::total_cmp);
-            interpolate(&points, &positions)
-        }
-        (None, None, Some(k)) => {
-            let function = SamplingFunction::new(args.family, k)?;
-            interpolate(&points, &function.positions_deg(args.theta_h_samples))
-        }
-        (None, None, None) => {
-            let fit = specula_sampling::fit_k(&probe.column(), args.family, args.theta_h_samples)?;
-            outln!(
-                "k={} error={}",
-                crate::output::plain(fit.function.k),
-                crate::output::plain(fit.error)
-            );
-            interpolate(&points, &fit.function.positions_deg(args.theta_h_samples))
-        }
+        Plot::Samples(a) => PlotRequest {
+            figure: Figure::Samples {
+                samples: a.samples,
+                axis: a.axis,
+            },
+            out: a.out,
+        },
+        Plot::Probe(a) => PlotRequest {
+            figure: Figure::Probe {
+                probe: a.probe,
+                adaptive: match (a.adaptive, a.positions, a.k) {
+                    (Some(path), _, _) => Adaptive::File(path),
+                    (None, Some(positions), _) => Adaptive::Positions(positions),
+                    (None, None, Some(k)) => Adaptive::K(k),
+                    (None, None, None) => Adaptive::Fitted,
+                },
+                family: a.family,
+                theta_h_samples: a.theta_h_samples,
+            },
+            out: a.out,
+        },
+        Plot::Heatmap(a) => PlotRequest {
+            figure: Figure::Heatmap {
+                analysis: a.analysis,
+                statistic: if a.median {
+                    Statistic::Median
+                } else {
+                    Statistic::Mean
+                },
+            },
+            out: a.out,
+        },
     };
-    Ok(plot_probe(&points, &adaptive, &stem(&args.probe))?)
-}
-
-fn heatmap(args: HeatmapArgs) -> Result<RgbImage> {
-    let statistic = if args.median {
-        Statistic::Median
-    } else {
-        Statistic::Mean
-    };
-    let table = ErrorTable::read_csv(&args.analysis, statistic)?;
-    let best = table.best();
-    let statistic = statistic.name();
-    Ok(Heatmap {
-        title: format!(
-            "{}: {statistic} slice error by family and fitted column",
-            stem(&args.analysis)
-        ),
-        x_label: "theta_d of the column k is fitted on (deg)".into(),
-        x_values: table.theta_d_deg,
-        row_labels: table.families,
-        values: table.values,
-        log_scale: true,
-        value_label: format!("{statistic} abs. error (1/sr)"),
-        highlight: best,
+    let plotted = plot(&request)?;
+    if let Some(fit) = plotted.fitted {
+        outln!("k={} error={}", plain(fit.function.k), plain(fit.error));
     }
-    .draw()?)
-}
-
-fn stem(path: &Path) -> String {
-    path.file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| path.display().to_string())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn write(path: &Path, text: &str) {
-        std::fs::write(path, text).unwrap();
-    }
-
-    fn probe_csv(dir: &Path) -> PathBuf {
-        let path = dir.join("probe.csv");
-        let mut text = String::from("theta_h,r,g,b\n");
-        for i in 0..90 {
-            let t = (i * i) as f64 / 90.0;
-            let v = 500.0 * (-2.0 * t).exp() + 0.01;
-            text.push_str(&format!("{t},{v},{},{}\n", 0.9 * v, 0.8 * v));
-        }
-        write(&path, &text);
-        path
-    }
-
-    fn run_to(plot: Plot) -> Result<(u32, u32)> {
-        let out = match &plot {
-            Plot::Slice(a) => a.out.clone(),
-            Plot::Samples(a) => a.out.clone(),
-            Plot::Probe(a) => a.out.clone(),
-            Plot::Heatmap(a) => a.out.clone(),
-        };
-        run(Args { plot })?;
-        Ok(image::image_dimensions(&out)?)
-    }
-
-    fn probe_args(probe: PathBuf, out: PathBuf) -> ProbeArgs {
-        ProbeArgs {
-            probe,
-            out,
-            adaptive: None,
-            positions: None,
-            k: None,
-            family: Family::Exponential,
-            theta_h_samples: 30,
-        }
-    }
-
-    #[test]
-    fn every_plot_is_drawn() {
-        let dir = tempfile::tempdir().unwrap();
-        let d = dir.path();
-        let slice = SliceArgs {
-            brdf: "chrome".into(),
-            out: d.join("slice.png"),
-            axis: ThetaHAxis::Linear,
-            phi_d: 90.0,
-            phi_h: 0.0,
-        };
-        assert!(run_to(Plot::Slice(slice)).unwrap().0 > 500);
-
-        let samples = d.join("samples.csv");
-        let mut text = String::from("theta_h,phi_h,theta_d,phi_d,r,g,b\n");
-        for phi_d in [0, 45, 90] {
-            for i in 0..10 {
-                for j in 0..10 {
-                    if phi_d == 90 && j > 7 {
-                        continue;
-                    }
-                    text.push_str(&format!("{},45,{},{phi_d},1,2,3\n", (i * i) as f64, 9 * j));
-                }
-            }
-        }
-        write(&samples, &text);
-        let args = SamplesArgs {
-            samples,
-            out: d.join("samples.png"),
-            axis: ThetaHAxis::Merl,
-        };
-        assert!(run_to(Plot::Samples(args)).unwrap().0 > 800);
-
-        let probe = probe_csv(d);
-        assert!(run_to(Plot::Probe(probe_args(probe.clone(), d.join("p1.png")))).is_ok());
-        let with_k = ProbeArgs {
-            k: Some(4.78),
-            ..probe_args(probe.clone(), d.join("p2.png"))
-        };
-        assert!(run_to(Plot::Probe(with_k)).is_ok());
-        let adaptive = d.join("adaptive.csv");
-        write(&adaptive, "theta_h\n0\n0.5\n3\n20\n90\n");
-        let measured = ProbeArgs {
-            adaptive: Some(adaptive),
-            ..probe_args(probe, d.join("p3.png"))
-        };
-        assert_eq!(run_to(Plot::Probe(measured)).unwrap(), (900, 860));
-
-        let analysis = d.join("analysis.csv");
-        let mut text = String::from("family,theta_d,mean_error,median_error,materials\n");
-        for family in ["power", "exponential", "base"] {
-            for j in 0..90 {
-                text.push_str(&format!("{family},{j},{},{},5\n", 1.0 + j as f64, 2.0));
-            }
-        }
-        write(&analysis, &text);
-        let heatmap = HeatmapArgs {
-            analysis,
-            out: d.join("heatmap.png"),
-            median: false,
-        };
-        assert!(run_to(Plot::Heatmap(heatmap)).is_ok());
-    }
-
-    #[test]
-    fn bad_inputs_name_the_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let d = dir.path();
-        let missing = d.join("missing.csv");
-        let err = run_to(Plot::Probe(probe_args(missing, d.join("x.png")))).unwrap_err();
-        assert!(format!("{err:#}").contains("missing.csv"), "{err:#}");
-        let adaptive = d.join("adaptive.csv");
-        write(&adaptive, "position\n1\n");
-        let args = ProbeArgs {
-            adaptive: Some(adaptive),
-            ..probe_args(probe_csv(d), d.join("x.png"))
-        };
-        let err = run_to(Plot::Probe(args)).unwrap_err();
-        assert!(format!("{err:#}").contains("no theta_h column"), "{err:#}");
-        let slice = SliceArgs {
-            brdf: "chrome".into(),
-            out: d.join("slice.jpg"),
-            axis: ThetaHAxis::Merl,
-            phi_d: 90.0,
-            phi_h: 0.0,
-        };
-        assert!(format!("{:#}", run_to(Plot::Slice(slice)).unwrap_err()).contains(".png"));
-    }
+    outln!("wrote {}", request.out.display());
+    Ok(())
 }

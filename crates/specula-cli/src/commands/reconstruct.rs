@@ -48,7 +48,7 @@ pub(crate) struct Args {
 const MOSTLY_EXTRAPOLATED: f64 = 0.9;
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    super::require_merl_out(&args.out)?;
+    specula_core::request::check_merl_out(&args.out)?;
     let (input, samples, response) = match (&args.samples, &args.session) {
         (Some(path), _) => (path, read_samples(path)?, None),
         (None, Some(path)) => {

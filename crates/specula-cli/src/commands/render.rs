@@ -1,11 +1,8 @@
 //! `specula render`: pictures of materials on a sphere or a speedshape (paper Fig. 16, 17).
 
-use anyhow::{bail, Result};
-use specula_visual::grid::{self, Tile};
-use specula_visual::linear_image::ImageFormat;
-use specula_visual::{Lighting, RenderSettings, Scene, ShapeKind};
+use anyhow::Result;
+use specula_visual::{render_pictures, LightKind, RenderProgress, RenderRequest, ShapeKind};
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// Render a material on a sphere or a speedshape under a point light or an environment.
 #[derive(clap::Args)]
@@ -25,9 +22,9 @@ pub(crate) struct Args {
     /// its centre behind the camera).
     #[arg(long, value_name = "ENV")]
     pub env: Option<String>,
-    /// Light the object with a point light (intensity 60 W/sr, upper left, in front) on black
-    /// instead of an environment.
-    #[arg(long, value_enum)]
+    /// Light the object with a point light (`point`: intensity 60 W/sr, upper left, in front)
+    /// on black instead of an environment.
+    #[arg(long)]
     pub light: Option<LightKind>,
     /// Camera rays per pixel. Range: a whole number from 1 to 65536.
     #[arg(long, default_value_t = specula_visual::render::DEFAULT_SAMPLES_PER_PIXEL, value_parser = crate::range::SAMPLES_PER_PIXEL)]
@@ -47,187 +44,37 @@ pub(crate) struct Args {
     pub seed: u64,
 }
 
-/// The kinds of light besides an environment.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub(crate) enum LightKind {
-    /// One point light.
-    Point,
-}
-
 pub(crate) fn run(args: Args) -> Result<()> {
-    let format = ImageFormat::of_path(&args.out)?;
-    if args.brdfs.len() > 1 && !args.side_by_side {
-        bail!(
-            "{} BRDFs given: add --side-by-side to show them side by side",
-            args.brdfs.len()
-        );
-    }
-    if args.side_by_side && format != ImageFormat::Png {
-        bail!(
-            "{}: a --side-by-side picture is written as .png",
-            args.out.display()
-        );
-    }
-    let lighting = Lighting::chosen(args.light.is_some(), args.env.as_deref())?;
-    let brdfs = args
-        .brdfs
-        .iter()
-        .map(|spec| specula_formats::load_brdf(spec))
-        .collect::<Result<Vec<_>, _>>()?;
-    let scene = Scene::new(args.shape, lighting);
-    let settings = RenderSettings {
+    let request = RenderRequest {
+        shape: args.shape,
+        env: args.env,
+        light: args.light,
+        spp: args.spp,
+        size_px: args.size,
+        exposure_stops: args.exposure,
+        side_by_side: args.side_by_side,
         seed: args.seed,
-        ..RenderSettings::square(args.size, args.spp)
+        out: Some(args.out.clone()),
     };
+    request.validate(args.brdfs.len())?;
+    let mut materials = Vec::with_capacity(args.brdfs.len());
+    for spec in args.brdfs {
+        let brdf = specula_formats::load_brdf(&spec)?;
+        materials.push((spec, brdf));
+    }
     let pixels = (args.size * args.size) as u64;
-    let bar = crate::progress::bar(pixels * brdfs.len() as u64, "rendering");
-    let mut renders = Vec::with_capacity(brdfs.len());
-    for (i, brdf) in brdfs.iter().enumerate() {
-        let start = Instant::now();
-        let offset = i as u64 * pixels;
-        let image = specula_visual::render(brdf.as_ref(), &scene, &settings, &|done| {
-            bar.set_position(offset + done)
-        });
-        eprintln!(
-            "rendered {} ({} x {}, {} spp) in {:.2} s",
-            brdf.name(),
-            args.size,
-            args.size,
-            args.spp,
-            start.elapsed().as_secs_f64()
-        );
-        renders.push(image);
-    }
+    let bar = crate::progress::bar(pixels * materials.len() as u64, "rendering");
+    let rendered = render_pictures(&request, &materials, &|progress| match progress {
+        RenderProgress::Pixels(done) => bar.set_position(done),
+        RenderProgress::Rendered { name, seconds } => eprintln!(
+            "rendered {name} ({} x {}, {} spp) in {seconds:.2} s",
+            args.size, args.size, args.spp
+        ),
+    })?;
     bar.finish_and_clear();
-    if !args.side_by_side {
-        renders[0].save(&args.out, args.exposure)?;
-        outln!("wrote {}", args.out.display());
-        return Ok(());
+    if let Some((difference, [a, b])) = rendered.difference {
+        outln!("mean relative difference {difference:.4} ({a} against {b})");
     }
-    let labels = tile_labels(&args.brdfs);
-    let mut tiles: Vec<Tile> = labels
-        .iter()
-        .zip(&renders)
-        .map(|(label, image)| Tile {
-            label: label.clone(),
-            image: image.to_display(args.exposure),
-        })
-        .collect();
-    if renders.len() == 2 {
-        let diff = grid::difference(&renders[0], &renders[1])?;
-        outln!(
-            "mean relative difference {:.4} ({} against {})",
-            diff.mean_relative,
-            labels[0],
-            labels[1]
-        );
-        tiles.push(Tile {
-            label: "|A-B| / max(A,B), 0-100 %".into(),
-            image: diff.image,
-        });
-    }
-    specula_visual::linear_image::save_png(&grid::compose(&tiles)?, &args.out)?;
     outln!("wrote {}", args.out.display());
     Ok(())
-}
-
-/// A tile's label: the source as the user named it (a file by its file name, so that a
-/// measured table and its truth read apart), with its role A or B when two are compared.
-fn tile_labels(specs: &[String]) -> Vec<String> {
-    let names = specs.iter().map(|spec| {
-        let path = std::path::Path::new(spec);
-        match path.file_name() {
-            Some(name) if path.is_file() => name.to_string_lossy().into_owned(),
-            _ => spec.clone(),
-        }
-    });
-    if specs.len() == 2 {
-        names
-            .zip(["A", "B"])
-            .map(|(name, role)| format!("{role}: {name}"))
-            .collect()
-    } else {
-        names.collect()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn args(brdfs: &[&str], out: PathBuf) -> Args {
-        Args {
-            brdfs: brdfs.iter().map(|s| s.to_string()).collect(),
-            out,
-            shape: ShapeKind::Sphere,
-            env: None,
-            light: None,
-            spp: 2,
-            size: 16,
-            exposure: 0.0,
-            side_by_side: false,
-            seed: 1,
-        }
-    }
-
-    #[test]
-    fn renders_png_exr_and_grids() {
-        let dir = tempfile::tempdir().unwrap();
-        let png = dir.path().join("a.png");
-        run(args(&["chrome"], png.clone())).unwrap();
-        assert_eq!(image::image_dimensions(&png).unwrap(), (16, 16));
-        let exr = dir.path().join("a.exr");
-        run(Args {
-            light: Some(LightKind::Point),
-            shape: ShapeKind::Speedshape,
-            ..args(&["silver-925"], exr.clone())
-        })
-        .unwrap();
-        assert_eq!(specula_visual::LinearImage::load(&exr).unwrap().width, 16);
-        let grid = dir.path().join("g.png");
-        run(Args {
-            side_by_side: true,
-            env: Some("constant:0.5".into()),
-            ..args(&["chrome", "green-paint"], grid.clone())
-        })
-        .unwrap();
-        let (w, _) = image::image_dimensions(&grid).unwrap();
-        assert!(w > 3 * 16, "three tiles: {w}");
-    }
-
-    #[test]
-    fn tiles_are_labelled_by_source_and_role() {
-        let dir = tempfile::tempdir().unwrap();
-        let table = dir.path().join("A.binary");
-        std::fs::write(&table, b"x").unwrap();
-        let specs = [table.display().to_string(), "green-paint".to_string()];
-        assert_eq!(tile_labels(&specs), ["A: A.binary", "B: green-paint"]);
-        assert_eq!(tile_labels(&specs[1..]), ["green-paint"]);
-    }
-
-    #[test]
-    fn bad_requests_are_refused_with_a_reason() {
-        let dir = tempfile::tempdir().unwrap();
-        let out = dir.path().join("a.png");
-        let message = |a: Args| format!("{:#}", run(a).unwrap_err());
-        assert!(message(args(&["chrome", "steel"], out.clone())).contains("--side-by-side"));
-        assert!(message(Args {
-            side_by_side: true,
-            ..args(&["chrome"], dir.path().join("a.exr"))
-        })
-        .contains(".png"));
-        assert!(message(args(&["chrome"], dir.path().join("a.jpg"))).contains("a.jpg"));
-        assert!(message(Args {
-            light: Some(LightKind::Point),
-            env: Some("studio".into()),
-            ..args(&["chrome"], out.clone())
-        })
-        .contains("choose one"));
-        assert!(message(Args {
-            env: Some("/no/such.exr".into()),
-            ..args(&["chrome"], out.clone())
-        })
-        .contains("/no/such.exr"));
-        assert!(message(args(&["no-such-material"], out)).contains("no-such-material"));
-    }
 }

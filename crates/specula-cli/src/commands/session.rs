@@ -1,7 +1,7 @@
 //! `specula session`: what a measurement session's journal holds.
 
-use crate::progress::duration_text;
 use anyhow::Result;
+use specula_core::shown::duration_text;
 use specula_session::journal::{SessionRecord, SessionState, SessionStatus};
 use std::path::PathBuf;
 

@@ -20,7 +20,7 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    super::require_merl_out(&args.out)?;
+    specula_core::request::check_merl_out(&args.out)?;
     let brdf = specula_formats::load_brdf(&args.brdf)?;
     let spinner = crate::progress::spinner("tabulating");
     let table = specula_core::tabulate::tabulate(brdf.as_ref(), args.phi_h.to_radians());

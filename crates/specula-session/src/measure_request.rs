@@ -1,0 +1,177 @@
+//! What a user asks of a measurement (`specula measure`, the Python package's `measure`):
+//! the simulated device's seed and noise, the probe and the sample's tilt, the grid, the
+//! order, the HDR, the method, the checks and where to write, every range checked in one
+//! place ([`MeasureRequest::validate`], errors naming the Python argument), and one entry
+//! point ([`run_measure`]).
+
+use crate::workflow::{
+    default_session_path, measure, session_grid, HdrChoice, MeasureOutcome, MeasureSettings,
+    Observer, PlanOrder, Source,
+};
+use crate::workflow_error::WorkflowError;
+use specula_acquisition::device::Device;
+use specula_core::request::{check_merl_out, GridRequest, ProbeRequest, RequestError};
+use specula_core::sampling::Family;
+use specula_core::GridSpec;
+use specula_reconstruct::Method;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+/// Why a measurement is refused or stops with an error.
+#[derive(Debug, thiserror::Error)]
+pub enum MeasureError {
+    /// A value outside its range, a grid too large or an output that is not `.binary`.
+    #[error(transparent)]
+    Request(#[from] RequestError),
+    /// The workflow failed.
+    #[error(transparent)]
+    Workflow(#[from] WorkflowError),
+}
+
+/// A measurement as a user asks for it.
+#[derive(Debug, Clone)]
+pub struct MeasureRequest {
+    /// Seed of the simulated device: its positioning errors and its noise.
+    pub seed: u64,
+    /// A simulated device without noise or positioning error.
+    pub ideal: bool,
+    /// Simulate the light as a point instead of its disk.
+    pub point_light: bool,
+    /// The probe's samples and the simulated sample's tilt.
+    pub probe: ProbeRequest,
+    /// The sampling function's family.
+    pub family: Family,
+    /// The grid (a resumed session keeps its own unless a preset is given).
+    pub grid: GridRequest,
+    /// Order of the samples.
+    pub order: PlanOrder,
+    /// HDR at each sample.
+    pub hdr: HdrChoice,
+    /// The reconstruction method.
+    pub method: Method,
+    /// Fit through the instrument's response.
+    pub deblur: bool,
+    /// Run the alignment and orientation checks.
+    pub checks: bool,
+    /// The MERL `.binary` to write.
+    pub out: PathBuf,
+    /// The session journal; `None`: `OUT.session.sqlite`.
+    pub session: Option<PathBuf>,
+}
+
+impl MeasureRequest {
+    /// Checks every value against its range and that `out` is a `.binary`.
+    pub fn validate(&self) -> Result<(), RequestError> {
+        check_merl_out(&self.out)?;
+        self.probe.validate()?;
+        self.grid.validate()
+    }
+
+    /// The session journal.
+    pub fn session_path(&self) -> PathBuf {
+        self.session
+            .clone()
+            .unwrap_or_else(|| default_session_path(&self.out))
+    }
+
+    /// The grid measured: a resumed session's own unless a preset is given.
+    pub fn grid(&self) -> Result<GridSpec, MeasureError> {
+        Ok(self.grid.grid(session_grid(&self.session_path())?)?)
+    }
+
+    /// The workflow's settings on `grid` ([`Self::grid`]).
+    pub fn settings(&self, grid: GridSpec) -> MeasureSettings {
+        MeasureSettings {
+            seed: self.seed,
+            ideal: self.ideal,
+            point_light: self.point_light,
+            probe_samples: self.probe.samples,
+            family: self.family,
+            grid,
+            order: self.order,
+            hdr: self.hdr,
+            method: self.method,
+            deblur: self.deblur,
+            checks: self.checks,
+            tilt_deg: self.probe.tilt_deg,
+            tilt_azimuth_deg: self.probe.tilt_azimuth_deg,
+        }
+    }
+}
+
+/// Measures `source` on `device` as `request` asks, journaled and resumable, until done or
+/// `stop` is set ([`measure`]).
+pub fn run_measure(
+    request: &MeasureRequest,
+    source: Source,
+    device: &Device,
+    stop: Arc<AtomicBool>,
+    observer: &mut dyn Observer,
+) -> Result<MeasureOutcome, MeasureError> {
+    request.validate()?;
+    let settings = request.settings(request.grid()?);
+    let session = request.session_path();
+    Ok(measure(
+        source,
+        device,
+        &settings,
+        &session,
+        &request.out,
+        stop,
+        observer,
+    )?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use specula_core::ProbeSpec;
+
+    fn request(out: &str) -> MeasureRequest {
+        MeasureRequest {
+            seed: 1,
+            ideal: true,
+            point_light: false,
+            probe: ProbeRequest {
+                samples: ProbeSpec::paper().samples,
+                tilt_deg: 0.0,
+                tilt_azimuth_deg: 0.0,
+            },
+            family: Family::Exponential,
+            grid: GridRequest::default(),
+            order: PlanOrder::Optimized,
+            hdr: HdrChoice::Predicted,
+            method: "lobe".parse().unwrap(),
+            deblur: true,
+            checks: true,
+            out: PathBuf::from(out),
+            session: None,
+        }
+    }
+
+    #[test]
+    fn a_request_is_refused_with_the_python_arguments_words() {
+        assert!(request("a.binary").validate().is_ok());
+        let tilted = MeasureRequest {
+            probe: ProbeRequest {
+                tilt_deg: 20.0,
+                ..request("a.binary").probe
+            },
+            ..request("a.binary")
+        };
+        assert_eq!(
+            tilted.validate().unwrap_err().to_string(),
+            "tilt_deg 20: expected degrees from 0 to 10"
+        );
+        let csv = request("a.csv").validate().unwrap_err().to_string();
+        assert!(
+            csv.starts_with("a.csv: this command writes a MERL table"),
+            "{csv}"
+        );
+        assert_eq!(
+            request("dir/a.binary").session_path(),
+            PathBuf::from("dir/a.session.sqlite")
+        );
+    }
+}
