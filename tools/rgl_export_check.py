@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
 """Reference data for Specula's RGL `.bsdf` writer, from Mitsuba 3's own `measured` plugin.
 
-For each test material (a sharp conductor, the green paint, a real RGL file round-tripped):
+For each test material (a sharp conductor, the green paint, a real RGL file round-tripped,
+the MERL tabulations of the five real RGL files, three neural fits of MERL materials):
 
-1. `specula convert SOURCE out.bsdf` writes the file at the default resolution;
+1. `specula convert SOURCE out.bsdf` writes the file at the default resolution (a MERL
+   tabulation is first written by `specula tabulate SOURCE --out tabulated.binary`);
 2. Mitsuba 3.9.1 (variant scalar_rgb) loads it with `measured` and evaluates it at 2100
-   direction pairs (seeded): 1400 uniform over the hemisphere pair (elevations up to 85 deg)
-   and 700 near the mirror direction (wi up to 80 deg, half vector |N(0, 1.5 deg)| mod 5 deg
-   from the normal), writing
+   direction pairs (seeded), the fixed set over which the writer's fidelity is measured:
+   1400 uniform over the hemisphere pair (cos theta uniform, elevations up to 85 deg,
+   azimuths uniform) and 700 near the mirror direction (wi uniform in cos theta up to 80 deg,
+   the half vector |N(0, 1.5 deg)| mod 5 deg from the normal), writing
 
        crates/specula-formats/tests/data/rgl_export_mitsuba_<material>.csv
 
@@ -25,7 +28,10 @@ For each test material (a sharp conductor, the green paint, a real RGL file roun
    the writer's fidelity (written against original, both in Mitsuba) from the renderers'
    agreement (Specula's render of the original against Mitsuba's).
 
-The Rust tests read these committed files, so CI needs no Python.
+The Rust tests read these committed files, so CI needs no Python:
+`cargo test -p specula-formats --test rgl_export_mitsuba -- --nocapture` prints, per material,
+the fraction of the 2100 pairs at which Mitsuba's value of the written file is within 5 % of
+the source (docs/book/src/renderers.md). Only the first three materials are rendered.
 
 Usage (from the repository root, after `cargo build --release`):
     python3 tools/rgl_export_check.py [--specula target/release/specula] [--size 128]
@@ -54,11 +60,22 @@ from rgl_vectors import DATA as MEASURED, direction, near_mirror_pair  # noqa: E
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 VECTORS = os.path.join(ROOT, "crates", "specula-formats", "tests", "data")
 RENDERS = os.path.join(ROOT, "crates", "specula-visual", "tests", "data")
-# name -> BRDF source given to `specula convert`
+RGL_FILES = [
+    "cc_ibiza_sunset_rgb",
+    "cc_iris_purple_gem_rgb",
+    "colodur_napoli_4f_rgb",
+    "paper_white_rgb",
+    "satin_rosaline_rgb",
+]
+NBRDF_FITS = ["gold-metallic-paint", "specular-blue-phenolic", "red-fabric"]
+# name -> (BRDF source given to `specula convert`, whether it is first tabulated into the MERL
+# grid, whether Mitsuba renders it); the order fixes each material's seed.
 MATERIALS = {
-    "chrome": "chrome",
-    "green-paint": "green-paint",
-    "cc_ibiza_sunset_rgb": os.path.join(MEASURED, "rgl_bsdf", "cc_ibiza_sunset_rgb.bsdf"),
+    "chrome": ("chrome", False, True),
+    "green-paint": ("green-paint", False, True),
+    "cc_ibiza_sunset_rgb": (os.path.join(MEASURED, "rgl_bsdf", "cc_ibiza_sunset_rgb.bsdf"), False, True),
+    **{f"merl_{name}": (os.path.join(MEASURED, "rgl_bsdf", name + ".bsdf"), True, False) for name in RGL_FILES},
+    **{f"nbrdf_{name}": (f"nbrdf:{name}", False, False) for name in NBRDF_FITS},
 }
 MAX_ELEVATION_DEG = 85.0
 REFERENCE_SPP = {"point": 256, "constant": 1024}
@@ -120,12 +137,16 @@ def main():
     parser.add_argument("--no-render", action="store_true", help="write the vectors only")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        for k, (name, source) in enumerate(MATERIALS.items()):
+        for k, (name, (source, tabulated, rendered)) in enumerate(MATERIALS.items()):
             path = os.path.join(tmp, f"{name}.bsdf")
+            if tabulated:
+                merl = os.path.join(tmp, f"{name}.binary")
+                subprocess.run([args.specula, "tabulate", source, "--out", merl], check=True)
+                source = merl
             subprocess.run([args.specula, "convert", source, path], check=True)
             bsdf = mi.load_dict({"type": "measured", "filename": path})
             write_vectors(bsdf, os.path.join(VECTORS, f"rgl_export_mitsuba_{name}.csv"), 180 + k)
-            if not args.no_render:
+            if rendered and not args.no_render:
                 for lighting in ("point", "constant"):
                     render(name, path, lighting, args.size)
                     if source.endswith(".bsdf"):

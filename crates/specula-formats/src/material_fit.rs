@@ -39,6 +39,10 @@ pub const PHI_D_STRIDE: usize = 6;
 pub const ALPHA_RANGE: (f64, f64) = (1e-3, 1.0);
 /// Coat index range of the fit (relative to air).
 pub const IOR_RANGE: (f64, f64) = (1.1, 2.5);
+/// The smallest extinction coefficient `k` of a metal-like conductor fit. Metals' `k` in the
+/// visible is well above it (silver about 3.6, gold 2.5-3, aluminium 6-7, chromium 3.3,
+/// titanium and iron about 3), dielectrics' is near 0.
+pub const METAL_MIN_K: f64 = 1.0;
 /// Cells per parallel part of the loss.
 const LOSS_CHUNK: usize = 4096;
 /// The conductor's largest normal-incidence reflectance (keeps eta and k finite).
@@ -176,6 +180,20 @@ pub struct MaterialFit {
     pub cells: usize,
 }
 
+impl MaterialFit {
+    /// Whether the fitted material is a metal's: a coat never is; a conductor is when its
+    /// extinction coefficient `k` reaches [`METAL_MIN_K`] in some channel. A conductor with
+    /// `k` near 0 is a dielectric's Fresnel reflection (a glossy film or plastic with a dark
+    /// base), which glTF's `metallicFactor` 1 and a renderer's conductor would render as a
+    /// metal.
+    pub fn is_metal_like(&self) -> bool {
+        match &self.material.base {
+            Base::Conductor(c) => c.k.max_element() >= METAL_MIN_K,
+            Base::ClearCoat(_) => false,
+        }
+    }
+}
+
 /// Why a fit failed.
 #[derive(Debug, thiserror::Error)]
 pub enum FitError {
@@ -280,7 +298,9 @@ fn minimise(loss: &Loss, start: &[f64]) -> Result<(Vec<f64>, f64), FitError> {
 }
 
 /// Fits `model` to the BRDF tabulated in `table` over the cells whose light and camera are
-/// within `max_elevation_deg` of the normal; the fitted material is named `name`.
+/// within `max_elevation_deg` of the normal; the fitted material is named after the source
+/// and the model, `name (coat fit)` or `name (conductor fit)`, so that every export says
+/// which model it holds.
 pub fn fit_material(
     table: &MerlBrdf,
     model: FitModel,
@@ -307,7 +327,7 @@ pub fn fit_material(
             break;
         }
     }
-    let material = model.material(name, &x);
+    let material = model.material(&format!("{name} ({} fit)", model.label()), &x);
     let fitted = tabulate(&material, 0.0);
     Ok(MaterialFit {
         model,
@@ -318,9 +338,11 @@ pub fn fit_material(
     })
 }
 
-/// Fits each of `models` to `table` (as [`fit_material`]) and returns the fits from the
-/// lowest fit error (`log_rmse` within the elevation limit, the figure the fit minimises)
-/// to the highest.
+/// Fits each of `models` to `table` (as [`fit_material`]) and returns the fits in the order
+/// of export, the one to export first: from the lowest fit error (`log_rmse` within the
+/// elevation limit, the figure the fit minimises) to the highest, except that a conductor
+/// that is not metal-like ([`MaterialFit::is_metal_like`]) comes after the dielectric coat
+/// when both were fitted ([`ExportReason`]).
 pub fn fit_models(
     table: &MerlBrdf,
     models: &[FitModel],
@@ -332,5 +354,61 @@ pub fn fit_models(
         .map(|&model| fit_material(table, model, max_elevation_deg, name))
         .collect::<Result<Vec<_>, _>>()?;
     fits.sort_by(|a, b| a.error_within.log_rmse.total_cmp(&b.error_within.log_rmse));
+    if let ExportReason::NotMetalLike { .. } = ExportReason::of(&fits) {
+        fits.swap(0, 1);
+    }
     Ok(fits)
+}
+
+/// Why the first of a list of fits is the one exported.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ExportReason {
+    /// Only one model was fitted.
+    OnlyModel,
+    /// It has the lowest fit error of the models fitted.
+    LowerError,
+    /// The conductor had the lower fit error, but its extinction coefficient (the largest
+    /// over the channels) is not a metal's, so the data are a dielectric's and the coat is
+    /// exported.
+    NotMetalLike {
+        /// The conductor's largest `k`.
+        k_max: f64,
+    },
+}
+
+impl ExportReason {
+    /// The reason for the first of `fits`, ordered by fit error (lowest first) or by
+    /// [`fit_models`].
+    pub fn of(fits: &[MaterialFit]) -> Self {
+        let [first, second, ..] = fits else {
+            return ExportReason::OnlyModel;
+        };
+        let conductor_k = |fit: &MaterialFit| match &fit.material.base {
+            Base::Conductor(c) if !fit.is_metal_like() => Some(c.k.max_element()),
+            _ => None,
+        };
+        match (conductor_k(first), conductor_k(second), second.model) {
+            (Some(k_max), _, FitModel::Coat) => ExportReason::NotMetalLike { k_max },
+            (None, Some(k_max), FitModel::Conductor)
+                if first.error_within.log_rmse > second.error_within.log_rmse =>
+            {
+                ExportReason::NotMetalLike { k_max }
+            }
+            _ => ExportReason::LowerError,
+        }
+    }
+}
+
+impl std::fmt::Display for ExportReason {
+    /// The reason in words, as `specula fit` prints it after "exported model: MODEL".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ExportReason::OnlyModel => f.write_str("the only model fitted"),
+            ExportReason::LowerError => f.write_str("the lower log_rmse of the models fitted"),
+            ExportReason::NotMetalLike { k_max } => write!(
+                f,
+                "a dielectric: the conductor fitted better but its k (at most {k_max:.2}) is not a metal's (at least {METAL_MIN_K})"
+            ),
+        }
+    }
 }

@@ -3,9 +3,12 @@
 use crate::range;
 use anyhow::{Context, Result};
 use specula_core::atomic_file::write_bytes;
+use specula_core::materials::Base;
 use specula_core::tabulate::tabulate;
 use specula_core::GridSpec;
-use specula_formats::material_fit::{fit_models, FitChoice, MaterialFit};
+use specula_formats::material_fit::{
+    fit_models, ExportReason, FitChoice, MaterialFit, METAL_MIN_K,
+};
 use specula_formats::renderer_export::{
     gltf_document, mitsuba_scene, mitsuba_warning, pbrt_material,
 };
@@ -60,16 +63,19 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let exporting =
         args.out.is_some() || args.mitsuba.is_some() || args.pbrt.is_some() || args.gltf.is_some();
     if exporting {
-        let why = if fits.len() > 1 {
-            format!(
-                ", the lower log_rmse within {} deg of the {} models fitted",
-                args.max_elevation,
-                fits.len()
-            )
-        } else {
-            String::new()
-        };
-        outln!("exported model: {}{why}", fits[0].model.label());
+        outln!(
+            "exported model: {} ({})",
+            fits[0].model.label(),
+            ExportReason::of(&fits)
+        );
+        if let Base::Conductor(c) = &best.base {
+            if !fits[0].is_metal_like() {
+                outln!(
+                    "note: the conductor's k is at most {:.2}, not a metal's (at least {METAL_MIN_K}): the data look dielectric; --model coat fits a dielectric",
+                    c.k.max_element()
+                );
+            }
+        }
     }
     if let Some(path) = &args.out {
         save(path, &best.to_toml_string())?;
