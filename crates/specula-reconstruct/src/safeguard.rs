@@ -25,8 +25,19 @@
 //! as measured, blur and all) and its cells below the failing region's upper theta_h take
 //! the deblurred ones' place when they reproduce the samples of every region there better
 //! (lower reproduction error). The summary says so: a bound at the instrument's resolution,
-//! not a resolved peak. Where they do not, the deblurred table stays and the summary says
-//! which check it failed.
+//! not a resolved peak.
+//!
+//! Where they do not, and the fitted lobe's peak is too narrow for the captures to tell its
+//! width from zero ([`width_detection_limit_deg`]), the data cannot decide the peak's
+//! height: such a peak changes the captures hardly at all (the blur's null space), and the
+//! lobe's family, which the samples just showed does not describe the material, chose its
+//! width. The
+//! un-deblurred value is then a lower bound of the peak (the blur spreads it over the
+//! resolution) and the deblurred one the height the lobe's shape would give. Below the peak
+//! region's upper theta_h the table holds their geometric mean, which is off by at most
+//! half the bounds' log ratio wherever the truth lies between them (the log-error minimax
+//! of the interval), and the summary gives the bounds at the highest cell. Elsewhere the
+//! deblurred table stays and the summary says which check it failed.
 
 use crate::consistency::{self, Consistency, Instrument};
 use crate::lobe::{Lobe, LobeOnGrid};
@@ -58,6 +69,10 @@ pub struct Safeguard {
     pub deblurred: Option<Consistency>,
     /// Cells with theta_h below this (degrees) hold the un-deblurred reconstruction.
     pub fallback_below_deg: Option<f64>,
+    /// Cells with theta_h below this (degrees) hold the geometric mean of the deblurred and
+    /// the un-deblurred values: the peak's height is bounded, not measured (see the module
+    /// documentation).
+    pub bounded_below_deg: Option<f64>,
     /// Why the fallback was taken, in words.
     pub reason: Option<String>,
     /// The largest directional albedo of the table returned, over the channels and
@@ -75,11 +90,14 @@ impl Safeguard {
     pub fn lines(&self) -> Vec<String> {
         let mut lines = self.consistency.lines();
         lines.push(format!("max_directional_albedo={:.4}", self.max_albedo));
-        lines.push(match (self.fallback_below_deg, &self.reason) {
-            (Some(limit), Some(reason)) => format!(
+        lines.push(match (self.fallback_below_deg, self.bounded_below_deg, &self.reason) {
+            (Some(limit), _, Some(reason)) => format!(
                 "deblur_fallback=theta_h below {limit:.2} deg holds the un-deblurred values ({reason})"
             ),
-            (None, Some(reason)) => format!("deblur_fallback=none, check failed: {reason}"),
+            (None, Some(limit), Some(reason)) => format!(
+                "deblur_fallback=theta_h below {limit:.2} deg holds the geometric mean of the deblurred and the un-deblurred values, a bounded peak ({reason})"
+            ),
+            (None, None, Some(reason)) => format!("deblur_fallback=none, check failed: {reason}"),
             _ => "deblur_fallback=none, checks passed".into(),
         });
         if let Some(d) = &self.deblurred {
@@ -112,6 +130,7 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
             consistency: check,
             deblurred: None,
             fallback_below_deg: None,
+            bounded_below_deg: None,
             reason: None,
             max_albedo: albedo,
         };
@@ -122,10 +141,32 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
     let merged_check = Consistency::check(samples, &u, &merged, instrument);
     let merged_albedo = max_albedo(&merged);
     if !fits_better(&merged_check, &check, limit_deg) {
+        let limit = width_detection_limit_deg(response.resolution_deg());
+        let undetected = lobe
+            .map(|l| l.shape.half_width_deg())
+            .filter(|&w| w < limit);
+        if let Some(half_width_deg) = undetected {
+            let limit_deg = check.peak_limit_deg;
+            let bounds = PeakBounds::of(&deblurred, &plain, limit_deg);
+            let bounded = geometric_mean_below(&deblurred, &plain, limit_deg);
+            let bounded_check = Consistency::check(samples, &u, &bounded, instrument);
+            let guard = Safeguard {
+                max_albedo: max_albedo(&bounded),
+                consistency: bounded_check,
+                deblurred: Some(check),
+                fallback_below_deg: None,
+                bounded_below_deg: Some(limit_deg),
+                reason: Some(format!(
+                    "{reason}; the un-deblurred values reproduce the samples no better, and the lobe's half width {half_width_deg:.3} deg is below the {limit:.3} deg the captures can tell from zero: {bounds}"
+                )),
+            };
+            return Ok((bounded, guard));
+        }
         let kept = Safeguard {
             consistency: check,
             deblurred: None,
             fallback_below_deg: None,
+            bounded_below_deg: None,
             reason: Some(format!("{reason}; the un-deblurred values reproduce the samples no better, so the deblurred ones stay")),
             max_albedo: albedo,
         };
@@ -135,6 +176,7 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
         consistency: merged_check,
         deblurred: Some(check),
         fallback_below_deg: Some(limit_deg),
+        bounded_below_deg: None,
         reason: Some(reason),
         max_albedo: merged_albedo,
     };
@@ -170,6 +212,18 @@ fn prediction_uncertainty(
         .zip(representation)
         .map(|((s, p), r)| quadrature_sum(&[p, r.abs(), floor(s)]))
         .collect()
+}
+
+/// The narrowest peak half width (degrees, in theta_h) the captures can tell from an
+/// infinitely narrow one, through a response of `resolution_deg`: half widths add in
+/// quadrature under a blur, `sqrt(R^2 + w^2)`, so a peak of half width `w` widens what the
+/// device records by more than its angular positioning accuracy `a`
+/// ([`consistency::POSITIONING_ACCURACY_DEG`]) only when `w > sqrt(2 a R + a^2)`: 0.26 deg
+/// for the default device's 1.09 deg resolution and 0.03 deg accuracy. A narrower fitted
+/// width is the lobe family's choice, not the data's.
+pub fn width_detection_limit_deg(resolution_deg: f64) -> f64 {
+    let a = consistency::POSITIONING_ACCURACY_DEG;
+    (2.0 * a * resolution_deg + a * a).sqrt()
 }
 
 /// `sqrt(sum of squares)` per channel.
@@ -224,14 +278,83 @@ fn fits_better(merged: &Consistency, deblurred: &Consistency, limit_deg: f64) ->
 
 /// `deblurred` with every cell whose theta_h centre lies below `limit_deg` taken from `plain`.
 fn replaced_below(deblurred: &MerlBrdf, plain: &MerlBrdf, limit_deg: f64) -> MerlBrdf {
+    combined_below(deblurred, plain, limit_deg, |_, p| p)
+}
+
+/// `deblurred` with every cell whose theta_h centre lies below `limit_deg` holding the
+/// geometric mean of its value and `plain`'s, per channel (a cell either lacks: `plain`'s).
+fn geometric_mean_below(deblurred: &MerlBrdf, plain: &MerlBrdf, limit_deg: f64) -> MerlBrdf {
+    combined_below(deblurred, plain, limit_deg, |d, p| {
+        Rgb::from_array(std::array::from_fn(|c| {
+            (d[c].max(0.0) * p[c].max(0.0)).sqrt()
+        }))
+    })
+}
+
+/// `deblurred` with every cell whose theta_h centre lies below `limit_deg` made by
+/// `combine(deblurred cell, plain cell)`; `plain`'s cell where `deblurred` has none.
+fn combined_below(
+    deblurred: &MerlBrdf,
+    plain: &MerlBrdf,
+    limit_deg: f64,
+    combine: impl Fn(Rgb, Rgb) -> Rgb + Sync,
+) -> MerlBrdf {
     MerlBrdf::from_fn(specula_core::Brdf::name(deblurred), |index| {
         let [theta_h_deg, _, _] = Bin::from_index(index).centre_deg();
-        if theta_h_deg < limit_deg {
-            plain.cell(index)
-        } else {
-            deblurred.cell(index)
+        if theta_h_deg >= limit_deg {
+            return deblurred.cell(index);
+        }
+        match (deblurred.cell(index), plain.cell(index)) {
+            (Some(d), Some(p)) => Some(combine(d, p)),
+            (_, p) => p,
         }
     })
+}
+
+/// The bounds are reported at a cell with theta_d below this (degrees), where light and
+/// camera are within 75 deg of the normal at the peak.
+const REPORTED_THETA_D_DEG: f64 = 75.0;
+
+/// The two bounds of a peak the data cannot resolve, at the deblurred table's highest cell
+/// below the limit (mean of the channels, 1/sr): the un-deblurred value (the peak spread
+/// over the resolution) and the deblurred one (the lobe's shape).
+struct PeakBounds {
+    index: usize,
+    plain: f64,
+    deblurred: f64,
+}
+
+impl PeakBounds {
+    fn of(deblurred: &MerlBrdf, plain: &MerlBrdf, limit_deg: f64) -> Self {
+        let mean = |table: &MerlBrdf, index: usize| {
+            table.cell(index).map_or(0.0, |v| (v.x + v.y + v.z) / 3.0)
+        };
+        let index = (0..specula_core::merl::CELLS)
+            .filter(|&i| {
+                let [theta_h_deg, theta_d_deg, _] = Bin::from_index(i).centre_deg();
+                theta_h_deg < limit_deg && theta_d_deg < REPORTED_THETA_D_DEG
+            })
+            .max_by(|&a, &b| mean(deblurred, a).total_cmp(&mean(deblurred, b)))
+            .unwrap_or(0);
+        Self {
+            index,
+            plain: mean(plain, index),
+            deblurred: mean(deblurred, index),
+        }
+    }
+}
+
+impl std::fmt::Display for PeakBounds {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [h, d, p] = Bin::from_index(self.index).centre_deg();
+        write!(
+            f,
+            "at theta_h {h:.2} deg, theta_d {d:.1} deg, phi_d {p:.1} deg the peak lies between {:.4e} and {:.4e} 1/sr and the table holds {:.4e}",
+            self.plain.min(self.deblurred),
+            self.plain.max(self.deblurred),
+            (self.plain * self.deblurred).sqrt()
+        )
+    }
 }
 
 /// The largest directional albedo of `table` (see [`Safeguard::max_albedo`]).
@@ -250,6 +373,7 @@ mod tests {
     use super::*;
     use crate::lobe::{Geometry, Shape};
     use specula_acquisition::device::Device;
+    use specula_core::merl::THETA_H_BINS;
     use specula_core::HalfDiff;
 
     fn lobe(alpha: f64) -> Lobe {
@@ -320,5 +444,79 @@ mod tests {
             "{peak:?}"
         );
         assert!(guard.max_albedo < 1.0, "{}", guard.max_albedo);
+    }
+    #[test]
+    fn an_unresolved_peak_that_no_table_explains_is_bounded_between_the_two() {
+        // As above, but the un-deblurred table is a lobe far wider than the truth, so it
+        // reproduces the samples no better than a ten-times-sharper "deblurred" one. The
+        // deblurred lobe's half width (0.18 deg) is below what the captures can tell from
+        // zero (0.26 deg): the
+        // peak's cells hold the geometric mean of the two tables, the cells beyond the peak
+        // region keep the deblurred values, and the summary says so. With a lobe whose width
+        // the captures do tell (1.8 deg), the same tables are kept as deblurred.
+        let response = Device::utia().response();
+        let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
+        let truth = lobe(0.05);
+        let samples: Vec<Sample> = (0..40)
+            .map(|k| {
+                let h = (k as f64 * 1.5).powi(2) / 90.0;
+                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 90.0);
+                Sample::new(hd, truth.measured(&nodes, hd))
+            })
+            .collect();
+        let spiky = lobe(0.005);
+        let wide = lobe(0.6);
+        let limit_deg = width_detection_limit_deg(response.resolution_deg());
+        assert!(spiky.shape.half_width_deg() < limit_deg, "{limit_deg}");
+        assert!(truth.shape.half_width_deg() > response.resolution_deg());
+        let (kept, guard) =
+            safeguarded(&samples, tabulated(&spiky), Some(&spiky), &response, || {
+                Ok::<_, ()>(tabulated(&wide))
+            })
+            .unwrap();
+        let limit = guard.bounded_below_deg.expect("bounded");
+        assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
+        let cell = |h: usize| {
+            Bin {
+                theta_h_i: h,
+                theta_d_i: 40,
+                phi_d_i: 90,
+            }
+            .index()
+        };
+        let (d, p) = (tabulated(&spiky), tabulated(&wide));
+        let peak = cell(0);
+        let expected = (d.cell(peak).unwrap().y * p.cell(peak).unwrap().y).sqrt();
+        assert!((kept.cell(peak).unwrap().y - expected).abs() <= 1e-12 * expected);
+        let truth_peak = tabulated(&truth).cell(peak).unwrap().y;
+        assert!(p.cell(peak).unwrap().y < truth_peak && truth_peak < d.cell(peak).unwrap().y);
+        let beyond = (0..THETA_H_BINS)
+            .find(|&h| Bin::from_index(cell(h)).centre_deg()[0] > limit)
+            .unwrap();
+        assert_eq!(kept.cell(cell(beyond)), d.cell(cell(beyond)));
+        assert!(
+            guard.lines().iter().any(|l| l.contains("geometric mean")),
+            "{guard:?}"
+        );
+
+        let (kept, guard) =
+            safeguarded(&samples, tabulated(&spiky), Some(&truth), &response, || {
+                Ok::<_, ()>(tabulated(&wide))
+            })
+            .unwrap();
+        assert_eq!(guard.bounded_below_deg, None, "{guard:?}");
+        assert_eq!(kept.cell(peak), d.cell(peak));
+    }
+    #[test]
+    fn a_peak_at_the_detection_limit_widens_the_capture_by_the_positioning_accuracy() {
+        // Half widths add in quadrature under the blur: at the limit the recorded width grows
+        // by exactly the device's accuracy, and the default device's limit is 0.26 deg.
+        for resolution_deg in [0.5, 1.0861, 2.0] {
+            let w = width_detection_limit_deg(resolution_deg);
+            let widening = (resolution_deg * resolution_deg + w * w).sqrt() - resolution_deg;
+            assert!((widening - consistency::POSITIONING_ACCURACY_DEG).abs() < 1e-12);
+        }
+        let default = width_detection_limit_deg(Device::utia().response().resolution_deg());
+        assert!((default - 0.257).abs() < 0.002, "{default}");
     }
 }
