@@ -11,6 +11,7 @@ use numpy::ndarray::Array3;
 use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
+use specula_accuracy::merl_prior::basis_for;
 use specula_accuracy::{evaluate_truth, EvaluateRequest, Evaluated};
 use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::{HalfDiff, Sample};
@@ -117,6 +118,7 @@ pub(crate) fn reconstruct<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let method = self::method(method)?;
     let samples = samples_of(samples)?;
+    let prior = basis_for(method).or_raise()?;
     let r = py
         .detach(|| {
             reconstruct_halves(
@@ -124,6 +126,7 @@ pub(crate) fn reconstruct<'py>(
                 method,
                 "reconstruction",
                 None::<&dyn specula_core::capture::CaptureResponse>,
+                prior.as_deref(),
             )
         })
         .or_raise()?;

@@ -58,7 +58,7 @@ use specula_core::sampling::{Family, SamplingFunction};
 use specula_core::{Brdf, GridSpec, HalfDiff, ProbePoint, ProbeSpec, Rgb, Sample};
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use specula_reconstruct::provenance::sidecar_path;
-use specula_reconstruct::Method;
+use specula_reconstruct::{Method, PriorBasis, ReconstructError};
 use specula_reconstruct::{deblur_probe, DeblurredProbe};
 use specula_sampling::{fit_k, Probe};
 use std::path::{Path, PathBuf};
@@ -435,17 +435,26 @@ fn input_hashes(source: &Source, device: &Device) -> InputHashes {
 }
 
 /// Runs the whole workflow (see the module documentation) into `session`, writing `out` and
-/// its summary when complete.
+/// its summary when complete. `prior`: the basis the `prior` method blends in (derived by
+/// the caller, e.g. `specula_accuracy::merl_prior::basis_for`); asked for that method
+/// without one, it stops before measuring.
+#[allow(clippy::too_many_arguments)]
 pub fn measure(
     source: Source,
     device: &Device,
     settings: &MeasureSettings,
+    prior: Option<&PriorBasis>,
     session: &Path,
     out: &Path,
     stop: Arc<AtomicBool>,
     observer: &mut dyn Observer,
 ) -> Result<MeasureOutcome, WorkflowError> {
     let method = settings.method;
+    if method.uses_prior() && prior.is_none() {
+        return Err(WorkflowError::Reconstruct {
+            cause: ReconstructError::NoPriorBasis,
+        });
+    }
     let truth = match &source {
         Source::Simulated { truth, .. } => Some(truth.name()),
         Source::Remote { .. } => None,
@@ -567,7 +576,7 @@ pub fn measure(
         .file_stem()
         .map_or_else(|| "measured".into(), |s| s.to_string_lossy().into_owned());
     let halves = measures_both_halves(&samples);
-    let result = reconstruct_halves(&samples, method, &name, response.as_ref())
+    let result = reconstruct_halves(&samples, method, &name, response.as_ref(), prior)
         .map_err(|cause| WorkflowError::Reconstruct { cause })?;
     let deblur = response_fit
         .as_ref()

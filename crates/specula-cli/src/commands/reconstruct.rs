@@ -1,6 +1,7 @@
 //! `specula reconstruct`: measured samples into a full MERL table with its provenance.
 
 use anyhow::{bail, Context, Result};
+use specula_accuracy::merl_prior::basis_for;
 use specula_core::Sample;
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
@@ -62,7 +63,8 @@ pub(crate) fn run(args: Args) -> Result<()> {
         |s| s.to_string_lossy().into_owned(),
     );
     let spinner = crate::progress::spinner("reconstructing");
-    let result = reconstruct_halves(&samples, args.method, &name, response.as_ref());
+    let prior = basis_for(args.method)?;
+    let result = reconstruct_halves(&samples, args.method, &name, response.as_ref(), prior.as_deref());
     spinner.finish_and_clear();
     let r = result.with_context(|| input.display().to_string())?;
     let sidecar = sidecar_path(&args.out);
