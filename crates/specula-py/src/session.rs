@@ -102,7 +102,14 @@ pub(crate) fn measure<'py>(
     let device = self::device(device)?;
     let prior = basis_for(request.method).or_raise()?;
     let outcome = interrupt::run(py, Stop::Cooperative, move |stop| {
-        run_measure(&request, source, &device, prior.as_deref(), stop, &mut Quiet)
+        run_measure(
+            &request,
+            source,
+            &device,
+            prior.as_deref(),
+            stop,
+            &mut Quiet,
+        )
     })?
     .or_raise()?;
     match outcome {

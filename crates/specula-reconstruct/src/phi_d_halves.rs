@@ -186,8 +186,14 @@ mod tests {
     fn both_halves_measured_keep_a_surface_that_is_not_reciprocal() {
         let both = samples(&[0.0, 45.0, 90.0, 135.0, 180.0]);
         assert!(measures_both_halves(&both));
-        let r =
-            reconstruct_halves(&both, Method::Linear, "t", None::<&dyn CaptureResponse>, None).unwrap();
+        let r = reconstruct_halves(
+            &both,
+            Method::Linear,
+            "t",
+            None::<&dyn CaptureResponse>,
+            None,
+        )
+        .unwrap();
         // Linear between the nodes of each half: cos(phi_d) interpolated at 22.5 and 157.5
         // deg (bins 22 and 157 hold 22.5 and 157.5).
         let expect = |p0: f64, p1: f64, p: f64| {
@@ -212,7 +218,8 @@ mod tests {
         // marks both partners.
         let both = samples(&[0.0, 45.0, 90.0, 120.0, 180.0]);
         assert!(measures_both_halves(&both));
-        let r = reconstruct_halves(&both, Method::Lobe, "t", None::<&dyn CaptureResponse>, None).unwrap();
+        let r = reconstruct_halves(&both, Method::Lobe, "t", None::<&dyn CaptureResponse>, None)
+            .unwrap();
         let folded = crate::reconstruct(&both, Method::Lobe, "f").unwrap();
         let at =
             |phi_d_deg: f64| Bin::of(HalfDiff::from_degrees(20.0, 45.0, 25.0, phi_d_deg)).index();
@@ -239,8 +246,14 @@ mod tests {
     fn one_half_measured_is_reconstructed_as_before() {
         let quarter = samples(&[0.0, 45.0, 90.0]);
         assert!(!measures_both_halves(&quarter));
-        let a =
-            reconstruct_halves(&quarter, Method::Lobe, "a", None::<&dyn CaptureResponse>, None).unwrap();
+        let a = reconstruct_halves(
+            &quarter,
+            Method::Lobe,
+            "a",
+            None::<&dyn CaptureResponse>,
+            None,
+        )
+        .unwrap();
         let b = crate::reconstruct(&quarter, Method::Lobe, "b").unwrap();
         assert!((0..CELLS).all(|i| a.brdf.cell(i) == b.brdf.cell(i)));
         assert_eq!(a.provenance, b.provenance);

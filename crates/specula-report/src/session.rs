@@ -11,11 +11,11 @@ use crate::figures::{
 use crate::{
     generator, header, layout, today, Audience, Page, Progress, ReportOptions, PLACED_SAMPLES,
 };
+use specula_accuracy::merl_prior::basis_for;
 use specula_acquisition::calibration::response::ResponseFit;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::InstrumentInfo;
-use specula_accuracy::merl_prior::basis_for;
 use specula_appearance::aperture::ExtrapolatedCells;
 use specula_appearance::Options;
 use specula_appearance::Tolerances;

@@ -9,10 +9,10 @@
 //! uncertainty of f_r, 1/sr per channel).
 
 use crate::error::{OrReport, ReportError};
+use crate::viewer::compact_table;
 use crate::{generator, Progress};
 use specula_core::{Brdf, MerlBrdf};
 use specula_reconstruct::provenance::Provenance;
-use crate::viewer::compact_table;
 use specula_visual::viewer::{viewer_page, CompactTable};
 use std::path::{Path, PathBuf};
 

@@ -127,8 +127,15 @@ pub(crate) fn run(args: Args) -> Result<()> {
     outln!("grid: {grid}");
     let mut observer = Bars::default();
     let prior = basis_for(request.method)?;
-    let outcome = run_measure(&request, source, &device, prior.as_deref(), stop.clone(), &mut observer)
-        .map_err(|e| blame_stop(e.into(), &stop))?;
+    let outcome = run_measure(
+        &request,
+        source,
+        &device,
+        prior.as_deref(),
+        stop.clone(),
+        &mut observer,
+    )
+    .map_err(|e| blame_stop(e.into(), &stop))?;
     observer.finish();
     match outcome {
         MeasureOutcome::Complete(summary) => {

@@ -64,7 +64,13 @@ pub(crate) fn run(args: Args) -> Result<()> {
     );
     let spinner = crate::progress::spinner("reconstructing");
     let prior = basis_for(args.method)?;
-    let result = reconstruct_halves(&samples, args.method, &name, response.as_ref(), prior.as_deref());
+    let result = reconstruct_halves(
+        &samples,
+        args.method,
+        &name,
+        response.as_ref(),
+        prior.as_deref(),
+    );
     spinner.finish_and_clear();
     let r = result.with_context(|| input.display().to_string())?;
     let sidecar = sidecar_path(&args.out);
