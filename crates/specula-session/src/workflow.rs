@@ -36,6 +36,7 @@ use crate::predict::{Predictor, ProbeModel};
 use crate::resume::{check_version, input_hashes, start_session};
 use crate::summary::summarise;
 use crate::workflow_error::WorkflowError;
+use specula_acquisition::calibration::response::ResponseFit;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
 use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
@@ -297,16 +298,14 @@ fn rows_of(plan: &Plan) -> Vec<PlannedRow> {
 }
 
 /// The measured samples of the main stage of the session at `path` (opened read-only), in
-/// plan order, and the instrument's response its calibration holds, if any: what
-/// `specula reconstruct --session` rebuilds. A session without main samples is an error.
+/// plan order, and the instrument's response its calibration holds (with how it was
+/// measured), if any: what `specula reconstruct --session` rebuilds. A session without main
+/// samples is an error.
 pub fn session_main_samples(
     path: &Path,
-) -> Result<(Vec<Sample>, Option<InstrumentResponse>), WorkflowError> {
+) -> Result<(Vec<Sample>, Option<ResponseFit>), WorkflowError> {
     let journal = Journal::open_read_only(path)?;
-    let response = journal
-        .record::<Calibration>()?
-        .and_then(|c| c.response)
-        .map(|fit| fit.response);
+    let response = journal.record::<Calibration>()?.and_then(|c| c.response);
     let plan = journal.plan(Stage::Main)?;
     let samples = measured_samples(&plan, &journal.samples(Stage::Main)?);
     if samples.is_empty() {
