@@ -7,6 +7,10 @@
 //! (`domain`, optionally relative to a fitted microfacet [`lobe`]), extrapolate the nodes
 //! no sample reached (`extrapolate`), interpolate at the MERL bin centres (`grid` with a
 //! `kernel`) and record each cell's [`provenance`].
+//!
+//! The crate depends on `specula-core` alone. The `prior` method's basis ([`PriorBasis`]) is
+//! an input its caller derives from a training set (`specula_accuracy::merl_prior` for
+//! MERL-100); a user's request is a [`ReconstructRequest`], served by [`run_reconstruct`].
 
 mod axis;
 pub mod breakdown;

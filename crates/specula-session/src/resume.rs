@@ -16,9 +16,9 @@ use std::path::Path;
 
 /// The grid an existing session journal measures on, `None` when `session` does not exist
 /// yet or holds no settings. A front end resumes on it unless told another grid (which
-/// [`crate::workflow::measure`] then refuses as a change of settings): a journal written before the graded
-/// theta_d and the half turn of phi_d continues on the paper's grid it started with, not on
-/// today's default. A session another process is writing is refused
+/// [`crate::workflow::measure`] then refuses as a change of settings): a journal written
+/// before the graded theta_d and the half turn of phi_d continues on the paper's grid it
+/// started with, not on today's default. A session another process is writing is refused
 /// ([`Journal::refuse_in_use`]).
 pub fn session_grid(session: &Path) -> Result<Option<GridSpec>, WorkflowError> {
     if !session.exists() {
