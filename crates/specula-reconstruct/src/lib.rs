@@ -29,6 +29,7 @@ mod reconstruction;
 mod response_nodes;
 pub mod safeguard;
 mod sample;
+pub mod uncertainty;
 
 pub use deblur::{deblur_probe, DeblurredProbe};
 pub use domain::Domain;

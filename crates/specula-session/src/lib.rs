@@ -22,6 +22,7 @@ pub mod ideal;
 pub mod inputs;
 pub mod journal;
 mod measure_request;
+pub mod measured_uncertainty;
 pub mod pace;
 mod plan_request;
 pub mod predict;

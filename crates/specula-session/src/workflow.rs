@@ -216,6 +216,9 @@ pub struct Summary {
     pub deblur: Option<DeblurRecord>,
     /// Events in the journal by kind (faults, retries, resumptions).
     pub events: Vec<(String, usize)>,
+    /// The table's uncertainty in summary lines
+    /// ([`specula_reconstruct::uncertainty::CellUncertainty::lines`]).
+    pub uncertainty: Vec<String>,
 }
 
 impl Summary {
@@ -276,6 +279,7 @@ impl Summary {
             Some(d) => lines.extend(d.lines()),
             None => lines.push("deblurred=false".into()),
         }
+        lines.extend(self.uncertainty.iter().cloned());
         for (kind, count) in &self.events {
             lines.push(format!("events_{kind}={count}"));
         }
@@ -573,24 +577,39 @@ pub fn measure(
         .as_ref()
         .filter(|_| result.resolution_deg.is_some())
         .map(|fit| DeblurRecord::new(fit, &result));
+    let uncertainty = crate::measured_uncertainty::of_measurement(
+        &engine.journal.plan(Stage::Main)?,
+        &main,
+        &samples,
+        method,
+        &result,
+    )
+    .map_err(|cause| WorkflowError::Reconstruct { cause })?;
     specula_core::atomic_file::write_together(&[
         (out, &result.brdf.to_bytes()),
         (&sidecar_path(out), &result.provenance.to_npy()),
+        (
+            &specula_reconstruct::uncertainty::sidecar_path(out),
+            &uncertainty.absolute(&result.brdf).to_bytes(),
+        ),
     ])?;
 
-    let summary = summarise(
-        &journal,
-        session,
-        out,
-        description.to_string(),
-        &fit,
-        checks,
-        plan,
-        connected.simulated,
-        settings,
-        halves,
-        deblur,
-    )?;
+    let summary = Summary {
+        uncertainty: uncertainty.lines(),
+        ..summarise(
+            &journal,
+            session,
+            out,
+            description.to_string(),
+            &fit,
+            checks,
+            plan,
+            connected.simulated,
+            settings,
+            halves,
+            deblur,
+        )?
+    };
     let text = summary.lines().join("\n") + "\n";
     let path = summary_path(out);
     specula_core::atomic_file::write_bytes(&path, text.as_bytes()).map_err(|cause| {
@@ -1316,6 +1335,7 @@ fn summarise(
         phi_d_halves,
         deblur,
         events: status.events.into_iter().collect(),
+        uncertainty: Vec::new(),
     })
 }
 

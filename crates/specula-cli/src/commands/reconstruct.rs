@@ -5,7 +5,9 @@ use specula_core::Sample;
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::provenance::sidecar_path;
+use specula_reconstruct::uncertainty::{self, UncertaintyInputs};
 use specula_reconstruct::Method;
+use specula_session::measured_uncertainty::session_main_noise;
 use specula_session::workflow::session_main_samples;
 use std::path::{Path, PathBuf};
 
@@ -49,11 +51,17 @@ const MOSTLY_EXTRAPOLATED: f64 = 0.9;
 
 pub(crate) fn run(args: Args) -> Result<()> {
     specula_core::request::check_merl_out(&args.out)?;
-    let (input, samples, response) = match (&args.samples, &args.session) {
-        (Some(path), _) => (path, read_samples(path)?, None),
+    let (input, samples, response, noise) = match (&args.samples, &args.session) {
+        (Some(path), _) => (path, read_samples(path)?, None, None),
         (None, Some(path)) => {
             let (samples, response) = session_main_samples(path)?;
-            (path, samples, response.filter(|_| !args.no_deblur))
+            let noise = session_main_noise(path)?;
+            (
+                path,
+                samples,
+                response.filter(|_| !args.no_deblur),
+                Some(noise),
+            )
         }
         (None, None) => bail!("give --samples-csv or --session"),
     };
@@ -62,13 +70,25 @@ pub(crate) fn run(args: Args) -> Result<()> {
         |s| s.to_string_lossy().into_owned(),
     );
     let spinner = crate::progress::spinner("reconstructing");
-    let result = reconstruct_halves(&samples, args.method, &name, response.as_ref());
+    let result =
+        reconstruct_halves(&samples, args.method, &name, response.as_ref()).and_then(|r| {
+            let inputs = UncertaintyInputs {
+                samples: &samples,
+                noise_rel: noise.as_deref(),
+                method: args.method,
+            };
+            let u =
+                uncertainty::estimate(&inputs, &r.brdf, &r.provenance, r.resolution_deg.is_some())?;
+            Ok((r, u))
+        });
     spinner.finish_and_clear();
-    let r = result.with_context(|| input.display().to_string())?;
+    let (r, u) = result.with_context(|| input.display().to_string())?;
     let sidecar = sidecar_path(&args.out);
+    let u_sidecar = uncertainty::sidecar_path(&args.out);
     specula_core::atomic_file::write_together(&[
         (&args.out, &r.brdf.to_bytes()),
         (&sidecar, &r.provenance.to_npy()),
+        (&u_sidecar, &u.absolute(&r.brdf).to_bytes()),
     ])?;
     let [nh, nd, np] = r.lattice_shape;
     outln!("samples: {} on a lattice of {nh} theta_h x {nd} theta_d x {np} phi_d ({} nodes measured, {} extrapolated)", samples.len(), r.measured_nodes, r.filled_nodes);
@@ -107,10 +127,14 @@ pub(crate) fn run(args: Args) -> Result<()> {
             samples.len()
         );
     }
+    for line in u.lines() {
+        outln!("{line}");
+    }
     outln!(
-        "wrote {} and {} (method {})",
+        "wrote {}, {} and {} (method {})",
         args.out.display(),
         sidecar.display(),
+        u_sidecar.display(),
         args.method
     );
     Ok(())
