@@ -23,12 +23,7 @@ pub fn of_measurement(
         noise_rel: Some(&noise),
         method,
     };
-    uncertainty::estimate(
-        &inputs,
-        &result.brdf,
-        &result.provenance,
-        result.resolution_deg.is_some(),
-    )
+    uncertainty::estimate(&inputs, result)
 }
 
 /// Each main sample's relative HDR noise ([`uncertainty::noise_rel`]) of the session at

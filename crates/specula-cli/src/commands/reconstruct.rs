@@ -77,8 +77,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
                 noise_rel: noise.as_deref(),
                 method: args.method,
             };
-            let u =
-                uncertainty::estimate(&inputs, &r.brdf, &r.provenance, r.resolution_deg.is_some())?;
+            let u = uncertainty::estimate(&inputs, &r)?;
             Ok((r, u))
         });
     spinner.finish_and_clear();
