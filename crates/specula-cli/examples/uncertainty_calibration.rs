@@ -27,7 +27,8 @@ fn main() -> anyhow::Result<()> {
         let table_path = PathBuf::from(table_path);
         let session = table_path.with_extension("session.sqlite");
         let (samples, response) = session_main_samples(&session)?;
-        let reconstruction = reconstruct_halves(&samples, Method::Lobe, "t", response.as_ref())?;
+        let through = response.as_ref().map(|fit| &fit.response);
+        let reconstruction = reconstruct_halves(&samples, Method::Lobe, "t", through, None)?;
         let table = reconstruction.brdf.clone();
         let provenance = reconstruction.provenance.clone();
         let noise = session_main_noise(&session)?;
@@ -35,8 +36,17 @@ fn main() -> anyhow::Result<()> {
             samples: &samples,
             noise_rel: Some(&noise),
             method: Method::Lobe,
+            prior: None,
         };
+        let started = std::time::Instant::now();
         let terms = Terms::of(&inputs, &reconstruction)?;
+        let default = terms.combined(&table, &provenance, Scales::default());
+        let spent = started.elapsed();
+        let written = default.absolute(&table).to_bytes().len();
+        println!(
+            "uncertainty terms and cells: {:.1} s ({written} bytes)",
+            spent.as_secs_f64()
+        );
         let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
         let truth = tabulate(specula_formats::load_brdf(truth_name)?.as_ref(), phi_h_rad);
         println!("{} {truth_name}", table_path.display());

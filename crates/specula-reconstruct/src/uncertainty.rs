@@ -34,7 +34,7 @@
 use crate::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use crate::provenance::Provenance;
 use crate::sample::{fold_phi_d_rad, mirror_fold_phi_d_rad};
-use crate::{Method, ReconstructError, Reconstruction};
+use crate::{Method, PriorBasis, ReconstructError, Reconstruction};
 use rayon::prelude::*;
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
@@ -137,6 +137,8 @@ pub struct UncertaintyInputs<'a> {
     pub noise_rel: Option<&'a [f64]>,
     /// The method the table was reconstructed with.
     pub method: Method,
+    /// The `prior` method's basis, when that is the method.
+    pub prior: Option<&'a PriorBasis>,
 }
 
 /// `OUT.uncertainty.binary` beside `OUT.binary`.
@@ -199,7 +201,9 @@ impl Terms {
         }
         let none = None::<&dyn CaptureResponse>;
         let undeblurred = if deblurred {
-            Some(reconstruct_halves(samples, inputs.method, "undeblurred", none)?.brdf)
+            Some(
+                reconstruct_halves(samples, inputs.method, "undeblurred", none, inputs.prior)?.brdf,
+            )
         } else {
             None
         };
@@ -485,7 +489,8 @@ fn cross_validate(
             }
             let training: Vec<Sample> = kept.iter().map(|&i| samples[i]).collect();
             let none = None::<&dyn CaptureResponse>;
-            let fold_table = reconstruct_halves(&training, inputs.method, "fold", none)?.brdf;
+            let fold_table =
+                reconstruct_halves(&training, inputs.method, "fold", none, inputs.prior)?.brdf;
             let nearest = NearestSample::of_indices(samples, kept.into_iter(), both_halves);
             Ok((0..samples.len())
                 .filter(|&i| fold_of(i) == fold)
@@ -643,11 +648,12 @@ mod tests {
         noise: Option<&[f64]>,
     ) -> (MerlBrdf, Provenance, CellUncertainty) {
         let none = None::<&dyn CaptureResponse>;
-        let r = reconstruct_halves(samples, Method::Lobe, "t", none).unwrap();
+        let r = reconstruct_halves(samples, Method::Lobe, "t", none, None).unwrap();
         let inputs = UncertaintyInputs {
             samples,
             noise_rel: noise,
             method: Method::Lobe,
+            prior: None,
         };
         let u = estimate(&inputs, &r).unwrap();
         (r.brdf, r.provenance, u)

@@ -4,7 +4,7 @@
 use crate::journal::{PlannedRow, SampleRecord};
 use specula_core::Sample;
 use specula_reconstruct::uncertainty::{self, CellUncertainty, UncertaintyInputs};
-use specula_reconstruct::{Method, ReconstructError, Reconstruction};
+use specula_reconstruct::{Method, PriorBasis, ReconstructError, Reconstruction};
 use std::collections::BTreeMap;
 
 /// The uncertainty of `result`, reconstructed with `method` from
@@ -15,6 +15,7 @@ pub fn of_measurement(
     records: &BTreeMap<u32, SampleRecord>,
     samples: &[Sample],
     method: Method,
+    prior: Option<&PriorBasis>,
     result: &Reconstruction,
 ) -> Result<CellUncertainty, ReconstructError> {
     let noise = noise_in_plan_order(plan, records);
@@ -22,6 +23,7 @@ pub fn of_measurement(
         samples,
         noise_rel: Some(&noise),
         method,
+        prior,
     };
     uncertainty::estimate(&inputs, result)
 }
