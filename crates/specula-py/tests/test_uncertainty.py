@@ -21,7 +21,8 @@ def test_read_uncertainty_returns_the_sidecar_beside_the_table(cli, tmp_path):
     # The file is the MERL one of the sidecar, NaN exactly where the table has no value.
     np.testing.assert_array_equal(u, specula.read_merl(tmp_path / "rec.uncertainty.binary"))
     np.testing.assert_array_equal(np.isnan(u), np.isnan(table))
-    known = ~np.isnan(u)
+    # Relative where the value is positive (a zero value has a zero uncertainty in 1/sr).
+    known = ~np.isnan(u) & (table > 0)
     assert known.any()
     relative = u[known] / table[known]
     # At least the calibration's 0.5 %, at most the cap of 1000 %.
