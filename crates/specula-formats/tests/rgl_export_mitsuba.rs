@@ -44,9 +44,10 @@ const TARGET: f64 = 0.95;
 /// What the guide claims for each material's written file (docs/book/src/renderers.md): the
 /// least fraction of all pairs and of the significant pairs within [`WITHIN`]: [`TARGET`]
 /// wherever the file reaches it, below it the figure measured (to 0.1 %, rounded down). The
-/// two MERL tabulations of the colour-changing films fall short over all pairs: their tails,
-/// at 1e-5 of the highlight and below, step by up to 8x within 2 deg, which no resampling at
-/// this resolution follows within 5 % (docs/book/src/renderers.md).
+/// two MERL tabulations of the colour-changing films fall short over all pairs: in their
+/// tails, at 1e-5 of the highlight and below, the tables' interpolants step eightfold within
+/// a degree where the original files are smooth, and no resampling at this resolution
+/// follows that within 5 % (docs/book/src/renderers.md).
 const CLAIMS: [(&str, f64, f64); 15] = [
     ("chrome", TARGET, TARGET),
     ("green-paint", TARGET, TARGET),

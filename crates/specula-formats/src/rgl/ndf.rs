@@ -95,9 +95,9 @@ impl RetroNdf {
     }
 }
 
-/// Luminance of the retro-reflection (the source's interpolant) at each node, floored at [`RETRO_FLOOR`] of its peak;
-/// unmeasured nodes take the nearest measured node's value. Also returns how many were
-/// unmeasured; `None` if no node has a positive value.
+/// Luminance of the retro-reflection (the source's interpolant) at each node, floored at
+/// [`RETRO_FLOOR`] of its peak; unmeasured nodes take the nearest measured node's value. Also
+/// returns how many were unmeasured; `None` if no node has a positive value.
 fn retro_reflection(brdf: &dyn Brdf, n: usize) -> Option<(Vec<f64>, usize)> {
     let measured: Vec<Option<f64>> = (0..n)
         .map(|j| {
