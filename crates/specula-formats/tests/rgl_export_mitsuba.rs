@@ -46,8 +46,8 @@ const TARGET: f64 = 0.95;
 /// wherever the file reaches it, below it the figure measured (to 0.1 %, rounded down). The
 /// two MERL tabulations of the colour-changing films fall short over all pairs: in their
 /// tails, at 1e-5 of the highlight and below, the tables' interpolants step eightfold within
-/// a degree where the original files are smooth, and no resampling at this resolution
-/// follows that within 5 % (docs/book/src/renderers.md).
+/// a degree (bins reading channels clamped at zero) where the original files are smooth, and
+/// no resampling at this resolution follows that within 5 % (docs/book/src/renderers.md).
 const CLAIMS: [(&str, f64, f64); 15] = [
     ("chrome", TARGET, TARGET),
     ("green-paint", TARGET, TARGET),
