@@ -31,6 +31,7 @@
 //! per set and over all sets with the ratio of each mean to the paper pipeline's, then the
 //! median over each set's materials of the per-material ratio to the paper pipeline's.
 
+use specula_accuracy::merl_prior::merl_prior;
 use specula_accuracy::{evaluate, Accuracy, Measurement, PlanSettings};
 use specula_acquisition::device::Device;
 use specula_core::capture::CaptureResponse;
@@ -45,7 +46,6 @@ use specula_formats::input::measured_data_dir;
 use specula_formats::load_brdfs;
 use specula_formats::nbrdf::NbrdfSet;
 use specula_reconstruct::breakdown::{error_by_region, Partition};
-use specula_reconstruct::merl_prior::merl_prior;
 use specula_reconstruct::phi_d_halves::reconstruct_halves_with;
 use specula_reconstruct::prior_reconstruct::reconstruct_with_prior;
 use specula_reconstruct::Method;
@@ -288,7 +288,9 @@ fn main() -> Result<(), Box<dyn Error>> {
             for config in &configs {
                 let (count, samples, k) = config.measure(truth.as_ref(), &device)?;
                 let (reconstruction, a) = match config.method {
-                    Recon::Method(method) => evaluate(&samples, method, &table, 75.0)?,
+                    Recon::Method(method) => {
+                        evaluate(&samples, method, &table, 75.0, basis.as_deref())?
+                    }
                     Recon::ForcedPrior(w, s2) => {
                         let basis = basis.as_ref().expect("prior configurations need the basis");
                         let r = reconstruct_halves_with(&samples, |half| {

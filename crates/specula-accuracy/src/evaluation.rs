@@ -4,6 +4,7 @@
 //! one entry point per truth ([`evaluate_truth`]) and the table both print
 //! ([`EvaluationTable`]).
 
+use crate::merl_prior::{basis_for, MerlPriorError};
 use crate::summary::{SetSummary, REAL_SET};
 use crate::{Accuracy, Measurement, PlacementChoice, PlacementError, PlanSettings};
 use specula_acquisition::device::Device;
@@ -35,6 +36,9 @@ pub enum EvaluateError {
     /// The plan could not be placed on a truth.
     #[error(transparent)]
     Placement(#[from] PlacementError),
+    /// The `prior` method's basis could not be derived.
+    #[error(transparent)]
+    Prior(#[from] MerlPriorError),
     /// The reconstruction of a truth's samples failed.
     #[error("{name}: reconstructing {measured} samples")]
     Reconstruct {
@@ -210,12 +214,14 @@ pub fn evaluate_truth(
     let name = truth.name();
     let response = request.through_instrument.then(|| device.response());
     let measurement = Measurement::simulate_through(truth, settings, device, response.as_ref())?;
+    let prior = basis_for(request.method)?;
     let accuracy = measurement
         .accuracy(
             truth,
             request.method,
             request.max_elevation_deg,
             response.as_ref(),
+            prior.as_deref(),
         )
         .map_err(|source| EvaluateError::Reconstruct {
             name: name.clone(),

@@ -25,6 +25,7 @@
 //! set of truths, the real measured ones first.
 
 mod evaluation;
+pub mod merl_prior;
 pub mod summary;
 
 pub use evaluation::{
@@ -43,7 +44,7 @@ use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, GridSpec, HalfDiff, MerlBrdf, ProbePoint, ProbeSpec, Sample};
 use specula_reconstruct::deblur_probe;
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
-use specula_reconstruct::{Method, ReconstructError, Reconstruction};
+use specula_reconstruct::{Method, PriorBasis, ReconstructError, Reconstruction};
 use specula_sampling::error::SamplingError;
 use specula_sampling::{fit_k, place_theta_h, Probe};
 
@@ -381,19 +382,27 @@ impl Measurement {
 }
 
 impl Measurement {
-    /// The error of rebuilding these samples with `method`, through `response` when they
-    /// were measured through it ([`evaluate_through`]), against `truth` tabulated at the MERL
-    /// bin centres at the plan's phi_h.
+    /// The error of rebuilding these samples with `method` (and its `prior` basis, see
+    /// [`merl_prior::basis_for`]), through `response` when they were measured through it
+    /// ([`evaluate_through`]), against `truth` tabulated at the MERL bin centres at the
+    /// plan's phi_h.
     pub fn accuracy(
         &self,
         truth: &dyn Brdf,
         method: Method,
         max_elevation_deg: f64,
         response: Option<&InstrumentResponse>,
+        prior: Option<&PriorBasis>,
     ) -> Result<Accuracy, ReconstructError> {
         let table = tabulate(truth, self.grid.phi_h_deg.to_radians());
-        let (_, accuracy) =
-            evaluate_through(&self.samples, method, &table, max_elevation_deg, response)?;
+        let (_, accuracy) = evaluate_through(
+            &self.samples,
+            method,
+            &table,
+            max_elevation_deg,
+            response,
+            prior,
+        )?;
         Ok(accuracy)
     }
 }
@@ -427,14 +436,16 @@ impl Accuracy {
 }
 
 /// Reconstructs the samples with a method (by halves of phi_d when they measure both,
-/// [`reconstruct_halves`]) and compares with the tabulated truth.
+/// [`reconstruct_halves`]; `prior`: the basis of the `prior` method, see
+/// [`merl_prior::basis_for`]) and compares with the tabulated truth.
 pub fn evaluate(
     samples: &[Sample],
     method: Method,
     truth: &MerlBrdf,
     max_elevation_deg: f64,
+    prior: Option<&PriorBasis>,
 ) -> Result<(Reconstruction, Accuracy), ReconstructError> {
-    evaluate_through(samples, method, truth, max_elevation_deg, None)
+    evaluate_through(samples, method, truth, max_elevation_deg, None, prior)
 }
 
 /// [`evaluate`] for samples measured through the instrument's `response`: the method
@@ -446,8 +457,9 @@ pub fn evaluate_through(
     truth: &MerlBrdf,
     max_elevation_deg: f64,
     response: Option<&InstrumentResponse>,
+    prior: Option<&PriorBasis>,
 ) -> Result<(Reconstruction, Accuracy), ReconstructError> {
-    let reconstruction = reconstruct_halves(samples, method, "reconstruction", response)?;
+    let reconstruction = reconstruct_halves(samples, method, "reconstruction", response, prior)?;
     let accuracy = Accuracy::of(&reconstruction.brdf, truth, max_elevation_deg);
     Ok((reconstruction, accuracy))
 }
@@ -534,13 +546,14 @@ mod tests {
         assert_eq!(sharp.samples[0].hd, blurred.samples[0].hd);
         assert!(blurred.samples[0].value.y < 0.5 * sharp.samples[0].value.y);
         let table = tabulate(&truth, 45f64.to_radians());
-        let (_, kept) = evaluate(&blurred.samples, Method::Lobe, &table, 75.0).unwrap();
+        let (_, kept) = evaluate(&blurred.samples, Method::Lobe, &table, 75.0, None).unwrap();
         let (_, deblurred) = evaluate_through(
             &blurred.samples,
             Method::Lobe,
             &table,
             75.0,
             Some(&response),
+            None,
         )
         .unwrap();
         assert!(
@@ -549,7 +562,7 @@ mod tests {
         );
         assert_eq!(
             blurred
-                .accuracy(&truth, Method::Lobe, 75.0, Some(&response))
+                .accuracy(&truth, Method::Lobe, 75.0, Some(&response), None)
                 .unwrap(),
             deblurred
         );
@@ -632,8 +645,8 @@ mod tests {
         let samples = measure(&truth, &reached);
         assert_eq!(samples.len(), reached.len());
         let table = tabulate(&truth, 0.0);
-        let (_, linear) = evaluate(&samples, Method::Linear, &table, 75.0).unwrap();
-        let (_, lobe) = evaluate(&samples, Method::Lobe, &table, 75.0).unwrap();
+        let (_, linear) = evaluate(&samples, Method::Linear, &table, 75.0, None).unwrap();
+        let (_, lobe) = evaluate(&samples, Method::Lobe, &table, 75.0, None).unwrap();
         assert!(linear.within.relative_rmse < 0.5, "{linear:?}");
         // The lobe method is the better one on a microfacet material.
         assert!(

@@ -445,6 +445,7 @@ fn an_old_journal_resumes_on_its_own_grid_with_the_same_command() {
         },
         &specula_acquisition::device::Device::utia(),
         &settings,
+        None,
         &session_of(&out),
         &out,
         Arc::new(AtomicBool::new(true)),

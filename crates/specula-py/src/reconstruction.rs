@@ -11,12 +11,12 @@ use numpy::ndarray::Array3;
 use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
+use specula_accuracy::merl_prior::basis_for;
 use specula_accuracy::{evaluate_truth, EvaluateRequest, Evaluated};
 use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::{HalfDiff, Sample};
-use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
-use specula_reconstruct::Method;
+use specula_reconstruct::{run_reconstruct, Method, ReconstructRequest};
 use std::path::PathBuf;
 
 /// The angle columns of a samples dict, in the order of `HalfDiff::from_degrees`.
@@ -103,28 +103,33 @@ fn method(name: &str) -> PyResult<Method> {
 /// return). `method`: `"lobe"` (ours), `"prior"` (lobe blended with the MERL-100 prior as far
 /// as the samples trust it), `"log"` or `"linear"` (the paper's baseline). Samples
 /// that measure both halves of phi_d (0-90 and 90-180 deg, two positions each at least) are
-/// reconstructed half by half, as `specula reconstruct` does.
+/// reconstructed half by half, as `specula reconstruct` does. `out`: a MERL `.binary` to
+/// write the table to, with its provenance beside it (`OUT.provenance.npy`), as
+/// `specula reconstruct --out`.
 ///
 /// Returns `{"table": (90, 90, 180, 3), "provenance": uint8 (90, 90, 180) (0 measured, 1
 /// interpolated, 2 extrapolated, 3 from the prior), "lattice_shape", "measured_nodes", "filled_nodes",
 /// "lobe"}` (`lobe`: the fitted lobe's `alpha`, `gamma`, `diffuse`, or None).
 #[pyfunction]
-#[pyo3(signature = (samples, method = "lobe"))]
+#[pyo3(signature = (samples, method = "lobe", out = None))]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
     samples: &Bound<'py, PyMapping>,
     method: &str,
+    out: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let method = self::method(method)?;
+    let request = ReconstructRequest {
+        method: self::method(method)?,
+        deblur: false,
+        out,
+    };
+    request.validate().or_raise()?;
     let samples = samples_of(samples)?;
+    let prior = basis_for(request.method).or_raise()?;
     let r = py
         .detach(|| {
-            reconstruct_halves(
-                &samples,
-                method,
-                "reconstruction",
-                None::<&dyn specula_core::capture::CaptureResponse>,
-            )
+            let none = None::<&dyn specula_core::capture::CaptureResponse>;
+            run_reconstruct(&request, &samples, none, prior.as_deref())
         })
         .or_raise()?;
     let dict = PyDict::new(py);

@@ -9,6 +9,7 @@ use crate::sampling::probe_dict;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use specula_accuracy::merl_prior::basis_for;
 use specula_core::request::ProbeRequest;
 use specula_core::ProbeSpec;
 use specula_sampling::Probe;
@@ -99,8 +100,16 @@ pub(crate) fn measure<'py>(
         speedup: None,
     };
     let device = self::device(device)?;
+    let prior = basis_for(request.method).or_raise()?;
     let outcome = interrupt::run(py, Stop::Cooperative, move |stop| {
-        run_measure(&request, source, &device, stop, &mut Quiet)
+        run_measure(
+            &request,
+            source,
+            &device,
+            prior.as_deref(),
+            stop,
+            &mut Quiet,
+        )
     })?
     .or_raise()?;
     match outcome {

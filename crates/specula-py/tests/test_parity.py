@@ -92,3 +92,25 @@ def test_report_writes_the_page_the_cli_writes(cli, tmp_path):
     took = re.compile(r"Report made in [0-9.]+ s")
     assert took.search(page)
     assert took.sub("", page) == took.sub("", (tmp_path / "cli.html").read_text())
+
+
+def test_reconstruct_writes_what_the_cli_writes(cli, tmp_path):
+    samples = specula.evaluate("green-paint", **GRID)["samples"]
+    columns = [samples[k] for k in ("theta_h_deg", "phi_h_deg", "theta_d_deg", "phi_d_deg")]
+    rows = zip(*columns, *np.asarray(samples["rgb"]).T)
+    csv = tmp_path / "samples.csv"
+    csv.write_text("theta_h,phi_h,theta_d,phi_d,r,g,b\n"
+                   + "".join(",".join(repr(float(v)) for v in row) + "\n" for row in rows))
+    ours, theirs = tmp_path / "py.binary", tmp_path / "cli.binary"
+    got = specula.reconstruct(samples, method="lobe", out=ours)
+    cli("reconstruct", "--samples-csv", csv, "--method", "lobe", "--out", theirs)
+    assert ours.read_bytes() == theirs.read_bytes()
+    assert (tmp_path / "py.provenance.npy").read_bytes() == \
+        (tmp_path / "cli.provenance.npy").read_bytes()
+    np.testing.assert_array_equal(got["provenance"], specula.read_provenance(ours))
+    with pytest.raises(specula.SpeculaError) as refused:
+        specula.reconstruct(samples, out=tmp_path / "x.csv")
+    assert str(refused.value).startswith(f"{tmp_path / 'x.csv'}: this command writes a MERL table")
+    status, _, stderr = cli("reconstruct", "--samples-csv", csv, "--out", tmp_path / "x.csv",
+                            check=False)
+    assert status != 0 and "x.csv: this command writes a MERL table" in stderr

@@ -7,6 +7,10 @@
 //! (`domain`, optionally relative to a fitted microfacet [`lobe`]), extrapolate the nodes
 //! no sample reached (`extrapolate`), interpolate at the MERL bin centres (`grid` with a
 //! `kernel`) and record each cell's [`provenance`].
+//!
+//! The crate depends on `specula-core` alone. The `prior` method's basis ([`PriorBasis`]) is
+//! an input its caller derives from a training set (`specula_accuracy::merl_prior` for
+//! MERL-100); a user's request is a [`ReconstructRequest`], served by [`run_reconstruct`].
 
 mod axis;
 pub mod breakdown;
@@ -18,7 +22,6 @@ mod grid;
 mod kernel;
 mod lattice;
 pub mod lobe;
-pub mod merl_prior;
 pub mod method;
 pub mod phi_d_halves;
 pub mod prior;
@@ -26,6 +29,7 @@ pub mod prior_reconstruct;
 pub mod provenance;
 pub mod reconstruct;
 mod reconstruction;
+mod request;
 mod response_nodes;
 pub mod safeguard;
 mod sample;
@@ -34,5 +38,7 @@ pub use deblur::{deblur_probe, DeblurredProbe};
 pub use domain::Domain;
 pub use kernel::Kernel;
 pub use method::Method;
+pub use prior::PriorBasis;
 pub use reconstruct::{reconstruct, reconstruct_through};
 pub use reconstruction::{ReconstructError, Reconstruction};
+pub use request::{run_reconstruct, ReconstructRequest, RunReconstructError};

@@ -16,6 +16,7 @@
 //! samples at phi_d = 90 belong to both, so the halves meet on measured values. Samples of one
 //! half only are reconstructed as before.
 
+use crate::prior::PriorBasis;
 use crate::provenance::Provenance;
 use crate::sample::mirror_fold_phi_d_rad;
 use crate::{reconstruct_through, ReconstructError, Reconstruction};
@@ -64,14 +65,16 @@ pub fn measures_both_halves(samples: &[Sample]) -> bool {
 /// [`reconstruct_through`]. The lobe, resolution and lattice figures reported are the first
 /// half's; the node counts are the two halves' sums. A table deblurred through `response` is
 /// checked against the samples and falls back where it fails ([`crate::safeguard`]).
+/// `prior`: the basis of the `prior` method, as for [`reconstruct_through`].
 pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
     samples: &[Sample],
     method: crate::Method,
     name: &str,
     response: Option<&R>,
+    prior: Option<&PriorBasis>,
 ) -> Result<Reconstruction, ReconstructError> {
     let table = reconstruct_halves_with(samples, |half| {
-        reconstruct_through(half, method, name, response)
+        reconstruct_through(half, method, name, response, prior)
     })?;
     match response {
         Some(response) if table.resolution_deg.is_some() => {
@@ -82,7 +85,7 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
                 response,
                 || {
                     reconstruct_halves_with(samples, |half| {
-                        reconstruct_through(half, method, name, None::<&R>)
+                        reconstruct_through(half, method, name, None::<&R>, prior)
                     })
                     .map(|plain| plain.brdf)
                 },
@@ -183,8 +186,14 @@ mod tests {
     fn both_halves_measured_keep_a_surface_that_is_not_reciprocal() {
         let both = samples(&[0.0, 45.0, 90.0, 135.0, 180.0]);
         assert!(measures_both_halves(&both));
-        let r =
-            reconstruct_halves(&both, Method::Linear, "t", None::<&dyn CaptureResponse>).unwrap();
+        let r = reconstruct_halves(
+            &both,
+            Method::Linear,
+            "t",
+            None::<&dyn CaptureResponse>,
+            None,
+        )
+        .unwrap();
         // Linear between the nodes of each half: cos(phi_d) interpolated at 22.5 and 157.5
         // deg (bins 22 and 157 hold 22.5 and 157.5).
         let expect = |p0: f64, p1: f64, p: f64| {
@@ -209,7 +218,8 @@ mod tests {
         // marks both partners.
         let both = samples(&[0.0, 45.0, 90.0, 120.0, 180.0]);
         assert!(measures_both_halves(&both));
-        let r = reconstruct_halves(&both, Method::Lobe, "t", None::<&dyn CaptureResponse>).unwrap();
+        let r = reconstruct_halves(&both, Method::Lobe, "t", None::<&dyn CaptureResponse>, None)
+            .unwrap();
         let folded = crate::reconstruct(&both, Method::Lobe, "f").unwrap();
         let at =
             |phi_d_deg: f64| Bin::of(HalfDiff::from_degrees(20.0, 45.0, 25.0, phi_d_deg)).index();
@@ -236,8 +246,14 @@ mod tests {
     fn one_half_measured_is_reconstructed_as_before() {
         let quarter = samples(&[0.0, 45.0, 90.0]);
         assert!(!measures_both_halves(&quarter));
-        let a =
-            reconstruct_halves(&quarter, Method::Lobe, "a", None::<&dyn CaptureResponse>).unwrap();
+        let a = reconstruct_halves(
+            &quarter,
+            Method::Lobe,
+            "a",
+            None::<&dyn CaptureResponse>,
+            None,
+        )
+        .unwrap();
         let b = crate::reconstruct(&quarter, Method::Lobe, "b").unwrap();
         assert!((0..CELLS).all(|i| a.brdf.cell(i) == b.brdf.cell(i)));
         assert_eq!(a.provenance, b.provenance);

@@ -15,8 +15,9 @@
 //! space), so it is evaluated at any sample and at every MERL bin centre.
 //!
 //! **Training** ([`PriorBasis::derive`]): any set of BRDFs, each channel one training
-//! vector. The accuracy study's basis is the 100 MERL materials as fitted by three published
-//! models ([`crate::merl_prior`]).
+//! vector. The basis the front ends reconstruct with, the 100 MERL materials as fitted by
+//! three published models, is derived where that training set is loaded
+//! (`specula_accuracy::merl_prior`) and given to the reconstruction as a value.
 
 use crate::sample::fold_phi_d_rad;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};

@@ -22,7 +22,6 @@
 use crate::domain::{Domain, LOG_OFFSET};
 use crate::lattice::{sample_coordinates, Lattice, NodeStatus};
 use crate::lobe::{Geometry, Lobe, LobeOnGrid};
-use crate::merl_prior::merl_prior;
 use crate::method::Method;
 use crate::prior::{PriorBasis, PriorFit};
 use crate::reconstruction::{
@@ -73,18 +72,6 @@ impl Model<'_> {
     fn eval(&self, hd: HalfDiff) -> Rgb {
         self.blend(self.lobe.eval(&Geometry::of(hd)), self.prior.eval(hd))
     }
-}
-
-/// Reconstructs the full MERL table named `name` with the `prior` method (see the module
-/// documentation) and the MERL-100 basis ([`crate::merl_prior`]), through an instrument's
-/// `response` when one is known (as [`crate::reconstruct_through`] does for `lobe`).
-pub fn reconstruct_prior_through<R: CaptureResponse + ?Sized>(
-    samples: &[Sample],
-    name: &str,
-    response: Option<&R>,
-) -> Result<Reconstruction, ReconstructError> {
-    let basis = merl_prior().map_err(|e| ReconstructError::Prior(e.to_string()))?;
-    reconstruct_with_prior(samples, &basis, name, None, response).map(|(r, _)| r)
 }
 
 /// Reconstructs the full MERL table named `name` with the `prior` method (see the module
@@ -421,14 +408,15 @@ mod tests {
         let (prior, _) =
             reconstruct_with_prior(&samples, &basis, "p", Some((0.0, 0.1)), Some(&utia)).unwrap();
         let lobe =
-            crate::reconstruct_through(&samples, crate::Method::Lobe, "l", Some(&utia)).unwrap();
+            crate::reconstruct_through(&samples, crate::Method::Lobe, "l", Some(&utia), None)
+                .unwrap();
         assert_eq!(prior.resolution_deg, lobe.resolution_deg);
         assert_eq!(prior.lobe, lobe.lobe);
         let response = None::<&dyn CaptureResponse>;
         let (prior, _) =
             reconstruct_with_prior(&samples, &basis, "p", Some((0.0, 0.1)), response).unwrap();
         let lobe =
-            crate::reconstruct_through(&samples, crate::Method::Lobe, "l", response).unwrap();
+            crate::reconstruct_through(&samples, crate::Method::Lobe, "l", response, None).unwrap();
         assert_eq!(prior.provenance, lobe.provenance);
         for index in (0..specula_core::merl::CELLS).step_by(997) {
             let (a, b) = (

@@ -6,7 +6,8 @@ use crate::consistency;
 use crate::domain::log_of_measured;
 use crate::lobe::{Lobe, LobeOnGrid, BLUR_THETA_H_DEG};
 use crate::method::Method;
-use crate::prior_reconstruct::reconstruct_prior_through;
+use crate::prior::PriorBasis;
+use crate::prior_reconstruct::reconstruct_with_prior;
 use crate::reconstruction::{
     measured_lobe, reciprocal_canonical, table_of_domain_values, ReconstructError, Reconstruction,
 };
@@ -16,13 +17,14 @@ use specula_core::capture::{CaptureNode, CaptureResponse};
 use specula_core::merl::MerlBrdf;
 use specula_core::{Rgb, Sample};
 
-/// Reconstructs the full MERL table named `name` from the samples with a method.
+/// Reconstructs the full MERL table named `name` from the samples with a method that needs
+/// no prior basis (`Method::Prior` needs [`reconstruct_through`] and its basis).
 pub fn reconstruct(
     samples: &[Sample],
     method: Method,
     name: &str,
 ) -> Result<Reconstruction, ReconstructError> {
-    reconstruct_through(samples, method, name, None::<&dyn CaptureResponse>)
+    reconstruct_through(samples, method, name, None::<&dyn CaptureResponse>, None)
 }
 
 /// Reconstructs the table from samples measured through an instrument `response`: the
@@ -31,14 +33,22 @@ pub fn reconstruct(
 /// so the table is the lobe before the blur times the measured residual. The other methods,
 /// which have no model of the BRDF, ignore the response; `prior` fits its lobe through it
 /// too ([`crate::prior_reconstruct`]). `None`: as [`reconstruct`].
+///
+/// `prior` is the basis the `prior` method blends in (the caller derives it from its
+/// training set, as `specula_accuracy::merl_prior` does for MERL-100); the other methods
+/// ignore it, and `Method::Prior` without one is [`ReconstructError::NoPriorBasis`].
 pub fn reconstruct_through<R: CaptureResponse + ?Sized>(
     samples: &[Sample],
     method: Method,
     name: &str,
     response: Option<&R>,
+    prior: Option<&PriorBasis>,
 ) -> Result<Reconstruction, ReconstructError> {
     match method {
-        Method::Prior => reconstruct_prior_through(samples, name, response),
+        Method::Prior => {
+            let basis = prior.ok_or(ReconstructError::NoPriorBasis)?;
+            reconstruct_with_prior(samples, basis, name, None, response).map(|(r, _)| r)
+        }
         Method::Linear | Method::Log | Method::Lobe => {
             reconstruct_on_lattice(samples, method, name, response)
         }

@@ -23,9 +23,9 @@ pub enum ReconstructError {
     /// No sample has both light and camera above the surface, so no lobe can be fitted.
     #[error("no sample has both light and camera above the surface: cannot fit a lobe")]
     NoLobe,
-    /// The `prior` method's basis could not be derived (the message says why).
-    #[error("the prior method's MERL-100 basis: {0}")]
-    Prior(String),
+    /// The `prior` method was asked for without the basis it blends in.
+    #[error("the prior method needs a prior basis, and none was given")]
+    NoPriorBasis,
 }
 
 /// A reconstructed table with what it was made from.

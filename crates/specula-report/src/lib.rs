@@ -19,6 +19,7 @@ mod session;
 mod source_info;
 mod table;
 pub mod view;
+mod viewer;
 
 pub use database::DatabaseRequest;
 pub use error::ReportError;

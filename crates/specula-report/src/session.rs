@@ -11,6 +11,7 @@ use crate::figures::{
 use crate::{
     generator, header, layout, today, Audience, Page, Progress, ReportOptions, PLACED_SAMPLES,
 };
+use specula_accuracy::merl_prior::basis_for;
 use specula_acquisition::calibration::response::ResponseFit;
 use specula_acquisition::calibration::Calibration;
 use specula_acquisition::device::Device;
@@ -489,11 +490,13 @@ fn shown_table(
     progress.start("reconstructing", None);
     let response = session.response.as_ref().map(|fit| &fit.response);
     let halves = measures_both_halves(&session.main);
+    let prior = basis_for(method).or_report()?;
     let result = reconstruct_halves(
         &session.main,
         method,
         &format!("{name}, measured"),
         response,
+        prior.as_deref(),
     );
     progress.finish();
     match result {
@@ -657,7 +660,7 @@ pub(crate) fn report(
                 truth_brdf.map(|t| (t, truth_role)),
             )?);
         }
-        let mut shown_sources: Vec<crate::view::Shown> =
+        let mut shown_sources: Vec<crate::viewer::Shown> =
             vec![(&sample_label, &shown.table, shown.provenance.as_ref(), None)];
         if let Some((label, brdf)) = reference {
             shown_sources.push((label, brdf.as_ref(), None, None));
@@ -665,7 +668,7 @@ pub(crate) fn report(
         // The interactive viewer is the engineer's: the customer's page keeps to the
         // figures, the verdict and the pictures.
         if engineering {
-            report.viewer = Some(crate::view::viewer_of(&shown_sources));
+            report.viewer = Some(crate::viewer::viewer_of(&shown_sources));
         }
     }
     if let (Some(fit), false, true) = (&session.fit, session.probe.is_empty(), engineering) {

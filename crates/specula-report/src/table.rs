@@ -5,7 +5,7 @@ use crate::error::{OrReport, ReportError};
 use crate::figures::{
     coverage_rows, errors, peak_fact, probe_figure, raw_samples_figure, renders, slice_figures,
 };
-use crate::view::Shown;
+use crate::viewer::Shown;
 use crate::{
     generator, header, layout, today, Audience, Page, Progress, ReportOptions, PLACED_SAMPLES,
 };
@@ -122,7 +122,7 @@ pub(crate) fn report(
     // The interactive viewer is the engineer's: the customer's page keeps to the
     // figures, the verdict and the pictures.
     if engineering {
-        report.viewer = Some(crate::view::viewer_of(&shown));
+        report.viewer = Some(crate::viewer::viewer_of(&shown));
         engineering_sections(&mut report, options, &table, truth.as_deref(), progress)?;
     }
     Ok(Page {

@@ -1,5 +1,5 @@
 //! The interactive viewer (`specula_visual::viewer`) of BRDF sources: `specula view` writes it
-//! as a page of its own ([`write_view`]) and the report embeds it ([`viewer_of`]).
+//! as a page of its own ([`write_view`]); the report embeds it (`crate::viewer`).
 //!
 //! Every source the other commands read is taken (`specula_formats::load_brdf`: tables,
 //! `.bsdf`, presets, fits, ...), and a session journal (`.sqlite`) gives the table its report
@@ -9,10 +9,11 @@
 //! uncertainty of f_r, 1/sr per channel).
 
 use crate::error::{OrReport, ReportError};
+use crate::viewer::compact_table;
 use crate::{generator, Progress};
 use specula_core::{Brdf, MerlBrdf};
 use specula_reconstruct::provenance::Provenance;
-use specula_visual::viewer::{viewer_fragment, viewer_page, CompactTable};
+use specula_visual::viewer::{viewer_page, CompactTable};
 use std::path::{Path, PathBuf};
 
 /// What `specula view` shows; the fields are its arguments.
@@ -37,24 +38,6 @@ pub struct ViewSummary {
 /// The uncertainty sidecar of a MERL table: `OUT.uncertainty.binary` beside `OUT.binary`.
 pub fn uncertainty_path(merl_path: &Path) -> PathBuf {
     merl_path.with_extension("uncertainty.binary")
-}
-
-/// The compact table of a BRDF, with the origin of its cells and their uncertainty when
-/// known.
-pub fn compact_table(
-    name: &str,
-    brdf: &dyn Brdf,
-    provenance: Option<&Provenance>,
-    uncertainty: Option<&dyn Brdf>,
-) -> CompactTable {
-    let mut table = CompactTable::new(name, brdf);
-    if let Some(provenance) = provenance {
-        table = table.with_origins(|cell| provenance.cells[cell] as u8);
-    }
-    if let Some(uncertainty) = uncertainty {
-        table = table.with_uncertainty(uncertainty);
-    }
-    table
 }
 
 /// Whether `spec` names a session journal.
@@ -100,26 +83,6 @@ pub(crate) fn sidecars(path: &Path) -> Result<(Option<Provenance>, Option<MerlBr
             .transpose()
             .or_report()?,
     ))
-}
-
-/// One BRDF of a viewer the report embeds: its name, f_r, and the provenance and
-/// uncertainty of its cells when known.
-pub type Shown<'a> = (
-    &'a str,
-    &'a dyn Brdf,
-    Option<&'a Provenance>,
-    Option<&'a dyn Brdf>,
-);
-
-/// The viewer of BRDFs already loaded, as the report embeds it.
-pub fn viewer_of(sources: &[Shown]) -> String {
-    let tables: Vec<CompactTable> = sources
-        .iter()
-        .map(|(name, brdf, provenance, uncertainty)| {
-            compact_table(name, *brdf, *provenance, *uncertainty)
-        })
-        .collect();
-    viewer_fragment(&tables)
 }
 
 /// Write the viewer of `options.sources` to `out` as one self-contained HTML page.

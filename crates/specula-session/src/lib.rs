@@ -9,23 +9,33 @@
 //! - [`estimate`]: how long a stage will take, with the HDR scheme it uses;
 //! - [`inputs`]: content hashes of the inputs and the device identity, checked on resume;
 //! - [`workflow`]: the paper's workflow behind `specula measure`;
+//!   its steps' concepts in modules of their own: `connection` (the source and the
+//!   instrument), `resume` (what a rerun must ask the same), `checks` (alignment and
+//!   orientation), `observer`, `summary` and `deblur_record` (what a finished measurement
+//!   reports);
 //! - [`calibrate`]: the calibration behind `specula calibrate`, on any device;
 //! - [`ideal`], [`pace`]: a noise-free simulated device, and a simulated one paced in real
 //!   time.
 
 pub mod calibrate;
 mod calibration_text;
+mod checks;
 mod choices;
+mod connection;
+mod deblur_record;
 pub mod engine;
 pub mod estimate;
 pub mod ideal;
 pub mod inputs;
 pub mod journal;
 mod measure_request;
+mod observer;
 pub mod pace;
 mod plan_request;
 pub mod predict;
 pub mod protocol;
+mod resume;
+mod summary;
 pub mod workflow;
 pub mod workflow_error;
 

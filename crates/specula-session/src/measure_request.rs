@@ -13,7 +13,7 @@ use specula_acquisition::device::Device;
 use specula_core::request::{check_merl_out, GridRequest, ProbeRequest, RequestError};
 use specula_core::sampling::Family;
 use specula_core::GridSpec;
-use specula_reconstruct::Method;
+use specula_reconstruct::{Method, PriorBasis};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -101,11 +101,12 @@ impl MeasureRequest {
 }
 
 /// Measures `source` on `device` as `request` asks, journaled and resumable, until done or
-/// `stop` is set ([`measure`]).
+/// `stop` is set ([`measure`]; `prior`: the basis of the `prior` method).
 pub fn run_measure(
     request: &MeasureRequest,
     source: Source,
     device: &Device,
+    prior: Option<&PriorBasis>,
     stop: Arc<AtomicBool>,
     observer: &mut dyn Observer,
 ) -> Result<MeasureOutcome, MeasureError> {
@@ -116,6 +117,7 @@ pub fn run_measure(
         source,
         device,
         &settings,
+        prior,
         &session,
         &request.out,
         stop,

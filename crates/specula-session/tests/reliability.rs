@@ -675,6 +675,7 @@ mod replies_and_inputs {
             },
             &Device::utia(),
             &settings,
+            None,
             session,
             &session.with_extension("binary"),
             Arc::new(AtomicBool::new(stop)),

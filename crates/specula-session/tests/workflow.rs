@@ -43,6 +43,7 @@ fn a_small_measurement_completes_and_summarises() {
         },
         &Device::utia(),
         &small(),
+        None,
         &session,
         &out,
         Arc::new(AtomicBool::new(false)),
@@ -146,6 +147,7 @@ fn a_half_turn_plan_is_measured_and_reconstructed_by_halves() {
         simulated(truth.clone()),
         &Device::utia(),
         &settings,
+        None,
         &session,
         &out,
         Arc::new(AtomicBool::new(false)),
@@ -230,6 +232,7 @@ fn an_old_journal_reads_as_the_paper_grid_and_resumes_on_it() {
             simulated(truth.clone()),
             &Device::utia(),
             settings,
+            None,
             &session,
             &out,
             Arc::new(AtomicBool::new(stop)),
@@ -291,6 +294,7 @@ fn grid_through_the_disk(truth: &str, budget: usize) -> GridSpec {
         simulated(Arc::new(preset(truth).unwrap())),
         &Device::utia(),
         &settings,
+        None,
         &dir.path().join("m.sqlite"),
         &out,
         Arc::new(AtomicBool::new(false)),
@@ -343,6 +347,7 @@ fn a_session_from_an_older_specula_resumes_and_records_the_newer_one() {
         },
         &Device::utia(),
         &small(),
+        None,
         &session,
         &dir.path().join("old.binary"),
         Arc::new(AtomicBool::new(true)),
@@ -356,4 +361,33 @@ fn a_session_from_an_older_specula_resumes_and_records_the_newer_one() {
         Some(NewestVersionRecord(env!("CARGO_PKG_VERSION").into()))
     );
     assert_eq!(journal.status().unwrap().events.get("version"), Some(&1));
+}
+
+#[test]
+fn the_prior_method_without_its_basis_is_refused_before_measuring() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("prior.sqlite");
+    let settings = MeasureSettings {
+        method: Method::Prior,
+        ..small()
+    };
+    let refused = measure(
+        Source::Simulated {
+            truth: Arc::new(preset("silver-925").unwrap()),
+            speedup: None,
+        },
+        &Device::utia(),
+        &settings,
+        None,
+        &session,
+        &dir.path().join("prior.binary"),
+        Arc::new(AtomicBool::new(false)),
+        &mut Quiet,
+    )
+    .unwrap_err();
+    assert_eq!(
+        refused.to_string(),
+        "reconstructing the samples: the prior method needs a prior basis, and none was given"
+    );
+    assert!(!session.exists(), "no journal is opened");
 }

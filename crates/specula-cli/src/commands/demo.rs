@@ -63,6 +63,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
             source,
             &Device::utia(),
             &settings,
+            None,
             &session,
             &table,
             stop.clone(),

@@ -6,6 +6,7 @@ use crate::interrupt::{blame_stop, stop_on_ctrl_c, Interrupted};
 use crate::range;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
+use specula_accuracy::merl_prior::basis_for;
 use specula_acquisition::calibration::Calibration;
 use specula_core::request::ProbeRequest;
 use specula_core::shown::duration_text;
@@ -125,8 +126,16 @@ pub(crate) fn run(args: Args) -> Result<()> {
     outln!("session: {}", session.display());
     outln!("grid: {grid}");
     let mut observer = Bars::default();
-    let outcome = run_measure(&request, source, &device, stop.clone(), &mut observer)
-        .map_err(|e| blame_stop(e.into(), &stop))?;
+    let prior = basis_for(request.method)?;
+    let outcome = run_measure(
+        &request,
+        source,
+        &device,
+        prior.as_deref(),
+        stop.clone(),
+        &mut observer,
+    )
+    .map_err(|e| blame_stop(e.into(), &stop))?;
     observer.finish();
     match outcome {
         MeasureOutcome::Complete(summary) => {

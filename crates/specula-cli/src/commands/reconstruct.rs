@@ -1,13 +1,12 @@
 //! `specula reconstruct`: measured samples into a full MERL table with its provenance.
 
 use anyhow::{bail, Context, Result};
-use specula_core::Sample;
+use specula_accuracy::merl_prior::basis_for;
 use specula_formats::samples_csv::SampleSet;
-use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::provenance::sidecar_path;
-use specula_reconstruct::Method;
-use specula_session::workflow::session_main_samples;
-use std::path::{Path, PathBuf};
+use specula_reconstruct::{run_reconstruct, Method, ReconstructRequest, RunReconstructError};
+use specula_session::workflow::{session_main_samples, DeblurRecord};
+use std::path::PathBuf;
 
 /// Reconstruct a full MERL table from sparse samples (paper 5.3).
 #[derive(clap::Args)]
@@ -48,28 +47,30 @@ pub(crate) struct Args {
 const MOSTLY_EXTRAPOLATED: f64 = 0.9;
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    specula_core::request::check_merl_out(&args.out)?;
+    let request = ReconstructRequest {
+        method: args.method,
+        deblur: !args.no_deblur,
+        out: Some(args.out.clone()),
+    };
+    request.validate()?;
     let (input, samples, response) = match (&args.samples, &args.session) {
-        (Some(path), _) => (path, read_samples(path)?, None),
+        (Some(path), _) => (path, SampleSet::read(path)?.samples().to_vec(), None),
         (None, Some(path)) => {
             let (samples, response) = session_main_samples(path)?;
-            (path, samples, response.filter(|_| !args.no_deblur))
+            (path, samples, response)
         }
         (None, None) => bail!("give --samples-csv or --session"),
     };
-    let name = args.out.file_stem().map_or_else(
-        || "reconstruction".into(),
-        |s| s.to_string_lossy().into_owned(),
-    );
     let spinner = crate::progress::spinner("reconstructing");
-    let result = reconstruct_halves(&samples, args.method, &name, response.as_ref());
+    let prior = basis_for(args.method)?;
+    let through = response.as_ref().map(|fit| &fit.response);
+    let result = run_reconstruct(&request, &samples, through, prior.as_deref());
     spinner.finish_and_clear();
-    let r = result.with_context(|| input.display().to_string())?;
+    let r = match result {
+        Err(RunReconstructError::Reconstruct(e)) => Err(e).context(input.display().to_string())?,
+        other => other?,
+    };
     let sidecar = sidecar_path(&args.out);
-    specula_core::atomic_file::write_together(&[
-        (&args.out, &r.brdf.to_bytes()),
-        (&sidecar, &r.provenance.to_npy()),
-    ])?;
     let [nh, nd, np] = r.lattice_shape;
     outln!("samples: {} on a lattice of {nh} theta_h x {nd} theta_d x {np} phi_d ({} nodes measured, {} extrapolated)", samples.len(), r.measured_nodes, r.filled_nodes);
     if let Some(lobe) = r.lobe {
@@ -82,18 +83,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
             lobe.diffuse.z
         );
     }
-    if let Some(resolution) = r.resolution_deg {
-        let width = r.lobe.map(|l| l.shape.half_width_deg());
-        outln!(
-            "fitted through the instrument's response: resolution {resolution:.3} deg in theta_h; {}",
-            match width {
-                Some(w) if w < resolution => format!(
-                    "the peak's half width {w:.3} deg is below it: a bound, not a measurement"
-                ),
-                Some(w) => format!("the peak's half width {w:.3} deg is resolved"),
-                None => "no lobe".into(),
-            }
-        );
+    if let (Some(fit), Some(_)) = (&response, r.resolution_deg) {
+        let deblurred = DeblurRecord::new(fit, &r).describe();
+        outln!("fitted through the instrument's response: {deblurred}");
     }
     for line in r.safeguard.iter().flat_map(|s| s.lines()) {
         outln!("{line}");
@@ -114,9 +106,4 @@ pub(crate) fn run(args: Args) -> Result<()> {
         args.method
     );
     Ok(())
-}
-
-/// The samples of a CSV file.
-fn read_samples(path: &Path) -> Result<Vec<Sample>> {
-    Ok(SampleSet::read(path)?.samples().to_vec())
 }

@@ -66,6 +66,7 @@ pub(crate) fn measure_small(dir: &Path, stop_after: Option<(Stage, usize)>) -> (
         },
         &Device::utia(),
         &settings,
+        None,
         &session,
         &table,
         stop,

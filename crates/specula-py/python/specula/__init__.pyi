@@ -186,12 +186,15 @@ def plan(
     phi_d_span "half-turn" 0-180, phi_h 45 deg) or "paper" (30, 3, 15 over "quarter" 0-90,
     45). `theta_d_step_deg` is a number (an even step) or "STEP:GRAZING@FROM"."""
 
-def reconstruct(samples: Mapping[str, ArrayLike], method: str = "lobe") -> dict[str, Any]:
+def reconstruct(
+    samples: Mapping[str, ArrayLike], method: str = "lobe", out: Optional[Path] = None
+) -> dict[str, Any]:
     """Sparse samples into the MERL grid: "table", "provenance" (uint8: 0 measured, 1
     interpolated, 2 extrapolated, 3 from the prior) and lattice facts. `method`: "lobe"
     (default), "prior" (lobe blended with the MERL-100 prior as far as the samples trust it),
     "log" or "linear". Samples that measure both halves of phi_d (0-90 and 90-180 deg) are
-    reconstructed half by half."""
+    reconstructed half by half. `out`: a MERL .binary written with its provenance beside it
+    (OUT.provenance.npy), as `specula reconstruct --out`."""
 
 def evaluate(
     truth: BrdfLike,
