@@ -10,9 +10,10 @@ use specula_reconstruct::provenance::Provenance;
 use specula_reconstruct::uncertainty::sidecar_path;
 use std::path::PathBuf;
 
-/// The share of a measured table's cells whose truth lies within two standard uncertainties
-/// (k = 2), from the table's .uncertainty.binary and .provenance.npy beside it, over the
-/// cells measured and interpolated within --max-elevation.
+/// Share of a measured table's cells whose truth lies within 2u (k = 2).
+///
+/// From the table's .uncertainty.binary and .provenance.npy beside it, over the cells measured
+/// and interpolated within --max-elevation.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The measured MERL table (`specula measure --truth ... --out TABLE`).
