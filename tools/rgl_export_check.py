@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Reference data for Specula's RGL `.bsdf` writer, from Mitsuba 3's own `measured` plugin.
 
-For each test material (a sharp conductor, the green paint, a real RGL file round-tripped,
-the MERL tabulations of the five real RGL files, three neural fits of MERL materials):
+For each test material (a sharp conductor, the green paint, the five real RGL files written
+again from the original, the MERL tabulations of the five, three neural fits of MERL materials):
 
 1. `specula convert SOURCE out.bsdf` writes the file at the default resolution (a MERL
    tabulation is first written by `specula tabulate SOURCE --out tabulated.binary`);
@@ -76,6 +76,9 @@ MATERIALS = {
     "cc_ibiza_sunset_rgb": (os.path.join(MEASURED, "rgl_bsdf", "cc_ibiza_sunset_rgb.bsdf"), False, True),
     **{f"merl_{name}": (os.path.join(MEASURED, "rgl_bsdf", name + ".bsdf"), True, False) for name in RGL_FILES},
     **{f"nbrdf_{name}": (f"nbrdf:{name}", False, False) for name in NBRDF_FITS},
+    # The other four real files written directly from the original (appended: the order above
+    # keeps its seeds).
+    **{name: (os.path.join(MEASURED, "rgl_bsdf", name + ".bsdf"), False, False) for name in RGL_FILES[1:]},
 }
 MAX_ELEVATION_DEG = 85.0
 REFERENCE_SPP = {"point": 256, "constant": 1024}

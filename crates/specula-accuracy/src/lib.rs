@@ -24,6 +24,7 @@
 //! Over several materials, [`summary`] combines the figures by their median or mean, per
 //! set of truths, the real measured ones first.
 
+pub mod coverage;
 mod evaluation;
 pub mod merl_prior;
 pub mod summary;

@@ -405,43 +405,79 @@ pub fn csv_row(
 /// The rows of the text table, one per figure: its label, then its value per material;
 /// with a reference, each value is followed by its difference in brackets.
 pub fn text_rows(figures: &[&Appearance], differences: Option<&[Differences]>) -> Vec<Vec<String>> {
-    let show = |value: Option<f64>, delta: Option<f64>| match (value, delta) {
-        (Some(v), Some(d)) => format!("{v:.2} ({d:+.2})"),
-        (Some(v), None) => format!("{v:.2}"),
-        (None, Some(d)) => format!("{d:.2}"),
-        (None, None) => "n/a".to_string(),
+    text_rows_with(figures, differences, &[])
+}
+
+/// As [`text_rows`], each value followed by `± U` where `expanded[material]` holds the
+/// figures' expanded uncertainties ([`crate::uncertainty::expanded_uncertainty`], in
+/// [`column_values`]'s order); a material beyond `expanded` or `None` there shows none.
+pub fn text_rows_with(
+    figures: &[&Appearance],
+    differences: Option<&[Differences]>,
+    expanded: &[Option<Vec<Option<f64>>>],
+) -> Vec<Vec<String>> {
+    let show = |value: Option<f64>, delta: Option<f64>, u: Option<f64>| {
+        let plus_minus = u.map_or_else(String::new, |u| format!(" ± {u:.2}"));
+        match (value, delta) {
+            (Some(v), Some(d)) => format!("{v:.2}{plus_minus} ({d:+.2})"),
+            (Some(v), None) => format!("{v:.2}{plus_minus}"),
+            (None, Some(d)) => format!("{d:.2}"),
+            (None, None) => "n/a".to_string(),
+        }
+    };
+    let u_of = |material: usize, column: Option<usize>| {
+        let column = column?;
+        expanded
+            .get(material)?
+            .as_ref()?
+            .get(column)
+            .copied()
+            .flatten()
     };
     let mut rows: Vec<Vec<String>> = Vec::new();
     let mut add = |label: String,
+                   column: Option<usize>,
                    value: &dyn Fn(&Appearance) -> Option<f64>,
                    delta: &dyn Fn(&Differences) -> Option<f64>| {
         let cells: Vec<String> = figures
             .iter()
             .enumerate()
-            .map(|(i, f)| show(value(f), differences.and_then(|d| delta(&d[i]))))
+            .map(|(i, f)| {
+                show(
+                    value(f),
+                    differences.and_then(|d| delta(&d[i])),
+                    u_of(i, column),
+                )
+            })
             .collect();
         rows.push(std::iter::once(label).chain(cells).collect());
     };
     for (k, g) in GEOMETRIES.iter().enumerate() {
         add(
             format!("gloss {} deg (GU)", g.angle_deg),
+            Some(k),
             &|f| Some(f.gloss[k]),
             &|d| Some(d.gloss[k]),
         );
     }
-    add("haze, E430 30 deg".into(), &|f| Some(f.haze), &|d| {
-        Some(d.haze)
-    });
-    add("DOI, E430 30 deg".into(), &|f| Some(f.doi), &|d| {
+    add(
+        "haze, E430 30 deg".into(),
+        Some(3),
+        &|f| Some(f.haze),
+        &|d| Some(d.haze),
+    );
+    add("DOI, E430 30 deg".into(), Some(4), &|f| Some(f.doi), &|d| {
         Some(d.doi)
     });
     add(
         "haze 20 deg, ISO 13803".into(),
+        Some(5),
         &|f| Some(f.haze_20),
         &|d| Some(d.haze_20),
     );
     add(
         "haze index, D4039 (G60 - G20)".into(),
+        Some(6),
         &|f| Some(f.haze_d4039),
         &|d| Some(d.haze_d4039),
     );
@@ -449,14 +485,22 @@ pub fn text_rows(figures: &[&Appearance], differences: Option<&[Differences]>) -
         for (i, channel) in ["L*", "a*", "b*"].iter().enumerate() {
             add(
                 format!("{channel} {gamma} deg"),
+                Some(7 + 3 * k + i),
                 &|f| f.colour[k].map(|c| c[i]),
                 &|_| None,
             );
         }
         if differences.is_some() {
-            add(format!("dE00 {gamma} deg"), &|_| None, &|d| d.delta_e00[k]);
+            add(format!("dE00 {gamma} deg"), None, &|_| None, &|d| {
+                d.delta_e00[k]
+            });
         }
     }
-    add("flop index".into(), &|f| f.flop_index, &|d| d.flop_index);
+    add(
+        "flop index".into(),
+        Some(7 + 3 * ASPECULAR_DEG.len()),
+        &|f| f.flop_index,
+        &|d| d.flop_index,
+    );
     rows
 }

@@ -12,6 +12,7 @@ pub mod figures;
 pub mod gloss;
 pub mod haze;
 pub mod tolerance;
+pub mod uncertainty;
 
 pub use figures::{appearance, Appearance, Differences, Options, Warning};
 pub use tolerance::{Tolerances, Verdict};

@@ -1,9 +1,8 @@
 //! The RGL `.bsdf` writer against Mitsuba 3.9.1's `measured` plugin (vectors made by
 //! `tools/rgl_export_check.py` from the files `specula convert` writes at the default
 //! resolution), for a sharp conductor (chrome, GGX alpha 0.01), the green paint (a GGX alpha
-//! 0.008 coat over a diffuse base), a real RGL file written again, the MERL tabulations of the
-//! five real RGL files (`specula tabulate`, then `convert`) and three neural fits of MERL
-//! materials.
+//! 0.008 coat over a diffuse base), the five real RGL files written again, their MERL
+//! tabulations (`specula tabulate`, then `convert`) and three neural fits of MERL materials.
 //!
 //! The direction pairs are the vectors' 2100 (seeded, fixed): 1400 uniform over the
 //! hemisphere pair (cos theta uniform up to 85 deg, azimuths uniform) and 700 near the mirror
@@ -17,7 +16,8 @@
 //!    ones (the source's `f_r cos(theta_o)` at least [`SIGNIFICANT`] of its largest over the
 //!    pairs: what a render integrates); and, over the pairs whose value is at least 1 % of the
 //!    largest, the mean relative difference weighted by `f_r cos(theta_o)`, the median and
-//!    the 90th percentile. Figures in docs/book/src/renderers.md.
+//!    the 90th percentile; each material's fractions must reach its claim ([`CLAIMS`]).
+//!    Figures in docs/book/src/renderers.md.
 
 mod common;
 
@@ -37,6 +37,46 @@ const SIGNIFICANT: f64 = 1e-3;
 /// Pairs below this fraction of the largest are left out of the weighted mean, median and
 /// 90th percentile.
 const MATTERS: f64 = 0.01;
+
+/// The target of the issue: this fraction of all pairs within [`WITHIN`].
+const TARGET: f64 = 0.95;
+
+/// What the guide claims for each material's written file (docs/book/src/renderers.md): the
+/// least fraction of all pairs and of the significant pairs within [`WITHIN`]: [`TARGET`]
+/// wherever the file reaches it, below it the figure measured (to 0.1 %, rounded down). The
+/// two MERL tabulations of the colour-changing films fall short over all pairs: in their
+/// tails, at 1e-5 of the highlight and below, the tables' interpolants step eightfold within
+/// a degree (bins reading channels clamped at zero) where the original files are smooth, and
+/// no resampling at this resolution follows that within 5 % (docs/book/src/renderers.md).
+const CLAIMS: [(&str, f64, f64); 15] = [
+    ("chrome", TARGET, TARGET),
+    ("green-paint", TARGET, TARGET),
+    ("cc_ibiza_sunset_rgb", TARGET, TARGET),
+    ("cc_iris_purple_gem_rgb", TARGET, TARGET),
+    ("colodur_napoli_4f_rgb", TARGET, TARGET),
+    ("paper_white_rgb", TARGET, TARGET),
+    ("satin_rosaline_rgb", TARGET, TARGET),
+    ("merl_cc_ibiza_sunset_rgb", 0.939, TARGET),
+    ("merl_cc_iris_purple_gem_rgb", 0.919, TARGET),
+    ("merl_colodur_napoli_4f_rgb", TARGET, TARGET),
+    ("merl_paper_white_rgb", TARGET, TARGET),
+    ("merl_satin_rosaline_rgb", TARGET, TARGET),
+    ("nbrdf_gold-metallic-paint", TARGET, TARGET),
+    ("nbrdf_specular-blue-phenolic", TARGET, 0.941),
+    ("nbrdf_red-fabric", TARGET, TARGET),
+];
+
+/// Asserts that `a`, the agreement of `material`, reaches its claim in [`CLAIMS`].
+fn assert_claim(material: &str, a: &Agreement) {
+    let (_, all, significant) = CLAIMS
+        .iter()
+        .find(|c| c.0 == material)
+        .unwrap_or_else(|| panic!("{material}: no claim"));
+    assert!(
+        a.within_all >= *all && a.within_significant >= *significant,
+        "{material}: claimed {all} of all pairs and {significant} of the significant ones: {a:?}"
+    );
+}
 
 /// Agreement of Mitsuba's value of the written file with the source.
 #[derive(Debug)]
@@ -143,25 +183,27 @@ fn merl_tabulation(rgl_file: &str) -> Option<Arc<dyn Brdf>> {
 #[test]
 fn sharp_conductor_agrees_with_mitsuba() {
     let a = check("chrome", load_brdf("chrome").unwrap().as_ref());
+    assert_claim("chrome", &a);
     assert!(a.within_all >= 0.99, "{a:?}");
     assert!(a.compared >= 300, "{a:?}");
+    // The peak: 0.018 % weighted mean, 0.015 % median, 0.07 % 90th percentile.
     assert!(
-        a.weighted_mean < 0.004 && a.median < 0.005 && a.p90 < 0.025,
+        a.weighted_mean < 0.0004 && a.median < 0.0003 && a.p90 < 0.0015,
         "{a:?}"
     );
-    assert!(a.weighted_mean_all < 0.004, "{a:?}");
+    assert!(a.weighted_mean_all < 0.0004, "{a:?}");
 }
 
 #[test]
 fn green_paint_agrees_with_mitsuba_at_95_percent_of_pairs() {
     let a = check("green-paint", load_brdf("green-paint").unwrap().as_ref());
-    assert!(a.within_all >= 0.95, "{a:?}");
+    assert_claim("green-paint", &a);
     assert!(a.compared >= 200, "{a:?}");
     assert!(
-        a.weighted_mean < 0.013 && a.median < 0.008 && a.p90 < 0.03,
+        a.weighted_mean < 0.005 && a.median < 0.0025 && a.p90 < 0.007,
         "{a:?}"
     );
-    assert!(a.weighted_mean_all < 0.013, "{a:?}");
+    assert!(a.weighted_mean_all < 0.005, "{a:?}");
 }
 
 #[test]
@@ -173,29 +215,41 @@ fn real_rgl_file_round_trips_through_mitsuba() {
         "cc_ibiza_sunset_rgb",
         load_brdf(file.to_str().unwrap()).unwrap().as_ref(),
     );
-    assert!(a.within_significant >= 0.95 && a.within_all >= 0.9, "{a:?}");
+    assert_claim("cc_ibiza_sunset_rgb", &a);
     assert!(a.significant >= 500, "{a:?}");
     assert!(a.compared >= 500, "{a:?}");
     assert!(
-        a.weighted_mean < 0.01 && a.median < 0.0015 && a.p90 < 0.015,
+        a.weighted_mean < 0.005 && a.median < 0.0008 && a.p90 < 0.008,
         "{a:?}"
     );
-    assert!(a.weighted_mean_all < 0.01, "{a:?}");
+    assert!(a.weighted_mean_all < 0.005, "{a:?}");
 }
 
 #[test]
-fn merl_tabulations_of_the_real_files_agree_with_mitsuba_at_95_percent_of_significant_pairs() {
-    for name in RGL_MATERIALS {
-        let Some(brdf) = merl_tabulation(name) else {
+fn the_other_real_rgl_files_round_trip_through_mitsuba() {
+    for name in &RGL_MATERIALS[1..] {
+        let Some(file) = measured(&format!("rgl_bsdf/{name}.bsdf")) else {
             return;
         };
-        let a = check(&format!("merl_{name}"), brdf.as_ref());
-        assert!(a.within_significant >= 0.95, "merl_{name}: {a:?}");
+        let a = check(name, load_brdf(file.to_str().unwrap()).unwrap().as_ref());
+        assert_claim(name, &a);
     }
 }
 
 #[test]
-fn neural_fits_agree_with_mitsuba_at_95_percent_of_pairs() {
+fn merl_tabulations_of_the_real_files_agree_with_mitsuba() {
+    for name in RGL_MATERIALS {
+        let Some(brdf) = merl_tabulation(name) else {
+            return;
+        };
+        let material = format!("merl_{name}");
+        let a = check(&material, brdf.as_ref());
+        assert_claim(&material, &a);
+    }
+}
+
+#[test]
+fn neural_fits_agree_with_mitsuba() {
     for name in [
         "gold-metallic-paint",
         "specular-blue-phenolic",
@@ -205,7 +259,8 @@ fn neural_fits_agree_with_mitsuba_at_95_percent_of_pairs() {
             return;
         }
         let brdf = load_brdf(&format!("nbrdf:{name}")).unwrap();
-        let a = check(&format!("nbrdf_{name}"), brdf.as_ref());
-        assert!(a.within_all >= 0.95, "nbrdf_{name}: {a:?}");
+        let material = format!("nbrdf_{name}");
+        let a = check(&material, brdf.as_ref());
+        assert_claim(&material, &a);
     }
 }

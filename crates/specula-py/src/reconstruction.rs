@@ -8,12 +8,12 @@ use crate::plan::{device, GridArgs};
 use crate::sampling::{rgb_array, rgb_rows};
 use crate::table::to_array;
 use numpy::ndarray::Array3;
-use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArrayLike1, PyArrayLike2};
+use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArray4, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use specula_accuracy::merl_prior::basis_for;
 use specula_accuracy::{evaluate_truth, EvaluateRequest, Evaluated};
-use specula_core::merl::{PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::merl::{MerlBrdf, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::{HalfDiff, Sample};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_reconstruct::{run_reconstruct, Method, ReconstructRequest};
@@ -90,6 +90,23 @@ pub(crate) fn read_provenance(
     }
     let provenance = Provenance::read(&sidecar).or_raise()?;
     Ok(Some(provenance_array(py, &provenance)))
+}
+
+/// The standard uncertainty (k = 1) of a reconstructed MERL file: its
+/// `OUT.uncertainty.binary` sidecar (written by `specula reconstruct` and `specula measure`)
+/// as a `(90, 90, 180, 3)` float64 array in 1/sr, NaN where a cell has none, or None when the
+/// file has no sidecar.
+#[pyfunction]
+pub(crate) fn read_uncertainty(
+    py: Python<'_>,
+    merl_path: PathBuf,
+) -> PyResult<Option<Bound<'_, PyArray4<f64>>>> {
+    let sidecar = specula_reconstruct::uncertainty::sidecar_path(&merl_path);
+    if !sidecar.exists() {
+        return Ok(None);
+    }
+    let table = py.detach(|| MerlBrdf::read(&sidecar)).or_raise()?;
+    Ok(Some(to_array(py, table)))
 }
 
 /// The reconstruction method named `name` (`lobe`, `log` or `linear`).

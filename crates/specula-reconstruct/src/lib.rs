@@ -8,7 +8,7 @@
 //! no sample reached (`extrapolate`), interpolate at the MERL bin centres (`grid` with a
 //! `kernel`) and record each cell's [`provenance`].
 //!
-//! The crate depends on `specula-core` alone. The `prior` method's basis ([`PriorBasis`]) is
+//! Of the Specula crates it depends on `specula-core` alone. The `prior` method's basis ([`PriorBasis`]) is
 //! an input its caller derives from a training set (`specula_accuracy::merl_prior` for
 //! MERL-100); a user's request is a [`ReconstructRequest`], served by [`run_reconstruct`].
 
@@ -33,6 +33,7 @@ mod request;
 mod response_nodes;
 pub mod safeguard;
 mod sample;
+pub mod uncertainty;
 
 pub use deblur::{deblur_probe, DeblurredProbe};
 pub use domain::Domain;

@@ -78,7 +78,7 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
     })?;
     match response {
         Some(response) if table.resolution_deg.is_some() => {
-            let (brdf, safeguard) = crate::safeguard::safeguarded(
+            let (brdf, safeguard, replaced) = crate::safeguard::safeguarded(
                 samples,
                 table.brdf,
                 table.lobe.as_ref(),
@@ -93,6 +93,7 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
             Ok(Reconstruction {
                 brdf,
                 safeguard: Some(safeguard),
+                deblurred_replaced: replaced,
                 ..table
             })
         }
@@ -144,6 +145,7 @@ fn joined(first: Reconstruction, second: Reconstruction) -> Reconstruction {
         measured_nodes: first.measured_nodes + second.measured_nodes,
         filled_nodes: first.filled_nodes + second.filled_nodes,
         safeguard: None,
+        deblurred_replaced: None,
     }
 }
 

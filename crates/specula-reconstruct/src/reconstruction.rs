@@ -49,6 +49,10 @@ pub struct Reconstruction {
     /// What the checks of a deblurred table found ([`crate::safeguard`]); `None` when the
     /// table was not deblurred.
     pub safeguard: Option<Safeguard>,
+    /// The deblurred table whose cells the safeguard replaced by the un-deblurred ones
+    /// ([`Safeguard::fallback_below_deg`]): what the uncertainty's deblurring term compares
+    /// them with ([`crate::uncertainty`]); `None` when nothing was replaced.
+    pub deblurred_replaced: Option<MerlBrdf>,
 }
 
 /// The lobe as a capture at `hd` measures it: through the nodes near the peak, where the fit
@@ -108,5 +112,6 @@ pub(crate) fn table_of_domain_values(
         measured_nodes,
         filled_nodes: lattice.status.len() - measured_nodes,
         safeguard: None,
+        deblurred_replaced: None,
     }
 }

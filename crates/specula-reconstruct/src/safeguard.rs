@@ -109,14 +109,15 @@ impl Safeguard {
 
 /// Checks the `deblurred` table (made through `response` from `samples`, with its fitted
 /// `lobe`) and falls back per region to the table `without_response()` makes where it fails
-/// (see the module documentation): the table to keep, and what the checks found.
+/// (see the module documentation): the table to keep, what the checks found and, when its
+/// cells were replaced, the deblurred table itself.
 pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
     samples: &[Sample],
     deblurred: MerlBrdf,
     lobe: Option<&Lobe>,
     response: &R,
     without_response: impl FnOnce() -> Result<MerlBrdf, E>,
-) -> Result<(MerlBrdf, Safeguard), E> {
+) -> Result<(MerlBrdf, Safeguard, Option<MerlBrdf>), E> {
     let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
     let instrument = Instrument {
         nodes: &nodes,
@@ -134,7 +135,7 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
             reason: None,
             max_albedo: albedo,
         };
-        return Ok((deblurred, passed));
+        return Ok((deblurred, passed, None));
     };
     let plain = without_response()?;
     let merged = replaced_below(&deblurred, &plain, limit_deg);
@@ -170,7 +171,7 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
             reason: Some(format!("{reason}; the un-deblurred values reproduce the samples no better, so the deblurred ones stay")),
             max_albedo: albedo,
         };
-        return Ok((deblurred, kept));
+        return Ok((deblurred, kept, None));
     }
     let replaced = Safeguard {
         consistency: merged_check,
@@ -180,7 +181,7 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
         reason: Some(reason),
         max_albedo: merged_albedo,
     };
-    Ok((merged, replaced))
+    Ok((merged, replaced, Some(deblurred)))
 }
 
 /// The standard uncertainty of each sample's prediction (see the module documentation):
@@ -410,12 +411,14 @@ mod tests {
             })
             .collect();
         let spiky = lobe(0.0125);
-        let (kept, guard) =
+        let (kept, guard, replaced) =
             safeguarded(&samples, tabulated(&spiky), Some(&spiky), &response, || {
                 Ok::<_, ()>(tabulated(&truth))
             })
             .unwrap();
         assert!(guard.fallback_below_deg.is_some(), "{guard:?}");
+        // The deblurred table replaced is kept for the uncertainty's deblurring term.
+        assert!(replaced.is_some());
         let peak = Bin {
             theta_h_i: 0,
             theta_d_i: 40,
@@ -433,11 +436,13 @@ mod tests {
             .iter()
             .any(|l| l.starts_with("deblur_fallback=theta_h below")));
 
-        let (_, guard) = safeguarded(&samples, tabulated(&truth), Some(&truth), &response, || {
-            Err("not needed")
-        })
-        .unwrap();
+        let (_, guard, replaced) =
+            safeguarded(&samples, tabulated(&truth), Some(&truth), &response, || {
+                Err("not needed")
+            })
+            .unwrap();
         assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
+        assert!(replaced.is_none());
         let peak = guard.consistency.region("peak").unwrap();
         assert!(
             peak.relative_error < FAIL_FACTOR * peak.expected_error,

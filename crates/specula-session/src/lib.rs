@@ -29,6 +29,7 @@ pub mod ideal;
 pub mod inputs;
 pub mod journal;
 mod measure_request;
+pub mod measured_uncertainty;
 mod observer;
 pub mod pace;
 mod plan_request;

@@ -56,6 +56,9 @@ pub struct Summary {
     pub deblur: Option<DeblurRecord>,
     /// Events in the journal by kind (faults, retries, resumptions).
     pub events: Vec<(String, usize)>,
+    /// The table's uncertainty in summary lines
+    /// ([`specula_reconstruct::uncertainty::CellUncertainty::lines`]).
+    pub uncertainty: Vec<String>,
 }
 
 impl Summary {
@@ -116,6 +119,7 @@ impl Summary {
             Some(d) => lines.extend(d.lines()),
             None => lines.push("deblurred=false".into()),
         }
+        lines.extend(self.uncertainty.iter().cloned());
         for (kind, count) in &self.events {
             lines.push(format!("events_{kind}={count}"));
         }
@@ -178,5 +182,6 @@ pub(crate) fn summarise(
         phi_d_halves,
         deblur,
         events: status.events.into_iter().collect(),
+        uncertainty: Vec::new(),
     })
 }

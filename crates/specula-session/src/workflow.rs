@@ -231,24 +231,40 @@ pub fn measure(
         .as_ref()
         .filter(|_| result.resolution_deg.is_some())
         .map(|fit| DeblurRecord::new(fit, &result));
+    let uncertainty = crate::measured_uncertainty::of_measurement(
+        &engine.journal.plan(Stage::Main)?,
+        &main,
+        &samples,
+        method,
+        prior,
+        &result,
+    )
+    .map_err(|cause| WorkflowError::Reconstruct { cause })?;
     specula_core::atomic_file::write_together(&[
         (out, &result.brdf.to_bytes()),
         (&sidecar_path(out), &result.provenance.to_npy()),
+        (
+            &specula_reconstruct::uncertainty::sidecar_path(out),
+            &uncertainty.absolute(&result.brdf).to_bytes(),
+        ),
     ])?;
 
-    let summary = summarise(
-        &journal,
-        session,
-        out,
-        description.to_string(),
-        &fit,
-        checks,
-        plan,
-        connected.simulated,
-        settings,
-        halves,
-        deblur,
-    )?;
+    let summary = Summary {
+        uncertainty: uncertainty.lines(),
+        ..summarise(
+            &journal,
+            session,
+            out,
+            description.to_string(),
+            &fit,
+            checks,
+            plan,
+            connected.simulated,
+            settings,
+            halves,
+            deblur,
+        )?
+    };
     let text = summary.lines().join("\n") + "\n";
     let path = summary_path(out);
     specula_core::atomic_file::write_bytes(&path, text.as_bytes()).map_err(|cause| {

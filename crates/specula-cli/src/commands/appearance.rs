@@ -1,11 +1,19 @@
 //! `specula appearance`: gloss, haze, DOI and multi-angle colour of BRDFs.
 
 use anyhow::Result;
-use specula_appearance::figures::{csv_header, csv_row, text_rows};
+use specula_appearance::figures::{csv_header, csv_row, text_rows_with};
+use specula_appearance::uncertainty::{column_names, expanded_uncertainty};
 use specula_appearance::{appearance, Differences, Options, Tolerances, Verdict};
+use specula_core::merl::MerlBrdf;
+use specula_reconstruct::uncertainty::sidecar_path;
 use specula_report::appearance::extrapolated_cells;
+use std::path::Path;
 
 /// Gloss, haze, DOI, multi-angle colour and flop of BRDFs, with verdicts against tolerances.
+///
+/// A measured MERL table with its .uncertainty.binary beside it also gets each figure's
+/// expanded uncertainty (k = 2, Monte Carlo over the cells' uncertainty): `± U` in the table,
+/// `U_<figure>` columns in the CSV.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// BRDFs: presets, material .toml files, MERL .binary, RGL .bsdf, UTIA .bin, samples
@@ -38,6 +46,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let mut sources: Vec<String> = args.against.iter().cloned().collect();
     sources.extend(args.brdfs.iter().cloned());
     let mut figures = Vec::with_capacity(sources.len());
+    let mut expanded = Vec::with_capacity(sources.len());
     let mut names = Vec::with_capacity(sources.len());
     for spec in &sources {
         let options = Options {
@@ -50,6 +59,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         for warning in &result.warnings {
             eprintln!("warning: {spec}: {warning}");
         }
+        expanded.push(figures_uncertainty(Path::new(spec), &options)?);
         figures.push(result);
     }
     let differences: Option<Vec<Differences>> = args
@@ -64,22 +74,51 @@ pub(crate) fn run(args: Args) -> Result<()> {
     if args.csv {
         let mut out = csv::Writer::from_writer(crate::output::Stdout);
         let mut header = csv_header(differences.is_some());
+        let with_u = expanded.iter().any(Option::is_some);
+        if with_u {
+            header.extend(column_names(&csv_header(false)[1..]));
+        }
         header.extend(verdicts.as_ref().map(|_| "verdict".to_string()));
         out.write_record(header)?;
+        let figure_count = csv_header(false).len() - 1;
         for (k, (spec, f)) in sources.iter().zip(&figures).enumerate() {
             let mut row = csv_row(spec, f, differences.as_ref().map(|d| &d[k]));
+            if with_u {
+                row.extend((0..figure_count).map(|c| {
+                    expanded[k]
+                        .as_ref()
+                        .and_then(|u| u.get(c).copied().flatten())
+                        .map_or_else(String::new, |u| format!("{u:.4}"))
+                }));
+            }
             row.extend(verdicts.as_ref().map(|v| verdict_text(v, k)));
             out.write_record(row)?;
         }
         out.flush()?;
     } else {
-        let mut rows = text_rows(&figures.iter().collect::<Vec<_>>(), differences.as_deref());
+        let mut rows = text_rows_with(
+            &figures.iter().collect::<Vec<_>>(),
+            differences.as_deref(),
+            &expanded,
+        );
         if let Some(verdicts) = &verdicts {
             rows.push(verdict_row(verdicts));
         }
         out!("{}", text_table(&names, rows));
     }
     verdicts.map_or(Ok(()), |v| crate::verdict::check(&v[1..]))
+}
+
+/// The figures' expanded uncertainty of the MERL table at `path` from its uncertainty
+/// sidecar, `None` when it is no `.binary` or has none.
+fn figures_uncertainty(path: &Path, options: &Options) -> Result<Option<Vec<Option<f64>>>> {
+    let sidecar = sidecar_path(path);
+    if path.extension().is_none_or(|e| e != "binary") || !sidecar.is_file() {
+        return Ok(None);
+    }
+    let table = MerlBrdf::read(path)?;
+    let u = MerlBrdf::read(&sidecar)?;
+    Ok(Some(expanded_uncertainty(&table, &u, options)))
 }
 
 /// The verdict shown for row `k`: `reference` for the reference (row 0), else the verdict.

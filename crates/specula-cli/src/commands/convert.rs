@@ -27,8 +27,9 @@ pub(crate) struct Args {
     /// 89.9 deg. Range: a whole number from 2 to 90.
     #[arg(long, default_value_t = RglResolution::DEFAULT.elevations, value_parser = range::RGL_ELEVATIONS)]
     pub rgl_elevations: usize,
-    /// RGL output: nodes per axis of the microfacet distribution and of the visible-normal warp
-    /// (the RGL database uses 128). Range: a whole number from 8 to 512.
+    /// RGL output: nodes (elevations) of the microfacet distribution and its projected area
+    /// (the RGL database uses 128; the visible-normal warp has 64 x 64 nodes). Range: a whole
+    /// number from 8 to 512.
     #[arg(long, default_value_t = RglResolution::DEFAULT.ndf_size, value_parser = range::RGL_NDF_SIZE)]
     pub rgl_ndf_size: usize,
     /// RGL output: samples per axis of each elevation's RGB grid (the RGL database uses 32; finer

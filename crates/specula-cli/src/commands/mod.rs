@@ -7,6 +7,7 @@ pub(crate) mod check;
 pub(crate) mod compare;
 pub(crate) mod connect_args;
 pub(crate) mod convert;
+pub(crate) mod coverage;
 pub(crate) mod demo;
 pub(crate) mod device;
 pub(crate) mod eval;

@@ -4,7 +4,9 @@ use anyhow::{bail, Context, Result};
 use specula_accuracy::merl_prior::basis_for;
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::provenance::sidecar_path;
+use specula_reconstruct::uncertainty::{self, UncertaintyInputs};
 use specula_reconstruct::{run_reconstruct, Method, ReconstructRequest, RunReconstructError};
+use specula_session::measured_uncertainty::session_main_noise;
 use specula_session::workflow::{session_main_samples, DeblurRecord};
 use std::path::PathBuf;
 
@@ -53,24 +55,42 @@ pub(crate) fn run(args: Args) -> Result<()> {
         out: Some(args.out.clone()),
     };
     request.validate()?;
-    let (input, samples, response) = match (&args.samples, &args.session) {
-        (Some(path), _) => (path, SampleSet::read(path)?.samples().to_vec(), None),
+    let (input, samples, response, noise) = match (&args.samples, &args.session) {
+        (Some(path), _) => (path, SampleSet::read(path)?.samples().to_vec(), None, None),
         (None, Some(path)) => {
             let (samples, response) = session_main_samples(path)?;
-            (path, samples, response)
+            (path, samples, response, Some(session_main_noise(path)?))
         }
         (None, None) => bail!("give --samples-csv or --session"),
     };
     let spinner = crate::progress::spinner("reconstructing");
     let prior = basis_for(args.method)?;
     let through = response.as_ref().map(|fit| &fit.response);
-    let result = run_reconstruct(&request, &samples, through, prior.as_deref());
-    spinner.finish_and_clear();
+    // Written below with the uncertainty, all three together.
+    let unwritten = ReconstructRequest {
+        out: None,
+        ..request.clone()
+    };
+    let result = run_reconstruct(&unwritten, &samples, through, prior.as_deref());
     let r = match result {
         Err(RunReconstructError::Reconstruct(e)) => Err(e).context(input.display().to_string())?,
         other => other?,
     };
+    let inputs = UncertaintyInputs {
+        samples: &samples,
+        noise_rel: noise.as_deref(),
+        method: args.method,
+        prior: prior.as_deref(),
+    };
+    let u = uncertainty::estimate(&inputs, &r).context(input.display().to_string())?;
+    spinner.finish_and_clear();
     let sidecar = sidecar_path(&args.out);
+    let u_sidecar = uncertainty::sidecar_path(&args.out);
+    specula_core::atomic_file::write_together(&[
+        (&args.out, &r.brdf.to_bytes()),
+        (&sidecar, &r.provenance.to_npy()),
+        (&u_sidecar, &u.absolute(&r.brdf).to_bytes()),
+    ])?;
     let [nh, nd, np] = r.lattice_shape;
     outln!("samples: {} on a lattice of {nh} theta_h x {nd} theta_d x {np} phi_d ({} nodes measured, {} extrapolated)", samples.len(), r.measured_nodes, r.filled_nodes);
     if let Some(lobe) = r.lobe {
@@ -99,10 +119,14 @@ pub(crate) fn run(args: Args) -> Result<()> {
             samples.len()
         );
     }
+    for line in u.lines() {
+        outln!("{line}");
+    }
     outln!(
-        "wrote {} and {} (method {})",
+        "wrote {}, {} and {} (method {})",
         args.out.display(),
         sidecar.display(),
+        u_sidecar.display(),
         args.method
     );
     Ok(())

@@ -14,7 +14,10 @@
 //! finds it: `D_{k+1} = f(w, w) cos(theta) sigma_k(w)`, normalised so that `∫ D cos = 1`
 //! (that is `sigma(normal) = 1`). Fresnel at normal incidence (`theta_d = 0` for every
 //! retro-reflection) is a constant factor that the normalisation removes. The BRDF's
-//! luminance is used.
+//! luminance is used, read with [`Brdf::eval_smooth`] as the writer reads its samples: a
+//! table's interpolant, not its nearest bin, whose steps `D` would otherwise carry into every
+//! sample it divides (the writer stores `f_r cos / D`; a step of `D` that `f_r` does not share
+//! reappears between the nodes as an error of the step's size).
 //!
 //! Both tables are tabulated, isotropic, at elevations `theta = u^2 pi / 2` for `u` evenly
 //! spaced on `[0, 1]`, the unit coordinate of the RGL tables; between nodes `D` is linear in
@@ -92,15 +95,15 @@ impl RetroNdf {
     }
 }
 
-/// Luminance of the retro-reflection at each node, floored at [`RETRO_FLOOR`] of its peak;
-/// unmeasured nodes take the nearest measured node's value. Also returns how many were
-/// unmeasured; `None` if no node has a positive value.
+/// Luminance of the retro-reflection (the source's interpolant) at each node, floored at
+/// [`RETRO_FLOOR`] of its peak; unmeasured nodes take the nearest measured node's value. Also
+/// returns how many were unmeasured; `None` if no node has a positive value.
 fn retro_reflection(brdf: &dyn Brdf, n: usize) -> Option<(Vec<f64>, usize)> {
     let measured: Vec<Option<f64>> = (0..n)
         .map(|j| {
             let theta = node_elevation_rad(j, n).min(MAX_RETRO_ELEVATION_RAD);
             let w = glam::DVec3::new(theta.sin(), 0.0, theta.cos());
-            brdf.eval(w, w).map(|rgb| luminance(rgb).max(0.0))
+            brdf.eval_smooth(w, w).map(|rgb| luminance(rgb).max(0.0))
         })
         .collect();
     let not_measured = measured.iter().filter(|v| v.is_none()).count();

@@ -5,11 +5,16 @@
 //!
 //! 1. `ndf`, `sigma`: the microfacet distribution from the BRDF's retro-reflection by power
 //!    iteration, and its projected area ([`super::ndf`]); shape `[2, n]` (two identical
-//!    azimuth rows, `n` elevations at `u = sqrt(2 theta / pi)`).
+//!    azimuth rows, `n` elevations at `u = sqrt(2 theta / pi)`). A reader multiplies every
+//!    interpolated sample by `D` interpolated on its own grid (step 3), so `D`'s nodes must be
+//!    fine enough that `D` between them is the `D` the samples were divided by: with 512
+//!    nodes (4 KB) a sharp conductor's peak (GGX alpha 0.01) reads back within 0.015 % at
+//!    its median, with 128 within 0.22 % (docs/book/src/renderers.md).
 //! 2. `vndf`: per incident elevation `theta_i`, the density of visible normals
 //!    `D(m) <wi . m> / sigma(wi)` over the unit square `(u(theta_m), u(phi_m - phi_i))`, times
 //!    the Jacobian `2 pi^2 u sin(theta_m)` of that square, mixed with a uniform density over
-//!    the square ([`UNIFORM_WARP_SHARE`]); shape `[1, T, n, n]`, each slice summing to 1.
+//!    the square ([`UNIFORM_WARP_SHARE`]); shape `[1, T, W, W]` with `W` = [`WARP_SIZE`],
+//!    each slice summing to 1.
 //!    A reader only uses this field to place the sample grid (and Mitsuba to sample), so any
 //!    positive density is exact. The uniform share is most of it: the square's own
 //!    coordinate `u(theta_m) = sqrt(2 theta_m / pi)` already packs evenly spaced nodes
@@ -55,6 +60,11 @@ use std::path::{Path, PathBuf};
 pub const ELEVATIONS_RANGE: RangeInclusive<usize> = 2..=90;
 /// Range of [`RglResolution::ndf_size`].
 pub const NDF_SIZE_RANGE: RangeInclusive<usize> = 8..=512;
+/// Nodes per axis of each slice's warp density (`vndf`). The warp is mostly uniform
+/// ([`UNIFORM_WARP_SHARE`]), so its own resolution hardly moves the samples: at the default
+/// resolution 128 instead of 64 changes no test material's fraction of direction pairs
+/// within 5 % by more than 0.1 point, and costs 2.4 MB more (docs/book/src/renderers.md).
+pub const WARP_SIZE: usize = 64;
 /// Range of [`RglResolution::sample_size`].
 pub const SAMPLE_SIZE_RANGE: RangeInclusive<usize> = 4..=256;
 /// The last incident elevation, degrees: just above the horizon, as the RGL files (89.99999).
@@ -63,9 +73,9 @@ pub const LAST_ELEVATION_DEG: f64 = 89.9;
 pub const LUMINANCE_FLOOR: f64 = 1e-3;
 /// Share of each slice's warp density spread evenly over the unit square; the rest follows
 /// the VNDF. Chosen by the fraction of direction pairs within 5 % of the source
-/// (docs/book/src/renderers.md): at the default resolution 0.3 gave 95.6 % for the green
-/// paint and 73 % for the MERL tabulation of the RGL film `cc_ibiza_sunset_rgb`, 0.9 gives
-/// 99.7 % and 86 %.
+/// (docs/book/src/renderers.md): at 32 elevations, 128 `ndf` nodes and 96 x 96 samples 0.3
+/// gave 95.6 % for the green paint and 73 % for the MERL tabulation of the RGL film
+/// `cc_ibiza_sunset_rgb`, 0.9 gives 99.7 % and 86 %.
 pub const UNIFORM_WARP_SHARE: f64 = 0.9;
 
 /// The table sizes of a written file.
@@ -74,23 +84,25 @@ pub struct RglResolution {
     /// `T`: incident elevations (slices), evenly spaced in `cos(theta_i)` from the normal to
     /// [`LAST_ELEVATION_DEG`].
     pub elevations: usize,
-    /// `n`: nodes per axis of the `ndf`, `sigma` and `vndf` tables.
+    /// `n`: nodes (elevations) of the `ndf` and `sigma` tables.
     pub ndf_size: usize,
     /// `N`: nodes per axis of each slice's `rgb` and `luminance` grid.
     pub sample_size: usize,
 }
 
 impl RglResolution {
-    /// 32 elevations, 128 x 128 normals and 96 x 96 samples per elevation: the RGL database's
-    /// `ndf` size with four times its 8 elevations and three times its 32 x 32 samples; about
-    /// 6.9 MB. The finer sample grid resolves sharp coats over a diffuse base and the tails of
-    /// measured files; the elevations, 1.9 deg apart near 80 deg incidence, resolve the
-    /// change of a sharp coat's highlight with incidence, which 16 left to linear
-    /// interpolation over 3.9 deg (docs/book/src/renderers.md).
+    /// 48 elevations, 512 `ndf` nodes and 104 x 104 samples per elevation (six times the RGL
+    /// database's 8 elevations, 3.25 times its 32 x 32 samples), with [`WARP_SIZE`] warp
+    /// nodes: about 9.2 MB. The fine sample grid resolves sharp coats over a diffuse base and
+    /// the tails of measured files; the elevations, 1.2 deg apart near 80 deg incidence,
+    /// resolve the change of a sharp coat's highlight and of a film's colour with incidence,
+    /// which a reader interpolates linearly between slices; the `ndf` nodes resolve a sharp
+    /// conductor's peak (module documentation). Figures per resolution in
+    /// docs/book/src/renderers.md.
     pub const DEFAULT: Self = Self {
-        elevations: 32,
-        ndf_size: 128,
-        sample_size: 96,
+        elevations: 48,
+        ndf_size: 512,
+        sample_size: 104,
     };
 }
 
@@ -216,17 +228,20 @@ impl RglTables {
 
         let visible: Vec<Grid> = theta_i_rad
             .iter()
-            .map(|t| vndf_grid(&ndf_grid, *t as f64, n))
+            .map(|t| vndf_grid(&ndf_grid, *t as f64, WARP_SIZE))
             .collect();
-        let vndf_grids: Vec<Grid> = visible.iter().map(|g| mixed_with_uniform(g, n)).collect();
+        let vndf_grids: Vec<Grid> = visible
+            .iter()
+            .map(|g| mixed_with_uniform(g, WARP_SIZE))
+            .collect();
         let vndf: Vec<f32> = vndf_grids
             .iter()
             .flat_map(|g| g.values().iter().map(|v| *v as f32).collect::<Vec<_>>())
             .collect();
         // The warp as a reader builds it: from the f32 densities.
         let stored: Vec<Grid> = vndf
-            .chunks_exact(n * n)
-            .map(|c| Grid::new(n, n, c.iter().map(|v| *v as f64).collect()))
+            .chunks_exact(WARP_SIZE * WARP_SIZE)
+            .map(|c| Grid::new(WARP_SIZE, WARP_SIZE, c.iter().map(|v| *v as f64).collect()))
             .collect();
         let elevations: Vec<f64> = theta_i_rad.iter().map(|t| *t as f64).collect();
         let warp = VndfWarp::new(elevations.clone(), &stored)
@@ -339,7 +354,7 @@ impl RglTables {
             FieldData::f32("theta_i", &[t], &self.theta_i_rad),
             FieldData::f32("sigma", &[2, n], &twice(&self.sigma)),
             FieldData::f32("ndf", &[2, n], &twice(&self.ndf)),
-            FieldData::f32("vndf", &[1, t, n, n], &self.vndf),
+            FieldData::f32("vndf", &[1, t, WARP_SIZE, WARP_SIZE], &self.vndf),
             FieldData::f32("luminance", &[1, t, s, s], &self.luminance),
             FieldData::f32("rgb", &[1, t, 3, s, s], &self.rgb),
             FieldData::u8("valid", &valid),

@@ -82,6 +82,9 @@ def write_merl(path: Path, array: FloatArray) -> None:
 def read_provenance(merl_path: Path) -> Optional[npt.NDArray[np.uint8]]:
     """The OUT.provenance.npy sidecar of a reconstructed table: (90, 90, 180) uint8, or None."""
 
+def read_uncertainty(merl_path: Path) -> Optional[npt.NDArray[np.float64]]:
+    """The OUT.uncertainty.binary sidecar: standard uncertainty (k = 1) in 1/sr, (90, 90, 180, 3), NaN where none, or None."""
+
 def load(source: Path) -> Brdf:
     """Any BRDF the CLI takes: preset, material .toml, MERL, RGL .bsdf, UTIA, model:name fits."""
 

@@ -1,0 +1,132 @@
+//! Calibrates the uncertainty's scales ([`specula_reconstruct::uncertainty::Scales`]) on
+//! measured truths: for each `TABLE=TRUTH` (a table `specula measure --truth TRUTH --out
+//! TABLE` wrote, with its session beside it), the cell coverage at k = 2 over a grid of the
+//! reconstruction and deblurring scales.
+//!
+//!   cargo run --release -p specula-cli --example uncertainty_calibration -- T.binary=TRUTH ...
+
+use specula_accuracy::coverage::cell_coverage;
+use specula_core::merl::MerlBrdf;
+use specula_core::tabulate::tabulate;
+use specula_reconstruct::phi_d_halves::reconstruct_halves;
+use specula_reconstruct::provenance::Provenance;
+use specula_reconstruct::uncertainty::{Scales, Terms, UncertaintyInputs};
+use specula_reconstruct::Method;
+use specula_session::measured_uncertainty::session_main_noise;
+use specula_session::workflow::session_main_samples;
+use std::path::PathBuf;
+
+const RECONSTRUCTION: [f64; 7] = [0.0, 0.03, 0.06, 0.12, 0.25, 0.5, 1.0];
+const DEBLUR: [f64; 6] = [0.0, 0.1, 0.25, 0.5, 1.0, 2.0];
+
+fn main() -> anyhow::Result<()> {
+    for pair in std::env::args().skip(1) {
+        let (table_path, truth_name) = pair
+            .split_once('=')
+            .ok_or_else(|| anyhow::anyhow!("{pair}: expected TABLE=TRUTH"))?;
+        let table_path = PathBuf::from(table_path);
+        let session = table_path.with_extension("session.sqlite");
+        let (samples, response) = session_main_samples(&session)?;
+        let through = response.as_ref().map(|fit| &fit.response);
+        let reconstruction = reconstruct_halves(&samples, Method::Lobe, "t", through, None)?;
+        let table = reconstruction.brdf.clone();
+        let provenance = reconstruction.provenance.clone();
+        let noise = session_main_noise(&session)?;
+        let inputs = UncertaintyInputs {
+            samples: &samples,
+            noise_rel: Some(&noise),
+            method: Method::Lobe,
+            prior: None,
+        };
+        let started = std::time::Instant::now();
+        let terms = Terms::of(&inputs, &reconstruction)?;
+        let default = terms.combined(&table, &provenance, Scales::default());
+        let spent = started.elapsed();
+        let written = default.absolute(&table).to_bytes().len();
+        println!(
+            "uncertainty terms and cells: {:.1} s ({written} bytes)",
+            spent.as_secs_f64()
+        );
+        let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
+        let truth = tabulate(specula_formats::load_brdf(truth_name)?.as_ref(), phi_h_rad);
+        println!("{} {truth_name}", table_path.display());
+        print!("recon\\deblur");
+        for d in DEBLUR {
+            print!(" {d:>7}");
+        }
+        println!();
+        for r in RECONSTRUCTION {
+            print!("{r:>12}");
+            for d in DEBLUR {
+                let u = terms.combined(
+                    &table,
+                    &provenance,
+                    Scales {
+                        reconstruction: r,
+                        deblur: d,
+                    },
+                );
+                let c = cell_coverage(&table, &u.absolute(&table), &provenance, &truth, 75.0);
+                print!(" {:>7.4}", c.both.fraction().unwrap_or(f64::NAN));
+            }
+            println!();
+        }
+        if std::env::var_os("BANDS").is_some() {
+            bands(&table, &terms, &provenance, &truth);
+        }
+    }
+    Ok(())
+}
+
+/// Coverage by theta_h band at scales (0.25, 0.5): where the uncertainty falls short.
+fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlBrdf) {
+    use specula_core::merl::Bin;
+    let u = terms.combined(
+        table,
+        provenance,
+        Scales {
+            reconstruction: 0.25,
+            deblur: 0.5,
+        },
+    );
+    let abs = u.absolute(table);
+    for (lo, hi) in [
+        (0.0, 2.0),
+        (2.0, 8.0),
+        (8.0, 20.0),
+        (20.0, 40.0),
+        (40.0, 90.0),
+    ] {
+        let (mut n, mut ok, mut above, mut ratio) = (0, 0, 0, Vec::new());
+        for i in 0..specula_core::merl::CELLS {
+            let th = Bin::from_index(i).centre_deg()[0];
+            if th < lo || th >= hi || provenance.cells[i].is_extrapolated() {
+                continue;
+            }
+            if !specula_accuracy::within_elevation(Bin::from_index(i).centre(0.0), 75.0) {
+                continue;
+            }
+            let (Some(v), Some(uu), Some(t)) = (table.cell(i), abs.cell(i), truth.cell(i)) else {
+                continue;
+            };
+            for c in 0..3 {
+                n += 1;
+                let e = (v[c] - t[c]).abs();
+                if e <= 2.0 * uu[c] {
+                    ok += 1
+                } else if v[c] > t[c] {
+                    above += 1
+                }
+                ratio.push(e / t[c].max(1e-12));
+            }
+        }
+        ratio.sort_by(f64::total_cmp);
+        let q = |p: f64| {
+            ratio
+                .get(((ratio.len() as f64 - 1.0) * p) as usize)
+                .copied()
+                .unwrap_or(0.0)
+        };
+        println!("theta_h {lo}-{hi}: {n} values, covered {:.3}, above {above}, rel err median {:.3} p90 {:.3}", ok as f64 / n.max(1) as f64, q(0.5), q(0.9));
+    }
+}

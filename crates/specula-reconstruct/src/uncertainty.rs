@@ -1,0 +1,801 @@
+//! The standard uncertainty (k = 1) of every reconstructed MERL cell, in 1/sr per cell and
+//! channel: what a value of the table is worth.
+//!
+//! A cell's relative standard uncertainty combines, in quadrature (GUM, uncorrelated inputs):
+//!
+//! - **noise** `a`: the relative standard deviation of the nearest sample's HDR merge (shot,
+//!   read and dark noise at the exposures used, `sigma / rate` of its captures; type A);
+//! - **calibration** [`CALIBRATION_REL`]: the white reference's stated reflectance, the gain
+//!   fit and the colour matrix (type B, the documented budget);
+//! - **reconstruction** (type A, from the data): [`FOLDS`]-fold cross-validation leaves each
+//!   fold of samples out, reconstructs the table from the rest with the same method (without
+//!   the instrument's response, whose fit would take minutes per fold) and takes each
+//!   left-out sample's log difference `r` to the table of all samples made the same way. A
+//!   sample's local error `L` is the root mean square of `r` over its [`NEIGHBOURS`] nearest
+//!   left-out neighbours (itself excluded); the factor `c` is the smallest with which
+//!   [`CV_COVERAGE`] of the samples' `r` lie within `2 sqrt(a^2 + floor^2 + (c L)^2)`. A
+//!   cell takes the term `s c L g(d)` of its nearest sample, where `d` is the distance
+//!   ([`distance_coordinates`]) from the cell to that sample, `g(d) = max(1, d / d_cv)^2` grows
+//!   beyond `d_cv`, the median distance of the sample's left-out neighbours to the samples
+//!   their folds kept (interpolation error grows as the gap squared), and
+//!   `s` = [`RECONSTRUCTION_SCALE`] is calibrated on training truths;
+//! - **extrapolation**: a cell beyond the measured lattice (provenance extrapolated or prior)
+//!   adds the largest left-out difference of the cross-validation;
+//! - **deblurring** [`DEBLUR_SENSITIVITY`] `* |deblurred - un-deblurred| / value` where the
+//!   table was deblurred through the instrument's response (where the safeguard put the
+//!   un-deblurred values in its place, the deblurred table it replaced is the other side):
+//!   the model error a sample cannot show, since the blurred table reproduces the samples
+//!   either way; calibrated on training truths.
+//!
+//! The uncertainty of a cell in 1/sr is its relative uncertainty times its value; a cell with
+//! no value has none (a negative value in the file). Beside `OUT.binary` it is written as
+//! `OUT.uncertainty.binary` ([`sidecar_path`]), in the MERL layout and scale.
+
+use crate::phi_d_halves::{measures_both_halves, reconstruct_halves};
+use crate::provenance::Provenance;
+use crate::sample::{fold_phi_d_rad, mirror_fold_phi_d_rad};
+use crate::{Method, PriorBasis, ReconstructError, Reconstruction};
+use rayon::prelude::*;
+use rstar::primitives::GeomWithData;
+use rstar::RTree;
+use specula_core::capture::CaptureResponse;
+use specula_core::merl::{Bin, MerlBrdf, CELLS};
+use specula_core::{HalfDiff, Rgb, Sample};
+use std::path::{Path, PathBuf};
+
+/// The folds of the cross-validation.
+pub const FOLDS: usize = 4;
+
+/// The left-out neighbours over which a sample's local reconstruction error is averaged.
+pub const NEIGHBOURS: usize = 12;
+
+/// The relative standard uncertainty of the calibration (white reference, gain fit, colour
+/// matrix), type B.
+pub const CALIBRATION_REL: f64 = 0.005;
+
+/// The factor on the difference between the deblurred and the un-deblurred tables that gives
+/// the deblurring's standard uncertainty, calibrated on training truths (the guide's
+/// uncertainty page): the deblurred peak can be off by more than its difference to the blurred
+/// one.
+pub const DEBLUR_SENSITIVITY: f64 = 2.0;
+
+/// The share of the left-out samples that the reconstruction term must cover at k = 2.
+pub const CV_COVERAGE: f64 = 0.95;
+
+/// The factor on the cross-validated reconstruction term, calibrated on training truths (the
+/// guide's uncertainty page).
+pub const RECONSTRUCTION_SCALE: f64 = 1.0;
+
+/// No relative uncertainty is larger than this: beyond it a value says only its order.
+pub const MAX_RELATIVE: f64 = 10.0;
+
+/// The relative uncertainty of a sample whose HDR merge gave no finite sigma (saturated in
+/// every capture: a lower bound).
+const LOWER_BOUND_NOISE_REL: f64 = 1.0;
+
+/// The relative uncertainty summarised within this elevation of light and camera (degrees).
+pub const SUMMARY_ELEVATION_DEG: f64 = 75.0;
+
+/// The factors of the terms calibrated on training truths.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scales {
+    /// On the reconstruction term ([`RECONSTRUCTION_SCALE`]).
+    pub reconstruction: f64,
+    /// On the deblurring difference ([`DEBLUR_SENSITIVITY`]).
+    pub deblur: f64,
+}
+
+impl Default for Scales {
+    fn default() -> Self {
+        Self {
+            reconstruction: RECONSTRUCTION_SCALE,
+            deblur: DEBLUR_SENSITIVITY,
+        }
+    }
+}
+
+/// The cross-validated model of a table's relative uncertainty (see the module
+/// documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ErrorModel {
+    /// `c`, the factor on the local error that covers the left-out samples.
+    pub local_factor: f64,
+    /// The median over the samples of `d_cv`, their neighbours' median distance (degrees)
+    /// to the nearest sample their fold kept.
+    pub fold_gap_deg: f64,
+    /// The relative term added to extrapolated cells.
+    pub extrapolated_rel: f64,
+    /// The median relative noise of the samples.
+    pub median_noise_rel: f64,
+    /// The median local error `L` of the samples (log, over the channels).
+    pub median_local_rel: f64,
+    /// Whether the deblurring term was included.
+    pub deblurred: bool,
+}
+
+/// Every cell's standard uncertainty and the model it came from.
+#[derive(Debug, Clone)]
+pub struct CellUncertainty {
+    /// The relative standard uncertainty per cell and channel.
+    pub relative: RelativeUncertainty,
+    /// The model's fitted terms.
+    pub model: ErrorModel,
+}
+
+/// The relative standard uncertainty (k = 1) per cell and channel, in MERL cell order;
+/// `None` where the cell has none.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RelativeUncertainty(pub Vec<Option<[f64; 3]>>);
+
+/// What the uncertainty is estimated from.
+#[derive(Debug, Clone, Copy)]
+pub struct UncertaintyInputs<'a> {
+    /// The samples the table was reconstructed from.
+    pub samples: &'a [Sample],
+    /// Each sample's relative standard uncertainty from its HDR merge ([`noise_rel`]);
+    /// `None` when not known (a samples file): the noise term is then left out.
+    pub noise_rel: Option<&'a [f64]>,
+    /// The method the table was reconstructed with.
+    pub method: Method,
+    /// The `prior` method's basis, when that is the method.
+    pub prior: Option<&'a PriorBasis>,
+}
+
+/// `OUT.uncertainty.binary` beside `OUT.binary`.
+pub fn sidecar_path(out: &Path) -> PathBuf {
+    out.with_extension("uncertainty.binary")
+}
+
+/// A sample's relative noise from its HDR merge: the largest `sigma / rate` of its channels;
+/// [`LOWER_BOUND_NOISE_REL`] where a sigma is not finite or a rate not positive.
+pub fn noise_rel(rate_dn_s: [f64; 3], sigma_dn_s: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|c| {
+            let r = sigma_dn_s[c] / rate_dn_s[c];
+            if r.is_finite() && rate_dn_s[c] > 0.0 {
+                r.min(LOWER_BOUND_NOISE_REL)
+            } else {
+                LOWER_BOUND_NOISE_REL
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Estimates the uncertainty of `reconstruction`, made from the inputs by
+/// [`reconstruct_halves`] (see the module documentation), with the calibrated [`Scales`].
+pub fn estimate(
+    inputs: &UncertaintyInputs<'_>,
+    reconstruction: &Reconstruction,
+) -> Result<CellUncertainty, ReconstructError> {
+    let terms = Terms::of(inputs, reconstruction)?;
+    let r = reconstruction;
+    Ok(terms.combined(&r.brdf, &r.provenance, Scales::default()))
+}
+
+/// The terms of every cell before the calibrated scales: what [`estimate`] combines, kept
+/// apart so that the scales can be calibrated on training truths.
+pub struct Terms {
+    /// Each sample's relative noise.
+    noise: Vec<f64>,
+    /// Each sample's local reconstruction error `c L` per channel.
+    local: Vec<[f64; 3]>,
+    /// Per cell, the distance factor `g(d)` and the nearest sample.
+    nearest: Vec<(f64, usize)>,
+    /// The tables the deblurred table is compared with: the one made without the response,
+    /// and the deblurred one the safeguard replaced, when there are.
+    compared: Vec<MerlBrdf>,
+    model: ErrorModel,
+}
+
+impl Terms {
+    /// Cross-validates `reconstruction` (see the module documentation).
+    pub fn of(
+        inputs: &UncertaintyInputs<'_>,
+        reconstruction: &Reconstruction,
+    ) -> Result<Self, ReconstructError> {
+        let table = &reconstruction.brdf;
+        let deblurred = reconstruction.resolution_deg.is_some();
+        let samples = inputs.samples;
+        if samples.is_empty() {
+            return Err(ReconstructError::NoSamples);
+        }
+        let none = None::<&dyn CaptureResponse>;
+        let undeblurred = if deblurred {
+            Some(
+                reconstruct_halves(samples, inputs.method, "undeblurred", none, inputs.prior)?.brdf,
+            )
+        } else {
+            None
+        };
+        let reference = undeblurred.as_ref().unwrap_or(table);
+        let both_halves = measures_both_halves(samples);
+        let noise = noise_of(samples, inputs.noise_rel);
+        let held_out = cross_validate(inputs, reference, both_halves)?;
+        let local_rms = local_errors(samples, &held_out, both_halves);
+        let local_factor = covering_factor(&held_out, &local_rms, &noise);
+        let fold_gap_deg = median(local_rms.iter().map(|l| l.gap_deg).collect());
+        let extrapolated_rel = held_out
+            .iter()
+            .flatten()
+            .flat_map(|h| h.log_difference.into_iter().flatten())
+            .fold(0.0, f64::max);
+        let local: Vec<[f64; 3]> = local_rms
+            .iter()
+            .map(|l| l.rms.map(|v| local_factor * v))
+            .collect();
+        let nearest_sample = NearestSample::of(samples, both_halves);
+        let nearest = (0..CELLS)
+            .into_par_iter()
+            .map(|index| {
+                let (d, sample) = nearest_sample.nearest_to(Bin::from_index(index).centre(0.0));
+                let gap_deg = local_rms[sample].gap_deg;
+                let ratio = if gap_deg > 0.0 { d / gap_deg } else { 1.0 };
+                (ratio.max(1.0).powi(2), sample)
+            })
+            .collect();
+        let model = ErrorModel {
+            local_factor,
+            fold_gap_deg,
+            extrapolated_rel,
+            median_noise_rel: median(noise.clone()),
+            median_local_rel: median(local.iter().flatten().copied().collect()),
+            deblurred,
+        };
+        let compared = undeblurred
+            .into_iter()
+            .chain(reconstruction.deblurred_replaced.clone())
+            .collect();
+        Ok(Self {
+            noise,
+            local,
+            nearest,
+            compared,
+            model,
+        })
+    }
+
+    /// Every cell's relative uncertainty of `table` with the calibrated `scales`.
+    pub fn combined(
+        &self,
+        table: &MerlBrdf,
+        provenance: &Provenance,
+        scales: Scales,
+    ) -> CellUncertainty {
+        let relative = (0..CELLS)
+            .into_par_iter()
+            .map(|index| {
+                let value = table.cell(index)?;
+                let (growth, sample) = self.nearest[index];
+                let mut shared = self.noise[sample].powi(2) + CALIBRATION_REL.powi(2);
+                if provenance.cells[index].is_extrapolated() {
+                    shared += self.model.extrapolated_rel.powi(2);
+                }
+                let others: Vec<Rgb> = self.compared.iter().filter_map(|t| t.cell(index)).collect();
+                Some(std::array::from_fn(|c| {
+                    let v = value[c];
+                    let model = scales.reconstruction * self.local[sample][c] * growth;
+                    let spread = others.iter().map(|o| (v - o[c]).abs()).fold(0.0, f64::max);
+                    let blur = scales.deblur * spread / v;
+                    let total = (shared + model.powi(2) + blur.powi(2)).sqrt();
+                    if total.is_finite() {
+                        total.min(MAX_RELATIVE)
+                    } else {
+                        MAX_RELATIVE
+                    }
+                }))
+            })
+            .collect();
+        CellUncertainty {
+            relative: RelativeUncertainty(relative),
+            model: self.model.clone(),
+        }
+    }
+}
+
+impl RelativeUncertainty {
+    /// Of a table and its uncertainty in 1/sr (an `OUT.uncertainty.binary`): `None` where
+    /// either has no value or the table's value is not positive.
+    pub fn of_tables(table: &MerlBrdf, absolute: &MerlBrdf) -> Self {
+        Self(
+            (0..CELLS)
+                .map(|index| {
+                    let (v, u) = (table.cell(index)?, absolute.cell(index)?);
+                    let rel: [f64; 3] = std::array::from_fn(|c| u[c] / v[c]);
+                    rel.iter().all(|r| r.is_finite()).then_some(rel)
+                })
+                .collect(),
+        )
+    }
+
+    /// The standard uncertainty in 1/sr per cell and channel (relative times `table`'s
+    /// value), a table in the MERL layout; cells without one are unmeasured (negative in the
+    /// file).
+    pub fn absolute(&self, table: &MerlBrdf) -> MerlBrdf {
+        MerlBrdf::from_fn(specula_core::Brdf::name(table), |index| {
+            let rel = self.0[index]?;
+            let v = table.cell(index)?;
+            Some(Rgb::new(v.x * rel[0], v.y * rel[1], v.z * rel[2]))
+        })
+    }
+
+    /// The median and 95th percentile of the relative uncertainty over the cells and channels
+    /// with light and camera within [`SUMMARY_ELEVATION_DEG`].
+    pub fn summary_within(&self) -> Option<(f64, f64)> {
+        let mut values: Vec<f64> = (0..CELLS)
+            .filter(|&i| within_summary_elevation(i))
+            .filter_map(|i| self.0[i])
+            .flatten()
+            .collect();
+        if values.is_empty() {
+            return None;
+        }
+        values.sort_by(f64::total_cmp);
+        Some((quantile(&values, 0.5), quantile(&values, 0.95)))
+    }
+
+    /// The summary's line, `None` when no cell within the elevation has an uncertainty.
+    pub fn line(&self) -> Option<String> {
+        let (median, p95) = self.summary_within()?;
+        Some(format!(
+            "uncertainty_within_{SUMMARY_ELEVATION_DEG:.0}_deg=median {:.2} %, 95th percentile {:.2} % (relative, k = 1)",
+            100.0 * median,
+            100.0 * p95
+        ))
+    }
+}
+
+impl CellUncertainty {
+    /// The standard uncertainty in 1/sr ([`RelativeUncertainty::absolute`]).
+    pub fn absolute(&self, table: &MerlBrdf) -> MerlBrdf {
+        self.relative.absolute(table)
+    }
+
+    /// The summary's lines.
+    pub fn lines(&self) -> Vec<String> {
+        let m = &self.model;
+        let mut lines: Vec<String> = self.relative.line().into_iter().collect();
+        lines.push(format!(
+            "uncertainty_model=noise median {:.2} %, calibration {:.2} %, reconstruction median {:.2} % ({FOLDS}-fold cross-validation, factor {:.2}, growing beyond the folds' gaps, median {:.2} deg), extrapolated +{:.1} %, deblurring {}",
+            100.0 * m.median_noise_rel,
+            100.0 * CALIBRATION_REL,
+            100.0 * m.median_local_rel,
+            m.local_factor,
+            m.fold_gap_deg,
+            100.0 * m.extrapolated_rel,
+            if m.deblurred { "included" } else { "none" }
+        ));
+        lines
+    }
+}
+
+/// Whether light and camera of cell `index`'s centre lie within [`SUMMARY_ELEVATION_DEG`]
+/// (the elevations do not depend on phi_h).
+fn within_summary_elevation(index: usize) -> bool {
+    let (wi, wo) = Bin::from_index(index).centre(0.0).to_directions();
+    let min_cos = SUMMARY_ELEVATION_DEG.to_radians().cos() - 1e-12;
+    wi.z >= min_cos && wo.z >= min_cos
+}
+
+/// The `q` quantile of sorted `values` (nearest rank).
+fn quantile(sorted: &[f64], q: f64) -> f64 {
+    let rank = ((sorted.len() - 1) as f64 * q).round() as usize;
+    sorted[rank.min(sorted.len() - 1)]
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    quantile(&values, 0.5)
+}
+
+/// Each sample's relative noise, zero when not known.
+fn noise_of(samples: &[Sample], noise_rel: Option<&[f64]>) -> Vec<f64> {
+    match noise_rel {
+        Some(n) if n.len() == samples.len() => {
+            n.iter().map(|r| r.min(LOWER_BOUND_NOISE_REL)).collect()
+        }
+        _ => vec![0.0; samples.len()],
+    }
+}
+
+/// The coordinates (degrees) in which distances are measured: theta_h, theta_d and phi_d
+/// times sin(theta_d) (phi_d turns the difference vector about the half vector, so a degree
+/// of it moves the directions by sin(theta_d) degrees); phi_d folded as the reconstruction
+/// folds it, into [0, 90] deg, or into [0, 180] when it keeps the halves apart.
+pub fn distance_coordinates(hd: HalfDiff, both_halves: bool) -> [f64; 3] {
+    let phi_d = if both_halves {
+        mirror_fold_phi_d_rad(hd.phi_d)
+    } else {
+        fold_phi_d_rad(hd.phi_d)
+    };
+    [
+        hd.theta_h.to_degrees(),
+        hd.theta_d.to_degrees(),
+        phi_d.to_degrees() * hd.theta_d.sin(),
+    ]
+}
+
+/// The samples in a tree, for the distance from any point to the nearest.
+struct NearestSample {
+    tree: RTree<GeomWithData<[f64; 3], usize>>,
+    both_halves: bool,
+}
+
+impl NearestSample {
+    fn of(samples: &[Sample], both_halves: bool) -> Self {
+        Self::of_indices(samples, 0..samples.len(), both_halves)
+    }
+
+    fn of_indices(
+        samples: &[Sample],
+        indices: impl Iterator<Item = usize>,
+        both_halves: bool,
+    ) -> Self {
+        let points = indices
+            .map(|i| GeomWithData::new(distance_coordinates(samples[i].hd, both_halves), i))
+            .collect();
+        Self {
+            tree: RTree::bulk_load(points),
+            both_halves,
+        }
+    }
+
+    /// The distance (degrees) from `hd` to the nearest sample, and that sample's index.
+    fn nearest_to(&self, hd: HalfDiff) -> (f64, usize) {
+        let p = distance_coordinates(hd, self.both_halves);
+        self.tree
+            .nearest_neighbor(&p)
+            .map_or((f64::INFINITY, 0), |n| {
+                let q = n.geom();
+                let d2: f64 = (0..3).map(|a| (p[a] - q[a]).powi(2)).sum();
+                (d2.sqrt(), n.data)
+            })
+    }
+}
+
+/// One left-out sample: its index, its distance (degrees) to the nearest sample kept and
+/// `|ln(fold table / full table)|` at its bin per channel (`None` where not finite).
+#[derive(Debug, Clone, Copy)]
+struct HeldOut {
+    sample: usize,
+    gap_deg: f64,
+    log_difference: [Option<f64>; 3],
+}
+
+/// The fold of sample `i`: a fixed scramble of its index (SplitMix64), so that the folds
+/// do not follow the plan's order.
+fn fold_of(i: usize) -> usize {
+    let mut z = (i as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    ((z ^ (z >> 31)) % FOLDS as u64) as usize
+}
+
+/// Reconstructs the table without each fold (no response) and compares it with `reference`,
+/// the table of all samples made the same way, at the left-out samples; per fold.
+fn cross_validate(
+    inputs: &UncertaintyInputs<'_>,
+    reference: &MerlBrdf,
+    both_halves: bool,
+) -> Result<Vec<Vec<HeldOut>>, ReconstructError> {
+    let samples = inputs.samples;
+    (0..FOLDS)
+        .map(|fold| {
+            let kept: Vec<usize> = (0..samples.len()).filter(|&i| fold_of(i) != fold).collect();
+            if kept.is_empty() {
+                return Ok(Vec::new());
+            }
+            let training: Vec<Sample> = kept.iter().map(|&i| samples[i]).collect();
+            let none = None::<&dyn CaptureResponse>;
+            let fold_table =
+                reconstruct_halves(&training, inputs.method, "fold", none, inputs.prior)?.brdf;
+            let nearest = NearestSample::of_indices(samples, kept.into_iter(), both_halves);
+            Ok((0..samples.len())
+                .filter(|&i| fold_of(i) == fold)
+                .filter_map(|i| {
+                    let hd = samples[i].hd;
+                    let (f, t) = (fold_table.lookup(hd)?, reference.lookup(hd)?);
+                    let log_difference = std::array::from_fn(|c| {
+                        let d = (f[c] / t[c]).ln().abs();
+                        d.is_finite().then_some(d)
+                    });
+                    Some(HeldOut {
+                        sample: i,
+                        gap_deg: nearest.nearest_to(hd).0,
+                        log_difference,
+                    })
+                })
+                .collect())
+        })
+        .collect()
+}
+
+/// What a sample's left-out neighbours say of the reconstruction around it.
+#[derive(Debug, Clone, Copy)]
+struct Local {
+    /// `L` per channel: the root mean square of the neighbours' log differences.
+    rms: [f64; 3],
+    /// The median of the neighbours' distances to the samples their folds kept, degrees.
+    gap_deg: f64,
+}
+
+/// Each sample's [`Local`] error over its [`NEIGHBOURS`] nearest left-out samples, itself
+/// excluded; zero for a sample with no neighbour.
+fn local_errors(samples: &[Sample], held_out: &[Vec<HeldOut>], both_halves: bool) -> Vec<Local> {
+    let all: Vec<&HeldOut> = held_out.iter().flatten().collect();
+    let tree: RTree<GeomWithData<[f64; 3], usize>> = RTree::bulk_load(
+        all.iter()
+            .enumerate()
+            .map(|(k, h)| {
+                GeomWithData::new(distance_coordinates(samples[h.sample].hd, both_halves), k)
+            })
+            .collect(),
+    );
+    (0..samples.len())
+        .into_par_iter()
+        .map(|i| {
+            let p = distance_coordinates(samples[i].hd, both_halves);
+            let neighbours: Vec<&HeldOut> = tree
+                .nearest_neighbor_iter(&p)
+                .map(|n| all[n.data])
+                .filter(|h| h.sample != i)
+                .take(NEIGHBOURS)
+                .collect();
+            let rms = std::array::from_fn(|c| {
+                let values: Vec<f64> = neighbours
+                    .iter()
+                    .filter_map(|h| h.log_difference[c])
+                    .collect();
+                if values.is_empty() {
+                    0.0
+                } else {
+                    (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt()
+                }
+            });
+            let gap_deg = median(neighbours.iter().map(|h| h.gap_deg).collect());
+            Local { rms, gap_deg }
+        })
+        .collect()
+}
+
+/// The smallest factor `c` with which [`CV_COVERAGE`] of the left-out samples' differences
+/// lie within two uncertainties `sqrt(noise^2 + calibration^2 + (c L)^2)` of their own local
+/// error `L` (which leaves them out); bisected in log between 1e-3 and 1e3, zero when none
+/// is needed.
+fn covering_factor(held_out: &[Vec<HeldOut>], local: &[Local], noise: &[f64]) -> f64 {
+    let cases: Vec<(f64, f64, f64)> = held_out
+        .iter()
+        .flatten()
+        .flat_map(|h| {
+            (0..3).filter_map(move |c| {
+                h.log_difference[c].map(|r| (r, noise[h.sample], local[h.sample].rms[c]))
+            })
+        })
+        .collect();
+    covering(&cases)
+}
+
+/// [`covering_factor`] of `(difference, noise, local error)` cases.
+fn covering(cases: &[(f64, f64, f64)]) -> f64 {
+    if cases.is_empty() {
+        return 0.0;
+    }
+    let covered = |factor: f64| {
+        let inside = cases
+            .iter()
+            .filter(|(r, a, l)| {
+                let u = (a * a + CALIBRATION_REL.powi(2) + (factor * l).powi(2)).sqrt();
+                *r <= 2.0 * u
+            })
+            .count();
+        inside as f64 / cases.len() as f64 >= CV_COVERAGE
+    };
+    let (mut lo, mut hi) = (1e-3_f64.ln(), 1e3_f64.ln());
+    if covered(0.0) {
+        return 0.0;
+    }
+    if !covered(hi.exp()) {
+        return hi.exp();
+    }
+    if covered(lo.exp()) {
+        return lo.exp();
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if covered(mid.exp()) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi.exp()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::provenance::CellOrigin;
+    use specula_core::materials::preset;
+    use specula_core::Brdf;
+
+    /// A plan's tensor grid of `truth` within 75 deg: theta_d every 5 deg.
+    fn samples_of(truth: &dyn Brdf) -> Vec<Sample> {
+        samples_up_to(truth, 90)
+    }
+
+    /// As [`samples_of`] with theta_d below `max_theta_d_deg`.
+    fn samples_up_to(truth: &dyn Brdf, max_theta_d_deg: usize) -> Vec<Sample> {
+        let mut samples = Vec::new();
+        for h in [0.0, 0.5, 1.5, 3.0, 6.0, 12.0, 22.0, 35.0, 55.0] {
+            for d in (0..max_theta_d_deg).step_by(5) {
+                for p in [0.0, 30.0, 60.0, 90.0] {
+                    let hd = HalfDiff::from_degrees(h, 45.0, d as f64, p);
+                    let (wi, wo) = hd.to_directions();
+                    let min_cos = 75f64.to_radians().cos() - 1e-12;
+                    if wi.z >= min_cos && wo.z >= min_cos {
+                        samples.extend(truth.eval_half_diff(hd).map(|v| Sample::new(hd, v)));
+                    }
+                }
+            }
+        }
+        samples
+    }
+
+    fn estimated(
+        samples: &[Sample],
+        noise: Option<&[f64]>,
+    ) -> (MerlBrdf, Provenance, CellUncertainty) {
+        let none = None::<&dyn CaptureResponse>;
+        let r = reconstruct_halves(samples, Method::Lobe, "t", none, None).unwrap();
+        let inputs = UncertaintyInputs {
+            samples,
+            noise_rel: noise,
+            method: Method::Lobe,
+            prior: None,
+        };
+        let u = estimate(&inputs, &r).unwrap();
+        (r.brdf, r.provenance, u)
+    }
+
+    fn relative_at(u: &CellUncertainty, theta_h_i: usize, theta_d_i: usize, phi_d_i: usize) -> f64 {
+        let bin = Bin {
+            theta_h_i,
+            theta_d_i,
+            phi_d_i,
+        };
+        u.relative.0[bin.index()].unwrap()[0]
+    }
+
+    #[test]
+    fn the_uncertainty_grows_with_the_distance_from_the_samples() {
+        let truth = preset("green-paint").unwrap();
+        let (_, provenance, u) = estimated(&samples_up_to(&truth, 45), None);
+        assert!(u.model.local_factor > 0.0, "{:?}", u.model);
+        assert!(u.model.fold_gap_deg > 0.0, "{:?}", u.model);
+        // theta_h bin 50 (30.9 deg), phi_d 0.5 deg: the samples end at theta_d 40, so theta_d
+        // 42.5 lies 2.5 deg beyond them and 60.5 lies 20.5 deg beyond; both extrapolated.
+        let cell = |theta_d_i| {
+            Bin {
+                theta_h_i: 50,
+                theta_d_i,
+                phi_d_i: 0,
+            }
+            .index()
+        };
+        assert!(provenance.cells[cell(42)].is_extrapolated());
+        assert!(provenance.cells[cell(60)].is_extrapolated());
+        let near = relative_at(&u, 50, 42, 0);
+        let far = relative_at(&u, 50, 60, 0);
+        assert!(far > 1.5 * near, "{near} {far}");
+    }
+
+    #[test]
+    fn extrapolated_cells_are_more_uncertain_than_measured_ones() {
+        let truth = preset("green-paint").unwrap();
+        let (_, provenance, u) = estimated(&samples_of(&truth), None);
+        assert!(u.model.extrapolated_rel > 0.0, "{:?}", u.model);
+        let mean_of = |origin: CellOrigin| {
+            let values: Vec<f64> = (0..CELLS)
+                .filter(|&i| provenance.cells[i] == origin)
+                .filter_map(|i| u.relative.0[i].map(|r| r[0]))
+                .collect();
+            values.iter().sum::<f64>() / values.len() as f64
+        };
+        let (measured, extrapolated) = (
+            mean_of(CellOrigin::Measured),
+            mean_of(CellOrigin::Extrapolated),
+        );
+        assert!(extrapolated > 2.0 * measured, "{measured} {extrapolated}");
+        for i in (0..CELLS).filter(|&i| provenance.cells[i].is_extrapolated()) {
+            if let Some(r) = u.relative.0[i] {
+                assert!(r[0] >= u.model.extrapolated_rel.min(MAX_RELATIVE) - 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn the_noise_of_the_nearest_sample_and_the_calibration_are_the_floor() {
+        let truth = preset("green-paint").unwrap();
+        let samples = samples_of(&truth);
+        let noise = vec![0.03; samples.len()];
+        let (_, _, u) = estimated(&samples, Some(&noise));
+        let floor = (0.03f64.powi(2) + CALIBRATION_REL.powi(2)).sqrt();
+        let min = u
+            .relative
+            .0
+            .iter()
+            .flatten()
+            .flatten()
+            .fold(f64::INFINITY, |m, &r| m.min(r));
+        assert!(min >= floor - 1e-12, "{min} {floor}");
+        assert!((u.model.median_noise_rel - 0.03).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_absolute_table_reads_back_as_the_relative_uncertainty() {
+        let truth = preset("green-paint").unwrap();
+        let (table, _, u) = estimated(&samples_of(&truth), None);
+        let absolute = MerlBrdf::from_bytes("u", &u.absolute(&table).to_bytes()).unwrap();
+        let back = RelativeUncertainty::of_tables(&table, &absolute);
+        for (index, (a, b)) in u.relative.0.iter().zip(&back.0).enumerate() {
+            // A zero value has a zero uncertainty in 1/sr, which gives no relative one back.
+            if table.cell(index).is_some_and(|v| v.min_element() <= 0.0) {
+                continue;
+            }
+            match (a, b) {
+                (Some(a), Some(b)) => {
+                    for c in 0..3 {
+                        assert!((a[c] - b[c]).abs() <= 1e-5 * a[c], "{a:?} {b:?}");
+                    }
+                }
+                (None, None) => {}
+                other => panic!("{other:?}"),
+            }
+        }
+        let (median, p95) = back.summary_within().unwrap();
+        assert!(median > 0.0 && p95 >= median);
+    }
+
+    #[test]
+    fn a_sample_without_a_finite_sigma_is_a_lower_bound() {
+        assert_eq!(
+            noise_rel([100.0, 100.0, 0.0], [1.0, 1.0, 1.0]),
+            LOWER_BOUND_NOISE_REL
+        );
+        assert_eq!(
+            noise_rel([100.0; 3], [1.0, 2.0, f64::INFINITY]),
+            LOWER_BOUND_NOISE_REL
+        );
+        assert!((noise_rel([100.0; 3], [1.0, 2.0, 0.5]) - 0.02).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_covering_factor_covers_the_left_out_differences_and_no_more() {
+        // Differences |z| L with z spread evenly over [-1.5, 1.5] and L from 0.01 to 0.07.
+        let cases: Vec<(f64, f64, f64)> = (0..400)
+            .map(|k| {
+                let l = 0.01 * (1 + k % 7) as f64;
+                let z = 3.0 * ((k * 37 % 400) as f64 / 400.0 - 0.5);
+                ((l * z).abs(), 0.0, l)
+            })
+            .collect();
+        let c = covering(&cases);
+        let share = |c: f64| {
+            let inside = cases
+                .iter()
+                .filter(|(r, a, l)| {
+                    *r <= 2.0 * (a * a + CALIBRATION_REL.powi(2) + (c * l).powi(2)).sqrt()
+                })
+                .count();
+            inside as f64 / cases.len() as f64
+        };
+        assert!(share(c) >= CV_COVERAGE, "{c} {}", share(c));
+        assert!(share(0.98 * c) < CV_COVERAGE, "{c} {}", share(0.98 * c));
+        // 95 % of |z| <= 1.5 * 0.95: c = 0.7125 without the calibration floor, which covers
+        // the smallest differences and so lowers it.
+        assert!(c <= 0.7125 && c > 0.6, "{c}");
+        assert_eq!(covering(&[]), 0.0);
+    }
+}
