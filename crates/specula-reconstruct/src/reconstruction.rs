@@ -49,8 +49,8 @@ pub struct Reconstruction {
     /// What the checks of a deblurred table found ([`crate::safeguard`]); `None` when the
     /// table was not deblurred.
     pub safeguard: Option<Safeguard>,
-    /// The deblurred table whose cells the safeguard replaced by the un-deblurred ones
-    /// ([`Safeguard::fallback_below_deg`]): what the uncertainty's deblurring term compares
+    /// The deblurred table whose cells the safeguard replaced by the un-deblurred ones or
+    /// bounded ([`Safeguard::fallback_below_deg`], [`Safeguard::bounded_below_deg`]): what the uncertainty's deblurring term compares
     /// them with ([`crate::uncertainty`]); `None` when nothing was replaced.
     pub deblurred_replaced: Option<MerlBrdf>,
 }

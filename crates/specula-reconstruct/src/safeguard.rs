@@ -161,7 +161,7 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
                     "{reason}; the un-deblurred values reproduce the samples no better, and the lobe's half width {half_width_deg:.3} deg is below the {limit:.3} deg the captures can tell from zero: {bounds}"
                 )),
             };
-            return Ok((bounded, guard));
+            return Ok((bounded, guard, Some(deblurred)));
         }
         let kept = Safeguard {
             consistency: check,
@@ -474,12 +474,13 @@ mod tests {
         let limit_deg = width_detection_limit_deg(response.resolution_deg());
         assert!(spiky.shape.half_width_deg() < limit_deg, "{limit_deg}");
         assert!(truth.shape.half_width_deg() > response.resolution_deg());
-        let (kept, guard) =
+        let (kept, guard, replaced) =
             safeguarded(&samples, tabulated(&spiky), Some(&spiky), &response, || {
                 Ok::<_, ()>(tabulated(&wide))
             })
             .unwrap();
         let limit = guard.bounded_below_deg.expect("bounded");
+        assert!(replaced.is_some());
         assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
         let cell = |h: usize| {
             Bin {
@@ -504,11 +505,12 @@ mod tests {
             "{guard:?}"
         );
 
-        let (kept, guard) =
+        let (kept, guard, replaced) =
             safeguarded(&samples, tabulated(&spiky), Some(&truth), &response, || {
                 Ok::<_, ()>(tabulated(&wide))
             })
             .unwrap();
+        assert!(replaced.is_none());
         assert_eq!(guard.bounded_below_deg, None, "{guard:?}");
         assert_eq!(kept.cell(peak), d.cell(peak));
     }
