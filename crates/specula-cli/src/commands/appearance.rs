@@ -9,7 +9,9 @@ use specula_reconstruct::uncertainty::sidecar_path;
 use specula_report::appearance::extrapolated_cells;
 use std::path::Path;
 
-/// Gloss, haze, DOI, multi-angle colour and flop of BRDFs, with verdicts against tolerances.
+/// Gloss, haze, DOI, colour and flop of BRDFs, with verdicts against tolerances.
+///
+/// The colour is multi-angle colour: one reading per aspecular angle (`L_15`, ...).
 ///
 /// A measured MERL table with its .uncertainty.binary beside it also gets each figure's
 /// expanded uncertainty (k = 2, Monte Carlo over the cells' uncertainty): `± U` in the table,

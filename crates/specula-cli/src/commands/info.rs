@@ -5,8 +5,10 @@ use specula_core::merl::MerlBrdf;
 use specula_reconstruct::uncertainty::{sidecar_path, RelativeUncertainty};
 use std::path::Path;
 
-/// Describe a BRDF source: format, grid, measured cells, per-channel statistics, peak; and of
-/// a measured MERL table with its `.uncertainty.binary` beside it, the relative uncertainty.
+/// Describe a BRDF source: format, grid, measured cells, statistics, peak, uncertainty.
+///
+/// A measured MERL table with its `.uncertainty.binary` beside it also gets the relative
+/// uncertainty of its cells.
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The BRDF: a MERL .binary, UTIA .bin, RGL .bsdf or samples .csv file, a material
