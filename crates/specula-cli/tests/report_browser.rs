@@ -85,7 +85,10 @@ fn check_in_chromium(chromium: &Path, page: &Path, work: &Path) {
         viewer.readout_origins, 3,
         "the measured table's cells say where they come from: {viewer:?}"
     );
-    assert_eq!(viewer.readout_uncertainties, 0, "no uncertainty is known");
+    assert_eq!(
+        viewer.readout_uncertainties, 3,
+        "the measured table's cells say their uncertainty (its .uncertainty.binary): {viewer:?}"
+    );
     assert!(
         viewer.ready_ms <= MAX_READY_MS,
         "the report's viewer is interactive after {} ms",

@@ -393,6 +393,19 @@ mod tests {
         })
     }
 
+    /// `truth` measured through `response` at 40 theta_h from 0 to 40 deg (denser near the
+    /// peak), theta_d 40, phi_d 90.
+    fn along_theta_h(truth: &Lobe, response: &impl CaptureResponse) -> Vec<Sample> {
+        let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
+        (0..40)
+            .map(|k| {
+                let h = (k as f64 * 1.5).powi(2) / 90.0;
+                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 90.0);
+                Sample::new(hd, truth.measured(&nodes, hd))
+            })
+            .collect()
+    }
+
     #[test]
     fn an_invented_spike_falls_back_to_the_values_as_measured_and_the_truth_stays() {
         // GGX alpha 0.05 measured through the UTIA response along theta_h at theta_d 40,
@@ -401,15 +414,8 @@ mod tests {
         // un-deblurred table (here the truth itself) takes the peak's cells. The truth as
         // the deblurred table passes and is kept as it is.
         let response = Device::utia().response();
-        let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
         let truth = lobe(0.05);
-        let samples: Vec<Sample> = (0..40)
-            .map(|k| {
-                let h = (k as f64 * 1.5).powi(2) / 90.0;
-                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 90.0);
-                Sample::new(hd, truth.measured(&nodes, hd))
-            })
-            .collect();
+        let samples = along_theta_h(&truth, &response);
         let spiky = lobe(0.0125);
         let (kept, guard, replaced) =
             safeguarded(&samples, tabulated(&spiky), Some(&spiky), &response, || {
@@ -460,15 +466,8 @@ mod tests {
         // region keep the deblurred values, and the summary says so. With a lobe whose width
         // the captures do tell (1.8 deg), the same tables are kept as deblurred.
         let response = Device::utia().response();
-        let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
         let truth = lobe(0.05);
-        let samples: Vec<Sample> = (0..40)
-            .map(|k| {
-                let h = (k as f64 * 1.5).powi(2) / 90.0;
-                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 90.0);
-                Sample::new(hd, truth.measured(&nodes, hd))
-            })
-            .collect();
+        let samples = along_theta_h(&truth, &response);
         let spiky = lobe(0.005);
         let wide = lobe(0.6);
         let limit_deg = width_detection_limit_deg(response.resolution_deg());
