@@ -106,18 +106,8 @@ impl GridPlan {
     }
 }
 
-/// The elevation from the normal (degrees) within which light and camera lie in the region
-/// people use: a goniometer's reach and the views a renderer mostly sees. Cells beyond it,
-/// with the light or the camera nearer the horizon, are grazing: the surface is seen
-/// edge-on there and a small error of angle changes f_r most.
-pub const USED_ELEVATION_DEG: f64 = 75.0;
-
-/// The stand-in reach: light and camera both within `max_elevation_deg` of the normal.
-pub fn within_elevation(hd: HalfDiff, max_elevation_deg: f64) -> bool {
-    let (wi, wo) = hd.to_directions();
-    let min_cos = max_elevation_deg.to_radians().cos() - 1e-12;
-    wi.z >= min_cos && wo.z >= min_cos
-}
+/// The stand-in reach (light and camera within an elevation) and the region people use.
+pub use specula_core::geometry::{within_elevation, USED_ELEVATION_DEG};
 
 /// How theta_h positions are placed.
 #[derive(Debug, Clone, Copy, PartialEq)]

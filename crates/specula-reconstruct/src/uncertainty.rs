@@ -39,6 +39,7 @@ use rayon::prelude::*;
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
 use specula_core::capture::CaptureResponse;
+use specula_core::geometry::{within_elevation, USED_ELEVATION_DEG};
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
 use specula_core::{HalfDiff, Rgb, Sample};
 use std::path::{Path, PathBuf};
@@ -74,7 +75,7 @@ pub const MAX_RELATIVE: f64 = 10.0;
 const LOWER_BOUND_NOISE_REL: f64 = 1.0;
 
 /// The relative uncertainty summarised within this elevation of light and camera (degrees).
-pub const SUMMARY_ELEVATION_DEG: f64 = 75.0;
+pub const SUMMARY_ELEVATION_DEG: f64 = USED_ELEVATION_DEG;
 
 /// The factors of the terms calibrated on training truths.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -371,9 +372,7 @@ impl CellUncertainty {
 /// Whether light and camera of cell `index`'s centre lie within [`SUMMARY_ELEVATION_DEG`]
 /// (the elevations do not depend on phi_h).
 fn within_summary_elevation(index: usize) -> bool {
-    let (wi, wo) = Bin::from_index(index).centre(0.0).to_directions();
-    let min_cos = SUMMARY_ELEVATION_DEG.to_radians().cos() - 1e-12;
-    wi.z >= min_cos && wo.z >= min_cos
+    within_elevation(Bin::from_index(index).centre(0.0), SUMMARY_ELEVATION_DEG)
 }
 
 /// The `q` quantile of sorted `values` (nearest rank).
