@@ -4,19 +4,23 @@
 //! reconstruction and deblurring scales.
 //!
 //!   cargo run --release -p specula-cli --example uncertainty_calibration -- T.binary=TRUTH ...
+//!
+//! Per table, the median of each term over the measured and interpolated cells within
+//! 75 deg at the calibrated scales; `GRID=1` adds the coverage grid. `WRITE=1` rewrites `T.uncertainty.binary` with the
+//! estimate of this build (as `specula measure` would write it from the same session).
 
 use specula_accuracy::coverage::cell_coverage;
 use specula_core::merl::MerlBrdf;
 use specula_core::tabulate::tabulate;
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::provenance::Provenance;
-use specula_reconstruct::uncertainty::{Scales, Terms, UncertaintyInputs};
+use specula_reconstruct::uncertainty::{sidecar_path, CellTerms, Scales, Terms, UncertaintyInputs};
 use specula_reconstruct::Method;
 use specula_session::measured_uncertainty::session_main_noise;
 use specula_session::workflow::session_main_samples;
 use std::path::PathBuf;
 
-const RECONSTRUCTION: [f64; 7] = [0.0, 0.03, 0.06, 0.12, 0.25, 0.5, 1.0];
+const RECONSTRUCTION: [f64; 8] = [0.0, 0.03, 0.06, 0.12, 0.25, 0.5, 1.0, 2.0];
 const DEBLUR: [f64; 6] = [0.0, 0.1, 0.25, 0.5, 1.0, 2.0];
 
 fn main() -> anyhow::Result<()> {
@@ -32,6 +36,8 @@ fn main() -> anyhow::Result<()> {
         let table = reconstruction.brdf.clone();
         let provenance = reconstruction.provenance.clone();
         let noise = session_main_noise(&session)?;
+        let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
+        let truth = tabulate(specula_formats::load_brdf(truth_name)?.as_ref(), phi_h_rad);
         let inputs = UncertaintyInputs {
             samples: &samples,
             noise_rel: Some(&noise),
@@ -47,9 +53,16 @@ fn main() -> anyhow::Result<()> {
             "uncertainty terms and cells: {:.1} s ({written} bytes)",
             spent.as_secs_f64()
         );
-        let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
-        let truth = tabulate(specula_formats::load_brdf(truth_name)?.as_ref(), phi_h_rad);
+        if std::env::var_os("WRITE").is_some() {
+            default
+                .absolute(&table)
+                .write(&sidecar_path(&table_path))?;
+        }
         println!("{} {truth_name}", table_path.display());
+        term_medians(&table, &terms, &provenance);
+        if std::env::var_os("GRID").is_none() {
+            continue;
+        }
         print!("recon\\deblur");
         for d in DEBLUR {
             print!(" {d:>7}");
@@ -76,6 +89,31 @@ fn main() -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// The median of each term over the measured and interpolated cells and channels within
+/// 75 deg, at the calibrated scales.
+fn term_medians(table: &MerlBrdf, terms: &Terms, provenance: &Provenance) {
+    use specula_core::merl::{Bin, CELLS};
+    let cells: Vec<CellTerms> = (0..CELLS)
+        .filter(|&i| !provenance.cells[i].is_extrapolated())
+        .filter(|&i| specula_accuracy::within_elevation(Bin::from_index(i).centre(0.0), 75.0))
+        .filter_map(|i| terms.cell_terms(i, table, provenance, Scales::default()))
+        .flatten()
+        .collect();
+    let median_of = |term: fn(&CellTerms) -> f64| {
+        let mut values: Vec<f64> = cells.iter().map(term).collect();
+        100.0 * specula_core::statistics::median(&mut values)
+    };
+    println!(
+        "term medians (%): noise {:.3}, calibration {:.3}, reconstruction {:.3}, extrapolation {:.3}, deblurring {:.3}, combined {:.3}",
+        median_of(|t| t.noise),
+        median_of(|t| t.calibration),
+        median_of(|t| t.reconstruction),
+        median_of(|t| t.extrapolation),
+        median_of(|t| t.deblurring),
+        median_of(CellTerms::combined),
+    );
 }
 
 /// Coverage by theta_h band at scales (0.25, 0.5): where the uncertainty falls short.

@@ -41,6 +41,7 @@ use rstar::RTree;
 use specula_core::capture::CaptureResponse;
 use specula_core::geometry::{within_elevation, USED_ELEVATION_DEG};
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
+use specula_core::statistics::median;
 use specula_core::{HalfDiff, Rgb, Sample};
 use std::path::{Path, PathBuf};
 
@@ -214,7 +215,7 @@ impl Terms {
         let held_out = cross_validate(inputs, reference, both_halves)?;
         let local_rms = local_errors(samples, &held_out, both_halves);
         let local_factor = covering_factor(&held_out, &local_rms, &noise);
-        let fold_gap_deg = median(local_rms.iter().map(|l| l.gap_deg).collect());
+        let fold_gap_deg = median_of(local_rms.iter().map(|l| l.gap_deg).collect());
         let extrapolated_rel = held_out
             .iter()
             .flatten()
@@ -238,8 +239,8 @@ impl Terms {
             local_factor,
             fold_gap_deg,
             extrapolated_rel,
-            median_noise_rel: median(noise.clone()),
-            median_local_rel: median(local.iter().flatten().copied().collect()),
+            median_noise_rel: median_of(noise.clone()),
+            median_local_rel: median_of(local.iter().flatten().copied().collect()),
             deblurred,
         };
         let compared = undeblurred
@@ -265,30 +266,82 @@ impl Terms {
         let relative = (0..CELLS)
             .into_par_iter()
             .map(|index| {
-                let value = table.cell(index)?;
-                let (growth, sample) = self.nearest[index];
-                let mut shared = self.noise[sample].powi(2) + CALIBRATION_REL.powi(2);
-                if provenance.cells[index].is_extrapolated() {
-                    shared += self.model.extrapolated_rel.powi(2);
-                }
-                let others: Vec<Rgb> = self.compared.iter().filter_map(|t| t.cell(index)).collect();
-                Some(std::array::from_fn(|c| {
-                    let v = value[c];
-                    let model = scales.reconstruction * self.local[sample][c] * growth;
-                    let spread = others.iter().map(|o| (v - o[c]).abs()).fold(0.0, f64::max);
-                    let blur = scales.deblur * spread / v;
-                    let total = (shared + model.powi(2) + blur.powi(2)).sqrt();
-                    if total.is_finite() {
-                        total.min(MAX_RELATIVE)
-                    } else {
-                        MAX_RELATIVE
-                    }
-                }))
+                let terms = self.cell_terms(index, table, provenance, scales)?;
+                Some(terms.map(|t| t.combined()))
             })
             .collect();
         CellUncertainty {
             relative: RelativeUncertainty(relative),
             model: self.model.clone(),
+        }
+    }
+
+    /// The relative terms of cell `index` of `table` per channel with the calibrated
+    /// `scales`; `None` where the cell has no value.
+    pub fn cell_terms(
+        &self,
+        index: usize,
+        table: &MerlBrdf,
+        provenance: &Provenance,
+        scales: Scales,
+    ) -> Option<[CellTerms; 3]> {
+        let value = table.cell(index)?;
+        let (growth, sample) = self.nearest[index];
+        let extrapolation = if provenance.cells[index].is_extrapolated() {
+            self.model.extrapolated_rel
+        } else {
+            0.0
+        };
+        let others: Vec<Rgb> = self.compared.iter().filter_map(|t| t.cell(index)).collect();
+        Some(std::array::from_fn(|c| {
+            let v = value[c];
+            let spread = others.iter().map(|o| (v - o[c]).abs()).fold(0.0, f64::max);
+            CellTerms {
+                noise: self.noise[sample],
+                calibration: CALIBRATION_REL,
+                reconstruction: scales.reconstruction * self.local[sample][c] * growth,
+                extrapolation,
+                deblurring: scales.deblur * spread / v,
+            }
+        }))
+    }
+}
+
+/// One cell's and channel's relative standard uncertainties per source (see the module
+/// documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellTerms {
+    /// The nearest sample's HDR noise.
+    pub noise: f64,
+    /// The calibration, [`CALIBRATION_REL`].
+    pub calibration: f64,
+    /// The cross-validated reconstruction term with its distance growth.
+    pub reconstruction: f64,
+    /// The extrapolation term (zero where the cell is not extrapolated).
+    pub extrapolation: f64,
+    /// The deblurring term.
+    pub deblurring: f64,
+}
+
+impl CellTerms {
+    /// The terms in quadrature, at most [`MAX_RELATIVE`] (which a value that is not finite
+    /// takes).
+    pub fn combined(&self) -> f64 {
+        let total = [
+            self.noise,
+            self.calibration,
+            self.reconstruction,
+            self.extrapolation,
+            self.deblurring,
+        ]
+        .iter()
+        .map(|t| t * t)
+        .sum::<f64>()
+        .sqrt();
+        if total.is_finite() {
+            total.min(MAX_RELATIVE)
+        } else {
+            MAX_RELATIVE
         }
     }
 }
@@ -330,8 +383,11 @@ impl RelativeUncertainty {
         if values.is_empty() {
             return None;
         }
-        values.sort_by(f64::total_cmp);
-        Some((quantile(&values, 0.5), quantile(&values, 0.95)))
+        let p95 = {
+            values.sort_by(f64::total_cmp);
+            quantile(&values, 0.95)
+        };
+        Some((median(&mut values), p95))
     }
 
     /// The summary's line, `None` when no cell within the elevation has an uncertainty.
@@ -381,12 +437,13 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
     sorted[rank.min(sorted.len() - 1)]
 }
 
-fn median(mut values: Vec<f64>) -> f64 {
+/// The [`median`] of `values`, zero when there are none.
+fn median_of(mut values: Vec<f64>) -> f64 {
     if values.is_empty() {
-        return 0.0;
+        0.0
+    } else {
+        median(&mut values)
     }
-    values.sort_by(f64::total_cmp);
-    quantile(&values, 0.5)
 }
 
 /// Each sample's relative noise, zero when not known.
@@ -553,7 +610,7 @@ fn local_errors(samples: &[Sample], held_out: &[Vec<HeldOut>], both_halves: bool
                     (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt()
                 }
             });
-            let gap_deg = median(neighbours.iter().map(|h| h.gap_deg).collect());
+            let gap_deg = median_of(neighbours.iter().map(|h| h.gap_deg).collect());
             Local { rms, gap_deg }
         })
         .collect()
