@@ -6,8 +6,9 @@
 //!   cargo run --release -p specula-cli --example uncertainty_calibration -- T.binary=TRUTH ...
 //!
 //! Per table, the median of each term over the measured and interpolated cells within
-//! 75 deg at the calibrated scales; `GRID=1` adds the coverage grid. `WRITE=1` rewrites `T.uncertainty.binary` with the
-//! estimate of this build (as `specula measure` would write it from the same session).
+//! 75 deg at the calibrated scales; `GRID=1` adds the coverage grid. `WRITE=1` rewrites
+//! `T.uncertainty.binary` with the estimate of this build (as `specula measure` would write
+//! it from the same session).
 
 use specula_accuracy::coverage::cell_coverage;
 use specula_core::merl::MerlBrdf;
@@ -54,9 +55,7 @@ fn main() -> anyhow::Result<()> {
             spent.as_secs_f64()
         );
         if std::env::var_os("WRITE").is_some() {
-            default
-                .absolute(&table)
-                .write(&sidecar_path(&table_path))?;
+            default.absolute(&table).write(&sidecar_path(&table_path))?;
         }
         println!("{} {truth_name}", table_path.display());
         term_medians(&table, &terms, &provenance);

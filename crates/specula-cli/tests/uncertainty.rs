@@ -87,6 +87,25 @@ fn reconstruct_writes_the_uncertainty_and_info_and_coverage_read_it() {
 }
 
 #[test]
+fn coverage_without_the_sidecar_names_it_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = reconstructed(dir.path());
+    let sidecar = sidecar_path(&out);
+    std::fs::remove_file(&sidecar).unwrap();
+    let output = specula()
+        .args(["coverage", text(&out), "green-paint"])
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("no uncertainty beside the table"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.matches(text(&sidecar)).count(), 1, "{stderr}");
+}
+
+#[test]
 fn appearance_csv_appends_the_figures_expanded_uncertainty() {
     let dir = tempfile::tempdir().unwrap();
     let out = reconstructed(dir.path());

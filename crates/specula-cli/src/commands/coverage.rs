@@ -29,12 +29,13 @@ pub(crate) struct Args {
 pub(crate) fn run(args: Args) -> Result<()> {
     let table = MerlBrdf::read(&args.table)?;
     let sidecar = sidecar_path(&args.table);
-    let uncertainty = MerlBrdf::read(&sidecar).with_context(|| {
-        format!(
+    if !sidecar.is_file() {
+        anyhow::bail!(
             "{}: no uncertainty beside the table (measure or reconstruct writes it)",
             sidecar.display()
-        )
-    })?;
+        );
+    }
+    let uncertainty = MerlBrdf::read(&sidecar)?;
     let provenance = Provenance::beside(&args.table)?
         .with_context(|| format!("{}: no provenance beside the table", args.table.display()))?;
     let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
