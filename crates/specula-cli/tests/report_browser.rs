@@ -110,21 +110,21 @@ fn session_and_table_reports_open_in_chromium_with_every_picture() {
     };
     let dir = tempfile::tempdir().unwrap();
     let (session, table) = measure_small(dir.path(), None);
-    // The session's report reconstructs its table from the journal, which holds no
-    // uncertainty; the table's report reads the one `measure` wrote beside it.
+    // Both show the uncertainty `measure` wrote beside the table: the session's report, which
+    // reconstructs its table from the journal, reads it beside the session's out path.
     let reports: [(&Path, &[&str], usize, &str, usize); 2] = [
         (
             &session,
             &[],
-            7,
-            "renders x 2, slices x 3 (measured, truth, difference), probe, raw samples",
-            0,
+            8,
+            "renders x 2, slices x 3 (measured, truth, difference), relative uncertainty, probe, raw samples",
+            3,
         ),
         (
             &table,
             &["--truth", "silver-925"],
-            6,
-            "renders x 2, slices x 3 (measured, truth, difference), probe",
+            7,
+            "renders x 2, slices x 3 (measured, truth, difference), relative uncertainty, probe",
             3,
         ),
     ];
@@ -144,4 +144,14 @@ fn session_and_table_reports_open_in_chromium_with_every_picture() {
         std::fs::create_dir_all(&work).unwrap();
         check_in_chromium(&chromium, &page, &work, uncertainties);
     }
+    // Without the sidecar the session's report says so and shows no map.
+    let sidecar = specula_reconstruct::uncertainty::sidecar_path(&table);
+    std::fs::remove_file(&sidecar).unwrap();
+    let page = dir.path().join("without.html");
+    let output = report(&session, &page, 96, &[]);
+    assert!(output.status.success(), "{output:?}");
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert_eq!(html.matches("<img ").count(), 7, "no relative uncertainty");
+    assert!(html.contains("none: no"), "the report says there is none");
+    assert!(!html.contains("relative uncertainty"));
 }

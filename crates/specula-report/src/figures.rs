@@ -13,7 +13,9 @@ use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_visual::grid::{self, Tile};
 use specula_visual::plot::probe::{interpolate, plot_probe};
 use specula_visual::plot::raw_samples::plot_raw_samples;
-use specula_visual::plot::slice::{plot_slice, plot_slices_against_truth, SliceOptions};
+use specula_visual::plot::slice::{
+    plot_relative_uncertainty_slice, plot_slice, plot_slices_against_truth, SliceOptions,
+};
 use specula_visual::plot::ThetaHAxis;
 use specula_visual::report::{ErrorRow, ErrorSection, Figure};
 use specula_visual::{Environment, Lighting, LinearImage, RenderSettings, Scene, ShapeKind};
@@ -186,6 +188,37 @@ pub(crate) fn renders(
 /// The characteristic slice of the table, and of the truth and the difference on one colour
 /// scale when the truth is known (paper Fig. 11).
 pub(crate) fn slice_figures(
+    table: &MerlBrdf,
+    truth: Option<(&dyn Brdf, &str)>,
+    uncertainty: Option<&MerlBrdf>,
+) -> Result<Vec<Figure>, ReportError> {
+    let mut figures = table_slice_figures(table, truth)?;
+    if let Some(uncertainty) = uncertainty {
+        figures.push(uncertainty_slice_figure(table, uncertainty)?);
+    }
+    Ok(figures)
+}
+
+/// The map of the table's relative uncertainty on its characteristic slice, beside the
+/// slices.
+fn uncertainty_slice_figure(
+    table: &MerlBrdf,
+    uncertainty: &MerlBrdf,
+) -> Result<Figure, ReportError> {
+    let title = format!("{}: relative uncertainty", table.name());
+    Figure::new(
+        "Characteristic slice of the relative uncertainty",
+        "The standard uncertainty (k = 1) of the table's cells on the same slice, relative to \
+         their value (the mean of R, G and B of OUT.uncertainty.binary over the mean of the \
+         table), in per cent on a log false colour; blue: no value.",
+        &plot_relative_uncertainty_slice(table, uncertainty, &title, &SliceOptions::default())
+            .or_report()?,
+    )
+    .or_report()
+}
+
+/// The table's characteristic slice, with the truth's and their difference when known.
+fn table_slice_figures(
     table: &MerlBrdf,
     truth: Option<(&dyn Brdf, &str)>,
 ) -> Result<Vec<Figure>, ReportError> {

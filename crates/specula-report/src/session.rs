@@ -20,7 +20,7 @@ use specula_appearance::aperture::ExtrapolatedCells;
 use specula_appearance::Options;
 use specula_appearance::Tolerances;
 use specula_core::merl::CELLS;
-use specula_core::{MerlBrdf, ProbePoint, Sample};
+use specula_core::{Brdf, MerlBrdf, ProbePoint, Sample};
 use specula_formats::BrdfSource;
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use specula_reconstruct::provenance::Provenance;
@@ -459,6 +459,39 @@ struct Shown {
     origin: String,
     /// The cells the reconstruction extrapolated, when known.
     extrapolated: Option<ExtrapolatedCells>,
+    /// The table's standard uncertainty (1/sr), when its sidecar is there.
+    uncertainty: Option<MerlBrdf>,
+    /// Where the uncertainty is from, or that there is none.
+    uncertainty_origin: String,
+}
+
+/// The uncertainty `measure` wrote beside the table of the session journal `path`
+/// (`OUT.uncertainty.binary` beside `OUT.session.sqlite`), when it is there; and what the
+/// report says of it.
+fn measured_uncertainty(path: &Path) -> Result<(Option<MerlBrdf>, String), ReportError> {
+    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+    let Some(stem) = file_name
+        .as_deref()
+        .and_then(|n| n.strip_suffix(".session.sqlite"))
+    else {
+        return Ok((
+            None,
+            "none: the journal is not named OUT.session.sqlite, so no table of measure's is known"
+                .into(),
+        ));
+    };
+    let sidecar = crate::view::uncertainty_path(&path.with_file_name(format!("{stem}.binary")));
+    if !sidecar.is_file() {
+        return Ok((
+            None,
+            format!("none: no {} beside the session", sidecar.display()),
+        ));
+    }
+    let uncertainty = MerlBrdf::read(&sidecar).or_report()?;
+    Ok((
+        Some(uncertainty),
+        format!("{} (written by measure with its table)", sidecar.display()),
+    ))
 }
 
 fn shown_table(
@@ -470,12 +503,23 @@ fn shown_table(
 ) -> Result<Option<Shown>, ReportError> {
     if let Some(path) = &options.table {
         let table = MerlBrdf::read(path).or_report()?;
+        let (provenance, uncertainty) = crate::view::sidecars(path)?;
+        let uncertainty_origin = if uncertainty.is_some() {
+            crate::view::uncertainty_path(path).display().to_string()
+        } else {
+            format!(
+                "none: no {} beside the table",
+                crate::view::uncertainty_path(path).display()
+            )
+        };
         return Ok(Some(Shown {
             rows: coverage_rows(&table, path)?,
-            provenance: Provenance::beside(path).or_report()?,
+            provenance,
             table,
             origin: format!("{} (--table)", path.display()),
             extrapolated: appearance::extrapolated_cells(&path.to_string_lossy())?,
+            uncertainty,
+            uncertainty_origin,
         }));
     }
     if session.main.is_empty() {
@@ -514,7 +558,10 @@ fn shown_table(
                 CELLS,
             )];
             rows.extend(provenance_rows(&r.provenance));
+            let (uncertainty, uncertainty_origin) = measured_uncertainty(&session.path)?;
             Ok(Some(Shown {
+                uncertainty,
+                uncertainty_origin,
                 extrapolated: appearance::extrapolated_cells_of(&r.provenance),
                 table: r.brdf,
                 provenance: Some(r.provenance),
@@ -622,6 +669,7 @@ pub(crate) fn report(
     let sample_label = format!("{name} (measured)");
     if let Some(shown) = &shown {
         facts.push(("table".into(), shown.origin.clone()));
+        facts.push(("uncertainty".into(), shown.uncertainty_origin.clone()));
         facts.extend(peak_fact(&shown.table, shown.provenance.as_ref()));
         coverage.extend(shown.rows.iter().cloned());
         if let (Some((label, brdf)), true) = (&truth, engineering) {
@@ -658,10 +706,15 @@ pub(crate) fn report(
             report.figures.extend(slice_figures(
                 &shown.table,
                 truth_brdf.map(|t| (t, truth_role)),
+                shown.uncertainty.as_ref(),
             )?);
         }
-        let mut shown_sources: Vec<crate::viewer::Shown> =
-            vec![(&sample_label, &shown.table, shown.provenance.as_ref(), None)];
+        let mut shown_sources: Vec<crate::viewer::Shown> = vec![(
+            &sample_label,
+            &shown.table,
+            shown.provenance.as_ref(),
+            shown.uncertainty.as_ref().map(|u| u as &dyn Brdf),
+        )];
         if let Some((label, brdf)) = reference {
             shown_sources.push((label, brdf.as_ref(), None, None));
         }

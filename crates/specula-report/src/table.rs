@@ -123,7 +123,13 @@ pub(crate) fn report(
     // figures, the verdict and the pictures.
     if engineering {
         report.viewer = Some(crate::viewer::viewer_of(&shown));
-        engineering_sections(&mut report, options, &table, truth.as_deref(), progress)?;
+        engineering_sections(
+            &mut report,
+            options,
+            (&table, uncertainty.as_ref()),
+            truth.as_deref(),
+            progress,
+        )?;
     }
     Ok(Page {
         report,
@@ -141,11 +147,12 @@ fn is_measured_file(input: &Path) -> bool {
 }
 
 /// The engineer's sections of a table's report: k-hat of its probe, the coverage, the error
-/// figures against a truth, the slices, the probe and the raw samples.
+/// figures against a truth, the slices with the map of the table's relative uncertainty when
+/// its sidecar is there, the probe and the raw samples.
 fn engineering_sections(
     report: &mut Report,
     options: &ReportOptions,
-    table: &MerlBrdf,
+    (table, uncertainty): (&MerlBrdf, Option<&MerlBrdf>),
     truth: Option<&dyn Brdf>,
     progress: &dyn Progress,
 ) -> Result<(), ReportError> {
@@ -182,9 +189,11 @@ fn engineering_sections(
             progress,
         ));
     }
-    report
-        .figures
-        .extend(slice_figures(table, truth.map(|t| (t, "reference")))?);
+    report.figures.extend(slice_figures(
+        table,
+        truth.map(|t| (t, "reference")),
+        uncertainty,
+    )?);
     if let (Ok(probe), Some(fit)) = (&probe, &fit) {
         let points = probe.points();
         report.figures.push(probe_figure(

@@ -124,6 +124,55 @@ pub fn plot_slices_against_truth(
     ])
 }
 
+/// The relative standard uncertainty (k = 1) of a table on its slice, in per cent: per cell
+/// the mean over R, G and B of `uncertainty` (1/sr, a table's `OUT.uncertainty.binary`)
+/// over the mean of `table`, `None` where either has no value or the table's is not
+/// positive.
+pub fn relative_uncertainty_values(
+    table: &dyn Brdf,
+    uncertainty: &dyn Brdf,
+    options: &SliceOptions,
+) -> Vec<Vec<Option<f64>>> {
+    let values = slice_values(table, options);
+    let uncertainties = slice_values(uncertainty, options);
+    values
+        .iter()
+        .zip(&uncertainties)
+        .map(|(row, u_row)| {
+            row.iter()
+                .zip(u_row)
+                .map(|(v, u)| {
+                    let (v, u) = ((*v)?, (*u)?);
+                    (v > 0.0 && u >= 0.0).then(|| 100.0 * u / v)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The map of a table's relative standard uncertainty (k = 1, per cent) on its slice
+/// ([`relative_uncertainty_values`]), in log false colour beside the table's own slice.
+pub fn plot_relative_uncertainty_slice(
+    table: &dyn Brdf,
+    uncertainty: &dyn Brdf,
+    title: &str,
+    options: &SliceOptions,
+) -> Result<RgbImage, VisualError> {
+    let values = relative_uncertainty_values(table, uncertainty, options);
+    let Some(scale) = LogScale::of(values.iter().flatten().flatten().copied()) else {
+        return Err(VisualError::Data(format!(
+            "{title}: the slice has no uncertainty to show"
+        )));
+    };
+    draw_slice(
+        &values,
+        scale,
+        title,
+        "relative standard uncertainty (k = 1) [%]",
+        options,
+    )
+}
+
 /// A slice's values drawn on `scale`.
 fn draw_slice(
     values: &[Vec<Option<f64>>],
@@ -187,6 +236,34 @@ mod tests {
         fn name(&self) -> String {
             "peak".into()
         }
+    }
+
+    /// 2 % of [`Peak`] where it has a value.
+    struct TwoPerCent;
+    impl Brdf for TwoPerCent {
+        fn eval(&self, wi: DVec3, wo: DVec3) -> Option<Rgb> {
+            self.eval_half_diff(HalfDiff::from_directions(wi, wo))
+        }
+        fn eval_half_diff(&self, hd: HalfDiff) -> Option<Rgb> {
+            Peak.eval_half_diff(hd).map(|v| v * 0.02)
+        }
+        fn name(&self) -> String {
+            "u".into()
+        }
+    }
+
+    #[test]
+    fn the_relative_uncertainty_is_in_per_cent_and_unmeasured_where_the_table_is() {
+        let options = SliceOptions::default();
+        let values = relative_uncertainty_values(&Peak, &TwoPerCent, &options);
+        assert!(
+            (values[3][10].unwrap() - 2.0).abs() < 1e-9,
+            "{:?}",
+            values[3][10]
+        );
+        assert_eq!(values[3][85], None);
+        let picture = plot_relative_uncertainty_slice(&Peak, &TwoPerCent, "u", &options).unwrap();
+        assert!(picture.width() > 0);
     }
 
     #[test]
