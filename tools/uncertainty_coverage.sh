@@ -27,6 +27,7 @@ if [ "$#" -eq 0 ]; then
     fi
 fi
 figures="gloss_20 gloss_60 gloss_85 haze doi"
+all_covered=0; all_figures=0
 echo "| truth | seed | cells within 2u | figures within U |"
 echo "|---|---|---|---|"
 for truth in "$@"; do
@@ -46,6 +47,10 @@ for truth in "$@"; do
                           total++; d = $v - truth[v]; if (d < 0) d = -d
                           if (d <= $u) covered++ }
                       printf "%d/%d", covered, total }' "$work/figures.csv")"
+        within="${within:-0/0}"
         echo "| $name | $seed | $cells | $within |"
+        all_covered=$((all_covered + ${within%/*})); all_figures=$((all_figures + ${within#*/}))
     done
 done
+echo
+echo "figures within U: $all_covered of $all_figures (target: at least 90 %)"
