@@ -26,7 +26,8 @@ use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves
 use specula_reconstruct::provenance::Provenance;
 use specula_reconstruct::Method;
 use specula_session::journal::{
-    Journal, JournalError, SessionRecord, SessionStatus, SourceRecord, Stage, StageStatus,
+    Journal, JournalError, SequenceRecord, SessionRecord, SessionStatus, SourceRecord, Stage,
+    StageStatus,
 };
 use specula_session::workflow::{
     measured_samples, probe_samples, ChecksRecord, DeblurRecord, FitRecord, MeasureSettings,
@@ -50,6 +51,8 @@ struct Session {
     checks: Option<ChecksRecord>,
     fit: Option<FitRecord>,
     plan: Option<PlanRecord>,
+    /// A sequential measurement's batches.
+    sequence: Option<SequenceRecord>,
     status: SessionStatus,
     /// The time model's estimate for every planned sample of every stage, seconds.
     predicted_s: f64,
@@ -106,6 +109,7 @@ impl Session {
             checks: record.checks,
             fit: record.fit,
             plan: record.plan,
+            sequence: record.sequence,
             predicted_s,
             last_unix_s,
             lower_bounds,
@@ -332,6 +336,9 @@ impl Session {
                 ),
             );
         }
+        if let Some(sequence) = &self.sequence {
+            fact("sequential batches", batches_text(sequence));
+        }
         if let Some(main) = stage(&self.status, Stage::Main) {
             fact(
                 "captures",
@@ -370,6 +377,36 @@ impl Session {
 /// The status of one stage, if it has a plan.
 fn stage(status: &SessionStatus, stage: Stage) -> Option<&StageStatus> {
     status.stages.iter().find(|s| s.stage == stage)
+}
+
+/// A sequential measurement's batches, one after another: where its time went and the
+/// error the table forecast before each, then why it stopped.
+fn batches_text(sequence: &SequenceRecord) -> String {
+    let mut parts: Vec<String> = sequence
+        .batches
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let forecast = b.forecast_relative_rmse.zip(b.forecast_log_rmse).map_or_else(
+                || "the first design".to_string(),
+                |(r, l)| format!("forecast before it {:.2} % relative, {:.4} log", 100.0 * r, l),
+            );
+            let start_h = b.device_s_before / 3600.0;
+            format!(
+                "{}: {} samples, {start_h:.2} to {:.2} h ({forecast})",
+                i + 1,
+                b.samples,
+                start_h + b.predicted_s / 3600.0
+            )
+        })
+        .collect();
+    if let Some((r, l)) = sequence.final_forecast {
+        parts.push(format!("forecast after the last {:.2} % relative, {:.4} log", 100.0 * r, l));
+    }
+    if let Some(reason) = &sequence.stopped {
+        parts.push(format!("stopped: {reason}"));
+    }
+    parts.join("; ")
 }
 
 fn settings_text(s: &MeasureSettings) -> String {

@@ -4,13 +4,14 @@
 //! place ([`MeasureRequest::validate`], errors naming the Python argument), and one entry
 //! point ([`run_measure`]).
 
+use crate::journal::SequentialSettings;
 use crate::workflow::{
     default_session_path, measure, session_grid, HdrChoice, MeasureOutcome, MeasureSettings,
     Observer, PlanOrder, Source,
 };
 use crate::workflow_error::WorkflowError;
 use specula_acquisition::device::Device;
-use specula_core::request::{check_merl_out, GridRequest, ProbeRequest, RequestError};
+use specula_core::request::{self, check_merl_out, GridRequest, ProbeRequest, RequestError};
 use specula_core::sampling::Family;
 use specula_core::GridSpec;
 use specula_reconstruct::{Method, PriorBasis};
@@ -54,6 +55,8 @@ pub struct MeasureRequest {
     pub deblur: bool,
     /// Run the alignment and orientation checks.
     pub checks: bool,
+    /// Measure the main stage batch by batch until these limits; `None`: the whole grid.
+    pub sequential: Option<SequentialSettings>,
     /// The MERL `.binary` to write.
     pub out: PathBuf,
     /// The session journal; `None`: `OUT.session.sqlite`.
@@ -65,6 +68,13 @@ impl MeasureRequest {
     pub fn validate(&self) -> Result<(), RequestError> {
         check_merl_out(&self.out)?;
         self.probe.validate()?;
+        if let Some(limits) = &self.sequential {
+            request::MAX_HOURS.check("max_hours", limits.max_hours)?;
+            request::MAX_SAMPLES.check("max_samples", limits.max_samples)?;
+            if let Some(target) = limits.target_uncertainty_rel {
+                request::TARGET_UNCERTAINTY_PERCENT.check("target_uncertainty", 100.0 * target)?;
+            }
+        }
         self.grid.validate()
     }
 
@@ -94,6 +104,7 @@ impl MeasureRequest {
             method: self.method,
             deblur: self.deblur,
             checks: self.checks,
+            sequential: self.sequential,
             tilt_deg: self.probe.tilt_deg,
             tilt_azimuth_deg: self.probe.tilt_azimuth_deg,
         }
@@ -147,6 +158,7 @@ mod tests {
             method: "lobe".parse().unwrap(),
             deblur: true,
             checks: true,
+            sequential: None,
             out: PathBuf::from(out),
             session: None,
         }

@@ -168,6 +168,21 @@ fn differences(stored: &MeasureSettings, asked: &MeasureSettings) -> String {
         yes_no(stored.checks),
         yes_no(asked.checks),
     );
+    let strategy = |s: &MeasureSettings| match s.sequential {
+        Some(l) => format!(
+            "sequential to {} h, {} samples{}",
+            l.max_hours,
+            l.max_samples,
+            l.target_uncertainty_rel
+                .map_or(String::new(), |t| format!(", {} %", 100.0 * t))
+        ),
+        None => "the whole grid".to_string(),
+    };
+    differ(
+        "the main stage (--sequential, --max-hours, --max-samples, --target-uncertainty)",
+        strategy(stored),
+        strategy(asked),
+    );
     let deg = |v: f64| format!("{v} deg");
     differ("--tilt", deg(stored.tilt_deg), deg(asked.tilt_deg));
     differ(

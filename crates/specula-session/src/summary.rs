@@ -2,7 +2,9 @@
 //! is written, and kept beside it as `key=value` lines (`OUT.summary.txt`).
 
 use crate::deblur_record::DeblurRecord;
-use crate::journal::{ChecksRecord, FitRecord, Journal, MeasureSettings, PlanRecord, Stage};
+use crate::journal::{
+    ChecksRecord, FitRecord, Journal, MeasureSettings, PlanRecord, SequenceRecord, Stage,
+};
 use crate::workflow_error::WorkflowError;
 use specula_core::sampling::Family;
 use specula_core::GridSpec;
@@ -56,6 +58,8 @@ pub struct Summary {
     pub deblur: Option<DeblurRecord>,
     /// Events in the journal by kind (faults, retries, resumptions).
     pub events: Vec<(String, usize)>,
+    /// A sequential measurement's batches and why it stopped; `None` for a fixed grid.
+    pub sequence: Option<SequenceRecord>,
     /// The table's uncertainty in summary lines
     /// ([`specula_reconstruct::uncertainty::CellUncertainty::lines`]).
     pub uncertainty: Vec<String>,
@@ -113,6 +117,9 @@ impl Summary {
             "model_nested_bracket_hours={:.3}",
             hours(self.plan.nested_bracket_s)
         ));
+        if let Some(sequence) = &self.sequence {
+            lines.extend(sequence_lines(sequence));
+        }
         lines.push(format!("method={}", self.method));
         lines.push(format!("phi_d_halves={}", self.phi_d_halves));
         match &self.deblur {
@@ -125,6 +132,32 @@ impl Summary {
         }
         lines
     }
+}
+
+/// A sequential measurement's lines: its batches' sizes, why it stopped and the error its
+/// last batch's table forecast.
+fn sequence_lines(sequence: &SequenceRecord) -> Vec<String> {
+    let sizes: Vec<String> = sequence
+        .batches
+        .iter()
+        .map(|b| b.samples.to_string())
+        .collect();
+    let mut lines = vec![format!(
+        "sequential_batches={} ({} samples)",
+        sequence.batches.len(),
+        sizes.join(" + ")
+    )];
+    if let Some(reason) = &sequence.stopped {
+        lines.push(format!("sequential_stopped={reason}"));
+    }
+    if let Some((relative, log)) = sequence.final_forecast {
+        lines.push(format!(
+            "sequential_forecast=relative error {:.2} %, log error {:.4} (the last batch's table, without the response)",
+            100.0 * relative,
+            log
+        ));
+    }
+    lines
 }
 
 /// The summary file beside the table: `OUT.summary.txt`.
@@ -182,6 +215,7 @@ pub(crate) fn summarise(
         phi_d_halves,
         deblur,
         events: status.events.into_iter().collect(),
+        sequence: journal.record()?,
         uncertainty: Vec::new(),
     })
 }
