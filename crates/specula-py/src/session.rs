@@ -32,7 +32,7 @@ use std::path::PathBuf;
 /// journaled in `session` (default `OUT.session.sqlite`); an existing session resumes, on
 /// its own grid unless `grid_preset` is given. Without `grid_preset` the main stage is
 /// sequential: batch by batch where the table is least sure, until `max_hours` of device
-/// time for the whole session, `max_samples`, or a forecast relative error of
+/// time for the whole session, `max_samples`, or a median relative uncertainty of
 /// `target_uncertainty` percent; with it, the preset's whole grid is measured.
 ///
 /// Returns the summary as a dict (`k_hat`, `measured_samples`, `captures`, `device_s`,

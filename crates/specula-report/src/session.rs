@@ -387,9 +387,9 @@ fn batches_text(sequence: &SequenceRecord) -> String {
         .iter()
         .enumerate()
         .map(|(i, b)| {
-            let forecast = b.forecast_relative_rmse.zip(b.forecast_log_rmse).map_or_else(
+            let forecast = b.median_uncertainty_rel.map_or_else(
                 || "the first design".to_string(),
-                |(r, l)| format!("forecast before it {:.2} % relative, {:.4} log", 100.0 * r, l),
+                |u| format!("median relative uncertainty before it {:.2} %", 100.0 * u),
             );
             let start_h = b.device_s_before / 3600.0;
             format!(
@@ -400,9 +400,6 @@ fn batches_text(sequence: &SequenceRecord) -> String {
             )
         })
         .collect();
-    if let Some((r, l)) = sequence.final_forecast {
-        parts.push(format!("forecast after the last {:.2} % relative, {:.4} log", 100.0 * r, l));
-    }
     if let Some(reason) = &sequence.stopped {
         parts.push(format!("stopped: {reason}"));
     }

@@ -5,6 +5,7 @@
 //! point ([`run_measure`]).
 
 use crate::journal::SequentialSettings;
+use crate::resume::session_settings;
 use crate::workflow::{
     default_session_path, measure, session_grid, HdrChoice, MeasureOutcome, MeasureSettings,
     Observer, PlanOrder, Source,
@@ -90,8 +91,24 @@ impl MeasureRequest {
         Ok(self.grid.grid(session_grid(&self.session_path())?)?)
     }
 
-    /// The workflow's settings on `grid` ([`Self::grid`]).
-    pub fn settings(&self, grid: GridSpec) -> MeasureSettings {
+    /// How the main stage is measured: as asked, except that a resumed session measured on
+    /// a fixed grid stays on it unless a preset is given (as it keeps its grid, [`Self::grid`]):
+    /// the command that started it resumes it.
+    pub fn sequential(&self) -> Result<Option<SequentialSettings>, MeasureError> {
+        let resumed = session_settings(&self.session_path())?;
+        Ok(match resumed {
+            Some(stored) if stored.sequential.is_none() && self.grid.preset.is_none() => None,
+            _ => self.sequential,
+        })
+    }
+
+    /// The workflow's settings on `grid` ([`Self::grid`]) with the main stage measured as
+    /// `sequential` says ([`Self::sequential`]).
+    pub fn settings(
+        &self,
+        grid: GridSpec,
+        sequential: Option<SequentialSettings>,
+    ) -> MeasureSettings {
         MeasureSettings {
             seed: self.seed,
             ideal: self.ideal,
@@ -104,7 +121,7 @@ impl MeasureRequest {
             method: self.method,
             deblur: self.deblur,
             checks: self.checks,
-            sequential: self.sequential,
+            sequential,
             tilt_deg: self.probe.tilt_deg,
             tilt_azimuth_deg: self.probe.tilt_azimuth_deg,
         }
@@ -122,7 +139,7 @@ pub fn run_measure(
     observer: &mut dyn Observer,
 ) -> Result<MeasureOutcome, MeasureError> {
     request.validate()?;
-    let settings = request.settings(request.grid()?);
+    let settings = request.settings(request.grid()?, request.sequential()?);
     let session = request.session_path();
     Ok(measure(
         source,

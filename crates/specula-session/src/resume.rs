@@ -21,12 +21,18 @@ use std::path::Path;
 /// started with, not on today's default. A session another process is writing is refused
 /// ([`Journal::refuse_in_use`]).
 pub fn session_grid(session: &Path) -> Result<Option<GridSpec>, WorkflowError> {
+    Ok(session_settings(session)?.map(|s| s.grid))
+}
+
+/// The settings an existing session journal measures with, `None` when `session` does not
+/// exist yet or holds none; a session another process is writing is refused.
+pub fn session_settings(session: &Path) -> Result<Option<MeasureSettings>, WorkflowError> {
     if !session.exists() {
         return Ok(None);
     }
     Journal::refuse_in_use(session)?;
     let journal = Journal::open_read_only(session)?;
-    Ok(journal.record::<MeasureSettings>()?.map(|s| s.grid))
+    Ok(journal.record::<MeasureSettings>()?)
 }
 
 /// The content hashes of what a session measures from (see [`crate::inputs`]).

@@ -142,20 +142,27 @@ fn sequence_lines(sequence: &SequenceRecord) -> Vec<String> {
         .iter()
         .map(|b| b.samples.to_string())
         .collect();
+    let uncertainties: Vec<String> = sequence
+        .batches
+        .iter()
+        .skip(1)
+        .filter_map(|b| b.median_uncertainty_rel)
+        .chain(sequence.final_median_uncertainty_rel)
+        .map(|u| format!("{:.2} %", 100.0 * u))
+        .collect();
     let mut lines = vec![format!(
         "sequential_batches={} ({} samples)",
         sequence.batches.len(),
         sizes.join(" + ")
     )];
+    if !uncertainties.is_empty() {
+        lines.push(format!(
+            "sequential_median_uncertainty={} (k = 1, within 75 deg, after each batch; the batch's table without the response)",
+            uncertainties.join(", ")
+        ));
+    }
     if let Some(reason) = &sequence.stopped {
         lines.push(format!("sequential_stopped={reason}"));
-    }
-    if let Some((relative, log)) = sequence.final_forecast {
-        lines.push(format!(
-            "sequential_forecast=relative error {:.2} %, log error {:.4} (the last batch's table, without the response)",
-            100.0 * relative,
-            log
-        ));
     }
     lines
 }

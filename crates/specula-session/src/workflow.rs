@@ -60,7 +60,7 @@ pub use crate::journal::{
     ChecksRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder, PlanRecord,
 };
 pub use crate::observer::{Observer, Quiet};
-pub use crate::resume::session_grid;
+pub use crate::resume::{session_grid, session_settings};
 pub use crate::summary::{summary_path, Summary};
 
 /// How a call to [`measure`] ended.

@@ -279,8 +279,8 @@ pub struct SequentialSettings {
     pub max_hours: f64,
     /// The main stage's samples.
     pub max_samples: usize,
-    /// The forecast relative error of the table (the error-weighted RMS of the cells'
-    /// relative standard uncertainty) at which it is good enough; `None`: no such target.
+    /// The median relative standard uncertainty (k = 1) of the cells within 75 deg at which
+    /// the table is good enough; `None`: no such target.
     pub target_uncertainty_rel: Option<f64>,
 }
 
@@ -306,11 +306,9 @@ pub struct BatchRecord {
     pub device_s_before: f64,
     /// The batch's predicted device time, seconds.
     pub predicted_s: f64,
-    /// The forecast relative RMSE of the table before the batch (`None` for the initial
-    /// design, chosen before any table).
-    pub forecast_relative_rmse: Option<f64>,
-    /// The forecast log RMSE of the table before the batch.
-    pub forecast_log_rmse: Option<f64>,
+    /// The median relative standard uncertainty (k = 1) of the cells within 75 deg of the
+    /// table before the batch; `None` for the first design, chosen before any table.
+    pub median_uncertainty_rel: Option<f64>,
 }
 
 /// A sequential measurement's decisions: its batches, and why it stopped.
@@ -320,8 +318,8 @@ pub struct SequenceRecord {
     pub batches: Vec<BatchRecord>,
     /// Why no further batch was chosen, once that was decided.
     pub stopped: Option<String>,
-    /// The forecast relative RMSE and log RMSE of the table after the last batch.
-    pub final_forecast: Option<(f64, f64)>,
+    /// The median relative standard uncertainty of the table after the last batch.
+    pub final_median_uncertainty_rel: Option<f64>,
     /// The candidate nodes chosen so far on each axis (theta_h, theta_d, phi_d): what a
     /// resumed run decides from.
     pub chosen: Vec<Vec<bool>>,

@@ -12,9 +12,8 @@
 //! ```
 //!
 //! (the second the change of `ln(1 + x)` when the value is off by `u`: `x u / (1 + x)` for a
-//! small `u`, and no more than `ln(1 + u)` for a large one), summed over the channels. Their sums are
-//! the forecast figures ([`Forecast`]). A cell's *share* is its part of each figure's square,
-//! the two figures counting alike; a candidate plane of the lattice
+//! small `u`, and no more than `ln(1 + u)` for a large one), summed over the channels. A
+//! cell's *share* is its part of each figure's square, the two figures counting alike; a candidate plane of the lattice
 //! ([`super::lattice`]) is credited with the shares of the cells nearer to it than to any
 //! other candidate node of its axis, while no chosen node is nearer, and whose nearest
 //! candidate position the device reaches: measuring it would take those cells from
@@ -25,6 +24,7 @@ use super::lattice::{CandidateLattice, AXES};
 use rayon::prelude::*;
 use specula_core::geometry::{within_elevation, USED_ELEVATION_DEG};
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
+use specula_core::statistics::median;
 use specula_reconstruct::uncertainty::RelativeUncertainty;
 
 /// A cell within the used elevations, with what its share needs.
@@ -90,13 +90,12 @@ fn nearest_node(nodes: &[f64], x: f64) -> usize {
     }
 }
 
-/// The error figures a table's uncertainty forecasts, and each candidate plane's credit.
+/// What a table's uncertainty says: its median, and each candidate plane's credit.
 #[derive(Debug, Clone)]
 pub(crate) struct Forecast {
-    /// The forecast cosine-weighted relative RMSE.
-    pub relative_rmse: f64,
-    /// The forecast log RMSE.
-    pub log_rmse: f64,
+    /// The median over the cells of their relative standard uncertainty (k = 1; the mean of
+    /// the channels').
+    pub median_relative: f64,
     /// Per axis and node: the shares of the cells it would take from a gap (0 for a chosen
     /// node), summing to at most 2 (both figures whole).
     pub credit: [Vec<f64>; AXES],
@@ -111,6 +110,13 @@ impl Forecast {
         u: &RelativeUncertainty,
         lattice: &CandidateLattice,
     ) -> Self {
+        let mut relative: Vec<f64> = map
+            .cells
+            .iter()
+            .filter(|c| table.cell(c.index).is_some())
+            .filter_map(|c| u.0.get(c.index).copied().flatten())
+            .map(|u| (u[0] + u[1] + u[2]) / 3.0)
+            .collect();
         let parts: Vec<([u32; AXES], f64, f64)> = map
             .cells
             .par_iter()
@@ -130,14 +136,8 @@ impl Forecast {
                 Some((c.nearest, rel, log))
             })
             .collect();
-        let reference: f64 = map
-            .cells
-            .par_iter()
-            .filter_map(|c| table.cell(c.index).map(|f| c.weight.powi(2) * f.length_squared()))
-            .sum();
         let rel_sum: f64 = parts.iter().map(|p| p.1).sum();
         let log_sum: f64 = parts.iter().map(|p| p.2).sum();
-        let counted = (3 * parts.len()).max(1) as f64;
         let mut credit = lattice.nodes_deg.each_ref().map(|n| vec![0.0; n.len()]);
         for &(nearest, rel, log) in &parts {
             let nearest = nearest.map(|n| n as usize);
@@ -153,8 +153,7 @@ impl Forecast {
             }
         }
         Self {
-            relative_rmse: (rel_sum / reference.max(f64::MIN_POSITIVE)).sqrt(),
-            log_rmse: (log_sum / counted).sqrt(),
+            median_relative: median(&mut relative),
             credit,
         }
     }
@@ -193,16 +192,13 @@ mod tests {
     }
 
     #[test]
-    fn a_uniform_uncertainty_forecasts_itself_and_credits_only_open_nodes() {
+    fn a_uniform_uncertainty_is_its_median_and_credits_only_open_nodes() {
         let lattice = lattice();
         let map = CellMap::new(&lattice);
         let table = MerlBrdf::from_fn("flat", |_| Some(Rgb::splat(0.3)));
         let u = RelativeUncertainty(vec![Some([0.05; 3]); CELLS]);
         let forecast = Forecast::new(&map, &table, &u, &lattice);
-        // Every cell at 5 %: the relative RMSE is 5 % exactly (an identity of its definition).
-        assert!((forecast.relative_rmse - 0.05).abs() < 1e-12, "{}", forecast.relative_rmse);
-        // The log figure of a small error is about x u / (1 + x), below u.
-        assert!(forecast.log_rmse > 0.0 && forecast.log_rmse < 0.05);
+        assert!((forecast.median_relative - 0.05).abs() < 1e-12);
         for a in 0..AXES {
             for (i, &c) in forecast.credit[a].iter().enumerate() {
                 if lattice.chosen[a][i] {

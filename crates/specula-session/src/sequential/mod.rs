@@ -15,7 +15,8 @@
 //!    device time, priced by the ordering's time model, into a batch of at most half the time
 //!    left; order, price and measure it;
 //! 3. **stop** at the first limit: the session's device time (`max_hours`: checks, probe and
-//!    main stage), the sample count, a forecast relative error (`target_uncertainty_rel`), or
+//!    main stage), the sample count, the table's median relative uncertainty
+//!    (`target_uncertainty_rel`), or
 //!    when no plane is left.
 //!
 //! Every batch is appended to the journal's main plan together with the decision that chose it
@@ -136,14 +137,13 @@ pub(crate) fn run(
         let forecast = forecast_of(engine, &plan, &lattice, &map, spec)?;
         let spent_s = spec.before_main_s + plan.iter().map(|r| r.predicted_s).sum::<f64>();
         observer.step(&format!(
-            "sequential: {} samples, {:.2} h: forecast relative error {:.2} %, log error {:.4}",
+            "sequential: {} samples, {:.2} h: median relative uncertainty {:.2} % (k = 1)",
             plan.len(),
             spent_s / 3600.0,
-            100.0 * forecast.relative_rmse,
-            forecast.log_rmse
+            100.0 * forecast.median_relative
         ));
         let decision = next_batch(&lattice, &forecast, &plan, spent_s, device, spec, predictor, engine);
-        record.final_forecast = Some((forecast.relative_rmse, forecast.log_rmse));
+        record.final_median_uncertainty_rel = Some(forecast.median_relative);
         match decision {
             Decision::Stop(reason) => {
                 observer.step(&format!("sequential: stopped: {reason}"));
@@ -177,8 +177,7 @@ fn batch_record(
         samples: rows.len(),
         device_s_before: spent_s,
         predicted_s: rows.iter().map(|r| r.predicted_s).sum(),
-        forecast_relative_rmse: forecast.map(|f| f.relative_rmse),
-        forecast_log_rmse: forecast.map(|f| f.log_rmse),
+        median_uncertainty_rel: forecast.map(|f| f.median_relative),
     }
 }
 
@@ -302,10 +301,10 @@ fn next_batch(
 ) -> Decision {
     let limits = &spec.limits;
     if let Some(target) = limits.target_uncertainty_rel {
-        if forecast.relative_rmse <= target {
+        if forecast.median_relative <= target {
             return Decision::Stop(format!(
-                "the forecast relative error {:.2} % is within the target {:.2} %",
-                100.0 * forecast.relative_rmse,
+                "the median relative uncertainty {:.2} % is within the target {:.2} %",
+                100.0 * forecast.median_relative,
                 100.0 * target
             ));
         }
