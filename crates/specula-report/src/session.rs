@@ -34,7 +34,7 @@ use specula_session::workflow::{
     PlanRecord,
 };
 use specula_visual::report::{
-    CoverageSection, DurationSection, KHatSection, MaterialSection, Report,
+    CoverageSection, DurationSection, KHatSection, MaterialSection, Report, TableSection,
 };
 use std::path::{Path, PathBuf};
 
@@ -336,9 +336,6 @@ impl Session {
                 ),
             );
         }
-        if let Some(sequence) = &self.sequence {
-            fact("sequential batches", batches_text(sequence));
-        }
         if let Some(main) = stage(&self.status, Stage::Main) {
             fact(
                 "captures",
@@ -379,31 +376,52 @@ fn stage(status: &SessionStatus, stage: Stage) -> Option<&StageStatus> {
     status.stages.iter().find(|s| s.stage == stage)
 }
 
-/// A sequential measurement's batches, one after another: where its time went and the
-/// error the table forecast before each, then why it stopped.
-fn batches_text(sequence: &SequenceRecord) -> String {
-    let mut parts: Vec<String> = sequence
+/// A sequential measurement's batches: when each ran, how many samples it took and the
+/// table's median relative uncertainty after it (the uncertainty against time), and why the
+/// measurement stopped.
+fn batches_table(sequence: &SequenceRecord) -> TableSection {
+    let after = sequence
         .batches
         .iter()
+        .skip(1)
+        .map(|b| b.median_uncertainty_rel)
+        .chain(std::iter::once(sequence.final_median_uncertainty_rel));
+    let rows = sequence
+        .batches
+        .iter()
+        .zip(after)
         .enumerate()
-        .map(|(i, b)| {
-            let forecast = b.median_uncertainty_rel.map_or_else(
-                || "the first design".to_string(),
-                |u| format!("median relative uncertainty before it {:.2} %", 100.0 * u),
-            );
+        .map(|(i, (b, after))| {
             let start_h = b.device_s_before / 3600.0;
-            format!(
-                "{}: {} samples, {start_h:.2} to {:.2} h ({forecast})",
-                i + 1,
-                b.samples,
-                start_h + b.predicted_s / 3600.0
-            )
+            vec![
+                if i == 0 {
+                    "1 (first design)".to_string()
+                } else {
+                    (i + 1).to_string()
+                },
+                b.samples.to_string(),
+                format!("{start_h:.2} to {:.2}", start_h + b.predicted_s / 3600.0),
+                after.map_or_else(|| "-".to_string(), |u| format!("{:.2} %", 100.0 * u)),
+            ]
         })
         .collect();
-    if let Some(reason) = &sequence.stopped {
-        parts.push(format!("stopped: {reason}"));
+    TableSection {
+        title: "Sequential measurement".into(),
+        header: ["batch", "samples", "device time, h", "median uncertainty after"]
+            .map(String::from)
+            .to_vec(),
+        rows,
+        notes: vec![format!(
+            "Each batch after the first design measured the planes of the grid where the table \
+             of the samples before it was least sure; the uncertainty is the relative standard \
+             uncertainty (k = 1) of the cells within 75 deg, median, of the table each batch \
+             made without the instrument's response. {}",
+            sequence
+                .stopped
+                .as_ref()
+                .map_or_else(String::new, |reason| format!("Stopped: {reason}."))
+        )],
     }
-    parts.join("; ")
 }
 
 fn settings_text(s: &MeasureSettings) -> String {
@@ -680,6 +698,7 @@ pub(crate) fn report(
             tolerances.as_ref(),
         );
         report.tables.push(section.table);
+        report.tables.extend(session.sequence.as_ref().map(batches_table));
         verdict = section.verdict;
         warnings = section.warnings;
         report.figures.extend(renders(

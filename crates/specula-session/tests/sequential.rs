@@ -99,10 +99,14 @@ fn a_sequential_measurement_keeps_its_time_limit_and_resumes_to_the_same_table()
     );
     let sequence = record(whole.path());
     assert!(sequence.batches.len() >= 2, "{sequence:?}");
-    assert!(sequence.batches[0].forecast_relative_rmse.is_none());
+    assert!(sequence.batches[0].median_uncertainty_rel.is_none());
     assert!(sequence.batches[1..]
         .iter()
-        .all(|b| b.forecast_relative_rmse.is_some()));
+        .all(|b| b.median_uncertainty_rel.is_some()));
+    // The table is surer after the batches than after the first design.
+    let first = sequence.batches[1].median_uncertainty_rel.unwrap();
+    let last = sequence.final_median_uncertainty_rel.unwrap();
+    assert!(last < first, "{first} then {last}");
     let measured: usize = sequence.batches.iter().map(|b| b.samples).sum();
     assert_eq!(measured, summary.measured_samples);
     // Fewer samples than the fixed grid of the same candidates.
