@@ -149,6 +149,7 @@ pub(crate) fn run(
                 observer.step(&format!("sequential: stopped: {reason}"));
                 record.stopped = Some(reason);
                 engine.journal.put_record(&record)?;
+                return Ok(SequenceOutcome::Complete);
             }
             Decision::Batch { chosen, rows } => {
                 lattice.chosen = chosen;
