@@ -400,6 +400,7 @@ fn batches_table(sequence: &SequenceRecord) -> TableSection {
                     (i + 1).to_string()
                 },
                 b.samples.to_string(),
+                b.planes.clone(),
                 format!("{start_h:.2} to {:.2}", start_h + b.predicted_s / 3600.0),
                 after.map_or_else(|| "-".to_string(), |u| format!("{:.2} %", 100.0 * u)),
             ]
@@ -407,9 +408,15 @@ fn batches_table(sequence: &SequenceRecord) -> TableSection {
         .collect();
     TableSection {
         title: "Sequential measurement".into(),
-        header: ["batch", "samples", "device time, h", "median uncertainty after"]
-            .map(String::from)
-            .to_vec(),
+        header: [
+            "batch",
+            "samples",
+            "where",
+            "device time, h",
+            "median uncertainty after",
+        ]
+        .map(String::from)
+        .to_vec(),
         rows,
         notes: vec![format!(
             "Each batch after the first design measured the planes of the grid where the table \
@@ -698,7 +705,9 @@ pub(crate) fn report(
             tolerances.as_ref(),
         );
         report.tables.push(section.table);
-        report.tables.extend(session.sequence.as_ref().map(batches_table));
+        report
+            .tables
+            .extend(session.sequence.as_ref().map(batches_table));
         verdict = section.verdict;
         warnings = section.warnings;
         report.figures.extend(renders(

@@ -137,5 +137,8 @@ fn a_sequential_measurement_keeps_its_time_limit_and_resumes_to_the_same_table()
     ));
     assert_eq!(record(resumed.path()).batches, sequence.batches);
     let bytes = |dir: &Path| std::fs::read(dir.join("s.binary")).unwrap();
-    assert!(bytes(whole.path()) == bytes(resumed.path()), "the tables differ");
+    assert!(
+        bytes(whole.path()) == bytes(resumed.path()),
+        "the tables differ"
+    );
 }

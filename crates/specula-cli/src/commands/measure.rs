@@ -12,11 +12,11 @@ use specula_core::request::ProbeRequest;
 use specula_core::shown::duration_text;
 use specula_core::ProbeSpec;
 use specula_session::engine::{Progress, StageOutcome};
+use specula_session::journal::SequentialSettings;
 use specula_session::protocol::Endpoint;
 use specula_session::workflow::{
     summary_path, HdrChoice, MeasureOutcome, Observer, PlanOrder, Source,
 };
-use specula_session::journal::SequentialSettings;
 use specula_session::Stage;
 use specula_session::{run_measure, MeasureRequest};
 use std::path::PathBuf;
@@ -119,11 +119,15 @@ impl Args {
             method: self.method,
             deblur: !self.no_deblur,
             checks: !self.skip_checks,
-            sequential: self.grid.grid_preset.is_none().then_some(SequentialSettings {
-                max_hours: self.max_hours,
-                max_samples: self.max_samples,
-                target_uncertainty_rel: self.target_uncertainty.map(|p| p / 100.0),
-            }),
+            sequential: self
+                .grid
+                .grid_preset
+                .is_none()
+                .then_some(SequentialSettings {
+                    max_hours: self.max_hours,
+                    max_samples: self.max_samples,
+                    target_uncertainty_rel: self.target_uncertainty.map(|p| p / 100.0),
+                }),
             out: self.out.clone(),
             session: self.session.clone(),
         }

@@ -57,9 +57,9 @@ use std::time::{SystemTime, UNIX_EPOCH};
 mod records;
 
 pub use records::{
-    BatchRecord, ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice,
-    MeasureSettings, NewestVersionRecord, PlanOrder, PlanRecord, Record, SequenceRecord,
-    SequentialSettings, SessionRecord, SourceRecord, Stage, VersionRecord,
+    BatchRecord, ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice, MeasureSettings,
+    NewestVersionRecord, PlanOrder, PlanRecord, Record, SequenceRecord, SequentialSettings,
+    SessionRecord, SourceRecord, Stage, VersionRecord,
 };
 
 /// What a committed sample survives.

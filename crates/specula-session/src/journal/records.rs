@@ -309,6 +309,10 @@ pub struct BatchRecord {
     /// The median relative standard uncertainty (k = 1) of the cells within 75 deg of the
     /// table before the batch; `None` for the first design, chosen before any table.
     pub median_uncertainty_rel: Option<f64>,
+    /// Where the batch went: the candidate planes it added (`theta_d 33, 39 deg`), or for the
+    /// first design its nodes (`8 of 16 theta_h x 12 of 50 theta_d x 4 of 7 phi_d`).
+    #[serde(default)]
+    pub planes: String,
 }
 
 /// A sequential measurement's decisions: its batches, and why it stopped.

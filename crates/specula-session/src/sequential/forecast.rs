@@ -47,7 +47,9 @@ pub(crate) struct CellMap {
 impl CellMap {
     /// The cells within [`USED_ELEVATION_DEG`] and their nearest nodes of `lattice`.
     pub(crate) fn new(lattice: &CandidateLattice) -> Self {
-        let half_turn = lattice.nodes_deg[2].last().is_some_and(|&p| p > 90.0 + 1e-9);
+        let half_turn = lattice.nodes_deg[2]
+            .last()
+            .is_some_and(|&p| p > 90.0 + 1e-9);
         let cells = (0..CELLS)
             .into_par_iter()
             .filter_map(|index| {

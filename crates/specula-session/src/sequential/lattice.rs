@@ -15,6 +15,8 @@ use specula_core::HalfDiff;
 
 /// The three axes of the lattice, in its index order.
 pub(crate) const AXES: usize = 3;
+/// The axes' names, in their index order.
+const AXIS_NAMES: [&str; AXES] = ["theta_h", "theta_d", "phi_d"];
 
 /// The candidates' nodes on every axis (theta_h, theta_d, phi_d; degrees), which products
 /// the device reaches, and the nodes chosen so far.
@@ -83,9 +85,8 @@ impl CandidateLattice {
 
     /// The reachable product nodes of `chosen` (theta_h outermost).
     pub(crate) fn product(&self, chosen: &[Vec<bool>; AXES]) -> Vec<[usize; AXES]> {
-        let picked = |a: usize| -> Vec<usize> {
-            (0..chosen[a].len()).filter(|&i| chosen[a][i]).collect()
-        };
+        let picked =
+            |a: usize| -> Vec<usize> { (0..chosen[a].len()).filter(|&i| chosen[a][i]).collect() };
         let (hs, ds, ps) = (picked(0), picked(1), picked(2));
         let mut out = Vec::new();
         for &h in &hs {
@@ -137,12 +138,44 @@ impl CandidateLattice {
     /// Takes the chosen nodes a journal kept; `false` (nothing changed) when their counts
     /// are not this lattice's.
     pub(crate) fn restore(&mut self, chosen: &[Vec<bool>]) -> bool {
-        let fits = chosen.len() == AXES
-            && (0..AXES).all(|a| chosen[a].len() == self.nodes_deg[a].len());
+        let fits =
+            chosen.len() == AXES && (0..AXES).all(|a| chosen[a].len() == self.nodes_deg[a].len());
         if fits {
             self.chosen = std::array::from_fn(|a| chosen[a].clone());
         }
         fits
+    }
+
+    /// The nodes `chosen` holds that this lattice has not chosen, in words:
+    /// `theta_d 33, 39 deg; phi_d 60 deg`.
+    pub(crate) fn planes_added_by(&self, chosen: &[Vec<bool>; AXES]) -> String {
+        let parts: Vec<String> = (0..AXES)
+            .filter_map(|a| {
+                let added: Vec<String> = (0..chosen[a].len())
+                    .filter(|&i| chosen[a][i] && !self.chosen[a][i])
+                    .map(|i| {
+                        format!("{:.4}", self.nodes_deg[a][i])
+                            .trim_end_matches('0')
+                            .trim_end_matches('.')
+                            .to_string()
+                    })
+                    .collect();
+                (!added.is_empty()).then(|| format!("{} {} deg", AXIS_NAMES[a], added.join(", ")))
+            })
+            .collect();
+        parts.join("; ")
+    }
+
+    /// The chosen nodes' counts against the candidates', in words:
+    /// `8 of 16 theta_h x 12 of 50 theta_d x 4 of 7 phi_d`.
+    pub(crate) fn design_text(&self) -> String {
+        let parts: Vec<String> = (0..AXES)
+            .map(|a| {
+                let chosen = self.chosen[a].iter().filter(|&&c| c).count();
+                format!("{chosen} of {} {}", self.nodes_deg[a].len(), AXIS_NAMES[a])
+            })
+            .collect();
+        parts.join(" x ")
     }
 
     /// How many positions choosing node `i` of `axis` would add to the measured product.
@@ -155,9 +188,7 @@ impl CandidateLattice {
 
 /// Every `stride`-th of `len` nodes, and the last.
 fn every(len: usize, stride: usize) -> Vec<bool> {
-    (0..len)
-        .map(|i| i % stride == 0 || i + 1 == len)
-        .collect()
+    (0..len).map(|i| i % stride == 0 || i + 1 == len).collect()
 }
 
 /// The strides a first design chooses among (theta_h, theta_d, phi_d), each axis's at most
@@ -205,7 +236,10 @@ mod tests {
             &device,
         );
         assert_eq!(all.len(), plan.measured().count());
-        assert!(all.len() < 4 * 5 * 3, "theta_d 85 is beyond the camera's 75 deg");
+        assert!(
+            all.len() < 4 * 5 * 3,
+            "theta_d 85 is beyond the camera's 75 deg"
+        );
     }
 
     #[test]
@@ -226,9 +260,15 @@ mod tests {
             let c = &lattice.chosen[axis];
             assert!(c[0] && c[c.len() - 1], "axis {axis} keeps its ends");
         }
+        let design = lattice.design_text();
+        assert!(design.contains(" of 30 theta_d x "), "{design}");
         // Choosing a theta_d node adds one position per reachable (theta_h, phi_d) pair.
         let free = (0..30).find(|&i| !lattice.chosen[1][i]).unwrap();
         let added = lattice.added_by(1, free);
         assert!(added > 0 && added <= 16 * 7);
+        let mut more = lattice.chosen.clone();
+        more[1][free] = true;
+        let words = lattice.planes_added_by(&more);
+        assert_eq!(words, format!("theta_d {} deg", 1.5 + 3.0 * free as f64));
     }
 }

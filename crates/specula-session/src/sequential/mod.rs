@@ -31,8 +31,7 @@ mod lattice;
 use crate::engine::{Engine, StageOutcome};
 use crate::estimate::{price_captures, PredictedExposures};
 use crate::journal::{
-    BatchRecord, MeasureSettings, PlanOrder, PlannedRow, SequenceRecord, SequentialSettings,
-    Stage,
+    BatchRecord, MeasureSettings, PlanOrder, PlannedRow, SequenceRecord, SequentialSettings, Stage,
 };
 use crate::measured_uncertainty::of_measurement;
 use crate::observer::Observer;
@@ -113,7 +112,10 @@ pub(crate) fn run(
             "sequential: a first design of {} samples, then batches where the table is least sure",
             rows.len()
         ));
-        record.batches.push(batch_record(&[], &rows, spec.before_main_s, None));
+        record.batches.push(BatchRecord {
+            planes: lattice.design_text(),
+            ..batch_record(&[], &rows, spec.before_main_s, None)
+        });
         record.chosen = lattice.chosen.to_vec();
         engine.journal.append_plan(Stage::Main, &rows, &record)?;
     } else if !lattice.restore(&record.chosen) {
@@ -142,7 +144,9 @@ pub(crate) fn run(
             spent_s / 3600.0,
             100.0 * forecast.median_relative
         ));
-        let decision = next_batch(&lattice, &forecast, &plan, spent_s, device, spec, predictor, engine);
+        let decision = next_batch(
+            &lattice, &forecast, &plan, spent_s, device, spec, predictor, engine,
+        );
         record.final_median_uncertainty_rel = Some(forecast.median_relative);
         match decision {
             Decision::Stop(reason) => {
@@ -152,14 +156,13 @@ pub(crate) fn run(
                 return Ok(SequenceOutcome::Complete);
             }
             Decision::Batch { chosen, rows } => {
+                let planes = lattice.planes_added_by(&chosen);
                 lattice.chosen = chosen;
                 record.chosen = lattice.chosen.to_vec();
-                record.batches.push(batch_record(
-                    &plan,
-                    &rows,
-                    spent_s,
-                    Some(&forecast),
-                ));
+                record.batches.push(BatchRecord {
+                    planes,
+                    ..batch_record(&plan, &rows, spent_s, Some(&forecast))
+                });
                 engine.journal.append_plan(Stage::Main, &rows, &record)?;
             }
         }
@@ -179,6 +182,7 @@ fn batch_record(
         device_s_before: spent_s,
         predicted_s: rows.iter().map(|r| r.predicted_s).sum(),
         median_uncertainty_rel: forecast.map(|f| f.median_relative),
+        planes: String::new(),
     }
 }
 
@@ -263,8 +267,10 @@ fn forecast_of(
         "batch",
         None::<&dyn CaptureResponse>,
         spec.prior,
-    ).map_err(reconstruct)?;
-    let u = of_measurement(plan, &records, &samples, method, spec.prior, &table).map_err(reconstruct)?;
+    )
+    .map_err(reconstruct)?;
+    let u = of_measurement(plan, &records, &samples, method, spec.prior, &table)
+        .map_err(reconstruct)?;
     Ok(Forecast::new(map, &table.brdf, &u.relative, lattice))
 }
 
@@ -319,9 +325,9 @@ fn next_batch(
     let mut picks: Vec<[Vec<bool>; AXES]> = Vec::new();
     loop {
         let current = lattice.with_chosen(&chosen).chosen_product().len() - measured.len();
-        let room = samples_left
-            .saturating_sub(current)
-            .min(((batch_s / per_sample_s.max(f64::MIN_POSITIVE)) as usize).saturating_sub(current));
+        let room = samples_left.saturating_sub(current).min(
+            ((batch_s / per_sample_s.max(f64::MIN_POSITIVE)) as usize).saturating_sub(current),
+        );
         let Some((axis, node)) = best_plane(lattice, forecast, &chosen, per_sample_s, room) else {
             break;
         };
@@ -329,12 +335,21 @@ fn next_batch(
         picks.push(chosen.clone());
     }
     while let Some(candidate) = picks.pop() {
-        let positions: Vec<[usize; AXES]> = lattice.with_chosen(&candidate)
+        let positions: Vec<[usize; AXES]> = lattice
+            .with_chosen(&candidate)
             .chosen_product()
             .into_iter()
             .filter(|p| !measured.contains(p))
             .collect();
-        let rows = priced_rows(lattice, &positions, plan.len(), device, spec, predictor, engine);
+        let rows = priced_rows(
+            lattice,
+            &positions,
+            plan.len(),
+            device,
+            spec,
+            predictor,
+            engine,
+        );
         let time_s: f64 = rows.iter().map(|r| r.predicted_s).sum();
         if !rows.is_empty() && time_s <= left_s {
             return Decision::Batch {
