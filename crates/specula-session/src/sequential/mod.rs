@@ -383,9 +383,9 @@ fn best_plane(
 ) -> Option<(usize, usize)> {
     let with = lattice.with_chosen(chosen);
     let mut best: Option<(f64, usize, usize)> = None;
-    for axis in 0..AXES {
-        for (node, &credit) in forecast.credit[axis].iter().enumerate() {
-            if chosen[axis][node] || credit <= 0.0 {
+    for (axis, (credits, taken)) in forecast.credit.iter().zip(chosen).enumerate() {
+        for (node, &credit) in credits.iter().enumerate() {
+            if taken[node] || credit <= 0.0 {
                 continue;
             }
             let added = with.added_by(axis, node);
