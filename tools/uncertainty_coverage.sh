@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Coverage of the measurement uncertainty (OUT.uncertainty.binary) on the simulator: for each
-# truth and seed, `specula measure` on the default simulated device (disk and noise), then
+# truth and seed, `specula measure` on the default simulated device (disk and noise) over the
+# whole recommended grid, then
 # `specula coverage` (the share of measured and interpolated cells within 75 deg whose truth
 # lies within 2u) and the figures' coverage (gloss 20/60/85, haze, DOI within their U).
 #
@@ -34,7 +35,7 @@ for truth in "$@"; do
     name="$(basename "$truth")"; name="${name%.*}"; name="${name//:/_}"
     for seed in ${SEEDS:-1 2}; do
         out="$work/$name-$seed.binary"
-        "$bin" measure --truth "$truth" --seed "$seed" --out "$out" > /dev/null 2>&1
+        "$bin" measure --truth "$truth" --seed "$seed" --grid-preset recommended --out "$out" > /dev/null 2>&1
         cells="$("$bin" coverage "$out" "$truth" | awk -F, '$1 == "both" { print $4 }')"
         "$bin" appearance --csv "$truth" "$out" > "$work/figures.csv" 2> /dev/null
         within="$(awk -F, -v want="$figures" '

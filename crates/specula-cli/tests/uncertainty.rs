@@ -134,7 +134,7 @@ fn appearance_csv_appends_the_figures_expanded_uncertainty() {
 }
 
 /// The cell coverage at k = 2 of `truth` measured with seed 1 on the default simulated
-/// device (`specula measure`, then `specula coverage`).
+/// device over the whole recommended grid (`specula measure`, then `specula coverage`).
 fn measured_coverage(truth: &str) -> f64 {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("m.binary");
@@ -144,6 +144,8 @@ fn measured_coverage(truth: &str) -> f64 {
         truth,
         "--seed",
         "1",
+        "--grid-preset",
+        "recommended",
         "--out",
         text(&out),
     ]);
