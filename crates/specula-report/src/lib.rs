@@ -10,6 +10,7 @@
 //! viewer, which the report embeds too).
 
 pub mod appearance;
+mod appearance_request;
 mod database;
 mod error;
 mod figures;
@@ -21,6 +22,9 @@ mod table;
 pub mod view;
 mod viewer;
 
+pub use appearance_request::{
+    run_appearance, AppearanceInput, AppearanceRequest, AppearanceRow, AppearanceTable,
+};
 pub use database::DatabaseRequest;
 pub use error::ReportError;
 pub use plot::{database_heatmap, plot, Adaptive, Figure, PlotRequest, Plotted};
