@@ -9,7 +9,7 @@ use crate::figures::{
     slice_figures,
 };
 use crate::{
-    generator, header, layout, today, Audience, Page, Progress, ReportOptions, PLACED_SAMPLES,
+    generator, header, layout, today, Audience, Page, Progress, ReportRequest, PLACED_SAMPLES,
 };
 use specula_accuracy::merl_prior::basis_for;
 use specula_acquisition::calibration::response::ResponseFit;
@@ -399,7 +399,7 @@ fn utc_text(unix_s: f64) -> String {
 /// The truth to compare with: --truth, else the one a simulated session measured; labelled
 /// "truth" when the session was simulated, else "reference".
 fn truth(
-    options: &ReportOptions,
+    options: &ReportRequest,
     session: &Session,
     notes: &mut Vec<String>,
 ) -> Result<Option<(String, BrdfSource)>, ReportError> {
@@ -462,7 +462,7 @@ struct Shown {
 }
 
 fn shown_table(
-    options: &ReportOptions,
+    options: &ReportRequest,
     session: &Session,
     name: &str,
     notes: &mut Vec<String>,
@@ -551,7 +551,7 @@ pub(crate) fn shown_of(
     let name = session.material_name();
     let mut notes = Vec::new();
     match shown_table(
-        &ReportOptions::new(path),
+        &ReportRequest::new(path),
         &session,
         &name,
         &mut notes,
@@ -567,7 +567,7 @@ pub(crate) fn shown_of(
 
 /// The report of the session journal `options.input` (`specula report`, and the demo's).
 pub(crate) fn report(
-    options: &ReportOptions,
+    options: &ReportRequest,
     progress: &dyn Progress,
 ) -> Result<Page, ReportError> {
     let session = Session::read(&options.input)?;
