@@ -50,8 +50,8 @@ pub(crate) fn render<'py>(
     };
     request.validate(1).or_raise()?;
     let brdf = brdf_arg(brdf)?;
-    let mut rendered = interrupt::run(py, Stop::Abandon, move |_| {
-        render_pictures(&request, &[(brdf.name(), brdf)], &|_| {})
+    let mut rendered = interrupt::run(py, Stop::Cooperative, move |stop| {
+        render_pictures(&request, &[(brdf.name(), brdf)], &stop, &NoProgress)
     })?
     .or_raise()?;
     let image = rendered.images.remove(0);

@@ -150,24 +150,9 @@ impl ReportRequest {
     }
 }
 
-/// Where the report's long steps show their progress (a terminal bar in the CLI).
-pub trait Progress: Sync {
-    /// A step starts: `label`, over `total` units when known (else a spinner).
-    fn start(&self, label: &str, total: Option<u64>);
-    /// `done` units of the current step are done.
-    fn set(&self, done: u64);
-    /// The current step is finished.
-    fn finish(&self);
-}
-
-/// No progress shown (tests, and callers without a terminal).
-pub struct NoProgress;
-
-impl Progress for NoProgress {
-    fn start(&self, _label: &str, _total: Option<u64>) {}
-    fn set(&self, _done: u64) {}
-    fn finish(&self) {}
-}
+/// Where the report's long steps show their progress, and the quiet default: core's, as
+/// every long library entry reports to.
+pub use specula_core::progress::{NoProgress, Progress};
 
 /// The kind of input, told by the file's extension: a session journal, or a BRDF source.
 enum Input {
