@@ -231,8 +231,10 @@ fn ctrl_c_stops_a_render_at_once_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("long.png");
     // 1024 x 1024 pixels at 4096 rays each: minutes of work.
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_specula"))
-        .args(["render", "chrome", "--size", "1024", "--spp", "4096", "--out"])
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_specula"))
+        .args([
+            "render", "chrome", "--size", "1024", "--spp", "4096", "--out",
+        ])
         .arg(&out)
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())
@@ -248,7 +250,10 @@ fn ctrl_c_stops_a_render_at_once_and_writes_nothing() {
     let output = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(130), "{stderr}");
-    assert!(stderr.contains("interrupted: stopped: 0 of 1 pictures done"), "{stderr}");
+    assert!(
+        stderr.contains("interrupted: stopped: 0 of 1 pictures done"),
+        "{stderr}"
+    );
     assert!(
         sent.elapsed() < std::time::Duration::from_secs(30),
         "stopped {:?} after the signal",

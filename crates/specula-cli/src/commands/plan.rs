@@ -71,8 +71,8 @@ pub(crate) fn run(args: Args) -> Result<()> {
     request.validate()?;
     let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
     let progress = crate::progress::Terminal::default();
-    let planned =
-        run_plan(&request, &device, &stop, &progress).map_err(|e| blame_stop_unresumable(e.into(), &stop))?;
+    let planned = run_plan(&request, &device, &stop, &progress)
+        .map_err(|e| blame_stop_unresumable(e.into(), &stop))?;
     let chosen = planned.chosen(args.order);
     specula_core::atomic_file::write_with(&out, |file| {
         chosen.write_csv(file).map_err(std::io::Error::other)
