@@ -63,8 +63,11 @@ fn assert_holds(predicted: f64, simulated: f64, planned: f64) {
 
 #[test]
 fn the_default_grid_with_predicted_exposures_takes_the_predicted_time() {
-    // The recommended grid's shape (graded theta_d, phi_d over the half turn), small.
+    // The recommended grid's shape (graded theta_d, phi_d over the half turn), small, measured
+    // whole (a preset fixes the grid before the first capture).
     let grid = [
+        "--grid-preset",
+        "recommended",
         "--theta-h-samples",
         "8",
         "--theta-d-step",

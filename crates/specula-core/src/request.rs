@@ -17,6 +17,12 @@ use std::str::FromStr;
 pub const THETA_H_SAMPLES: CountRange = CountRange::from_to(2, 360);
 /// Samples of a probe (the paper: 90).
 pub const PROBE_SAMPLES: CountRange = CountRange::from_to(2, 10_000);
+/// A sequential measurement's limit on the session's device time.
+pub const MAX_HOURS: RealRange = RealRange::above(0.0, 1000.0, "hours");
+/// A sequential measurement's limit on the main stage's samples.
+pub const MAX_SAMPLES: CountRange = CountRange::from_to(10, 1_000_000);
+/// A sequential measurement's target median relative uncertainty of the table.
+pub const TARGET_UNCERTAINTY_PERCENT: RealRange = RealRange::above(0.0, 100.0, "percent");
 /// A step of a grid in degrees (theta_d, phi_d).
 pub const GRID_STEP_DEG: RealRange = RealRange::from_to(0.5, 90.0, "degrees");
 /// Angles in degrees: a turntable or half-vector azimuth, either way round.

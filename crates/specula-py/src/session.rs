@@ -15,7 +15,7 @@ use specula_core::request::ProbeRequest;
 use specula_core::ProbeSpec;
 use specula_sampling::Probe;
 use specula_session::calibrate::{run_calibrate, CalibrateRequest};
-use specula_session::journal::{Journal, SourceRecord};
+use specula_session::journal::{Journal, SequentialSettings, SourceRecord};
 use specula_session::workflow::{
     measured_samples, probe_samples, FitRecord, MeasureOutcome, MeasureSettings, Quiet, Source,
     Summary,
@@ -32,7 +32,10 @@ use std::path::PathBuf;
 /// measured response unless `deblur=False`; by halves of phi_d when the plan measured both)
 /// into the MERL file `out` (with its `.provenance.npy` and `.summary.txt`). Everything is
 /// journaled in `session` (default `OUT.session.sqlite`); an existing session resumes, on
-/// its own grid unless `grid_preset` is given.
+/// its own grid unless `grid_preset` is given. Without `grid_preset` the main stage is
+/// sequential: batch by batch where the table is least sure, until `max_hours` of device
+/// time for the whole session, `max_samples`, or a median relative uncertainty of
+/// `target_uncertainty` percent; with it, the preset's whole grid is measured.
 ///
 /// Returns the summary as a dict (`k_hat`, `measured_samples`, `captures`, `device_s`,
 /// ...). Ctrl-C stops after the sample in progress, leaves the journal resumable (call again
@@ -42,7 +45,8 @@ use std::path::PathBuf;
     probe_samples = None, family = "exponential", grid_preset = None, theta_h_samples = None,
     theta_d_step_deg = None, phi_d_step_deg = None, phi_d_span = None, phi_h_deg = None,
     order = "optimized", hdr = "predicted",
-    method = "lobe", deblur = true, checks = true, tilt_deg = 0.0, tilt_azimuth_deg = 0.0, device = None))]
+    method = "lobe", deblur = true, checks = true, tilt_deg = 0.0, tilt_azimuth_deg = 0.0, device = None,
+    max_hours = 1.0, max_samples = 4073, target_uncertainty = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn measure<'py>(
     py: Python<'py>,
@@ -68,7 +72,15 @@ pub(crate) fn measure<'py>(
     tilt_deg: f64,
     tilt_azimuth_deg: f64,
     device: Option<PathBuf>,
+    max_hours: f64,
+    max_samples: usize,
+    target_uncertainty: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let sequential = grid_preset.is_none().then_some(SequentialSettings {
+        max_hours,
+        max_samples,
+        target_uncertainty_rel: target_uncertainty.map(|p| p / 100.0),
+    });
     let request = MeasureRequest {
         seed,
         ideal,
@@ -93,6 +105,7 @@ pub(crate) fn measure<'py>(
         method: method.parse().map_err(invalid)?,
         deblur,
         checks,
+        sequential,
         out,
         session,
     };

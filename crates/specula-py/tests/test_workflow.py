@@ -162,3 +162,13 @@ def test_read_session_rejects_a_file_that_is_not_a_journal(cli, tmp_path):
     with pytest.raises(specula.SpeculaError) as caught:
         specula.read_session(bad)
     assert "error: " + str(caught.value) == err.strip()
+
+
+def test_measure_refuses_a_time_limit_out_of_range_with_the_clis_words(cli, tmp_path):
+    status, _, err = cli("measure", "--truth", "silver-925", "--max-hours", "0",
+                         "--out", tmp_path / "x.binary", check=False)
+    assert status == 2 and "--max-hours 0: expected hours above 0 and at most 1000" in err
+    with pytest.raises((ValueError, specula.SpeculaError)) as caught:
+        specula.measure("silver-925", tmp_path / "y.binary", max_hours=0.0)
+    assert str(caught.value) == "max_hours 0: expected hours above 0 and at most 1000"
+    assert not (tmp_path / "y.session.sqlite").exists()

@@ -26,14 +26,15 @@ use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves
 use specula_reconstruct::provenance::Provenance;
 use specula_reconstruct::Method;
 use specula_session::journal::{
-    Journal, JournalError, SessionRecord, SessionStatus, SourceRecord, Stage, StageStatus,
+    Journal, JournalError, SequenceRecord, SessionRecord, SessionStatus, SourceRecord, Stage,
+    StageStatus,
 };
 use specula_session::workflow::{
     measured_samples, probe_samples, ChecksRecord, DeblurRecord, FitRecord, MeasureSettings,
     PlanRecord,
 };
 use specula_visual::report::{
-    CoverageSection, DurationSection, KHatSection, MaterialSection, Report,
+    CoverageSection, DurationSection, KHatSection, MaterialSection, Report, TableSection,
 };
 use std::path::{Path, PathBuf};
 
@@ -50,6 +51,8 @@ struct Session {
     checks: Option<ChecksRecord>,
     fit: Option<FitRecord>,
     plan: Option<PlanRecord>,
+    /// A sequential measurement's batches.
+    sequence: Option<SequenceRecord>,
     status: SessionStatus,
     /// The time model's estimate for every planned sample of every stage, seconds.
     predicted_s: f64,
@@ -106,6 +109,7 @@ impl Session {
             checks: record.checks,
             fit: record.fit,
             plan: record.plan,
+            sequence: record.sequence,
             predicted_s,
             last_unix_s,
             lower_bounds,
@@ -370,6 +374,61 @@ impl Session {
 /// The status of one stage, if it has a plan.
 fn stage(status: &SessionStatus, stage: Stage) -> Option<&StageStatus> {
     status.stages.iter().find(|s| s.stage == stage)
+}
+
+/// A sequential measurement's batches: when each ran, how many samples it took and the
+/// table's median relative uncertainty after it (the uncertainty against time), and why the
+/// measurement stopped.
+fn batches_table(sequence: &SequenceRecord) -> TableSection {
+    let after = sequence
+        .batches
+        .iter()
+        .skip(1)
+        .map(|b| b.median_uncertainty_rel)
+        .chain(std::iter::once(sequence.final_median_uncertainty_rel));
+    let rows = sequence
+        .batches
+        .iter()
+        .zip(after)
+        .enumerate()
+        .map(|(i, (b, after))| {
+            let start_h = b.device_s_before / 3600.0;
+            vec![
+                if i == 0 {
+                    "1 (first design)".to_string()
+                } else {
+                    (i + 1).to_string()
+                },
+                b.samples.to_string(),
+                b.planes.clone(),
+                format!("{start_h:.2} to {:.2}", start_h + b.predicted_s / 3600.0),
+                after.map_or_else(|| "-".to_string(), |u| format!("{:.2} %", 100.0 * u)),
+            ]
+        })
+        .collect();
+    TableSection {
+        title: "Sequential measurement".into(),
+        header: [
+            "batch",
+            "samples",
+            "where",
+            "device time, h",
+            "median uncertainty after",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+        notes: vec![format!(
+            "Each batch after the first design measured the planes of the grid where the table \
+             of the samples before it was least sure; the uncertainty is the relative standard \
+             uncertainty (k = 1) of the cells within 75 deg, median, of the table each batch \
+             made without the instrument's response. {}",
+            sequence
+                .stopped
+                .as_ref()
+                .map_or_else(String::new, |reason| format!("Stopped: {reason}."))
+        )],
+    }
 }
 
 fn settings_text(s: &MeasureSettings) -> String {
@@ -646,6 +705,9 @@ pub(crate) fn report(
             tolerances.as_ref(),
         );
         report.tables.push(section.table);
+        report
+            .tables
+            .extend(session.sequence.as_ref().map(batches_table));
         verdict = section.verdict;
         warnings = section.warnings;
         report.figures.extend(renders(

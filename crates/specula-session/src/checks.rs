@@ -26,12 +26,16 @@ pub(crate) fn run_checks(
     }
     let clock = |i: &dyn Instrument| i.simulated_clock_s();
     let started = (clock(instrument), std::time::Instant::now());
-    observer.step("alignment check: the highlight at 8 turntable rotations");
+    let alignment_settings = AlignmentSettings::default();
+    observer.step(&format!(
+        "alignment check: the highlight at {} turntable rotations",
+        alignment_settings.rotations
+    ));
     instrument
         .home()
         .map_err(WorkflowError::device("homing the device"))?;
     let alignment = with_retries(journal, instrument, hdr, "alignment check", |i, h| {
-        check_alignment(i, h, &AlignmentSettings::default())
+        check_alignment(i, h, &alignment_settings)
     })?;
     let (tilt_deg, tilt_azimuth_deg, alignment) = match alignment {
         Ok(report) => {

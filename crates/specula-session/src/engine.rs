@@ -152,6 +152,9 @@ pub struct Engine<'a> {
     pub stop: Arc<AtomicBool>,
     /// Retries and reconnections of a remote device, copied into the journal's events.
     pub link_notes: Option<LinkNotes>,
+    /// The stages this engine has run: a stage run again (a sequential measurement's next
+    /// batch) continues, and is not a resumption.
+    pub ran: Vec<Stage>,
 }
 
 impl Engine<'_> {
@@ -178,7 +181,11 @@ impl Engine<'_> {
             .sum();
         let mut predicted_s_left: f64 =
             plan.iter().map(|r| r.predicted_s).sum::<f64>() - predicted_s_done;
-        if outcome.resumed > 0 && outcome.resumed < plan.len() {
+        let continued = self.ran.contains(&stage);
+        if !continued {
+            self.ran.push(stage);
+        }
+        if !continued && outcome.resumed > 0 && outcome.resumed < plan.len() {
             self.journal.log_event(
                 "resumed",
                 &format!(

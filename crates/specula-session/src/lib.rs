@@ -36,6 +36,7 @@ mod plan_request;
 pub mod predict;
 pub mod protocol;
 mod resume;
+mod sequential;
 mod summary;
 pub mod workflow;
 pub mod workflow_error;

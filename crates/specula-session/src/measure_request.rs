@@ -4,13 +4,15 @@
 //! place ([`MeasureRequest::validate`], errors naming the Python argument), and one entry
 //! point ([`run_measure`]).
 
+use crate::journal::SequentialSettings;
+use crate::resume::session_settings;
 use crate::workflow::{
     default_session_path, measure, session_grid, HdrChoice, MeasureOutcome, MeasureSettings,
     Observer, PlanOrder, Source,
 };
 use crate::workflow_error::WorkflowError;
 use specula_acquisition::device::Device;
-use specula_core::request::{check_merl_out, GridRequest, ProbeRequest, RequestError};
+use specula_core::request::{self, check_merl_out, GridRequest, ProbeRequest, RequestError};
 use specula_core::sampling::Family;
 use specula_core::GridSpec;
 use specula_reconstruct::{Method, PriorBasis};
@@ -54,6 +56,8 @@ pub struct MeasureRequest {
     pub deblur: bool,
     /// Run the alignment and orientation checks.
     pub checks: bool,
+    /// Measure the main stage batch by batch until these limits; `None`: the whole grid.
+    pub sequential: Option<SequentialSettings>,
     /// The MERL `.binary` to write.
     pub out: PathBuf,
     /// The session journal; `None`: `OUT.session.sqlite`.
@@ -65,6 +69,13 @@ impl MeasureRequest {
     pub fn validate(&self) -> Result<(), RequestError> {
         check_merl_out(&self.out)?;
         self.probe.validate()?;
+        if let Some(limits) = &self.sequential {
+            request::MAX_HOURS.check("max_hours", limits.max_hours)?;
+            request::MAX_SAMPLES.check("max_samples", limits.max_samples)?;
+            if let Some(target) = limits.target_uncertainty_rel {
+                request::TARGET_UNCERTAINTY_PERCENT.check("target_uncertainty", 100.0 * target)?;
+            }
+        }
         self.grid.validate()
     }
 
@@ -80,8 +91,24 @@ impl MeasureRequest {
         Ok(self.grid.grid(session_grid(&self.session_path())?)?)
     }
 
-    /// The workflow's settings on `grid` ([`Self::grid`]).
-    pub fn settings(&self, grid: GridSpec) -> MeasureSettings {
+    /// How the main stage is measured: as asked, except that a resumed session measured on
+    /// a fixed grid stays on it unless a preset is given (as it keeps its grid, [`Self::grid`]):
+    /// the command that started it resumes it.
+    pub fn sequential(&self) -> Result<Option<SequentialSettings>, MeasureError> {
+        let resumed = session_settings(&self.session_path())?;
+        Ok(match resumed {
+            Some(stored) if stored.sequential.is_none() && self.grid.preset.is_none() => None,
+            _ => self.sequential,
+        })
+    }
+
+    /// The workflow's settings on `grid` ([`Self::grid`]) with the main stage measured as
+    /// `sequential` says ([`Self::sequential`]).
+    pub fn settings(
+        &self,
+        grid: GridSpec,
+        sequential: Option<SequentialSettings>,
+    ) -> MeasureSettings {
         MeasureSettings {
             seed: self.seed,
             ideal: self.ideal,
@@ -94,6 +121,7 @@ impl MeasureRequest {
             method: self.method,
             deblur: self.deblur,
             checks: self.checks,
+            sequential,
             tilt_deg: self.probe.tilt_deg,
             tilt_azimuth_deg: self.probe.tilt_azimuth_deg,
         }
@@ -111,7 +139,7 @@ pub fn run_measure(
     observer: &mut dyn Observer,
 ) -> Result<MeasureOutcome, MeasureError> {
     request.validate()?;
-    let settings = request.settings(request.grid()?);
+    let settings = request.settings(request.grid()?, request.sequential()?);
     let session = request.session_path();
     Ok(measure(
         source,
@@ -147,6 +175,7 @@ mod tests {
             method: "lobe".parse().unwrap(),
             deblur: true,
             checks: true,
+            sequential: None,
             out: PathBuf::from(out),
             session: None,
         }

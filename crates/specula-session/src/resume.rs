@@ -21,12 +21,18 @@ use std::path::Path;
 /// started with, not on today's default. A session another process is writing is refused
 /// ([`Journal::refuse_in_use`]).
 pub fn session_grid(session: &Path) -> Result<Option<GridSpec>, WorkflowError> {
+    Ok(session_settings(session)?.map(|s| s.grid))
+}
+
+/// The settings an existing session journal measures with, `None` when `session` does not
+/// exist yet or holds none; a session another process is writing is refused.
+pub fn session_settings(session: &Path) -> Result<Option<MeasureSettings>, WorkflowError> {
     if !session.exists() {
         return Ok(None);
     }
     Journal::refuse_in_use(session)?;
     let journal = Journal::open_read_only(session)?;
-    Ok(journal.record::<MeasureSettings>()?.map(|s| s.grid))
+    Ok(journal.record::<MeasureSettings>()?)
 }
 
 /// The content hashes of what a session measures from (see [`crate::inputs`]).
@@ -167,6 +173,21 @@ fn differences(stored: &MeasureSettings, asked: &MeasureSettings) -> String {
         "the checks (--skip-checks)",
         yes_no(stored.checks),
         yes_no(asked.checks),
+    );
+    let strategy = |s: &MeasureSettings| match s.sequential {
+        Some(l) => format!(
+            "sequential to {} h, {} samples{}",
+            l.max_hours,
+            l.max_samples,
+            l.target_uncertainty_rel
+                .map_or(String::new(), |t| format!(", {} %", 100.0 * t))
+        ),
+        None => "the whole grid".to_string(),
+    };
+    differ(
+        "the main stage (--sequential, --max-hours, --max-samples, --target-uncertainty)",
+        strategy(stored),
+        strategy(asked),
     );
     let deg = |v: f64| format!("{v} deg");
     differ("--tilt", deg(stored.tilt_deg), deg(asked.tilt_deg));

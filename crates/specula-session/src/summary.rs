@@ -2,7 +2,9 @@
 //! is written, and kept beside it as `key=value` lines (`OUT.summary.txt`).
 
 use crate::deblur_record::DeblurRecord;
-use crate::journal::{ChecksRecord, FitRecord, Journal, MeasureSettings, PlanRecord, Stage};
+use crate::journal::{
+    ChecksRecord, FitRecord, Journal, MeasureSettings, PlanRecord, SequenceRecord, Stage,
+};
 use crate::workflow_error::WorkflowError;
 use specula_core::sampling::Family;
 use specula_core::GridSpec;
@@ -56,6 +58,8 @@ pub struct Summary {
     pub deblur: Option<DeblurRecord>,
     /// Events in the journal by kind (faults, retries, resumptions).
     pub events: Vec<(String, usize)>,
+    /// A sequential measurement's batches and why it stopped; `None` for a fixed grid.
+    pub sequence: Option<SequenceRecord>,
     /// The table's uncertainty in summary lines
     /// ([`specula_reconstruct::uncertainty::CellUncertainty::lines`]).
     pub uncertainty: Vec<String>,
@@ -113,6 +117,9 @@ impl Summary {
             "model_nested_bracket_hours={:.3}",
             hours(self.plan.nested_bracket_s)
         ));
+        if let Some(sequence) = &self.sequence {
+            lines.extend(sequence_lines(sequence));
+        }
         lines.push(format!("method={}", self.method));
         lines.push(format!("phi_d_halves={}", self.phi_d_halves));
         match &self.deblur {
@@ -125,6 +132,39 @@ impl Summary {
         }
         lines
     }
+}
+
+/// A sequential measurement's lines: its batches' sizes, why it stopped and the error its
+/// last batch's table forecast.
+fn sequence_lines(sequence: &SequenceRecord) -> Vec<String> {
+    let sizes: Vec<String> = sequence
+        .batches
+        .iter()
+        .map(|b| b.samples.to_string())
+        .collect();
+    let uncertainties: Vec<String> = sequence
+        .batches
+        .iter()
+        .skip(1)
+        .filter_map(|b| b.median_uncertainty_rel)
+        .chain(sequence.final_median_uncertainty_rel)
+        .map(|u| format!("{:.2} %", 100.0 * u))
+        .collect();
+    let mut lines = vec![format!(
+        "sequential_batches={} ({} samples)",
+        sequence.batches.len(),
+        sizes.join(" + ")
+    )];
+    if !uncertainties.is_empty() {
+        lines.push(format!(
+            "sequential_median_uncertainty={} (k = 1, within 75 deg, after each batch; the batch's table without the response)",
+            uncertainties.join(", ")
+        ));
+    }
+    if let Some(reason) = &sequence.stopped {
+        lines.push(format!("sequential_stopped={reason}"));
+    }
+    lines
 }
 
 /// The summary file beside the table: `OUT.summary.txt`.
@@ -182,6 +222,7 @@ pub(crate) fn summarise(
         phi_d_halves,
         deblur,
         events: status.events.into_iter().collect(),
+        sequence: journal.record()?,
         uncertainty: Vec::new(),
     })
 }

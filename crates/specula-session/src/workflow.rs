@@ -34,6 +34,7 @@ use crate::journal::{
 };
 use crate::predict::{Predictor, ProbeModel};
 use crate::resume::{check_version, input_hashes, start_session};
+use crate::sequential::{self, SequenceOutcome, SequentialSpec};
 use crate::summary::summarise;
 use crate::workflow_error::WorkflowError;
 use specula_acquisition::calibration::response::ResponseFit;
@@ -59,7 +60,7 @@ pub use crate::journal::{
     ChecksRecord, FitRecord, HdrChoice, MeasureSettings, PlanOrder, PlanRecord,
 };
 pub use crate::observer::{Observer, Quiet};
-pub use crate::resume::session_grid;
+pub use crate::resume::{session_grid, session_settings};
 pub use crate::summary::{summary_path, Summary};
 
 /// How a call to [`measure`] ended.
@@ -160,6 +161,7 @@ pub fn measure(
         },
         stop,
         link_notes: connected.link_notes.clone(),
+        ran: Vec::new(),
     };
 
     // The probe (5.2), then k-hat.
@@ -195,28 +197,54 @@ pub fn measure(
         ));
     }
 
-    // The plan (5.3) with k-hat, then the acquisition.
+    // The plan (5.3) with k-hat, then the acquisition: the whole grid, or batch by batch.
     let predictor = Predictor::new(calibration.clone(), ProbeModel::new(&probe));
-    let plan = main_plan(
-        engine.journal,
-        device,
-        &MainPlanSpec {
-            grid: &grid,
-            function: &fit.function,
-            phi_h_deg,
-            order: settings.order,
-            hdr: settings.hdr,
-        },
-        &PredictedExposures {
-            predictor: &predictor,
-            capturer: engine.hdr,
-        },
-        observer,
-    )?;
-    let outcome = run_stage(&mut engine, Stage::Main, &predictor, observer)?;
-    if !outcome.complete() {
-        return Ok(stopped(Stage::Main, &outcome));
-    }
+    let spec = MainPlanSpec {
+        grid: &grid,
+        function: &fit.function,
+        phi_h_deg,
+        order: settings.order,
+        hdr: settings.hdr,
+    };
+    let plan = match settings.sequential {
+        None => {
+            let predicted = PredictedExposures {
+                predictor: &predictor,
+                capturer: engine.hdr,
+            };
+            let plan = main_plan(engine.journal, device, &spec, &predicted, observer)?;
+            let outcome = run_stage(&mut engine, Stage::Main, &predictor, observer)?;
+            if !outcome.complete() {
+                return Ok(stopped(Stage::Main, &outcome));
+            }
+            plan
+        }
+        Some(limits) => {
+            let plan = engine
+                .journal
+                .record_or_insert(|| candidate_record(device, &spec))?;
+            let before_main_s = checks.as_ref().map_or(0.0, |c| c.device_s)
+                + engine
+                    .journal
+                    .samples(Stage::Probe)?
+                    .values()
+                    .map(|s| s.device_s)
+                    .sum::<f64>();
+            let sequential = SequentialSpec {
+                grid: &grid,
+                function: &fit.function,
+                phi_h_deg,
+                settings,
+                limits,
+                before_main_s,
+                prior,
+            };
+            match sequential::run(&mut engine, device, &sequential, &predictor, observer)? {
+                SequenceOutcome::Complete => plan,
+                SequenceOutcome::Stopped(outcome) => return Ok(stopped(Stage::Main, &outcome)),
+            }
+        }
+    };
 
     observer.step("reconstructing");
     let main = engine.journal.samples(Stage::Main)?;
@@ -301,7 +329,7 @@ fn probe_plan(device: &Device, settings: &MeasureSettings, phi_h_deg: f64) -> Ve
 }
 
 /// The measurable samples of a plan as journal rows, in execution order.
-fn rows_of(plan: &Plan) -> Vec<PlannedRow> {
+pub(crate) fn rows_of(plan: &Plan) -> Vec<PlannedRow> {
     plan.measured()
         .enumerate()
         .map(|(seq, (s, axes))| PlannedRow {
@@ -460,22 +488,35 @@ fn main_plan(
         PlanOrder::Optimized => order(&nested),
         PlanOrder::Nested => nested.clone(),
     };
-    let summary = nested.summary(device);
-    let record = PlanRecord {
-        total: summary.total,
-        measurable: summary.measurable,
-        limit: summary.limit,
-        occluded: summary.occluded,
-        nested_bracket_s: summary.duration_s(),
-        ordered_bracket_s: chosen.summary(device).duration_s(),
-    };
+    let record = plan_record(&nested, device);
     price_captures(&mut chosen, device, spec.hdr, predicted);
     journal.set_plan(Stage::Main, &rows_of(&chosen))?;
     journal.put_record(&record)?;
     Ok(record)
 }
 
-fn run_stage(
+/// A plan's counts and the time model's estimate of its nested order with the fixed
+/// bracket (the paper's way).
+fn plan_record(nested: &Plan, device: &Device) -> PlanRecord {
+    let summary = nested.summary(device);
+    PlanRecord {
+        total: summary.total,
+        measurable: summary.measurable,
+        limit: summary.limit,
+        occluded: summary.occluded,
+        nested_bracket_s: summary.duration_s(),
+    }
+}
+
+/// The counts of a sequential measurement's candidates: the grid the fixed plan would take.
+fn candidate_record(device: &Device, spec: &MainPlanSpec) -> PlanRecord {
+    plan_record(
+        &nested_plan(device, spec.grid, spec.function, spec.phi_h_deg),
+        device,
+    )
+}
+
+pub(crate) fn run_stage(
     engine: &mut Engine,
     stage: Stage,
     predictor: &Predictor,

@@ -143,6 +143,16 @@ pub enum WorkflowError {
         /// The measurable samples of the plan record.
         measurable: usize,
     },
+    /// A sequential session whose record does not fit its grid.
+    #[error("{session}: the journal is damaged (its sequential record chose {recorded} candidate nodes per axis, the session's grid has {candidates}); restore it from a copy or measure into a new --session")]
+    SequenceDamaged {
+        /// The session journal.
+        session: PathBuf,
+        /// The record's node counts per axis.
+        recorded: String,
+        /// The candidates' node counts per axis.
+        candidates: String,
+    },
     /// The grid cannot be stepped (a step zero or negative, ...).
     #[error("the measurement grid: {0}")]
     Grid(#[from] specula_core::grid::GridError),

@@ -48,11 +48,11 @@ impl Default for AlignmentSettings {
     fn default() -> Self {
         Self {
             light_elevation_deg: 30.0,
-            rotations: 8,
+            rotations: 6,
             coarse_half_width_deg: 10.0,
-            coarse_step_deg: 1.0,
+            coarse_step_deg: 2.0,
             fine_half_width_deg: 1.0,
-            fine_step_deg: 0.125,
+            fine_step_deg: 0.25,
         }
     }
 }

@@ -61,7 +61,7 @@ pub(crate) struct AlignmentArgs {
     #[arg(long = "light-elevation", alias = "light-elevation-deg", default_value_t = 30.0, value_parser = range::LIGHT_ELEVATION_DEG)]
     pub light_elevation_deg: f64,
     /// Turntable rotations, evenly over a turn. Range: a whole number from 3 to 72.
-    #[arg(long, default_value_t = 8, value_parser = range::ROTATIONS)]
+    #[arg(long, default_value_t = specula_acquisition::checks::alignment::AlignmentSettings::default().rotations, value_parser = range::ROTATIONS)]
     pub rotations: usize,
 }
 

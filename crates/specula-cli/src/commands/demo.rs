@@ -6,8 +6,9 @@ use crate::interrupt::{blame_stop, stop_on_ctrl_c, Interrupted};
 use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
 use specula_report::{write_session_pictures, ReportRequest};
+use specula_session::journal::SequentialSettings;
 use specula_session::workflow::{
-    default_session_path, measure, session_grid, summary_path, MeasureOutcome, MeasureSettings,
+    default_session_path, measure, session_settings, summary_path, MeasureOutcome, MeasureSettings,
     Source,
 };
 use std::path::{Path, PathBuf};
@@ -45,9 +46,13 @@ pub(crate) fn run(args: Args) -> Result<()> {
         let truth = specula_formats::source::load_brdf(name)?;
         let table = dir.join(format!("{name}.binary"));
         let session = default_session_path(&table);
+        // A resumed session keeps its grid and how its main stage is measured; a new one is
+        // measured as `specula measure` does by default, sequentially.
+        let resumed = session_settings(&session)?;
         let settings = MeasureSettings {
             seed: args.seed,
-            grid: session_grid(&session)?.unwrap_or_default(),
+            grid: resumed.as_ref().map(|s| s.grid).unwrap_or_default(),
+            sequential: resumed.map_or(Some(SequentialSettings::default()), |s| s.sequential),
             ..MeasureSettings::default()
         };
         eprintln!(

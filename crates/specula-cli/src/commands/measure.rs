@@ -12,6 +12,7 @@ use specula_core::request::ProbeRequest;
 use specula_core::shown::duration_text;
 use specula_core::ProbeSpec;
 use specula_session::engine::{Progress, StageOutcome};
+use specula_session::journal::SequentialSettings;
 use specula_session::protocol::Endpoint;
 use specula_session::workflow::{
     summary_path, HdrChoice, MeasureOutcome, Observer, PlanOrder, Source,
@@ -65,6 +66,21 @@ pub(crate) struct Args {
     /// Skip the alignment and orientation checks.
     #[arg(long)]
     pub skip_checks: bool,
+    /// Device time of the whole session at most, hours; the main stage is sequential.
+    ///
+    /// The session's device time at most (checks, probe and main stage): the main stage is
+    /// measured batch by batch where the table is least sure until this, --max-samples or
+    /// --target-uncertainty. With --grid-preset the whole grid is measured instead, every
+    /// position fixed before the first capture. Range: hours above 0 and at most 1000.
+    #[arg(long, default_value_t = SequentialSettings::default().max_hours, value_parser = range::MAX_HOURS, conflicts_with = "grid_preset")]
+    pub max_hours: f64,
+    /// The main stage's samples at most. Range: a whole number from 10 to 1000000.
+    #[arg(hide_short_help = true, long, default_value_t = SequentialSettings::default().max_samples, value_parser = range::MAX_SAMPLES, conflicts_with = "grid_preset")]
+    pub max_samples: usize,
+    /// Stop when the median relative uncertainty of the table's cells within 75 deg is this,
+    /// percent. Range: percent above 0 and at most 100.
+    #[arg(hide_short_help = true, long, value_parser = range::TARGET_UNCERTAINTY_PERCENT, conflicts_with = "grid_preset")]
+    pub target_uncertainty: Option<f64>,
     /// Tilt of the simulated sample. Range: degrees from 0 to 10.
     #[arg(hide_short_help = true, long, default_value_t = 0.0, value_parser = range::TILT_DEG, alias = "tilt-deg")]
     pub tilt: f64,
@@ -103,6 +119,15 @@ impl Args {
             method: self.method,
             deblur: !self.no_deblur,
             checks: !self.skip_checks,
+            sequential: self
+                .grid
+                .grid_preset
+                .is_none()
+                .then_some(SequentialSettings {
+                    max_hours: self.max_hours,
+                    max_samples: self.max_samples,
+                    target_uncertainty_rel: self.target_uncertainty.map(|p| p / 100.0),
+                }),
             out: self.out.clone(),
             session: self.session.clone(),
         }
@@ -125,6 +150,16 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
     outln!("session: {}", session.display());
     outln!("grid: {grid}");
+    if let Some(limits) = request.sequential()? {
+        outln!(
+            "main stage: sequential, batch by batch where the table is least sure, until {} h of device time or {} samples{}",
+            limits.max_hours,
+            limits.max_samples,
+            limits
+                .target_uncertainty_rel
+                .map_or(String::new(), |t| format!(" or a median relative uncertainty of {} %", 100.0 * t))
+        );
+    }
     let mut observer = Bars::default();
     let prior = basis_for(request.method)?;
     let outcome = run_measure(

@@ -57,9 +57,9 @@ use std::time::{SystemTime, UNIX_EPOCH};
 mod records;
 
 pub use records::{
-    ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice, MeasureSettings,
-    NewestVersionRecord, PlanOrder, PlanRecord, Record, SessionRecord, SourceRecord, Stage,
-    VersionRecord,
+    BatchRecord, ChecksRecord, CreatedRecord, DeviceRecord, FitRecord, HdrChoice, MeasureSettings,
+    NewestVersionRecord, PlanOrder, PlanRecord, Record, SequenceRecord, SequentialSettings,
+    SessionRecord, SourceRecord, Stage, VersionRecord,
 };
 
 /// What a committed sample survives.
@@ -201,11 +201,7 @@ impl Journal {
         key: &str,
         value: &T,
     ) -> Result<(), JournalError> {
-        let text = serde_json::to_string(value).map_err(|cause| JournalError::Json {
-            path: self.name(),
-            key: key.to_string(),
-            cause,
-        })?;
+        let text = self.json(key, value)?;
         self.conn
             .execute(
                 "INSERT INTO meta (key, value) VALUES (?1, ?2)
@@ -214,6 +210,20 @@ impl Journal {
             )
             .map_err(|e| self.err(e))?;
         Ok(())
+    }
+
+    /// `value` as the JSON text the `meta` table keeps under `key`.
+    fn json<T: Serialize + ?Sized>(&self, key: &str, value: &T) -> Result<String, JournalError> {
+        serde_json::to_string(value).map_err(|cause| JournalError::Json {
+            path: self.name(),
+            key: key.to_string(),
+            cause,
+        })
+    }
+
+    /// The typed record `R` as the JSON text the `meta` table keeps.
+    fn record_json<R: Record>(&self, value: &R) -> Result<String, JournalError> {
+        self.json(R::KEY, value)
     }
 
     /// A metadata value, if stored.

@@ -265,6 +265,72 @@ pub struct MeasureSettings {
     pub tilt_deg: f64,
     /// The simulated sample's tilt azimuth in the turntable frame, degrees.
     pub tilt_azimuth_deg: f64,
+    /// Measure the main stage sequentially, batch by batch where the table is least sure,
+    /// until one of these limits; `None` (and journals written before it existed): the whole
+    /// grid, every position fixed before the first capture.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sequential: Option<SequentialSettings>,
+}
+
+/// When a sequential measurement stops (`crate::sequential`): the first limit reached.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SequentialSettings {
+    /// The whole session's device time (checks, probe, main stage), hours.
+    pub max_hours: f64,
+    /// The main stage's samples.
+    pub max_samples: usize,
+    /// The median relative standard uncertainty (k = 1) of the cells within 75 deg at which
+    /// the table is good enough; `None`: no such target.
+    pub target_uncertainty_rel: Option<f64>,
+}
+
+impl Default for SequentialSettings {
+    /// One hour per material, at most the paper's 4073 samples, no uncertainty target.
+    fn default() -> Self {
+        Self {
+            max_hours: 1.0,
+            max_samples: 4073,
+            target_uncertainty_rel: None,
+        }
+    }
+}
+
+/// One batch of a sequential measurement and why it was chosen.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BatchRecord {
+    /// The main stage's samples before the batch.
+    pub samples_before: usize,
+    /// The batch's samples.
+    pub samples: usize,
+    /// The session's device time before the batch, seconds.
+    pub device_s_before: f64,
+    /// The batch's predicted device time, seconds.
+    pub predicted_s: f64,
+    /// The median relative standard uncertainty (k = 1) of the cells within 75 deg of the
+    /// table before the batch; `None` for the first design, chosen before any table.
+    pub median_uncertainty_rel: Option<f64>,
+    /// Where the batch went: the candidate planes it added (`theta_d 33, 39 deg`), or for the
+    /// first design its nodes (`8 of 16 theta_h x 12 of 50 theta_d x 4 of 7 phi_d`).
+    #[serde(default)]
+    pub planes: String,
+}
+
+/// A sequential measurement's decisions: its batches, and why it stopped.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct SequenceRecord {
+    /// The batches in the order they were chosen.
+    pub batches: Vec<BatchRecord>,
+    /// Why no further batch was chosen, once that was decided.
+    pub stopped: Option<String>,
+    /// The median relative standard uncertainty of the table after the last batch.
+    pub final_median_uncertainty_rel: Option<f64>,
+    /// The candidate nodes chosen so far on each axis (theta_h, theta_d, phi_d): what a
+    /// resumed run decides from.
+    pub chosen: Vec<Vec<bool>>,
+}
+
+impl Record for SequenceRecord {
+    const KEY: &'static str = "sequence";
 }
 
 impl MeasureSettings {
@@ -296,6 +362,7 @@ impl Default for MeasureSettings {
             checks: true,
             tilt_deg: 0.0,
             tilt_azimuth_deg: 0.0,
+            sequential: None,
         }
     }
 }
@@ -337,7 +404,8 @@ pub struct FitRecord {
     pub grid: Option<GridSpec>,
 }
 
-/// The main plan's counts as the journal keeps them.
+/// The main plan's counts as the journal keeps them (for a sequential measurement, its
+/// candidates').
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PlanRecord {
     /// Samples in the main plan.
@@ -350,8 +418,6 @@ pub struct PlanRecord {
     pub occluded: usize,
     /// The time model's estimate of the paper's way: nested order, fixed bracket, seconds.
     pub nested_bracket_s: f64,
-    /// The time model's estimate for the plan as ordered (fixed bracket), seconds.
-    pub ordered_bracket_s: f64,
 }
 
 /// Everything a journal holds about its session, read at once.
@@ -375,6 +441,8 @@ pub struct SessionRecord {
     pub fit: Option<FitRecord>,
     /// The main plan's counts (paper 5.3).
     pub plan: Option<PlanRecord>,
+    /// A sequential measurement's batches and why it stopped.
+    pub sequence: Option<SequenceRecord>,
     /// The stages' progress and the events.
     pub status: SessionStatus,
 }
@@ -397,6 +465,7 @@ impl SessionRecord {
             checks: journal.record()?,
             fit: journal.record()?,
             plan: journal.record()?,
+            sequence: journal.record()?,
             status: journal.status()?,
         })
     }

@@ -1,7 +1,7 @@
 //! The planned and finished samples of each stage and their captures: the `plan`,
 //! `samples` and `captures` tables, one transaction per sample.
 
-use super::{check, sql_error, Journal, JournalError, Stage};
+use super::{check, sql_error, Journal, JournalError, Record, Stage};
 use rusqlite::{params, Transaction};
 use specula_acquisition::kinematics::AxisPositions;
 use specula_core::{HalfDiff, Rgb};
@@ -145,6 +145,45 @@ impl Journal {
         let path = self.path.clone();
         let tx = self.conn.transaction().map_err(|e| sql_error(&path, e))?;
         insert_plan(&tx, stage, rows).map_err(|e| sql_error(&path, e))?;
+        tx.commit().map_err(|e| sql_error(&path, e))
+    }
+
+    /// Appends `rows` to a stage's plan and keeps `record` (the decision that chose them), in
+    /// one transaction: a sequential measurement's next batch. The rows' `seq` must continue
+    /// the stored plan's; a crash leaves the journal with both or neither.
+    pub fn append_plan<R: Record>(
+        &mut self,
+        stage: Stage,
+        rows: &[PlannedRow],
+        record: &R,
+    ) -> Result<(), JournalError> {
+        let stored = self.plan(stage)?.len();
+        if let Some((i, row)) = rows
+            .iter()
+            .enumerate()
+            .find(|(i, row)| row.seq as usize != stored + i)
+        {
+            return Err(JournalError::PlanMismatch {
+                path: self.name(),
+                stage: stage.name().to_string(),
+                problem: format!(
+                    "appended sample {} has seq {}, expected {}",
+                    i,
+                    row.seq,
+                    stored + i
+                ),
+            });
+        }
+        let text = self.record_json(record)?;
+        let path = self.path.clone();
+        let tx = self.conn.transaction().map_err(|e| sql_error(&path, e))?;
+        insert_plan(&tx, stage, rows).map_err(|e| sql_error(&path, e))?;
+        tx.execute(
+            "INSERT INTO meta (key, value) VALUES (?1, ?2)
+             ON CONFLICT (key) DO UPDATE SET value = excluded.value",
+            params![R::KEY, text],
+        )
+        .map_err(|e| sql_error(&path, e))?;
         tx.commit().map_err(|e| sql_error(&path, e))
     }
 

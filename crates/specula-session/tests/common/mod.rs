@@ -75,6 +75,7 @@ pub(crate) fn run_main_stage(
         settings: EngineSettings::default(),
         stop: stage.stop,
         link_notes: stage.link_notes,
+        ran: Vec::new(),
     };
     let predictor = Predictor::new(stage.calibration.clone(), None);
     engine.run_stage(Stage::Main, &predictor, &mut |p| after_sample(p.done))

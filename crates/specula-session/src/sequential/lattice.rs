@@ -1,0 +1,274 @@
+//! The candidate lattice of a sequential measurement and the sub-lattice measured so far.
+//!
+//! The candidates are the grid the fixed plan would measure (paper 5.3): theta_h from the
+//! fitted sampling function, theta_d and phi_d from the grid. The reconstruction interpolates
+//! a tensor lattice spanned by the samples' coordinates and continues it from the nearest
+//! node where a node is missing (`specula_reconstruct`'s lattice and extrapolation), so a
+//! sequential measurement keeps what it measures a tensor sub-lattice: it chooses *planes*
+//! (one theta_h, theta_d or phi_d node of the candidates) and measures every reachable
+//! position of the product of the chosen nodes. An isolated sample would open a lattice line
+//! that the rest of the lattice fills by nearest-node continuation.
+
+use specula_acquisition::device::Device;
+use specula_acquisition::plan::Plan;
+use specula_core::HalfDiff;
+
+/// The three axes of the lattice, in its index order.
+pub(crate) const AXES: usize = 3;
+/// The axes' names, in their index order.
+const AXIS_NAMES: [&str; AXES] = ["theta_h", "theta_d", "phi_d"];
+
+/// The candidates' nodes on every axis (theta_h, theta_d, phi_d; degrees), which products
+/// the device reaches, and the nodes chosen so far.
+#[derive(Debug, Clone)]
+pub(crate) struct CandidateLattice {
+    /// The nodes of each axis, degrees, increasing.
+    pub nodes_deg: [Vec<f64>; AXES],
+    /// The sample's orientation, degrees.
+    pub phi_h_deg: f64,
+    /// Whether the device reaches the product node `(h, d, p)`, at [`Self::flat`].
+    reachable: Vec<bool>,
+    /// The chosen nodes of each axis.
+    pub chosen: [Vec<bool>; AXES],
+}
+
+impl CandidateLattice {
+    /// The lattice `theta_h x theta_d x phi_d` (degrees) at `phi_h_deg`, with what `device`
+    /// reaches; nothing chosen yet.
+    pub(crate) fn new(
+        theta_h_deg: Vec<f64>,
+        theta_d_deg: Vec<f64>,
+        phi_d_deg: Vec<f64>,
+        phi_h_deg: f64,
+        device: &Device,
+    ) -> Self {
+        let nodes_deg = [theta_h_deg, theta_d_deg, phi_d_deg];
+        let plan = Plan::from_grid(
+            &nodes_deg[0],
+            &nodes_deg[1],
+            &nodes_deg[2],
+            phi_h_deg,
+            device,
+        );
+        let mut reachable = vec![false; nodes_deg.iter().map(Vec::len).product()];
+        for (sample, _) in plan.measured() {
+            reachable[sample.index] = true;
+        }
+        let chosen = nodes_deg.clone().map(|n| vec![false; n.len()]);
+        Self {
+            nodes_deg,
+            phi_h_deg,
+            reachable,
+            chosen,
+        }
+    }
+
+    /// The index of the product node `(h, d, p)` (theta_h outermost, as `Plan::from_grid`).
+    fn flat(&self, [h, d, p]: [usize; AXES]) -> usize {
+        (h * self.nodes_deg[1].len() + d) * self.nodes_deg[2].len() + p
+    }
+
+    /// Whether the device reaches the product node `(h, d, p)`.
+    pub(crate) fn reaches(&self, node: [usize; AXES]) -> bool {
+        self.reachable[self.flat(node)]
+    }
+
+    /// The half-difference angles of the product node `(h, d, p)`.
+    pub(crate) fn half_diff(&self, [h, d, p]: [usize; AXES]) -> HalfDiff {
+        HalfDiff::from_degrees(
+            self.nodes_deg[0][h],
+            self.phi_h_deg,
+            self.nodes_deg[1][d],
+            self.nodes_deg[2][p],
+        )
+    }
+
+    /// The reachable product nodes of `chosen` (theta_h outermost).
+    pub(crate) fn product(&self, chosen: &[Vec<bool>; AXES]) -> Vec<[usize; AXES]> {
+        let picked =
+            |a: usize| -> Vec<usize> { (0..chosen[a].len()).filter(|&i| chosen[a][i]).collect() };
+        let (hs, ds, ps) = (picked(0), picked(1), picked(2));
+        let mut out = Vec::new();
+        for &h in &hs {
+            for &d in &ds {
+                for &p in &ps {
+                    if self.reaches([h, d, p]) {
+                        out.push([h, d, p]);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The reachable product nodes of the chosen nodes.
+    pub(crate) fn chosen_product(&self) -> Vec<[usize; AXES]> {
+        self.product(&self.chosen)
+    }
+
+    /// Chooses the nodes a first design measures: on each axis every `stride`-th node and the
+    /// last, for the strides whose reachable product is the largest with at most
+    /// `max_samples` positions (ties to the finer theta_h, where the peak is); the coarsest
+    /// when none is that small.
+    pub(crate) fn choose_initial(&mut self, max_samples: usize) {
+        let lens = self.nodes_deg.each_ref().map(Vec::len);
+        let designs = initial_strides(lens).into_iter().map(|stride| {
+            let chosen: [Vec<bool>; AXES] = std::array::from_fn(|a| every(lens[a], stride[a]));
+            (self.product(&chosen).len(), stride, chosen)
+        });
+        let (fitting, too_large): (Vec<_>, Vec<_>) =
+            designs.partition(|(count, ..)| *count <= max_samples);
+        let best = fitting
+            .into_iter()
+            .max_by(|a, b| a.0.cmp(&b.0).then(b.1[0].cmp(&a.1[0])))
+            .or_else(|| too_large.into_iter().min_by_key(|d| d.0));
+        if let Some((_, _, chosen)) = best {
+            self.chosen = chosen;
+        }
+    }
+
+    /// This lattice with `chosen` as its chosen nodes.
+    pub(crate) fn with_chosen(&self, chosen: &[Vec<bool>; AXES]) -> Self {
+        Self {
+            chosen: chosen.clone(),
+            ..self.clone()
+        }
+    }
+
+    /// Takes the chosen nodes a journal kept; `false` (nothing changed) when their counts
+    /// are not this lattice's.
+    pub(crate) fn restore(&mut self, chosen: &[Vec<bool>]) -> bool {
+        let fits =
+            chosen.len() == AXES && (0..AXES).all(|a| chosen[a].len() == self.nodes_deg[a].len());
+        if fits {
+            self.chosen = std::array::from_fn(|a| chosen[a].clone());
+        }
+        fits
+    }
+
+    /// The nodes `chosen` holds that this lattice has not chosen, in words:
+    /// `theta_d 33, 39 deg; phi_d 60 deg`.
+    pub(crate) fn planes_added_by(&self, chosen: &[Vec<bool>; AXES]) -> String {
+        let parts: Vec<String> = (0..AXES)
+            .filter_map(|a| {
+                let added: Vec<String> = (0..chosen[a].len())
+                    .filter(|&i| chosen[a][i] && !self.chosen[a][i])
+                    .map(|i| {
+                        format!("{:.4}", self.nodes_deg[a][i])
+                            .trim_end_matches('0')
+                            .trim_end_matches('.')
+                            .to_string()
+                    })
+                    .collect();
+                (!added.is_empty()).then(|| format!("{} {} deg", AXIS_NAMES[a], added.join(", ")))
+            })
+            .collect();
+        parts.join("; ")
+    }
+
+    /// The chosen nodes' counts against the candidates', in words:
+    /// `8 of 16 theta_h x 12 of 50 theta_d x 4 of 7 phi_d`.
+    pub(crate) fn design_text(&self) -> String {
+        let parts: Vec<String> = (0..AXES)
+            .map(|a| {
+                let chosen = self.chosen[a].iter().filter(|&&c| c).count();
+                format!("{chosen} of {} {}", self.nodes_deg[a].len(), AXIS_NAMES[a])
+            })
+            .collect();
+        parts.join(" x ")
+    }
+
+    /// How many positions choosing node `i` of `axis` would add to the measured product.
+    pub(crate) fn added_by(&self, axis: usize, i: usize) -> usize {
+        let mut with = self.chosen.clone();
+        with[axis][i] = true;
+        self.product(&with).len() - self.chosen_product().len()
+    }
+}
+
+/// Every `stride`-th of `len` nodes, and the last.
+fn every(len: usize, stride: usize) -> Vec<bool> {
+    (0..len).map(|i| i % stride == 0 || i + 1 == len).collect()
+}
+
+/// The strides a first design chooses among (theta_h, theta_d, phi_d), each axis's at most
+/// its node count less one (beyond it the stride keeps only the ends).
+fn initial_strides(lens: [usize; AXES]) -> Vec<[usize; AXES]> {
+    let mut out = Vec::new();
+    for h in [1, 2, 3] {
+        for d in [1, 2, 3, 4, 6, 8, 12] {
+            for p in [1, 2, 3] {
+                let stride = [h, d, p];
+                if (0..AXES).all(|a| stride[a] == 1 || stride[a] < lens[a]) {
+                    out.push(stride);
+                }
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn utia() -> Device {
+        Device::utia()
+    }
+
+    #[test]
+    fn the_product_of_the_chosen_nodes_is_what_the_device_reaches() {
+        let device = utia();
+        let mut lattice = CandidateLattice::new(
+            vec![0.0, 1.0, 4.0, 10.0],
+            vec![10.0, 30.0, 50.0, 70.0, 85.0],
+            vec![0.0, 90.0, 180.0],
+            45.0,
+            &device,
+        );
+        lattice.chosen = lattice.nodes_deg.each_ref().map(|n| vec![true; n.len()]);
+        let all = lattice.chosen_product();
+        let plan = Plan::from_grid(
+            &lattice.nodes_deg[0],
+            &lattice.nodes_deg[1],
+            &lattice.nodes_deg[2],
+            45.0,
+            &device,
+        );
+        assert_eq!(all.len(), plan.measured().count());
+        assert!(
+            all.len() < 4 * 5 * 3,
+            "theta_d 85 is beyond the camera's 75 deg"
+        );
+    }
+
+    #[test]
+    fn a_first_design_keeps_every_axis_ends_and_fits_its_budget() {
+        let device = utia();
+        let theta_d: Vec<f64> = (0..30).map(|i| 1.5 + 3.0 * i as f64).collect();
+        let mut lattice = CandidateLattice::new(
+            (0..16).map(|i| (i * i) as f64 * 0.2).collect(),
+            theta_d,
+            vec![0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0],
+            45.0,
+            &device,
+        );
+        lattice.choose_initial(400);
+        let n = lattice.chosen_product().len();
+        assert!(n <= 400 && n > 100, "{n} positions");
+        for axis in 0..AXES {
+            let c = &lattice.chosen[axis];
+            assert!(c[0] && c[c.len() - 1], "axis {axis} keeps its ends");
+        }
+        let design = lattice.design_text();
+        assert!(design.contains(" of 30 theta_d x "), "{design}");
+        // Choosing a theta_d node adds one position per reachable (theta_h, phi_d) pair.
+        let free = (0..30).find(|&i| !lattice.chosen[1][i]).unwrap();
+        let added = lattice.added_by(1, free);
+        assert!(added > 0 && added <= 16 * 7);
+        let mut more = lattice.chosen.clone();
+        more[1][free] = true;
+        let words = lattice.planes_added_by(&more);
+        assert_eq!(words, format!("theta_d {} deg", 1.5 + 3.0 * free as f64));
+    }
+}

@@ -1,0 +1,144 @@
+//! A sequential measurement on the simulated device: it keeps to its time limit, journals
+//! each batch with the decision that chose it, and a stopped run resumes to the same table.
+
+use specula_acquisition::device::Device;
+use specula_core::materials::preset;
+use specula_core::{GridSpec, ThetaDSteps};
+use specula_session::engine::{Progress, StageOutcome};
+use specula_session::journal::{Journal, SequenceRecord, SequentialSettings};
+use specula_session::workflow::{measure, MeasureOutcome, MeasureSettings, Observer, Source};
+use specula_session::Stage;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// The whole session's device time limit, hours.
+const MAX_HOURS: f64 = 0.2;
+
+fn settings() -> MeasureSettings {
+    MeasureSettings {
+        probe_samples: 30,
+        grid: GridSpec {
+            theta_h_samples: 8,
+            theta_d: ThetaDSteps::even(6.0),
+            phi_d_step_deg: 30.0,
+            ..GridSpec::recommended()
+        },
+        checks: false,
+        sequential: Some(SequentialSettings {
+            max_hours: MAX_HOURS,
+            ..SequentialSettings::default()
+        }),
+        ..MeasureSettings::default()
+    }
+}
+
+/// Raises the stop flag once the main stage holds `after` samples.
+struct StopAfter {
+    after: usize,
+    stop: Arc<AtomicBool>,
+    stage: Option<Stage>,
+}
+
+impl Observer for StopAfter {
+    fn step(&mut self, _: &str) {}
+    fn stage_started(&mut self, stage: Stage, _: usize, _: usize) {
+        self.stage = Some(stage);
+    }
+    fn sample(&mut self, progress: &Progress) {
+        if self.stage == Some(Stage::Main) && progress.done >= self.after {
+            self.stop.store(true, Ordering::SeqCst);
+        }
+    }
+    fn stage_finished(&mut self, _: Stage, _: &StageOutcome) {}
+}
+
+fn run(dir: &Path, observer: &mut dyn Observer, stop: Arc<AtomicBool>) -> MeasureOutcome {
+    measure(
+        Source::Simulated {
+            truth: Arc::new(preset("silver-925").unwrap()),
+            speedup: None,
+        },
+        &Device::utia(),
+        &settings(),
+        None,
+        &dir.join("s.sqlite"),
+        &dir.join("s.binary"),
+        stop,
+        observer,
+    )
+    .unwrap()
+}
+
+fn record(dir: &Path) -> SequenceRecord {
+    Journal::open_read_only(&dir.join("s.sqlite"))
+        .unwrap()
+        .record()
+        .unwrap()
+        .unwrap()
+}
+
+#[test]
+fn a_sequential_measurement_keeps_its_time_limit_and_resumes_to_the_same_table() {
+    let whole = tempfile::tempdir().unwrap();
+    let never = Arc::new(AtomicBool::new(false));
+    let mut quiet = StopAfter {
+        after: usize::MAX,
+        stop: never.clone(),
+        stage: None,
+    };
+    let MeasureOutcome::Complete(summary) = run(whole.path(), &mut quiet, never) else {
+        panic!("stopped without a stop");
+    };
+    // The limit holds for the whole session, checks and probe included.
+    assert!(
+        summary.device_s <= MAX_HOURS * 3600.0,
+        "{} s of {} h",
+        summary.device_s,
+        MAX_HOURS
+    );
+    let sequence = record(whole.path());
+    assert!(sequence.batches.len() >= 2, "{sequence:?}");
+    assert!(sequence.batches[0].median_uncertainty_rel.is_none());
+    assert!(sequence.batches[1..]
+        .iter()
+        .all(|b| b.median_uncertainty_rel.is_some()));
+    // The table is surer after the batches than after the first design.
+    let first = sequence.batches[1].median_uncertainty_rel.unwrap();
+    let last = sequence.final_median_uncertainty_rel.unwrap();
+    assert!(last < first, "{first} then {last}");
+    let measured: usize = sequence.batches.iter().map(|b| b.samples).sum();
+    assert_eq!(measured, summary.measured_samples);
+    // Fewer samples than the fixed grid of the same candidates.
+    assert!(summary.measured_samples < summary.plan.measurable);
+    assert!(sequence.stopped.is_some());
+    let lines = summary.lines().join("\n");
+    assert!(lines.contains("sequential_batches="), "{lines}");
+
+    // Stopped inside the second batch, then resumed: the same batches and the same table.
+    let resumed = tempfile::tempdir().unwrap();
+    let stop = Arc::new(AtomicBool::new(false));
+    let mut stopper = StopAfter {
+        after: sequence.batches[0].samples + 3,
+        stop: stop.clone(),
+        stage: None,
+    };
+    let first = run(resumed.path(), &mut stopper, stop);
+    assert!(matches!(first, MeasureOutcome::Stopped { .. }));
+    let go_on = Arc::new(AtomicBool::new(false));
+    let mut quiet = StopAfter {
+        after: usize::MAX,
+        stop: go_on.clone(),
+        stage: None,
+    };
+    assert!(matches!(
+        run(resumed.path(), &mut quiet, go_on),
+        MeasureOutcome::Complete(_)
+    ));
+    assert_eq!(record(resumed.path()).batches, sequence.batches);
+    let bytes = |dir: &Path| std::fs::read(dir.join("s.binary")).unwrap();
+    assert!(
+        bytes(whole.path()) == bytes(resumed.path()),
+        "the tables differ"
+    );
+}
