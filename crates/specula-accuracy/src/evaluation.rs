@@ -1,7 +1,7 @@
 //! What a user asks of the accuracy harness (`specula evaluate`, the Python package's
 //! `evaluate`): the truths, the plan, the method and the region of the figures, every range
 //! checked in one place ([`EvaluateRequest::validate`], errors naming the Python argument),
-//! one entry point per truth ([`evaluate_truth`]) and the table both print
+//! one entry point ([`run_evaluate`], stoppable between truths) and the table both print
 //! ([`EvaluationTable`]).
 
 use crate::merl_prior::{basis_for, MerlPriorError};
@@ -10,6 +10,7 @@ use crate::{Accuracy, Measurement, PlacementChoice, PlacementError, PlanSettings
 use specula_acquisition::device::Device;
 use specula_core::compare::ErrorFigures;
 use specula_core::materials::builtin_database;
+use specula_core::progress::{is_raised, Progress, Stopped};
 use specula_core::request::{
     parse_choice, sampling_function, ChoiceError, GridRequest, RequestError, ELEVATION_DEG,
 };
@@ -18,10 +19,11 @@ use specula_core::statistics::Statistic;
 use specula_core::{Brdf, GridSpec, Sample};
 use specula_formats::fits::{load_model, FitModel};
 use specula_formats::nbrdf::NbrdfSet;
-use specula_reconstruct::{Method, ReconstructError};
+use specula_reconstruct::{Method, PriorBasis, ReconstructError};
 use std::error::Error;
 use std::fmt;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 /// Why an evaluation is refused or fails.
@@ -39,6 +41,9 @@ pub enum EvaluateError {
     /// The `prior` method's basis could not be derived.
     #[error(transparent)]
     Prior(#[from] MerlPriorError),
+    /// The evaluation was stopped before it finished.
+    #[error(transparent)]
+    Stopped(#[from] Stopped),
     /// The reconstruction of a truth's samples failed.
     #[error("{name}: reconstructing {measured} samples")]
     Reconstruct {
@@ -203,37 +208,107 @@ impl EvaluateRequest {
     }
 }
 
-/// Measures `truth` on `settings` without noise (through `device`'s response when the
-/// request says so), reconstructs it and compares it with the truth.
-pub fn evaluate_truth(
+/// The evaluated truths, each with its set, and the plan they were measured on.
+#[derive(Debug, Clone)]
+pub struct Evaluation {
+    /// The plan settings on the grid asked for.
+    pub settings: PlanSettings,
+    /// Each truth's set and evaluation, in the order given.
+    pub rows: Vec<(String, Evaluated)>,
+}
+
+impl Evaluation {
+    /// The table `specula evaluate` prints of it.
+    pub fn table<'a>(&'a self, request: &'a EvaluateRequest) -> EvaluationTable<'a> {
+        EvaluationTable {
+            request,
+            grid: &self.settings.grid,
+            rows: &self.rows,
+        }
+    }
+}
+
+/// Evaluates each of `truths` as `request` asks: measured on its plan without noise (through
+/// `device`'s response when the request says so), reconstructed and compared with the truth.
+/// `progress` counts the truths; a raised `stop` ends the evaluation before the next truth or
+/// the next reconstruction with [`Stopped`].
+pub fn run_evaluate(
+    request: &EvaluateRequest,
+    truths: &[SetTruth],
+    device: &Device,
+    stop: &AtomicBool,
+    progress: &dyn Progress,
+) -> Result<Evaluation, EvaluateError> {
+    let settings = request.plan_settings()?;
+    let prior = basis_for(request.method)?;
+    let mut rows = Vec::with_capacity(truths.len());
+    progress.start("evaluating", Some(truths.len() as u64));
+    for (set, truth) in truths {
+        let stopped = || Stopped {
+            done: rows.len() as u64,
+            total: truths.len() as u64,
+            what: "materials",
+        };
+        let evaluated = evaluate_truth(
+            request,
+            &settings,
+            truth.as_ref(),
+            device,
+            prior.as_deref(),
+            stop,
+        )?
+        .ok_or_else(stopped);
+        match evaluated {
+            Ok(evaluated) => rows.push((set.clone(), evaluated)),
+            Err(stopped) => {
+                progress.finish();
+                return Err(stopped.into());
+            }
+        }
+        progress.set(rows.len() as u64);
+    }
+    progress.finish();
+    Ok(Evaluation { settings, rows })
+}
+
+/// Measures `truth` on `settings`, reconstructs it and compares it with the truth, unless
+/// `stop` rises before the reconstruction (`None`).
+fn evaluate_truth(
     request: &EvaluateRequest,
     settings: &PlanSettings,
     truth: &dyn Brdf,
     device: &Device,
-) -> Result<Evaluated, EvaluateError> {
+    prior: Option<&PriorBasis>,
+    stop: &AtomicBool,
+) -> Result<Option<Evaluated>, EvaluateError> {
+    if is_raised(stop) {
+        return Ok(None);
+    }
     let name = truth.name();
     let response = request.through_instrument.then(|| device.response());
     let measurement = Measurement::simulate_through(truth, settings, device, response.as_ref())?;
-    let prior = basis_for(request.method)?;
+    if is_raised(stop) {
+        return Ok(None);
+    }
     let accuracy = measurement
         .accuracy(
             truth,
             request.method,
             request.max_elevation_deg,
             response.as_ref(),
-            prior.as_deref(),
+            prior,
         )
         .map_err(|source| EvaluateError::Reconstruct {
             name: name.clone(),
             measured: measurement.samples.len(),
             source,
         })?;
-    Ok(Evaluated {
+    Ok(Some(Evaluated {
         name,
         k: measurement.k,
         samples: measurement.samples,
         accuracy,
-    })
+    }))
 }
 
 /// The table of `specula evaluate`: a header naming the method, the grid and the region, one
@@ -324,6 +399,7 @@ impl fmt::Display for EvaluationTable<'_> {
 mod tests {
     use super::*;
     use specula_core::materials::preset;
+    use specula_core::progress::NoProgress;
 
     fn request() -> EvaluateRequest {
         EvaluateRequest {
@@ -368,26 +444,37 @@ mod tests {
             },
             ..request()
         };
-        let settings = request.plan_settings().unwrap();
         let device = Device::utia();
-        let rows: Vec<(String, Evaluated)> = ["green-paint", "chrome"]
+        let truths: Vec<SetTruth> = ["green-paint", "chrome"]
             .iter()
             .map(|name| {
-                let truth = preset(name).unwrap();
-                let evaluated = evaluate_truth(&request, &settings, &truth, &device).unwrap();
-                ("given".to_string(), evaluated)
+                let truth: Arc<dyn Brdf> = Arc::new(preset(name).unwrap());
+                ("given".to_string(), truth)
             })
             .collect();
-        assert!(rows
+        let evaluation = run_evaluate(
+            &request,
+            &truths,
+            &device,
+            &AtomicBool::new(false),
+            &NoProgress,
+        )
+        .unwrap();
+        assert!(evaluation
+            .rows
             .iter()
             .all(|(_, r)| r.accuracy.within.relative_rmse < 1.0));
-        let grid = request.grid.grid(None).unwrap();
-        let table = EvaluationTable {
-            request: &request,
-            grid: &grid,
-            rows: &rows,
-        }
+        let table = evaluation.table(&request).to_string();
+        let stopped = run_evaluate(
+            &request,
+            &truths,
+            &device,
+            &AtomicBool::new(true),
+            &NoProgress,
+        )
+        .unwrap_err()
         .to_string();
+        assert_eq!(stopped, "stopped: 0 of 2 materials done");
         let lines: Vec<&str> = table.lines().collect();
         assert!(lines[0].starts_with("# method lobe, grid "), "{table}");
         assert!(lines[2].starts_with("green-paint,"), "{table}");

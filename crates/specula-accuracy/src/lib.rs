@@ -30,8 +30,8 @@ pub mod merl_prior;
 pub mod summary;
 
 pub use evaluation::{
-    evaluate_truth, EvaluateError, EvaluateRequest, Evaluated, EvaluationTable, MerlFits, SetTruth,
-    TruthSets,
+    run_evaluate, EvaluateError, EvaluateRequest, Evaluated, Evaluation, EvaluationTable, MerlFits,
+    SetTruth, TruthSets,
 };
 
 use specula_acquisition::device::Device;

@@ -40,7 +40,7 @@ pub(crate) fn stop_on_ctrl_c() -> std::io::Result<Arc<AtomicBool>> {
             STOP_EXIT.store(code, Ordering::SeqCst);
             handler_flag.store(true, Ordering::SeqCst);
             eprintln!(
-                "\nfinishing the sample in progress, then stopping (Ctrl-C again to stop now)"
+                "\nfinishing the step in progress (a sample, a tile, a material), then stopping (Ctrl-C again to stop now)"
             );
         }
     });
@@ -67,6 +67,16 @@ pub(crate) fn blame_stop(error: anyhow::Error, stop: &AtomicBool) -> anyhow::Err
             "{error:#}; what was measured before is kept: run the same command to resume"
         ))
         .into()
+    } else {
+        error
+    }
+}
+
+/// As [`blame_stop`], for work that keeps nothing to resume (a plan, a render, an
+/// evaluation): once `stop` was raised its error is reported as [`Interrupted`].
+pub(crate) fn blame_stop_unresumable(error: anyhow::Error, stop: &AtomicBool) -> anyhow::Error {
+    if stop.load(Ordering::SeqCst) && !error.is::<Interrupted>() {
+        Interrupted(format!("{error:#}")).into()
     } else {
         error
     }

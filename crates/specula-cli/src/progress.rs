@@ -29,7 +29,7 @@ pub(crate) struct Terminal {
     current: std::sync::Mutex<Option<ProgressBar>>,
 }
 
-impl specula_report::Progress for Terminal {
+impl specula_core::progress::Progress for Terminal {
     fn start(&self, label: &str, total: Option<u64>) {
         let shown = match total {
             Some(total) => bar(total, label),

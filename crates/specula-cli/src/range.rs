@@ -10,7 +10,7 @@ use clap::error::ErrorKind;
 use specula_core::grid::ThetaDSteps;
 use specula_core::range::{CountRange, RangeError, RealRange};
 use specula_core::request;
-use specula_formats::rgl::write as rgl;
+use specula_formats::convert;
 
 /// A real number in a [`RealRange`], as an option's parser.
 #[derive(Clone, Copy, Debug)]
@@ -130,14 +130,9 @@ pub(crate) const IMAGE_PX: Count = Count(specula_visual::render::IMAGE_PX);
 pub(crate) const SAMPLES_PER_PIXEL: Count = Count(specula_visual::render::SAMPLES_PER_PIXEL);
 /// Incident elevations, nodes per axis of the microfacet distribution and samples per axis
 /// of the RGB grid of a written RGL file.
-pub(crate) const RGL_ELEVATIONS: Count = Count(rgl_range(rgl::ELEVATIONS_RANGE));
-pub(crate) const RGL_NDF_SIZE: Count = Count(rgl_range(rgl::NDF_SIZE_RANGE));
-pub(crate) const RGL_SAMPLE_SIZE: Count = Count(rgl_range(rgl::SAMPLE_SIZE_RANGE));
-
-/// An RGL writer's range of counts as a [`CountRange`].
-const fn rgl_range(range: std::ops::RangeInclusive<usize>) -> CountRange {
-    CountRange::from_to(*range.start(), *range.end())
-}
+pub(crate) const RGL_ELEVATIONS: Count = Count(convert::RGL_ELEVATIONS);
+pub(crate) const RGL_NDF_SIZE: Count = Count(convert::RGL_NDF_SIZE);
+pub(crate) const RGL_SAMPLE_SIZE: Count = Count(convert::RGL_SAMPLE_SIZE);
 
 #[cfg(test)]
 mod tests {

@@ -223,3 +223,41 @@ fn the_grid_and_probe_ranges_are_the_librarys_words() {
         assert!(stderr.contains(&words), "{argv:?}: {stderr}");
     }
 }
+
+/// A long render stopped by Ctrl-C (SIGINT): it ends at its next tile, exits 130 as every
+/// stopped run does, and writes no picture.
+#[test]
+fn ctrl_c_stops_a_render_at_once_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("long.png");
+    // 1024 x 1024 pixels at 4096 rays each: minutes of work.
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_specula"))
+        .args([
+            "render", "chrome", "--size", "1024", "--spp", "4096", "--out",
+        ])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(2));
+    let sent = std::time::Instant::now();
+    let interrupt = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(interrupt.success());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(
+        stderr.contains("interrupted: stopped: 0 of 1 pictures done"),
+        "{stderr}"
+    );
+    assert!(
+        sent.elapsed() < std::time::Duration::from_secs(30),
+        "stopped {:?} after the signal",
+        sent.elapsed()
+    );
+    assert!(!out.exists());
+}

@@ -276,12 +276,12 @@ fn the_figures_warnings_come_with_the_page_that_shows_them() {
     let (session, table) = measure_small(dir.path(), None);
     let pictures = dir.path().join("pictures");
     std::fs::create_dir(&pictures).unwrap();
-    let options = specula_report::ReportOptions {
+    let options = specula_report::ReportRequest {
         truth: Some("silver-925".into()),
         table: Some(table),
         size_px: SIZE_PX,
         spp: 1,
-        ..specula_report::ReportOptions::new(&session)
+        ..specula_report::ReportRequest::new(&session)
     };
     let (page, files) =
         specula_report::write_session_pictures(&options, &pictures, &specula_report::NoProgress)

@@ -11,6 +11,7 @@ pub mod geometry;
 pub mod grid;
 pub mod merl;
 mod probe;
+pub mod progress;
 pub mod range;
 pub mod request;
 mod sample;

@@ -14,15 +14,17 @@
 use crate::brdf_source::BrdfSource;
 use crate::input::{file_error, read_input};
 use crate::input::{io_error, FormatError, Result};
+use crate::rgl::write as rgl;
 use crate::rgl::{RglBsdf, RglResolution, RglTables};
 use crate::samples_csv::SampleSet;
 use crate::utia::{self, UtiaBrdf};
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
-use specula_core::request::{parse_choice, ChoiceError};
+use specula_core::range::{CountRange, RangeError};
+use specula_core::request::{parse_choice, ChoiceError, AZIMUTH_DEG};
 use specula_core::tabulate::tabulate;
 use specula_core::{Brdf, HalfDiff, Sample};
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// A measured BRDF file format.
@@ -224,6 +226,78 @@ pub struct ConvertOptions {
     pub rgl: RglResolution,
 }
 
+/// Incident elevations of a written RGL file (the writer's [`rgl::ELEVATIONS_RANGE`]).
+pub const RGL_ELEVATIONS: CountRange = count_range(rgl::ELEVATIONS_RANGE);
+/// Nodes of a written RGL file's microfacet distribution ([`rgl::NDF_SIZE_RANGE`]).
+pub const RGL_NDF_SIZE: CountRange = count_range(rgl::NDF_SIZE_RANGE);
+/// Samples per axis of a written RGL file's RGB grid ([`rgl::SAMPLE_SIZE_RANGE`]).
+pub const RGL_SAMPLE_SIZE: CountRange = count_range(rgl::SAMPLE_SIZE_RANGE);
+
+/// An RGL writer's range of counts as a [`CountRange`].
+const fn count_range(range: std::ops::RangeInclusive<usize>) -> CountRange {
+    CountRange::from_to(*range.start(), *range.end())
+}
+
+/// What `specula convert` and `specula.convert` ask, every range checked in one place
+/// ([`ConvertRequest::validate`], errors naming the Python argument; the CLI's parsers say
+/// the same words after the flag), and the one entry point both call ([`run_convert`]).
+#[derive(Debug, Clone)]
+pub struct ConvertRequest {
+    /// The BRDF to convert: a file of any readable format, or any BRDF source.
+    pub input: String,
+    /// The file to write; its extension gives the format.
+    pub output: PathBuf,
+    /// Azimuth of the half vector, degrees, at which MERL cells and bin-centre samples are
+    /// taken, in [`AZIMUTH_DEG`].
+    pub phi_h_deg: f64,
+    /// Sample placement for continuous sources written as CSV.
+    pub csv_grid: CsvGrid,
+    /// Table sizes of a written RGL `.bsdf`, in [`RGL_ELEVATIONS`], [`RGL_NDF_SIZE`] and
+    /// [`RGL_SAMPLE_SIZE`].
+    pub rgl: RglResolution,
+}
+
+impl ConvertRequest {
+    /// Checks every value against its range.
+    pub fn validate(&self) -> std::result::Result<(), RangeError> {
+        AZIMUTH_DEG.check("phi_h_deg", self.phi_h_deg)?;
+        RGL_ELEVATIONS.check("rgl_elevations", self.rgl.elevations)?;
+        RGL_NDF_SIZE.check("rgl_ndf_size", self.rgl.ndf_size)?;
+        RGL_SAMPLE_SIZE.check("rgl_sample_size", self.rgl.sample_size)?;
+        Ok(())
+    }
+
+    /// The conversion's options.
+    pub fn options(&self) -> ConvertOptions {
+        ConvertOptions {
+            phi_h_rad: self.phi_h_deg.to_radians(),
+            csv_grid: self.csv_grid,
+            rgl: self.rgl,
+        }
+    }
+}
+
+/// Why a conversion is refused or fails.
+#[derive(Debug, thiserror::Error)]
+pub enum ConvertError {
+    /// A value outside its range.
+    #[error(transparent)]
+    Range(#[from] RangeError),
+    /// The input cannot be read or the output written.
+    #[error(transparent)]
+    Format(#[from] FormatError),
+}
+
+/// Converts as `request` asks ([`convert`]).
+pub fn run_convert(request: &ConvertRequest) -> std::result::Result<Conversion, ConvertError> {
+    request.validate()?;
+    Ok(convert(
+        &request.input,
+        &request.output,
+        &request.options(),
+    )?)
+}
+
 /// What a conversion did.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Conversion {
@@ -366,6 +440,34 @@ fn utia_samples(table: &UtiaBrdf) -> SampleSet {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_request_out_of_range_is_refused_with_the_python_arguments_words() {
+        let dir = tempfile::tempdir().unwrap();
+        let request = ConvertRequest {
+            input: "chrome".to_string(),
+            output: dir.path().join("chrome.bsdf"),
+            phi_h_deg: 45.0,
+            csv_grid: CsvGrid::Merl,
+            rgl: RglResolution {
+                elevations: 1,
+                ..RglResolution::DEFAULT
+            },
+        };
+        let error = run_convert(&request).unwrap_err().to_string();
+        assert_eq!(
+            error,
+            "rgl_elevations 1: expected a whole number from 2 to 90"
+        );
+        let turned = ConvertRequest {
+            phi_h_deg: -400.0,
+            rgl: RglResolution::DEFAULT,
+            ..request
+        };
+        let error = run_convert(&turned).unwrap_err().to_string();
+        assert_eq!(error, "phi_h_deg -400: expected degrees from -360 to 360");
+        assert!(!turned.output.exists());
+    }
 
     #[test]
     fn formats_are_recognised_by_content() {

@@ -5,6 +5,7 @@ mod brdf_source;
 pub mod catalog;
 pub mod convert;
 pub mod directions_csv;
+mod fit_request;
 pub mod fits;
 pub mod input;
 pub mod lafortune;
@@ -19,4 +20,5 @@ pub mod source;
 pub mod utia;
 
 pub use brdf_source::BrdfSource;
+pub use fit_request::{run_fit, FitExports, FitOutcome, FitRequest, FitRequestError};
 pub use source::{load_brdf, load_brdfs};

@@ -6,11 +6,9 @@ use crate::errors::OrRaise;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use specula_appearance::figures::{column_values, csv_header};
-use specula_appearance::{Appearance, Options};
-use specula_core::Brdf;
-use specula_report::appearance::extrapolated_cells;
+use specula_appearance::uncertainty::column_names;
+use specula_report::{run_appearance, AppearanceInput, AppearanceRequest, AppearanceRow};
 use std::path::PathBuf;
-use std::sync::Arc;
 
 /// The appearance figures of `brdf`, as `specula appearance --csv` gives them, in a dict
 /// keyed by its column names: `gloss_20`, `gloss_60`, `gloss_85` (GU, ISO 2813 / ASTM
@@ -25,7 +23,8 @@ use std::sync::Arc;
 /// (material minus reference) and CIEDE2000 `de00_g` per aspecular angle.
 /// `resolution_deg` (in (0, 90]) is the measuring instrument's angular resolution: figures
 /// that read the BRDF at a finer angle get a warning. A MERL `.binary` given by its path
-/// with an `OUT.provenance.npy` sidecar has its extrapolated cells flagged, as in the CLI.
+/// with an `OUT.provenance.npy` sidecar has its extrapolated cells flagged, and one with an
+/// `OUT.uncertainty.binary` sidecar gets `U_<figure>` keys (expanded, k = 2), as in the CLI.
 /// A figure that cannot be given (a colour reading on an unmeasured cell) is None.
 #[pyfunction]
 #[pyo3(signature = (brdf, against = None, resolution_deg = None))]
@@ -35,31 +34,25 @@ pub(crate) fn appearance<'py>(
     against: Option<&Bound<'py, PyAny>>,
     resolution_deg: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    Options {
-        extrapolated: None,
-        resolution_deg,
-    }
-    .validate()
-    .or_raise()?;
-    let reference = against
-        .map(|against| figures_of(py, against, resolution_deg))
-        .transpose()?;
     let many = brdf.cast::<PyList>().is_ok() || brdf.cast::<PyTuple>().is_ok();
     let items: Vec<Bound<'py, PyAny>> = if many {
         brdf.try_iter()?.collect::<PyResult<_>>()?
     } else {
         vec![brdf.clone()]
     };
-    let mut dicts = Vec::with_capacity(items.len());
-    for item in &items {
-        let (name, figures) = figures_of(py, item, resolution_deg)?;
-        dicts.push(figures_dict(
-            py,
-            &name,
-            &figures,
-            reference.as_ref().map(|r| &r.1),
-        )?);
-    }
+    let request = AppearanceRequest {
+        brdfs: items.iter().map(input).collect::<PyResult<_>>()?,
+        against: against.map(input).transpose()?,
+        resolution_deg,
+        tolerances: None,
+    };
+    request.validate().or_raise()?;
+    let table = py.detach(|| run_appearance(&request)).or_raise()?;
+    let skip = usize::from(table.with_reference);
+    let mut dicts = table.rows[skip..]
+        .iter()
+        .map(|row| figures_dict(py, row))
+        .collect::<PyResult<Vec<_>>>()?;
     if many {
         Ok(PyList::new(py, dicts)?.into_any())
     } else {
@@ -67,41 +60,42 @@ pub(crate) fn appearance<'py>(
     }
 }
 
-/// The BRDF's name and figures, with the extrapolated cells of a `.binary` source's
-/// provenance sidecar.
-fn figures_of(
-    py: Python<'_>,
-    value: &Bound<'_, PyAny>,
-    resolution_deg: Option<f64>,
-) -> PyResult<(String, Appearance)> {
-    let brdf: Arc<dyn Brdf> = brdf_arg(value)?;
-    let extrapolated = match value.extract::<PathBuf>() {
-        Ok(path) => extrapolated_cells(&path.to_string_lossy()).or_raise()?,
-        Err(_) => None,
-    };
-    let options = Options {
-        extrapolated,
-        resolution_deg,
-    };
-    let figures = py.detach(|| specula_appearance::appearance(brdf.as_ref(), &options));
-    Ok((brdf.name(), figures))
+/// A Python BRDF argument as the request's input: the file it names, when it names one,
+/// has its sidecars read as the CLI reads them.
+fn input(value: &Bound<'_, PyAny>) -> PyResult<AppearanceInput> {
+    let brdf = brdf_arg(value)?;
+    let path = value.extract::<PathBuf>().ok();
+    Ok(AppearanceInput {
+        label: path
+            .as_ref()
+            .map_or_else(|| brdf.name(), |p| p.to_string_lossy().into_owned()),
+        brdf,
+        path,
+    })
 }
 
-/// The figures as a dict keyed by the CSV's column names (None where unknown).
-fn figures_dict<'py>(
-    py: Python<'py>,
-    name: &str,
-    figures: &Appearance,
-    reference: Option<&Appearance>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let differences = reference.map(|r| figures.against(r));
+/// A row's figures as a dict keyed by the CSV's column names (None where unknown), with
+/// `U_<figure>` where the row has its expanded uncertainty.
+fn figures_dict<'py>(py: Python<'py>, row: &AppearanceRow) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
-    dict.set_item("name", name)?;
-    let columns = csv_header(differences.is_some()).into_iter().skip(1);
-    for (column, value) in columns.zip(column_values(figures, differences.as_ref())) {
+    dict.set_item("name", &row.name)?;
+    let columns: Vec<String> = csv_header(row.differences.is_some())
+        .into_iter()
+        .skip(1)
+        .collect();
+    for (column, value) in columns
+        .iter()
+        .zip(column_values(&row.figures, row.differences.as_ref()))
+    {
         dict.set_item(column, value)?;
     }
-    let warnings: Vec<String> = figures.warnings.iter().map(|w| w.to_string()).collect();
+    if let Some(expanded) = &row.expanded {
+        let figure_columns = &csv_header(false)[1..];
+        for (column, u) in column_names(figure_columns).into_iter().zip(expanded) {
+            dict.set_item(column, *u)?;
+        }
+    }
+    let warnings: Vec<String> = row.figures.warnings.iter().map(|w| w.to_string()).collect();
     dict.set_item("warnings", warnings)?;
     Ok(dict)
 }

@@ -1,18 +1,15 @@
 //! A BRDF into another file format (`specula convert`) and into an analytic material for
 //! renderers (`specula fit`).
 
-use crate::brdf::{brdf_arg, check_elevation, figures_dict};
-use crate::errors::{invalid, OrRaise};
+use crate::brdf::{brdf_arg, figures_dict};
+use crate::errors::OrRaise;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use specula_core::atomic_file::write_bytes;
-use specula_core::tabulate::tabulate;
-use specula_core::GridSpec;
-use specula_formats::convert::{convert as convert_file, ConvertOptions, CsvGrid};
-use specula_formats::material_fit::{fit_models, FitChoice};
-use specula_formats::renderer_export::{gltf_document, mitsuba_scene, pbrt_material};
+use specula_formats::convert::{run_convert, ConvertRequest, CsvGrid};
+use specula_formats::material_fit::FitChoice;
 use specula_formats::rgl::RglResolution;
-use std::path::{Path, PathBuf};
+use specula_formats::{run_fit, FitExports, FitRequest};
+use std::path::PathBuf;
 
 /// Convert a BRDF into the format of `out`'s extension (`specula convert`): MERL `.binary`,
 /// UTIA `.bin`, RGL `.bsdf` or samples `.csv`. `source` is a file, a preset name or a
@@ -38,11 +35,10 @@ pub(crate) fn convert<'py>(
     rgl_ndf_size: usize,
     rgl_sample_size: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let options = ConvertOptions {
-        phi_h_rad: specula_core::request::AZIMUTH_DEG
-            .check("phi_h_deg", phi_h_deg)
-            .or_raise()?
-            .to_radians(),
+    let request = ConvertRequest {
+        input: source.to_string_lossy().into_owned(),
+        output: out.clone(),
+        phi_h_deg,
         csv_grid: grid.parse::<CsvGrid>().or_raise()?,
         rgl: RglResolution {
             elevations: rgl_elevations,
@@ -50,10 +46,8 @@ pub(crate) fn convert<'py>(
             sample_size: rgl_sample_size,
         },
     };
-    let source = source.to_string_lossy().into_owned();
-    let done = py
-        .detach(|| convert_file(&source, &out, &options))
-        .or_raise()?;
+    request.validate().or_raise()?;
+    let done = py.detach(|| run_convert(&request)).or_raise()?;
     let dict = PyDict::new(py);
     dict.set_item("out", out)?;
     dict.set_item("format", done.target.label())?;
@@ -70,7 +64,8 @@ pub(crate) fn convert<'py>(
 /// `.toml`), `mitsuba` (a Mitsuba 3 scene), `pbrt` (a pbrt-v4 material), `gltf` (a glTF
 /// document).
 ///
-/// Returns `{"exported": the model exported, "fits": [{"model", "material" (the material
+/// Returns `{"exported": the model exported, "reason": why, "notes": [what the exports need
+/// said, as the CLI's notes], "fits": [{"model", "material" (the material
 /// file's TOML), "within", "all"}, ...]}`, best first, the figures as `compare`'s.
 #[pyfunction]
 #[pyo3(signature = (brdf, model = "both", max_elevation_deg = 75.0, out = None, mitsuba = None,
@@ -86,30 +81,31 @@ pub(crate) fn fit<'py>(
     pbrt: Option<PathBuf>,
     gltf: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    check_elevation(max_elevation_deg)?;
-    let models = model.parse::<FitChoice>().or_raise()?.models();
+    let request = FitRequest {
+        model: model.parse::<FitChoice>().or_raise()?,
+        max_elevation_deg,
+        exports: FitExports {
+            out,
+            mitsuba,
+            pbrt,
+            gltf,
+        },
+    };
+    request.validate().or_raise()?;
+    let name = brdf
+        .extract::<PathBuf>()
+        .map(|p| p.to_string_lossy().into_owned())
+        .ok();
     let brdf = brdf_arg(brdf)?;
-    let fits = py
-        .detach(|| {
-            let table = tabulate(brdf.as_ref(), GridSpec::paper().phi_h_deg.to_radians());
-            fit_models(&table, models, max_elevation_deg, &brdf.name())
-        })
+    let name = name.unwrap_or_else(|| brdf.name());
+    let outcome = py
+        .detach(|| run_fit(&request, brdf.as_ref(), &name))
         .or_raise()?;
-    let best = &fits[0].material;
-    if let Some(path) = out {
-        save(&path, &best.to_toml_string())?;
-    }
-    if let Some(path) = mitsuba {
-        save(&path, &mitsuba_scene(best).or_raise()?)?;
-    }
-    if let Some(path) = pbrt {
-        save(&path, &pbrt_material(best).or_raise()?)?;
-    }
-    if let Some(path) = gltf {
-        save(&path, &gltf_document(best).or_raise()?)?;
-    }
+    let fits = &outcome.fits;
     let dict = PyDict::new(py);
-    dict.set_item("exported", fits[0].model.label())?;
+    dict.set_item("exported", outcome.exported().model.label())?;
+    dict.set_item("reason", outcome.reason.to_string())?;
+    dict.set_item("notes", &outcome.notes)?;
     let rows = fits
         .iter()
         .map(|fit| {
@@ -123,10 +119,4 @@ pub(crate) fn fit<'py>(
         .collect::<PyResult<Vec<_>>>()?;
     dict.set_item("fits", rows)?;
     Ok(dict)
-}
-
-/// Writes `text` to `path` atomically.
-fn save(path: &Path, text: &str) -> PyResult<()> {
-    write_bytes(path, text.as_bytes())
-        .map_err(|e| invalid(format!("{}: cannot write: {e}", path.display())))
 }

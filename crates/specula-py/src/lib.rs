@@ -44,6 +44,7 @@ fn _specula(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(reconstruction::read_provenance, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruction::read_uncertainty, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruction::evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(session::calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(session::measure, m)?)?;
     m.add_function(wrap_pyfunction!(session::read_session, m)?)?;
     Ok(())

@@ -7,7 +7,7 @@ use crate::interrupt::{self, Stop};
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray3};
 use pyo3::prelude::*;
-use specula_report::{write_report, NoProgress, ReportOptions};
+use specula_report::{run_report, NoProgress, ReportRequest};
 use specula_visual::render::DEFAULT_SAMPLES_PER_PIXEL;
 use specula_visual::{render_pictures, RenderRequest};
 use std::path::PathBuf;
@@ -50,8 +50,8 @@ pub(crate) fn render<'py>(
     };
     request.validate(1).or_raise()?;
     let brdf = brdf_arg(brdf)?;
-    let mut rendered = interrupt::run(py, Stop::Abandon, move |_| {
-        render_pictures(&request, &[(brdf.name(), brdf)], &|_| {})
+    let mut rendered = interrupt::run(py, Stop::Cooperative, move |stop| {
+        render_pictures(&request, &[(brdf.name(), brdf)], &stop, &NoProgress)
     })?
     .or_raise()?;
     let image = rendered.images.remove(0);
@@ -80,18 +80,18 @@ pub(crate) fn report(
     spp: usize,
     title: Option<String>,
 ) -> PyResult<PathBuf> {
-    let options = ReportOptions {
+    let options = ReportRequest {
         truth,
         samples: samples_csv,
         table,
         size_px: size,
         spp,
         title,
-        ..ReportOptions::new(source)
+        ..ReportRequest::new(source)
     };
     let written = out.clone();
     interrupt::run(py, Stop::Abandon, move |_| {
-        write_report(&options, &out, &NoProgress)
+        run_report(&options, &out, &NoProgress)
     })?
     .or_raise()?;
     Ok(written)

@@ -8,6 +8,7 @@ use pyo3::types::PyDict;
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::grid::{GridOverrides, PhiDSpan, ThetaDSteps};
+use specula_core::progress::NoProgress;
 use specula_core::request::{GridPreset, GridRequest};
 use specula_core::Spherical;
 use specula_session::workflow::{HdrChoice, PlanOrder};
@@ -138,8 +139,10 @@ pub(crate) fn plan<'py>(
     request.validate().or_raise()?;
     let device = self::device(device)?;
     let (chosen, nested_summary, optimized_summary, assumed) =
-        interrupt::run(py, Stop::Abandon, move |_| {
-            let planned = run_plan(&request, &device)?;
+        // Abandoned on Ctrl-C: the call returns at once, and the plan left on its thread
+        // stops at its next step.
+        interrupt::run(py, Stop::Abandon, move |stop| {
+            let planned = run_plan(&request, &device, &stop, &NoProgress)?;
             let (nested, optimized) = planned.summaries(&device);
             let chosen = match request.order {
                 PlanOrder::Optimized => planned.optimized,

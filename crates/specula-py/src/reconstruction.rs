@@ -12,8 +12,9 @@ use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArray4, PyArrayLike1, PyAr
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use specula_accuracy::merl_prior::basis_for;
-use specula_accuracy::{evaluate_truth, EvaluateRequest, Evaluated};
+use specula_accuracy::{run_evaluate, EvaluateRequest, Evaluated};
 use specula_core::merl::{MerlBrdf, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::progress::NoProgress;
 use specula_core::{HalfDiff, Sample};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_reconstruct::{run_reconstruct, Method, ReconstructRequest};
@@ -222,13 +223,19 @@ pub(crate) fn evaluate<'py>(
         max_elevation_deg,
         through_instrument,
     };
-    let settings = request.plan_settings().or_raise()?;
-    let truth = brdf_arg(truth)?;
+    request.validate().or_raise()?;
+    let truths = [("given".to_string(), brdf_arg(truth)?)];
     let device = self::device(device)?;
-    let evaluated = interrupt::run(py, Stop::Abandon, move |_| {
-        evaluate_truth(&request, &settings, truth.as_ref(), &device)
+    // Abandoned on Ctrl-C: the call returns at once, and the evaluation left on its thread
+    // stops before its reconstruction.
+    let mut evaluation = interrupt::run(py, Stop::Abandon, move |stop| {
+        run_evaluate(&request, &truths, &device, &stop, &NoProgress)
     })?
     .or_raise()?;
+    let (_, evaluated) = evaluation
+        .rows
+        .pop()
+        .ok_or_else(|| invalid("the truth was not evaluated"))?;
     let Evaluated {
         name,
         k,

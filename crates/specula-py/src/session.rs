@@ -10,9 +10,11 @@ use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use specula_accuracy::merl_prior::basis_for;
+use specula_acquisition::instrument::MountTarget;
 use specula_core::request::ProbeRequest;
 use specula_core::ProbeSpec;
 use specula_sampling::Probe;
+use specula_session::calibrate::{run_calibrate, CalibrateRequest};
 use specula_session::journal::{Journal, SequentialSettings, SourceRecord};
 use specula_session::workflow::{
     measured_samples, probe_samples, FitRecord, MeasureOutcome, MeasureSettings, Quiet, Source,
@@ -232,4 +234,47 @@ pub(crate) fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, 
     }
     dict.set_item("samples", samples_dict(py, &samples)?)?;
     Ok(dict)
+}
+
+/// Calibrate the simulated device with `truth` on its turntable (`specula calibrate
+/// --truth`): the camera's noise model, gains to 1/sr, colour matrix and the instrument's
+/// response, written to `out` (TOML, what `specula measure --calibration` reads).
+/// `white_reflectance` (a fraction above 0 and at most 1) or a `white_certificate` (TOML)
+/// describe the white reference; `seed` the simulated device's positioning errors and
+/// noise; `device` a device TOML (default the paper's UTIA goniometer). Returns `out`.
+/// Ctrl-C returns at once (the calibration is not stoppable; nothing is written).
+#[pyfunction]
+#[pyo3(signature = (truth, out, white_reflectance = 0.99, white_certificate = None, seed = 1,
+    device = None))]
+pub(crate) fn calibrate(
+    py: Python<'_>,
+    truth: &Bound<'_, PyAny>,
+    out: PathBuf,
+    white_reflectance: f64,
+    white_certificate: Option<PathBuf>,
+    seed: u64,
+    device: Option<PathBuf>,
+) -> PyResult<PathBuf> {
+    let request = CalibrateRequest {
+        white_reflectance,
+        white_certificate,
+        seed,
+        out: out.clone(),
+    };
+    request.validate().or_raise()?;
+    let device = self::device(device)?;
+    let mut simulator = request.simulator(brdf_arg(truth)?, &device);
+    interrupt::run(py, Stop::Abandon, move |_| {
+        // The simulator mounts every target itself: no operator is asked.
+        let mut operator = |_: &MountTarget| Ok(());
+        run_calibrate(
+            &request,
+            &mut simulator,
+            &mut operator,
+            &device,
+            &mut |_| {},
+        )
+    })?
+    .or_raise()?;
+    Ok(out)
 }

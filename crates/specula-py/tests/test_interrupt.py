@@ -1,4 +1,5 @@
-"""Ctrl-C during a long call: `measure` stops after the sample in progress and resumes."""
+"""Ctrl-C during a long call: `measure` stops after the sample in progress and resumes; `render`
+stops at its next tile."""
 
 import _thread
 import threading
@@ -44,3 +45,19 @@ def test_ctrl_c_stops_measure_which_then_resumes_to_the_same_table(tmp_path):
     resumed = specula.measure("silver-925", out, session=session, **GRID)
     assert resumed["measured_samples"] == whole["measured_samples"]
     np.testing.assert_array_equal(specula.read_merl(out), specula.read_merl(tmp_path / "whole.binary"))
+
+
+def test_ctrl_c_stops_a_render_at_its_next_tile_and_writes_nothing(tmp_path):
+    out = tmp_path / "long.png"
+
+    def interrupt():
+        time.sleep(1.0)
+        _thread.interrupt_main()
+
+    threading.Thread(target=interrupt, daemon=True).start()
+    started = time.monotonic()
+    # 1024 x 1024 pixels at 4096 rays each: minutes of work.
+    with pytest.raises(KeyboardInterrupt):
+        specula.render("chrome", out=out, size=1024, spp=4096)
+    assert time.monotonic() - started < 30
+    assert not out.exists()

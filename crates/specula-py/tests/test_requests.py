@@ -62,6 +62,43 @@ def test_python_and_the_cli_refuse_the_same_values_with_the_same_words(
     assert not out.exists()
 
 
+# The conversion, the fit, the report and the calibration: each front end fills the
+# library's request and calls its one entry point. OUT in an argument is the file the
+# command would write, which neither front end may leave behind.
+WRITING = [
+    ("convert", {"source": "chrome", "out": "OUT", "rgl_elevations": 1},
+     ["convert", "chrome", "OUT", "--rgl-elevations", "1"],
+     "rgl_elevations", "--rgl-elevations", "1: expected a whole number from 2 to 90", "x.bsdf"),
+    ("fit", {"brdf": "chrome", "max_elevation_deg": 95.0, "out": "OUT"},
+     ["fit", "chrome", "--max-elevation", "95", "--out", "OUT"],
+     "max_elevation_deg", "--max-elevation", "95: expected degrees above 0 and at most 90",
+     "fit.toml"),
+    ("report", {"source": "chrome", "out": "OUT", "spp": 0},
+     ["report", "chrome", "--out", "OUT", "--spp", "0"],
+     "spp", "--spp", "0: expected a whole number from 1 to 65536", "r.html"),
+    ("calibrate", {"truth": "chrome", "out": "OUT", "white_reflectance": 1.5},
+     ["calibrate", "--truth", "chrome", "--out", "OUT", "--white-reflectance", "1.5"],
+     "white_reflectance", "--white-reflectance", "1.5: expected a fraction above 0 and at most 1",
+     "calibration.toml"),
+]
+
+
+@pytest.mark.parametrize("function, kwargs, argv, name, flag, words, file", WRITING)
+def test_the_writing_commands_refuse_the_same_values_with_the_same_words(
+    cli, tmp_path, function, kwargs, argv, name, flag, words, file
+):
+    out = tmp_path / file
+    kwargs = {k: (out if v == "OUT" else v) for k, v in kwargs.items()}
+    argv = [out if a == "OUT" else a for a in argv]
+    with pytest.raises(specula.SpeculaError) as refused:
+        getattr(specula, function)(**kwargs)
+    assert str(refused.value) == f"{name} {words}"
+    status, _, stderr = cli(*argv, check=False)
+    assert status == 2
+    assert f"{flag} {words}" in stderr
+    assert not out.exists()
+
+
 def test_a_grid_too_large_is_refused_as_the_cli_refuses_it(cli, tmp_path):
     big = {"theta_h_samples": 360, "theta_d_step_deg": "3:0.5@0", "phi_d_step_deg": 0.5}
     with pytest.raises(specula.SpeculaError) as refused:

@@ -2,7 +2,7 @@
 //! characteristic slice, the probe and the raw samples, the peak and the coverage rows.
 
 use crate::error::{OrReport, ReportError};
-use crate::{Progress, ReportOptions};
+use crate::{Progress, ReportRequest};
 use specula_core::compare::compare;
 use specula_core::merl::{Bin, MerlBrdf, CELLS};
 use specula_core::sampling::SamplingFunction;
@@ -111,7 +111,7 @@ pub(crate) fn errors(
 pub(crate) fn renders(
     sample: (&MerlBrdf, &str),
     other: Option<(&dyn Brdf, &str)>,
-    options: &ReportOptions,
+    options: &ReportRequest,
     progress: &dyn Progress,
 ) -> Result<Vec<Figure>, ReportError> {
     let studio = Lighting::Environment(Arc::new(Environment::studio()));

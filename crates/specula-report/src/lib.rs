@@ -4,12 +4,13 @@
 //! speedshape, the characteristic slice (Fig. 11), the probe against the adaptive samples
 //! (Fig. 13), the raw samples (Fig. 15) and, with a truth, the error figures.
 //!
-//! This crate takes a plain [`ReportOptions`] (no argument parser) and reports long work to
-//! a [`Progress`]; `specula report` and `specula demo` are thin callers of [`write_report`]
+//! This crate takes a plain [`ReportRequest`] (no argument parser) and reports long work to
+//! a [`Progress`]; `specula report` and `specula demo` are thin callers of [`run_report`]
 //! and [`write_session_pictures`], `specula view` of [`view::write_view`] (the interactive
 //! viewer, which the report embeds too).
 
 pub mod appearance;
+mod appearance_request;
 mod database;
 mod error;
 mod figures;
@@ -21,6 +22,9 @@ mod table;
 pub mod view;
 mod viewer;
 
+pub use appearance_request::{
+    run_appearance, AppearanceInput, AppearanceRequest, AppearanceRow, AppearanceTable,
+};
 pub use database::DatabaseRequest;
 pub use error::ReportError;
 pub use plot::{database_heatmap, plot, Adaptive, Figure, PlotRequest, Plotted};
@@ -32,6 +36,7 @@ pub use specula_visual::report::Report;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use specula_visual::render::{IMAGE_PX, SAMPLES_PER_PIXEL};
 pub use specula_visual::render::{MAX_IMAGE_PX, MAX_SAMPLES_PER_PIXEL};
 
 /// Adaptive samples the paper places along theta_h with the fitted k (section 5.3).
@@ -85,7 +90,7 @@ pub struct SampleInfo {
 
 /// What to report on and how; the fields are `specula report`'s options.
 #[derive(Clone, Debug)]
-pub struct ReportOptions {
+pub struct ReportRequest {
     /// What to report on: a session journal (.sqlite) or any BRDF source
     /// (`specula_formats::load_brdf`'s: a MERL .binary, RGL .bsdf, material .toml, preset,
     /// fit, ...).
@@ -115,12 +120,21 @@ pub struct ReportOptions {
     pub title: Option<String>,
 }
 
-impl ReportOptions {
+impl ReportRequest {
+    /// Checks the renders' size and rays per pixel against their ranges (the errors name
+    /// the Python arguments `size` and `spp`; the CLI's parsers say the same words after
+    /// `--size` and `--spp`).
+    pub fn validate(&self) -> Result<(), ReportError> {
+        IMAGE_PX.check("size", self.size_px)?;
+        SAMPLES_PER_PIXEL.check("spp", self.spp)?;
+        Ok(())
+    }
+
     /// Options for `input` with the command's defaults: 320 x 320 renders at 32 rays per
     /// pixel, the engineering audience, no reference, tolerances, sample facts, truth,
     /// samples, table or title.
     pub fn new(input: impl Into<PathBuf>) -> Self {
-        ReportOptions {
+        ReportRequest {
             input: input.into(),
             against: None,
             tolerances: None,
@@ -136,24 +150,9 @@ impl ReportOptions {
     }
 }
 
-/// Where the report's long steps show their progress (a terminal bar in the CLI).
-pub trait Progress: Sync {
-    /// A step starts: `label`, over `total` units when known (else a spinner).
-    fn start(&self, label: &str, total: Option<u64>);
-    /// `done` units of the current step are done.
-    fn set(&self, done: u64);
-    /// The current step is finished.
-    fn finish(&self);
-}
-
-/// No progress shown (tests, and callers without a terminal).
-pub struct NoProgress;
-
-impl Progress for NoProgress {
-    fn start(&self, _label: &str, _total: Option<u64>) {}
-    fn set(&self, _done: u64) {}
-    fn finish(&self) {}
-}
+/// Where the report's long steps show their progress, and the quiet default: core's, as
+/// every long library entry reports to.
+pub use specula_core::progress::{NoProgress, Progress};
 
 /// The kind of input, told by the file's extension: a session journal, or a BRDF source.
 enum Input {
@@ -162,7 +161,7 @@ enum Input {
 }
 
 /// Check the options against the input's kind.
-fn check(options: &ReportOptions) -> Result<Input, ReportError> {
+fn check(options: &ReportRequest) -> Result<Input, ReportError> {
     let extension = options
         .input
         .extension()
@@ -171,15 +170,7 @@ fn check(options: &ReportOptions) -> Result<Input, ReportError> {
         Some("sqlite") => Input::Session,
         _ => Input::Source,
     };
-    // The message below spells the bounds out in words.
-    const _: () = assert!(MAX_IMAGE_PX == 8192 && MAX_SAMPLES_PER_PIXEL == 65536);
-    if !(8..=MAX_IMAGE_PX).contains(&options.size_px)
-        || !(1..=MAX_SAMPLES_PER_PIXEL).contains(&options.spp)
-    {
-        return Err(ReportError::Options(
-            "--size must be a whole number of pixels from 8 to 8192 and --spp one from 1 to 65536",
-        ));
-    }
+    options.validate()?;
     match input {
         Input::Session if options.samples.is_some() => Err(ReportError::Options(
             "--samples-csv is for a .binary input: a session journal holds its own samples",
@@ -207,7 +198,7 @@ pub struct Page {
 }
 
 /// The report of `options.input`: of a session journal or of a BRDF source, by extension.
-pub fn build_report(options: &ReportOptions, progress: &dyn Progress) -> Result<Page, ReportError> {
+pub fn build_report(options: &ReportRequest, progress: &dyn Progress) -> Result<Page, ReportError> {
     let start = Instant::now();
     let mut page = match check(options)? {
         Input::Session => session::report(options, progress)?,
@@ -246,8 +237,8 @@ impl OutputFormat {
 
 /// Build the report of `options.input` and write it to `out`: one HTML file (pictures
 /// embedded, no other file needed), or a PDF of that page when `out` ends in `.pdf`.
-pub fn write_report(
-    options: &ReportOptions,
+pub fn run_report(
+    options: &ReportRequest,
     out: &Path,
     progress: &dyn Progress,
 ) -> Result<Page, ReportError> {
@@ -261,7 +252,7 @@ pub fn write_report(
 }
 
 /// The first page's facts: the sample, operator and customer given, and the date.
-fn header(options: &ReportOptions, date: String) -> Vec<(String, String)> {
+fn header(options: &ReportRequest, date: String) -> Vec<(String, String)> {
     let sample = &options.sample;
     [
         ("sample ID", sample.sample_id.clone()),
@@ -287,7 +278,7 @@ fn date_of(time: std::time::SystemTime) -> String {
 }
 
 /// The page's layout for the options' audience.
-fn layout(options: &ReportOptions) -> Layout {
+fn layout(options: &ReportRequest) -> Layout {
     match options.audience {
         Audience::Customer => Layout::Customer,
         Audience::Engineering => Layout::Engineering,
@@ -298,7 +289,7 @@ fn layout(options: &ReportOptions) -> Layout {
 /// of its figures as a PNG file beside it named after the figure's title
 /// (`render_sphere.png`, ...); returns the page and the files written, the HTML last.
 pub fn write_session_pictures(
-    options: &ReportOptions,
+    options: &ReportRequest,
     dir: &Path,
     progress: &dyn Progress,
 ) -> Result<(Page, Vec<PathBuf>), ReportError> {
@@ -366,14 +357,14 @@ mod tests {
         )
         .unwrap();
         let out = dir.path().join("report.html");
-        let options = ReportOptions {
+        let options = ReportRequest {
             truth: Some("steel".into()),
             samples: Some(samples),
             size_px: 16,
             spp: 1,
-            ..ReportOptions::new(binary)
+            ..ReportRequest::new(binary)
         };
-        write_report(&options, &out, &NoProgress).unwrap();
+        run_report(&options, &out, &NoProgress).unwrap();
         let html = std::fs::read_to_string(&out).unwrap();
         for text in [
             "BRDF report: steel",
@@ -398,37 +389,44 @@ mod tests {
     #[test]
     fn other_inputs_are_refused() {
         let dir = tempfile::tempdir().unwrap();
-        let options = |input: &str| ReportOptions {
+        let options = |input: &str| ReportRequest {
             size_px: 16,
             spp: 1,
-            ..ReportOptions::new(dir.path().join(input))
+            ..ReportRequest::new(dir.path().join(input))
         };
         let out = dir.path().join("r.html");
         let error =
-            |options: ReportOptions| chain(&write_report(&options, &out, &NoProgress).unwrap_err());
+            |options: ReportRequest| chain(&run_report(&options, &out, &NoProgress).unwrap_err());
         assert!(error(options("missing.sqlite")).contains("missing.sqlite"));
         assert!(error(options("x.csv")).contains("x.csv: no such file, preset or model fit"));
         assert!(error(options("missing.binary")).contains("missing.binary"));
         for refused in ["r.docx", "r", "r.htmlx"] {
             let written = dir.path().join(refused);
-            let message =
-                chain(&write_report(&options("steel"), &written, &NoProgress).unwrap_err());
+            let message = chain(&run_report(&options("steel"), &written, &NoProgress).unwrap_err());
             assert!(
                 message.contains(refused) && message.contains("as .html or .pdf"),
                 "{message}"
             );
             assert!(!written.exists());
         }
-        let tolerances = ReportOptions {
+        let tolerances = ReportRequest {
             tolerances: Some(dir.path().join("t.toml")),
             ..options("steel")
         };
         assert!(error(tolerances).contains("--tolerances needs --against"));
-        let with_table = ReportOptions {
+        let with_table = ReportRequest {
             table: Some(dir.path().join("t.binary")),
             ..options("m.binary")
         };
         assert!(error(with_table).contains("--table is for a session journal"));
+        let small = ReportRequest {
+            size_px: 4,
+            ..options("steel")
+        };
+        assert_eq!(
+            error(small),
+            "size 4: expected a whole number from 8 to 8192"
+        );
     }
 
     /// A customer's report of a material file against a reference: the sample's facts and
@@ -444,7 +442,7 @@ mod tests {
         let tolerances = dir.path().join("t.toml");
         std::fs::write(&tolerances, "[tolerances]\ngloss_20 = 1.0\nde00_15 = 1.0\n").unwrap();
         let out = dir.path().join("r.html");
-        let options = ReportOptions {
+        let options = ReportRequest {
             against: Some("chrome".into()),
             tolerances: Some(tolerances),
             sample: SampleInfo {
@@ -455,9 +453,9 @@ mod tests {
             audience: Audience::Customer,
             size_px: 16,
             spp: 1,
-            ..ReportOptions::new(&toml)
+            ..ReportRequest::new(&toml)
         };
-        let page = write_report(&options, &out, &NoProgress).unwrap();
+        let page = run_report(&options, &out, &NoProgress).unwrap();
         let html = std::fs::read_to_string(&out).unwrap();
         for text in [
             "<title>BRDF report: Panel 17 satin silver</title>",
@@ -476,11 +474,11 @@ mod tests {
         }
         assert_eq!(page.verdict.unwrap().failing, ["gloss_20", "de00_15"]);
         // The engineer's page of the same sample has its sections, and no "truth" either.
-        let engineering = ReportOptions {
+        let engineering = ReportRequest {
             audience: Audience::Engineering,
             ..options
         };
-        write_report(&engineering, &out, &NoProgress).unwrap();
+        run_report(&engineering, &out, &NoProgress).unwrap();
         let html = std::fs::read_to_string(&out).unwrap();
         assert!(html.contains("k-hat") && html.contains("P-17"));
         assert!(!html.contains("truth"));

@@ -9,7 +9,7 @@ use crate::figures::{
     slice_figures,
 };
 use crate::{
-    generator, header, layout, today, Audience, Page, Progress, ReportOptions, PLACED_SAMPLES,
+    generator, header, layout, today, Audience, Page, Progress, ReportRequest, PLACED_SAMPLES,
 };
 use specula_accuracy::merl_prior::basis_for;
 use specula_acquisition::calibration::response::ResponseFit;
@@ -458,7 +458,7 @@ fn utc_text(unix_s: f64) -> String {
 /// The truth to compare with: --truth, else the one a simulated session measured; labelled
 /// "truth" when the session was simulated, else "reference".
 fn truth(
-    options: &ReportOptions,
+    options: &ReportRequest,
     session: &Session,
     notes: &mut Vec<String>,
 ) -> Result<Option<(String, BrdfSource)>, ReportError> {
@@ -554,7 +554,7 @@ fn measured_uncertainty(path: &Path) -> Result<(Option<MerlBrdf>, String), Repor
 }
 
 fn shown_table(
-    options: &ReportOptions,
+    options: &ReportRequest,
     session: &Session,
     name: &str,
     notes: &mut Vec<String>,
@@ -657,7 +657,7 @@ pub(crate) fn shown_of(
     let name = session.material_name();
     let mut notes = Vec::new();
     match shown_table(
-        &ReportOptions::new(path),
+        &ReportRequest::new(path),
         &session,
         &name,
         &mut notes,
@@ -673,7 +673,7 @@ pub(crate) fn shown_of(
 
 /// The report of the session journal `options.input` (`specula report`, and the demo's).
 pub(crate) fn report(
-    options: &ReportOptions,
+    options: &ReportRequest,
     progress: &dyn Progress,
 ) -> Result<Page, ReportError> {
     let session = Session::read(&options.input)?;

@@ -7,7 +7,7 @@ use crate::figures::{
 };
 use crate::viewer::Shown;
 use crate::{
-    generator, header, layout, today, Audience, Page, Progress, ReportOptions, PLACED_SAMPLES,
+    generator, header, layout, today, Audience, Page, Progress, ReportRequest, PLACED_SAMPLES,
 };
 use specula_appearance::Tolerances;
 use specula_core::merl::MerlBrdf;
@@ -25,7 +25,7 @@ use std::path::Path;
 /// source tabulated on the MERL grid for the renders and the engineering sections (probe,
 /// coverage, slices); the appearance figures are the source's own.
 pub(crate) fn report(
-    options: &ReportOptions,
+    options: &ReportRequest,
     progress: &dyn Progress,
 ) -> Result<Page, ReportError> {
     let spec = options.input.to_string_lossy();
@@ -151,7 +151,7 @@ fn is_measured_file(input: &Path) -> bool {
 /// its sidecar is there, the probe and the raw samples.
 fn engineering_sections(
     report: &mut Report,
-    options: &ReportOptions,
+    options: &ReportRequest,
     (table, uncertainty): (&MerlBrdf, Option<&MerlBrdf>),
     truth: Option<&dyn Brdf>,
     progress: &dyn Progress,

@@ -13,10 +13,95 @@ use specula_acquisition::calibration::response::{measure_response, ResponseOptio
 use specula_acquisition::calibration::truth_check::{
     measure_check, CheckValue, TRUTH_CHECK_THETA_H_DEG,
 };
+use specula_acquisition::calibration::white::{CertificateError, WhiteCertificate};
+use specula_acquisition::calibration::CalibrationError;
 use specula_acquisition::calibration::{calibrate, Calibration, CalibrationOptions};
 use specula_acquisition::device::Device;
 use specula_acquisition::hdr::{HdrCapturer, HdrSettings};
 use specula_acquisition::instrument::{Instrument, InstrumentError, MountOutcome, MountTarget};
+use specula_acquisition::simulator::sample::{MountedSample, Tilt};
+use specula_acquisition::simulator::{Simulator, SimulatorConfig};
+use specula_core::range::RangeError;
+use specula_core::request::REFLECTANCE;
+use specula_core::Brdf;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// What a calibration is asked for (`specula calibrate`'s options).
+#[derive(Debug, Clone)]
+pub struct CalibrateRequest {
+    /// Reflectance of the white reference (0.99 for a Spectralon tile), in [`REFLECTANCE`].
+    pub white_reflectance: f64,
+    /// The white reference's certificate (TOML), replacing `white_reflectance` per channel.
+    pub white_certificate: Option<PathBuf>,
+    /// Seed of the simulated device: its positioning errors and its noise.
+    pub seed: u64,
+    /// Where to write the calibration (TOML).
+    pub out: PathBuf,
+}
+
+/// Why a calibration is refused or fails.
+#[derive(Debug, thiserror::Error)]
+pub enum CalibrateError {
+    /// A value outside its range.
+    #[error(transparent)]
+    Range(#[from] RangeError),
+    /// The white reference's certificate cannot be read.
+    #[error(transparent)]
+    Certificate(#[from] CertificateError),
+    /// The calibration failed.
+    #[error(transparent)]
+    Workflow(#[from] WorkflowError),
+    /// The calibration cannot be written.
+    #[error(transparent)]
+    Save(#[from] CalibrationError),
+}
+
+impl CalibrateRequest {
+    /// Checks the white reference's reflectance (the error names `white_reflectance`; the
+    /// CLI's parser says the same words after `--white-reflectance`).
+    pub fn validate(&self) -> Result<(), RangeError> {
+        REFLECTANCE
+            .check("white_reflectance", self.white_reflectance)
+            .map(|_| ())
+    }
+
+    /// The calibration's options: the reflectance, or the certificate's values.
+    fn options(&self) -> Result<CalibrationOptions, CalibrateError> {
+        Ok(CalibrationOptions {
+            white_reflectance: self.white_reflectance,
+            white_certificate: self
+                .white_certificate
+                .as_deref()
+                .map(WhiteCertificate::load)
+                .transpose()?,
+            ..CalibrationOptions::default()
+        })
+    }
+
+    /// The simulated `device` with `truth` on its turntable (untilted), seeded by the request.
+    pub fn simulator(&self, truth: Arc<dyn Brdf>, device: &Device) -> Simulator {
+        let config = SimulatorConfig::new(self.seed, device);
+        let sample = MountedSample::new(truth.name(), truth, Tilt::default());
+        Simulator::new(device.clone(), sample, config)
+    }
+}
+
+/// Calibrates `instrument` as `request` asks ([`calibrate_device`]) and writes the
+/// calibration to `request.out`.
+pub fn run_calibrate(
+    request: &CalibrateRequest,
+    instrument: &mut dyn Instrument,
+    operator: &mut dyn FnMut(&MountTarget) -> Result<(), InstrumentError>,
+    device: &Device,
+    step: &mut dyn FnMut(&str),
+) -> Result<CalibrationRun, CalibrateError> {
+    request.validate()?;
+    let options = request.options()?;
+    let run = calibrate_device(instrument, operator, device, &options, step)?;
+    run.calibration.save(&request.out)?;
+    Ok(run)
+}
 
 /// A calibration and the check measurement made with it.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,4 +151,40 @@ pub fn calibrate_device(
         calibration,
         checks,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_reflectance_out_of_range_is_refused_before_any_capture() {
+        let dir = tempfile::tempdir().unwrap();
+        let request = CalibrateRequest {
+            white_reflectance: 1.5,
+            white_certificate: None,
+            seed: 1,
+            out: dir.path().join("calibration.toml"),
+        };
+        let device = Device::utia();
+        let truth: Arc<dyn Brdf> = Arc::new(specula_core::materials::preset("chrome").unwrap());
+        let mut simulator = request.simulator(truth, &device);
+        let mut operator = |_: &MountTarget| -> Result<(), InstrumentError> {
+            panic!("nothing is mounted for a refused request")
+        };
+        let error = run_calibrate(
+            &request,
+            &mut simulator,
+            &mut operator,
+            &device,
+            &mut |_| {},
+        )
+        .unwrap_err()
+        .to_string();
+        assert_eq!(
+            error,
+            "white_reflectance 1.5: expected a fraction above 0 and at most 1"
+        );
+        assert!(!request.out.exists());
+    }
 }

@@ -10,9 +10,11 @@ use specula_acquisition::device::Device;
 use specula_acquisition::ordering::order;
 use specula_acquisition::plan::{Plan, PlanSummary};
 use specula_core::materials::preset;
+use specula_core::progress::{is_raised, Progress, Stopped};
 use specula_core::request::{sampling_function, GridRequest, RequestError, THETA_H_DEG};
 use specula_core::sampling::Family;
 use specula_core::{Brdf, GridSpec};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 /// Why a plan is refused or fails.
@@ -27,6 +29,9 @@ pub enum PlanError {
     /// The captures could not be priced.
     #[error(transparent)]
     Workflow(#[from] WorkflowError),
+    /// The plan was stopped before it was made.
+    #[error(transparent)]
+    Stopped(#[from] Stopped),
 }
 
 /// Where the theta_h positions come from.
@@ -115,8 +120,35 @@ impl PlannedMeasurement {
 }
 
 /// Plans `request` on `device` in both orders and prices the captures before any probe.
-pub fn run_plan(request: &PlanRequest, device: &Device) -> Result<PlannedMeasurement, PlanError> {
+pub fn run_plan(
+    request: &PlanRequest,
+    device: &Device,
+    stop: &AtomicBool,
+    progress: &dyn Progress,
+) -> Result<PlannedMeasurement, PlanError> {
     request.validate()?;
+    progress.start("ordering", None);
+    let planned = plan_until(request, device, stop);
+    progress.finish();
+    planned
+}
+
+/// [`run_plan`]'s work, checking `stop` before each of its steps.
+fn plan_until(
+    request: &PlanRequest,
+    device: &Device,
+    stop: &AtomicBool,
+) -> Result<PlannedMeasurement, PlanError> {
+    let stopped = |done: u64| -> Result<(), PlanError> {
+        match is_raised(stop) {
+            true => Err(PlanError::Stopped(Stopped {
+                done,
+                total: 3,
+                what: "steps (grid, order, exposures)",
+            })),
+            false => Ok(()),
+        }
+    };
     let grid = request.grid.grid(None)?;
     let theta_h_deg = match &request.theta_h {
         ThetaH::K(k) => sampling_function(request.family, *k)?.positions_deg(grid.theta_h_samples),
@@ -124,7 +156,9 @@ pub fn run_plan(request: &PlanRequest, device: &Device) -> Result<PlannedMeasure
     };
     let (theta_d, phi_d) = (grid.theta_d_deg(), grid.phi_d_deg());
     let mut nested = Plan::from_grid(&theta_h_deg, &theta_d, &phi_d, grid.phi_h_deg, device);
+    stopped(1)?;
     let mut optimized = order(&nested);
+    stopped(2)?;
     let truth = match request.hdr {
         HdrChoice::Predicted => Some(match &request.truth {
             Some(truth) => truth.clone(),
@@ -156,6 +190,7 @@ fn assumed_material() -> Result<Arc<dyn Brdf>, PlanError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use specula_core::progress::NoProgress;
 
     fn request(theta_h: ThetaH) -> PlanRequest {
         PlanRequest {
@@ -171,7 +206,13 @@ mod tests {
     #[test]
     fn a_plan_holds_the_grid_in_both_orders() {
         let device = Device::utia();
-        let planned = run_plan(&request(ThetaH::K(4.78)), &device).unwrap();
+        let planned = run_plan(
+            &request(ThetaH::K(4.78)),
+            &device,
+            &AtomicBool::new(false),
+            &NoProgress,
+        )
+        .unwrap();
         assert_eq!(
             planned.theta_h_deg.len(),
             GridSpec::recommended().theta_h_samples
@@ -184,6 +225,19 @@ mod tests {
             planned.assumed.contains(ASSUMED_MATERIAL),
             "{}",
             planned.assumed
+        );
+    }
+
+    #[test]
+    fn a_raised_stop_ends_the_plan_before_its_ordering() {
+        let device = Device::utia();
+        let stop = AtomicBool::new(true);
+        let error = run_plan(&request(ThetaH::K(4.78)), &device, &stop, &NoProgress)
+            .err()
+            .map(|e| e.to_string());
+        assert_eq!(
+            error.as_deref(),
+            Some("stopped: 1 of 3 steps (grid, order, exposures) done")
         );
     }
 

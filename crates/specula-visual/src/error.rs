@@ -13,6 +13,9 @@ pub type DrawCause = DrawingAreaErrorKind<<Canvas<'static> as DrawingBackend>::E
 /// Why a picture, a report page or an environment cannot be made, read or written.
 #[derive(Debug, thiserror::Error)]
 pub enum VisualError {
+    /// The render was stopped before it finished.
+    #[error(transparent)]
+    Stopped(#[from] specula_core::progress::Stopped),
     /// What was given to draw cannot be drawn (no values, mismatched sizes, ...), in words.
     #[error("{0}")]
     Data(String),

@@ -29,5 +29,5 @@ pub use environment::Environment;
 pub use image::RgbImage;
 pub use linear_image::LinearImage;
 pub use render::{render, Lighting, RenderSettings, Scene};
-pub use render_request::{render_pictures, LightKind, RenderProgress, RenderRequest, Rendered};
+pub use render_request::{render_pictures, LightKind, RenderRequest, Rendered};
 pub use shape::ShapeKind;

@@ -40,7 +40,9 @@ use crate::shape::{Shape, ShapeKind};
 use glam::DVec3;
 use rayon::prelude::*;
 use specula_core::brdf::Brdf;
+use specula_core::progress::is_raised;
 use specula_core::range::CountRange;
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 /// Where the light comes from.
@@ -135,13 +137,37 @@ pub fn render(
     settings: &RenderSettings,
     pixels_done: &(dyn Fn(u64) + Sync),
 ) -> LinearImage {
+    render_material_of(brdf, scene, settings, &AtomicBool::new(false), pixels_done)
+}
+
+/// As [`render`], until `stop` is raised: `None` when it was (the tiles not yet started when
+/// it rose are skipped).
+pub fn render_until(
+    brdf: &dyn Brdf,
+    scene: &Scene,
+    settings: &RenderSettings,
+    stop: &AtomicBool,
+    pixels_done: &(dyn Fn(u64) + Sync),
+) -> Option<LinearImage> {
+    let image = render_material_of(brdf, scene, settings, stop, pixels_done);
+    (!is_raised(stop)).then_some(image)
+}
+
+/// `brdf` rendered as a MERL table's nearest bins when it is one, else as itself.
+fn render_material_of(
+    brdf: &dyn Brdf,
+    scene: &Scene,
+    settings: &RenderSettings,
+    stop: &AtomicBool,
+    pixels_done: &(dyn Fn(u64) + Sync),
+) -> LinearImage {
     let table = NearestBinTable::detect(brdf);
     let material = match &table {
         Some(table) => Material::Table(table),
         None => Material::Any(brdf),
     };
     let lobe = ProxyLobe::fit(material.brdf());
-    render_material(material, lobe, scene, settings, pixels_done)
+    render_material(material, lobe, scene, settings, stop, pixels_done)
 }
 
 /// [`render`] with a given proxy lobe.
@@ -153,7 +179,15 @@ fn render_with_lobe(
     settings: &RenderSettings,
     pixels_done: &(dyn Fn(u64) + Sync),
 ) -> LinearImage {
-    render_material(Material::Any(brdf), lobe, scene, settings, pixels_done)
+    let never = AtomicBool::new(false);
+    render_material(
+        Material::Any(brdf),
+        lobe,
+        scene,
+        settings,
+        &never,
+        pixels_done,
+    )
 }
 
 fn render_material(
@@ -161,6 +195,7 @@ fn render_material(
     lobe: ProxyLobe,
     scene: &Scene,
     settings: &RenderSettings,
+    stop: &AtomicBool,
     pixels_done: &(dyn Fn(u64) + Sync),
 ) -> LinearImage {
     let camera = Camera::standard(settings.width, settings.height);
@@ -177,6 +212,9 @@ fn render_material(
     let rendered: Vec<Vec<(usize, DVec3)>> = tiles
         .par_iter()
         .map_init(Scratch::default, |scratch, &(x0, y0)| {
+            if is_raised(stop) {
+                return Vec::new();
+            }
             let mut out = Vec::with_capacity(TILE * TILE);
             for y in y0..(y0 + TILE).min(height) {
                 for x in x0..(x0 + TILE).min(width) {

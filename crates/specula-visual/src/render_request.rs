@@ -7,12 +7,15 @@
 use crate::error::VisualError;
 use crate::grid::{self, Tile};
 use crate::linear_image::{save_png, ImageFormat};
+use crate::render::render_until;
 use crate::render::{IMAGE_PX, SAMPLES_PER_PIXEL};
-use crate::{render, Lighting, LinearImage, RenderSettings, Scene, ShapeKind};
+use crate::{Lighting, LinearImage, RenderSettings, Scene, ShapeKind};
+use specula_core::progress::{Progress, Stopped};
 use specula_core::request::{parse_choice, ChoiceError, EXPOSURE_STOPS};
 use specula_core::Brdf;
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -61,25 +64,13 @@ pub struct RenderRequest {
     pub out: Option<PathBuf>,
 }
 
-/// What a render reports while it runs.
-#[derive(Clone, Debug)]
-pub enum RenderProgress {
-    /// Pixels done over all the materials so far.
-    Pixels(u64),
-    /// One material is rendered.
-    Rendered {
-        /// The material's name.
-        name: String,
-        /// Wall time of its render.
-        seconds: f64,
-    },
-}
-
 /// The pictures of a [`RenderRequest`].
 #[derive(Clone, Debug)]
 pub struct Rendered {
     /// The linear radiance of each material, in the order given.
     pub images: Vec<LinearImage>,
+    /// Wall time of each material's render, seconds, in the order given.
+    pub seconds: Vec<f64>,
     /// With two materials side by side: the mean relative difference of their pictures and
     /// the two tiles' labels.
     pub difference: Option<(f64, [String; 2])>,
@@ -123,10 +114,13 @@ impl RenderRequest {
 
 /// Renders `materials` (each with the source as the user named it, for the tiles' labels)
 /// as `request` asks, writes the picture when it names a file, and returns the pictures.
+/// `progress` counts the pixels over all the materials; when `stop` is raised the render
+/// ends at its next tile with [`Stopped`] and nothing is written.
 pub fn render_pictures(
     request: &RenderRequest,
     materials: &[(String, Arc<dyn Brdf>)],
-    progress: &(dyn Fn(RenderProgress) + Sync),
+    stop: &AtomicBool,
+    progress: &dyn Progress,
 ) -> Result<Rendered, VisualError> {
     request.check(materials.len())?;
     let scene = request.scene()?;
@@ -136,20 +130,30 @@ pub fn render_pictures(
     };
     let pixels = (request.size_px * request.size_px) as u64;
     let mut images = Vec::with_capacity(materials.len());
+    let mut seconds = Vec::with_capacity(materials.len());
+    progress.start("rendering", Some(pixels * materials.len() as u64));
     for (i, (_, brdf)) in materials.iter().enumerate() {
         let start = Instant::now();
         let offset = i as u64 * pixels;
-        let image = render(brdf.as_ref(), &scene, &settings, &|done| {
-            progress(RenderProgress::Pixels(offset + done))
+        let image = render_until(brdf.as_ref(), &scene, &settings, stop, &|done| {
+            progress.set(offset + done)
         });
-        progress(RenderProgress::Rendered {
-            name: brdf.name(),
-            seconds: start.elapsed().as_secs_f64(),
-        });
+        let Some(image) = image else {
+            progress.finish();
+            return Err(Stopped {
+                done: i as u64,
+                total: materials.len() as u64,
+                what: "pictures",
+            }
+            .into());
+        };
+        seconds.push(start.elapsed().as_secs_f64());
         images.push(image);
     }
+    progress.finish();
     let mut rendered = Rendered {
         images,
+        seconds,
         difference: None,
     };
     if let Some(out) = &request.out {
@@ -217,6 +221,7 @@ fn tile_labels(specs: &[&str]) -> Vec<String> {
 mod tests {
     use super::*;
     use specula_core::materials::preset;
+    use specula_core::progress::NoProgress;
 
     fn request(out: PathBuf) -> RenderRequest {
         RenderRequest {
@@ -243,7 +248,28 @@ mod tests {
     }
 
     fn run(request: &RenderRequest, names: &[&str]) -> Result<Rendered, VisualError> {
-        render_pictures(request, &materials(names), &|_| {})
+        render_pictures(
+            request,
+            &materials(names),
+            &AtomicBool::new(false),
+            &NoProgress,
+        )
+    }
+
+    #[test]
+    fn a_raised_stop_ends_the_render_and_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let png = dir.path().join("a.png");
+        let stop = AtomicBool::new(true);
+        let error = render_pictures(
+            &request(png.clone()),
+            &materials(&["chrome"]),
+            &stop,
+            &NoProgress,
+        )
+        .unwrap_err();
+        assert_eq!(error.to_string(), "stopped: 0 of 1 pictures done");
+        assert!(!png.exists());
     }
 
     #[test]

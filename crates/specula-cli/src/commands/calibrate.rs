@@ -4,18 +4,13 @@
 
 use super::connect_args::ConnectArgs;
 use anyhow::{Context, Result};
-use specula_acquisition::calibration::white::WhiteCertificate;
-use specula_acquisition::calibration::CalibrationOptions;
 use specula_acquisition::device::Device;
 use specula_acquisition::instrument::{Instrument, InstrumentError, MountTarget};
-use specula_acquisition::simulator::sample::{MountedSample, Tilt};
-use specula_acquisition::simulator::{Simulator, SimulatorConfig};
-use specula_core::Brdf;
-use specula_session::calibrate::calibrate_device;
+use specula_formats::load_brdf;
+use specula_session::calibrate::{run_calibrate, CalibrateRequest};
 use specula_session::{CalibrationText, CheckTable};
 use std::io::BufRead;
 use std::path::PathBuf;
-use std::sync::Arc;
 
 /// Calibrate a device (simulated, or through --connect) and store the result (TOML).
 #[derive(clap::Args)]
@@ -53,29 +48,33 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    let device = specula_acquisition::device::Device::load_or_utia(args.device.as_deref())?;
-    let options = CalibrationOptions {
+    let device = Device::load_or_utia(args.device.as_deref())?;
+    let request = CalibrateRequest {
         white_reflectance: args.white_reflectance,
-        white_certificate: args
-            .white_certificate
-            .as_deref()
-            .map(WhiteCertificate::load)
-            .transpose()?,
-        ..CalibrationOptions::default()
+        white_certificate: args.white_certificate.clone(),
+        seed: args.seed,
+        out: args.out.clone(),
     };
-    let (mut instrument, truth) = instrument(&args, &device)?;
+    request.validate()?;
+    let truth = args.truth.as_deref().map(load_brdf).transpose()?;
+    let mut instrument: Box<dyn Instrument> = match (&truth, &args.connect) {
+        (Some(truth), _) => Box::new(request.simulator(truth.clone(), &device)),
+        (None, spec) => {
+            let spec = spec.as_deref().context("give --truth or --connect")?;
+            Box::new(args.connect_args.client(spec)?)
+        }
+    };
     let spinner = crate::progress::spinner("calibrating");
     let yes = args.yes;
     let mut operator = |target: &MountTarget| spinner.suspend(|| mount_by_operator(target, yes));
-    let run = calibrate_device(
+    let run = run_calibrate(
+        &request,
         instrument.as_mut(),
         &mut operator,
         &device,
-        &options,
         &mut |step| spinner.set_message(step.to_string()),
     )?;
     spinner.finish_and_clear();
-    run.calibration.save(&args.out)?;
     let calibration = &run.calibration;
     out!(
         "{}",
@@ -95,26 +94,6 @@ pub(crate) fn run(args: Args) -> Result<()> {
         }
     );
     Ok(())
-}
-
-/// The device to calibrate and the truth on its turntable, when it is simulated.
-type Calibrated = (Box<dyn Instrument>, Option<Arc<dyn Brdf>>);
-
-/// The device to calibrate: the simulator with the truth on its turntable, or a client of
-/// `--connect`; and the truth, when there is one.
-fn instrument(args: &Args, device: &Device) -> Result<Calibrated> {
-    if let Some(truth_name) = &args.truth {
-        let truth = specula_formats::load_brdf(truth_name)?;
-        let config = SimulatorConfig::new(args.seed, device);
-        let sample = MountedSample::new(truth.name(), truth.clone(), Tilt::default());
-        let simulator = Simulator::new(device.clone(), sample, config);
-        return Ok((Box::new(simulator), Some(truth)));
-    }
-    let spec = args
-        .connect
-        .as_deref()
-        .context("give --truth or --connect")?;
-    Ok((Box::new(args.connect_args.client(spec)?), None))
 }
 
 /// The operator mounts `target`: a prompt on the terminal answered with Enter, or with

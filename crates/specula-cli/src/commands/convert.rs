@@ -3,7 +3,7 @@
 use crate::{progress, range};
 use anyhow::Result;
 use specula_core::GridSpec;
-use specula_formats::convert::{convert, ConvertOptions, CsvGrid};
+use specula_formats::convert::{run_convert, ConvertRequest, CsvGrid};
 use specula_formats::rgl::RglResolution;
 use std::path::PathBuf;
 
@@ -38,10 +38,11 @@ pub(crate) struct Args {
     pub rgl_sample_size: usize,
 }
 
-/// Sample placement for continuous sources written as CSV.
 pub(crate) fn run(args: Args) -> Result<()> {
-    let options = ConvertOptions {
-        phi_h_rad: args.phi_h_deg.to_radians(),
+    let request = ConvertRequest {
+        input: args.input,
+        output: args.output.clone(),
+        phi_h_deg: args.phi_h_deg,
         csv_grid: args.grid,
         rgl: RglResolution {
             elevations: args.rgl_elevations,
@@ -50,7 +51,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         },
     };
     let spinner = progress::spinner("converting");
-    let result = convert(&args.input, &args.output, &options);
+    let result = run_convert(&request);
     spinner.finish_and_clear();
     let done = result?;
     let holes = if done.not_measured > 0 {

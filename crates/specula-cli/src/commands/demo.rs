@@ -5,7 +5,7 @@ use super::measure::Bars;
 use crate::interrupt::{blame_stop, stop_on_ctrl_c, Interrupted};
 use anyhow::{Context, Result};
 use specula_acquisition::device::Device;
-use specula_report::{write_session_pictures, ReportOptions};
+use specula_report::{write_session_pictures, ReportRequest};
 use specula_session::journal::SequentialSettings;
 use specula_session::workflow::{
     default_session_path, measure, session_settings, summary_path, MeasureOutcome, MeasureSettings,
@@ -130,13 +130,13 @@ const RENDER_SPP: usize = 32;
 /// --truth NAME` writes) as report.html, and each of its pictures as a PNG file beside it;
 /// prints the appearance figures with their warnings and the error against the truth.
 fn pictures(dir: &Path, name: &str, table: &Path, session: &Path) -> Result<Vec<PathBuf>> {
-    let options = ReportOptions {
+    let options = ReportRequest {
         truth: Some(name.to_string()),
         table: Some(table.to_path_buf()),
         size_px: RENDER_PX,
         spp: RENDER_SPP,
         title: Some(format!("{name} measured on the simulated device")),
-        ..ReportOptions::new(session)
+        ..ReportRequest::new(session)
     };
     let (page, files) =
         write_session_pictures(&options, dir, &crate::progress::Terminal::default())?;

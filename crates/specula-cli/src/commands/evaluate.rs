@@ -2,9 +2,10 @@
 //! reconstructs it and prints the error figures.
 
 use super::grid_args::GridArgs;
-use anyhow::{bail, Result};
+use crate::interrupt::{blame_stop_unresumable, stop_on_ctrl_c};
+use anyhow::{bail, Context, Result};
 use specula_accuracy::PlacementChoice;
-use specula_accuracy::{evaluate_truth, EvaluateRequest, EvaluationTable, MerlFits, TruthSets};
+use specula_accuracy::{run_evaluate, EvaluateRequest, MerlFits, TruthSets};
 use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::Method;
 use std::path::PathBuf;
@@ -56,7 +57,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         max_elevation_deg: args.max_elevation,
         through_instrument: args.through_instrument,
     };
-    let settings = request.plan_settings()?;
+    request.validate()?;
     if args.samples_out.is_some() && args.truth.len() != 1 {
         bail!("--samples-out needs exactly one --truth");
     }
@@ -67,22 +68,13 @@ pub(crate) fn run(args: Args) -> Result<()> {
         merl_fits: args.merl_fits,
     }
     .load()?;
-    let bar = crate::progress::bar(truths.len() as u64, "evaluating");
-    let mut rows = Vec::with_capacity(truths.len());
-    for (set, truth) in truths {
-        let row = evaluate_truth(&request, &settings, truth.as_ref(), &device)?;
-        if let Some(path) = &args.samples_out {
-            SampleSet::new(row.name.clone(), row.samples.clone()).write(path)?;
-        }
-        rows.push((set, row));
-        bar.inc(1);
+    let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
+    let progress = crate::progress::Terminal::default();
+    let evaluation = run_evaluate(&request, &truths, &device, &stop, &progress)
+        .map_err(|e| blame_stop_unresumable(e.into(), &stop))?;
+    if let (Some(path), Some((_, row))) = (&args.samples_out, evaluation.rows.first()) {
+        SampleSet::new(row.name.clone(), row.samples.clone()).write(path)?;
     }
-    bar.finish_and_clear();
-    let table = EvaluationTable {
-        request: &request,
-        grid: &settings.grid,
-        rows: &rows,
-    };
-    out!("{table}");
+    out!("{}", evaluation.table(&request));
     Ok(())
 }

@@ -1,18 +1,10 @@
 //! `specula fit`: an analytic material for renderers, fitted to any BRDF.
 
 use crate::range;
-use anyhow::{Context, Result};
-use specula_core::atomic_file::write_bytes;
-use specula_core::materials::Base;
-use specula_core::tabulate::tabulate;
-use specula_core::GridSpec;
-use specula_formats::material_fit::{
-    fit_models, ExportReason, FitChoice, MaterialFit, METAL_MIN_K,
-};
-use specula_formats::renderer_export::{
-    gltf_document, mitsuba_scene, mitsuba_warning, pbrt_material,
-};
-use std::path::{Path, PathBuf};
+use anyhow::Result;
+use specula_formats::material_fit::{FitChoice, MaterialFit};
+use specula_formats::{run_fit, FitExports, FitRequest};
+use std::path::PathBuf;
 
 /// Fit the analytic materials renderers have to a BRDF and export the best one.
 #[derive(clap::Args)]
@@ -41,56 +33,37 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
+    let request = FitRequest {
+        model: args.model,
+        max_elevation_deg: args.max_elevation,
+        exports: FitExports {
+            out: args.out,
+            mitsuba: args.mitsuba,
+            pbrt: args.pbrt,
+            gltf: args.gltf,
+        },
+    };
     let brdf = specula_formats::load_brdf(&args.brdf)?;
     let spinner = crate::progress::spinner("fitting");
-    let table = tabulate(brdf.as_ref(), GridSpec::paper().phi_h_deg.to_radians());
-    let fits = fit_models(
-        &table,
-        args.model.models(),
-        args.max_elevation,
-        &brdf.name(),
-    )
-    .with_context(|| format!("{}: cannot fit", args.brdf))?;
+    let outcome = run_fit(&request, brdf.as_ref(), &args.brdf);
     spinner.finish_and_clear();
+    let outcome = outcome?;
     outln!("model,set,cells,relative_rmse,log_rmse,slice_mae");
-    for fit in &fits {
+    for fit in &outcome.fits {
         print_errors(fit, args.max_elevation);
     }
-    for fit in &fits {
+    for fit in &outcome.fits {
         outln!("{}: {}", fit.model.label(), parameters(fit));
     }
-    let best = &fits[0].material;
-    let exporting =
-        args.out.is_some() || args.mitsuba.is_some() || args.pbrt.is_some() || args.gltf.is_some();
-    if exporting {
-        outln!(
-            "exported model: {} ({})",
-            fits[0].model.label(),
-            ExportReason::of(&fits)
-        );
-        if let Base::Conductor(c) = &best.base {
-            if !fits[0].is_metal_like() {
-                outln!(
-                    "note: the conductor's k is at most {:.2}, not a metal's (at least {METAL_MIN_K}): the data look dielectric; --model coat fits a dielectric",
-                    c.k.max_element()
-                );
-            }
+    if !outcome.written.is_empty() {
+        let model = outcome.exported().model.label();
+        outln!("exported model: {model} ({})", outcome.reason);
+        for note in &outcome.notes {
+            outln!("note: {note}");
         }
     }
-    if let Some(path) = &args.out {
-        save(path, &best.to_toml_string())?;
-    }
-    if let Some(path) = &args.mitsuba {
-        save(path, &mitsuba_scene(best)?)?;
-        if let Some(warning) = mitsuba_warning(best) {
-            outln!("note: {warning}");
-        }
-    }
-    if let Some(path) = &args.pbrt {
-        save(path, &pbrt_material(best)?)?;
-    }
-    if let Some(path) = &args.gltf {
-        save(path, &gltf_document(best)?)?;
+    for path in &outcome.written {
+        outln!("wrote {}", path.display());
     }
     Ok(())
 }
@@ -120,11 +93,4 @@ fn print_errors(fit: &MaterialFit, max_elevation_deg: f64) {
             e.slice_mae
         );
     }
-}
-
-fn save(path: &Path, text: &str) -> Result<()> {
-    write_bytes(path, text.as_bytes())
-        .with_context(|| format!("{}: cannot write", path.display()))?;
-    outln!("wrote {}", path.display());
-    Ok(())
 }

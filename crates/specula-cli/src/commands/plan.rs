@@ -2,6 +2,7 @@
 //! reachability, occlusion, an execution order and a time estimate.
 
 use super::grid_args::GridArgs;
+use crate::interrupt::{blame_stop_unresumable, stop_on_ctrl_c};
 use anyhow::{bail, Context, Result};
 use specula_acquisition::ordering::transition_time_s;
 use specula_acquisition::plan::PlanSummary;
@@ -68,9 +69,10 @@ pub(crate) fn run(args: Args) -> Result<()> {
         truth,
     };
     request.validate()?;
-    let spinner = crate::progress::spinner("ordering");
-    let planned = run_plan(&request, &device)?;
-    spinner.finish_and_clear();
+    let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
+    let progress = crate::progress::Terminal::default();
+    let planned = run_plan(&request, &device, &stop, &progress)
+        .map_err(|e| blame_stop_unresumable(e.into(), &stop))?;
     let chosen = planned.chosen(args.order);
     specula_core::atomic_file::write_with(&out, |file| {
         chosen.write_csv(file).map_err(std::io::Error::other)

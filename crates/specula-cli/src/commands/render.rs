@@ -1,7 +1,8 @@
 //! `specula render`: pictures of materials on a sphere or a speedshape (paper Fig. 16, 17).
 
-use anyhow::Result;
-use specula_visual::{render_pictures, LightKind, RenderProgress, RenderRequest, ShapeKind};
+use crate::interrupt::{blame_stop_unresumable, stop_on_ctrl_c};
+use anyhow::{Context, Result};
+use specula_visual::{render_pictures, LightKind, RenderRequest, ShapeKind};
 use std::path::PathBuf;
 
 /// Render a material on a sphere or a speedshape under a point light or an environment.
@@ -62,16 +63,19 @@ pub(crate) fn run(args: Args) -> Result<()> {
         let brdf = specula_formats::load_brdf(&spec)?;
         materials.push((spec, brdf));
     }
-    let pixels = (args.size * args.size) as u64;
-    let bar = crate::progress::bar(pixels * materials.len() as u64, "rendering");
-    let rendered = render_pictures(&request, &materials, &|progress| match progress {
-        RenderProgress::Pixels(done) => bar.set_position(done),
-        RenderProgress::Rendered { name, seconds } => eprintln!(
-            "rendered {name} ({} x {}, {} spp) in {seconds:.2} s",
-            args.size, args.size, args.spp
-        ),
-    })?;
-    bar.finish_and_clear();
+    let stop = stop_on_ctrl_c().context("cannot watch for Ctrl-C")?;
+    let progress = crate::progress::Terminal::default();
+    let rendered = render_pictures(&request, &materials, &stop, &progress)
+        .map_err(|e| blame_stop_unresumable(e.into(), &stop))?;
+    for ((_, brdf), seconds) in materials.iter().zip(&rendered.seconds) {
+        eprintln!(
+            "rendered {} ({} x {}, {} spp) in {seconds:.2} s",
+            brdf.name(),
+            args.size,
+            args.size,
+            args.spp
+        );
+    }
     if let Some((difference, [a, b])) = rendered.difference {
         outln!("mean relative difference {difference:.4} ({a} against {b})");
     }

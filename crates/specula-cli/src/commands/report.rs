@@ -2,7 +2,7 @@
 //! (`specula-report`).
 
 use anyhow::Result;
-use specula_report::{write_report, Audience, ReportOptions, SampleInfo};
+use specula_report::{run_report, Audience, ReportRequest, SampleInfo};
 use std::path::PathBuf;
 
 /// Write a self-contained report (HTML, or PDF) about a BRDF source or a session.
@@ -55,7 +55,7 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    let options = ReportOptions {
+    let options = ReportRequest {
         input: args.input,
         against: args.against,
         tolerances: args.tolerances,
@@ -72,7 +72,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         spp: args.spp,
         title: args.title,
     };
-    let page = write_report(&options, &args.out, &crate::progress::Terminal::default())?;
+    let page = run_report(&options, &args.out, &crate::progress::Terminal::default())?;
     outln!("wrote {}", args.out.display());
     if let Some(verdict) = &page.verdict {
         outln!("verdict: {verdict}");

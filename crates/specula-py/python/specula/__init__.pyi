@@ -99,6 +99,16 @@ def convert(
 ) -> dict[str, Any]:
     """`specula convert SOURCE OUT`: the format follows OUT's extension."""
 
+def calibrate(
+    truth: BrdfLike,
+    out: Path,
+    white_reflectance: float = 0.99,
+    white_certificate: Optional[Path] = None,
+    seed: int = 1,
+    device: Optional[Path] = None,
+) -> Path:
+    """`specula calibrate --truth`: the simulated device calibrated, written to `out`."""
+
 def fit(
     brdf: BrdfLike,
     model: str = "both",
@@ -108,7 +118,8 @@ def fit(
     pbrt: Optional[Path] = None,
     gltf: Optional[Path] = None,
 ) -> dict[str, Any]:
-    """`specula fit`: analytic materials fitted, the best exported; {"exported", "fits"}."""
+    """`specula fit`: analytic materials fitted, the best exported; {"exported", "reason",
+    "notes", "fits"}."""
 
 def render(
     brdf: BrdfLike,
