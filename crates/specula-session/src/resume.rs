@@ -176,16 +176,16 @@ fn differences(stored: &MeasureSettings, asked: &MeasureSettings) -> String {
     );
     let strategy = |s: &MeasureSettings| match s.sequential {
         Some(l) => format!(
-            "sequential to {} h, {} samples{}",
+            "sequential to {} h and {} samples{}",
             l.max_hours,
             l.max_samples,
             l.target_uncertainty_rel
-                .map_or(String::new(), |t| format!(", {} %", 100.0 * t))
+                .map_or(String::new(), |t| format!(" or {} %", 100.0 * t))
         ),
         None => "the whole grid".to_string(),
     };
     differ(
-        "the main stage (--sequential, --max-hours, --max-samples, --target-uncertainty)",
+        "the main stage (--grid-preset, --max-hours, --max-samples, --target-uncertainty)",
         strategy(stored),
         strategy(asked),
     );

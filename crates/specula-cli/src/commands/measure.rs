@@ -151,14 +151,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     outln!("session: {}", session.display());
     outln!("grid: {grid}");
     if let Some(limits) = request.sequential()? {
-        outln!(
-            "main stage: sequential, batch by batch where the table is least sure, until {} h of device time or {} samples{}",
-            limits.max_hours,
-            limits.max_samples,
-            limits
-                .target_uncertainty_rel
-                .map_or(String::new(), |t| format!(" or a median relative uncertainty of {} %", 100.0 * t))
-        );
+        outln!("main stage: {limits}");
     }
     let mut observer = Bars::default();
     let prior = basis_for(request.method)?;

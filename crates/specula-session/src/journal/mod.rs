@@ -39,6 +39,7 @@ mod lock;
 mod samples;
 mod schema;
 mod status;
+mod status_text;
 
 pub use check::{ChecksumMismatch, Damage};
 use error::sql_error;

@@ -295,6 +295,22 @@ impl Default for SequentialSettings {
     }
 }
 
+impl std::fmt::Display for SequentialSettings {
+    /// `sequential, batch by batch where the table is least sure, until 1 h of device time or
+    /// 4073 samples`, and the uncertainty target when there is one.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "sequential, batch by batch where the table is least sure, until {} h of device time or {} samples",
+            self.max_hours, self.max_samples
+        )?;
+        match self.target_uncertainty_rel {
+            Some(t) => write!(f, " or a median relative uncertainty of {} %", 100.0 * t),
+            None => Ok(()),
+        }
+    }
+}
+
 /// One batch of a sequential measurement and why it was chosen.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BatchRecord {
