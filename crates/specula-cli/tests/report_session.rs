@@ -127,9 +127,10 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
         ],
     );
     assert!(!html.contains("incomplete"));
-    // Renders on two shapes, three slices (measured, truth, difference), the probe and the
-    // raw samples.
-    assert_eq!(html.matches("data:image/png;base64,").count(), 7);
+    // Renders on two shapes, three slices (measured, truth, difference), the map of the
+    // table's relative uncertainty (measure wrote it beside the table), the probe and the raw
+    // samples.
+    assert_eq!(html.matches("data:image/png;base64,").count(), 8);
 
     // The same with the written table given, and another truth.
     let out = dir.path().join("table.html");
