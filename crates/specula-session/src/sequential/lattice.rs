@@ -127,14 +127,6 @@ impl CandidateLattice {
         }
     }
 
-    /// This lattice with `chosen` as its chosen nodes.
-    pub(crate) fn with_chosen(&self, chosen: &[Vec<bool>; AXES]) -> Self {
-        Self {
-            chosen: chosen.clone(),
-            ..self.clone()
-        }
-    }
-
     /// Takes the chosen nodes a journal kept; `false` (nothing changed) when their counts
     /// are not this lattice's.
     pub(crate) fn restore(&mut self, chosen: &[Vec<bool>]) -> bool {
@@ -178,11 +170,15 @@ impl CandidateLattice {
         parts.join(" x ")
     }
 
-    /// How many positions choosing node `i` of `axis` would add to the measured product.
-    pub(crate) fn added_by(&self, axis: usize, i: usize) -> usize {
-        let mut with = self.chosen.clone();
-        with[axis][i] = true;
-        self.product(&with).len() - self.chosen_product().len()
+    /// How many positions choosing node `i` of `axis` would add to the product of `chosen`:
+    /// the reachable ones of its plane across the other axes' chosen nodes.
+    pub(crate) fn added_by(&self, chosen: &[Vec<bool>; AXES], axis: usize, i: usize) -> usize {
+        if chosen[axis][i] {
+            return 0;
+        }
+        let mut plane = chosen.clone();
+        plane[axis] = (0..plane[axis].len()).map(|j| j == i).collect();
+        self.product(&plane).len()
     }
 }
 
@@ -264,7 +260,7 @@ mod tests {
         assert!(design.contains(" of 30 theta_d x "), "{design}");
         // Choosing a theta_d node adds one position per reachable (theta_h, phi_d) pair.
         let free = (0..30).find(|&i| !lattice.chosen[1][i]).unwrap();
-        let added = lattice.added_by(1, free);
+        let added = lattice.added_by(&lattice.chosen, 1, free);
         assert!(added > 0 && added <= 16 * 7);
         let mut more = lattice.chosen.clone();
         more[1][free] = true;

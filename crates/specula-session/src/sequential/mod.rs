@@ -324,7 +324,7 @@ fn next_batch(
     let measured: BTreeSet<[usize; AXES]> = lattice.chosen_product().into_iter().collect();
     let mut picks: Vec<[Vec<bool>; AXES]> = Vec::new();
     loop {
-        let current = lattice.with_chosen(&chosen).chosen_product().len() - measured.len();
+        let current = lattice.product(&chosen).len() - measured.len();
         let room = samples_left.saturating_sub(current).min(
             ((batch_s / per_sample_s.max(f64::MIN_POSITIVE)) as usize).saturating_sub(current),
         );
@@ -336,8 +336,7 @@ fn next_batch(
     }
     while let Some(candidate) = picks.pop() {
         let positions: Vec<[usize; AXES]> = lattice
-            .with_chosen(&candidate)
-            .chosen_product()
+            .product(&candidate)
             .into_iter()
             .filter(|p| !measured.contains(p))
             .collect();
@@ -381,14 +380,13 @@ fn best_plane(
     per_sample_s: f64,
     room: usize,
 ) -> Option<(usize, usize)> {
-    let with = lattice.with_chosen(chosen);
     let mut best: Option<(f64, usize, usize)> = None;
     for (axis, (credits, taken)) in forecast.credit.iter().zip(chosen).enumerate() {
         for (node, &credit) in credits.iter().enumerate() {
             if taken[node] || credit <= 0.0 {
                 continue;
             }
-            let added = with.added_by(axis, node);
+            let added = lattice.added_by(chosen, axis, node);
             if added == 0 || added > room {
                 continue;
             }
