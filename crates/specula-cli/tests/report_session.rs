@@ -124,6 +124,10 @@ fn a_complete_session_reports_k_hat_coverage_duration_errors_and_figures() {
             "on the same colour scale".into(),
             format!("the square-root probe of {probe_done} samples"),
             format!("The {main_done} samples of the main stage"),
+            // The checks of the deblurred table, per region and over all samples.
+            "Checks of the deblurred table".into(),
+            "<th>chi-square per value</th>".into(),
+            "<td>all</td>".into(),
         ],
     );
     assert!(!html.contains("incomplete"));

@@ -17,6 +17,7 @@ pub mod breakdown;
 pub mod consistency;
 pub mod deblur;
 mod domain;
+pub mod energy;
 mod extrapolate;
 mod grid;
 mod kernel;

@@ -30,16 +30,27 @@
 //! Where they do not, and the fitted lobe's peak is too narrow for the captures to tell its
 //! width from zero ([`width_detection_limit_deg`]), the data cannot decide the peak's
 //! height: such a peak changes the captures hardly at all (the blur's null space), and the
-//! lobe's family, which the samples just showed does not describe the material, chose its
-//! width. The
+//! lobe's family chose its width. Whether that choice is worth keeping is decided where the
+//! captures do see the shape, on the flank (beyond the peak region, within the blur's
+//! reach): when the deblurred table reproduces the flank's samples, the lobe describes the
+//! material as far as the instrument resolves it, and its peak, the continuation of that
+//! shape, stays (the summary says the check failed and the peak is not a measurement). When
+//! the flank fails too, the lobe's family does not describe the material, and its peak is
+//! bounded instead. The
 //! un-deblurred value is then a lower bound of the peak (the blur spreads it over the
 //! resolution) and the deblurred one the height the lobe's shape would give. Below the peak
 //! region's upper theta_h the table holds their geometric mean, which is off by at most
 //! half the bounds' log ratio wherever the truth lies between them (the log-error minimax
 //! of the interval), and the summary gives the bounds at the highest cell. Elsewhere the
 //! deblurred table stays and the summary says which check it failed.
+//!
+//! Whatever table is kept, its directional albedo is then held to 1
+//! ([`energy::conserve_energy`]): a fallback removes an invented spike, but a lobe continued
+//! towards grazing incidence, where the device does not reach, can still reflect more than
+//! arrives, and such a table is scaled down where it does.
 
 use crate::consistency::{self, Consistency, Instrument};
+use crate::energy::{self, max_albedo, EnergyScale};
 use crate::lobe::{Lobe, LobeOnGrid};
 use crate::response_nodes::FIT_RESPONSE_NODES;
 use specula_core::capture::{CaptureNode, CaptureResponse};
@@ -57,9 +68,6 @@ pub const RELATIVE_FLOOR: f64 = 0.01;
 /// error on a table ([`MerlBrdf::directional_albedo`]).
 pub const ALBEDO_TOLERANCE: f64 = 1.02;
 
-/// Incidences at which the albedo is checked, degrees.
-const ALBEDO_INCIDENCES_DEG: [f64; 9] = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0];
-
 /// What the checks found of a deblurred table (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Safeguard {
@@ -76,8 +84,10 @@ pub struct Safeguard {
     /// Why the fallback was taken, in words.
     pub reason: Option<String>,
     /// The largest directional albedo of the table returned, over the channels and
-    /// [`ALBEDO_INCIDENCES_DEG`].
+    /// [`energy::INCIDENCES_DEG`].
     pub max_albedo: f64,
+    /// How the table was scaled to conserve energy ([`energy::conserve_energy`]), if it was.
+    pub energy: Option<EnergyScale>,
 }
 
 impl Safeguard {
@@ -90,6 +100,9 @@ impl Safeguard {
     pub fn lines(&self) -> Vec<String> {
         let mut lines = self.consistency.lines();
         lines.push(format!("max_directional_albedo={:.4}", self.max_albedo));
+        if let Some(scale) = &self.energy {
+            lines.push(format!("energy_conserved={scale}"));
+        }
         lines.push(match (self.fallback_below_deg, self.bounded_below_deg, &self.reason) {
             (Some(limit), _, Some(reason)) => format!(
                 "deblur_fallback=theta_h below {limit:.2} deg holds the un-deblurred values ({reason})"
@@ -109,9 +122,28 @@ impl Safeguard {
 
 /// Checks the `deblurred` table (made through `response` from `samples`, with its fitted
 /// `lobe`) and falls back per region to the table `without_response()` makes where it fails
-/// (see the module documentation): the table to keep, what the checks found and, when its
+/// (see the module documentation), then holds the kept table's directional albedo to 1
+/// ([`energy::conserve_energy`]): the table to keep, what the checks found and, when its
 /// cells were replaced, the deblurred table itself.
 pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
+    samples: &[Sample],
+    deblurred: MerlBrdf,
+    lobe: Option<&Lobe>,
+    response: &R,
+    without_response: impl FnOnce() -> Result<MerlBrdf, E>,
+) -> Result<(MerlBrdf, Safeguard, Option<MerlBrdf>), E> {
+    let (kept, mut guard, replaced) =
+        checked(samples, deblurred, lobe, response, without_response)?;
+    let (kept, scale) = energy::conserve_energy(kept);
+    if let Some(scale) = &scale {
+        guard.max_albedo = scale.albedo_after;
+    }
+    guard.energy = scale;
+    Ok((kept, guard, replaced))
+}
+
+/// [`safeguarded`] before the energy is held: the checks and the fallback.
+fn checked<R: CaptureResponse + ?Sized, E>(
     samples: &[Sample],
     deblurred: MerlBrdf,
     lobe: Option<&Lobe>,
@@ -134,6 +166,7 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
             bounded_below_deg: None,
             reason: None,
             max_albedo: albedo,
+            energy: None,
         };
         return Ok((deblurred, passed, None));
     };
@@ -146,13 +179,15 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
         let undetected = lobe
             .map(|l| l.shape.half_width_deg())
             .filter(|&w| w < limit);
-        if let Some(half_width_deg) = undetected {
+        let flank_failed = region_failure(&check, "flank").is_some();
+        if let Some(half_width_deg) = undetected.filter(|_| flank_failed) {
             let limit_deg = check.peak_limit_deg;
             let bounds = PeakBounds::of(&deblurred, &plain, limit_deg);
             let bounded = geometric_mean_below(&deblurred, &plain, limit_deg);
             let bounded_check = Consistency::check(samples, &u, &bounded, instrument);
             let guard = Safeguard {
                 max_albedo: max_albedo(&bounded),
+                energy: None,
                 consistency: bounded_check,
                 deblurred: Some(check),
                 fallback_below_deg: None,
@@ -163,13 +198,20 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
             };
             return Ok((bounded, guard, Some(deblurred)));
         }
+        let why_kept = match undetected {
+            Some(w) => format!("the lobe's half width {w:.3} deg is below the {limit:.3} deg the captures can tell from zero, but the lobe reproduces the flank they resolve, so its peak stays as that shape's continuation"),
+            None => "so the deblurred ones stay".into(),
+        };
         let kept = Safeguard {
             consistency: check,
             deblurred: None,
             fallback_below_deg: None,
             bounded_below_deg: None,
-            reason: Some(format!("{reason}; the un-deblurred values reproduce the samples no better, so the deblurred ones stay")),
+            reason: Some(format!(
+                "{reason}; the un-deblurred values reproduce the samples no better; {why_kept}"
+            )),
             max_albedo: albedo,
+            energy: None,
         };
         return Ok((deblurred, kept, None));
     }
@@ -180,6 +222,7 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
         bounded_below_deg: None,
         reason: Some(reason),
         max_albedo: merged_albedo,
+        energy: None,
     };
     Ok((merged, replaced, Some(deblurred)))
 }
@@ -236,18 +279,7 @@ fn quadrature_sum(terms: &[Rgb]) -> Rgb {
 /// The theta_h below which the table is replaced and why, if any check fails: the peak
 /// region's limit when only the peak fails (or the albedo), the flank's when the flank does.
 fn failure(check: &Consistency, max_albedo: f64) -> Option<(f64, String)> {
-    let failed = |name: &str| {
-        check
-            .region(name)
-            .filter(|r| r.relative_error > FAIL_FACTOR * r.expected_error)
-            .map(|r| {
-                format!(
-                    "{name} reproduction error {:.2} % above {FAIL_FACTOR} x the {:.2} % its uncertainties explain",
-                    100.0 * r.relative_error,
-                    100.0 * r.expected_error
-                )
-            })
-    };
+    let failed = |name: &str| region_failure(check, name);
     let mut reasons: Vec<String> = Vec::new();
     let mut limit = None;
     if let Some(r) = failed("peak") {
@@ -263,6 +295,21 @@ fn failure(check: &Consistency, max_albedo: f64) -> Option<(f64, String)> {
         limit = Some(crate::lobe::BLUR_THETA_H_DEG);
     }
     limit.map(|l| (l, reasons.join("; ")))
+}
+
+/// Why the region `name` fails ([`FAIL_FACTOR`]), in words; `None` when it passes or has
+/// no samples.
+fn region_failure(check: &Consistency, name: &str) -> Option<String> {
+    check
+        .region(name)
+        .filter(|r| r.relative_error > FAIL_FACTOR * r.expected_error)
+        .map(|r| {
+            format!(
+                "{name} reproduction error {:.2} % above {FAIL_FACTOR} x the {:.2} % its uncertainties explain",
+                100.0 * r.relative_error,
+                100.0 * r.expected_error
+            )
+        })
 }
 
 /// True when `merged` reproduces the samples of every region below `limit_deg` better
@@ -356,17 +403,6 @@ impl std::fmt::Display for PeakBounds {
             (self.plain * self.deblurred).sqrt()
         )
     }
-}
-
-/// The largest directional albedo of `table` (see [`Safeguard::max_albedo`]).
-fn max_albedo(table: &MerlBrdf) -> f64 {
-    ALBEDO_INCIDENCES_DEG
-        .iter()
-        .map(|&t| {
-            let a = table.directional_albedo(t);
-            a.x.max(a.y).max(a.z)
-        })
-        .fold(0.0, f64::max)
 }
 
 #[cfg(test)]
@@ -512,6 +548,63 @@ mod tests {
         assert!(replaced.is_none());
         assert_eq!(guard.bounded_below_deg, None, "{guard:?}");
         assert_eq!(kept.cell(peak), d.cell(peak));
+    }
+    #[test]
+    fn an_unresolved_peak_whose_lobe_reproduces_the_flank_stays_as_deblurred() {
+        // The truth is a lobe narrower than the captures can tell from zero (alpha 0.004,
+        // half width 0.15 deg). Its "deblurred" table is the truth with the cells within
+        // 0.5 deg of the peak half as high again: the peak's samples are reproduced badly,
+        // the flank's exactly (the blur reaches them from beyond a degree). The un-deblurred
+        // table (a wide lobe) does no better, yet the lobe describes the material where the
+        // captures see its shape: the peak is not bounded, the deblurred table is returned
+        // as it is (its albedo within 1), and the reason says why.
+        let response = Device::utia().response();
+        let truth = Lobe {
+            specular: Rgb::splat(0.4),
+            ..lobe(0.004)
+        };
+        assert!(
+            truth.shape.half_width_deg() < width_detection_limit_deg(response.resolution_deg())
+        );
+        let samples = along_theta_h(&truth, &response);
+        let exact = tabulated(&truth);
+        let overshoot = MerlBrdf::from_fn("t", |index| {
+            let scale = if Bin::from_index(index).centre_deg()[0] < 0.5 {
+                1.5
+            } else {
+                1.0
+            };
+            exact.cell(index).map(|v| v * scale)
+        });
+        let (kept, guard, replaced) =
+            safeguarded(&samples, overshoot.clone(), Some(&truth), &response, || {
+                Ok::<_, ()>(tabulated(&lobe(0.6)))
+            })
+            .unwrap();
+        assert!(guard.failed(), "{guard:?}");
+        assert!(
+            region_failure(&guard.consistency, "peak").is_some(),
+            "{guard:?}"
+        );
+        assert!(
+            region_failure(&guard.consistency, "flank").is_none(),
+            "{guard:?}"
+        );
+        assert_eq!(guard.bounded_below_deg, None, "{guard:?}");
+        assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
+        assert!(replaced.is_none());
+        let peak = Bin {
+            theta_h_i: 0,
+            theta_d_i: 40,
+            phi_d_i: 90,
+        }
+        .index();
+        assert_eq!(guard.energy, None, "{guard:?}");
+        assert_eq!(kept.cell(peak), overshoot.cell(peak));
+        assert!(
+            guard.lines().iter().any(|l| l.contains("continuation")),
+            "{guard:?}"
+        );
     }
     #[test]
     fn a_peak_at_the_detection_limit_widens_the_capture_by_the_positioning_accuracy() {

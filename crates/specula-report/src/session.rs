@@ -24,6 +24,7 @@ use specula_core::{Brdf, MerlBrdf, ProbePoint, Sample};
 use specula_formats::BrdfSource;
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use specula_reconstruct::provenance::Provenance;
+use specula_reconstruct::safeguard::{Safeguard, FAIL_FACTOR};
 use specula_reconstruct::Method;
 use specula_session::journal::{
     Journal, JournalError, SequenceRecord, SessionRecord, SessionStatus, SourceRecord, Stage,
@@ -431,6 +432,78 @@ fn batches_table(sequence: &SequenceRecord) -> TableSection {
     }
 }
 
+/// The checks of the deblurred table ([`specula_reconstruct::safeguard`]): per region of
+/// theta_h, how well the table blurred by the response reproduces the samples against what
+/// their uncertainties explain, and what the table holds where a check failed.
+fn checks_table(guard: &Safeguard) -> TableSection {
+    // Where part of the table was replaced, the deblurred table's figures say why.
+    let checked = guard.deblurred.as_ref().unwrap_or(&guard.consistency);
+    let rows = checked
+        .regions
+        .iter()
+        .map(|r| {
+            let passed = r.relative_error <= FAIL_FACTOR * r.expected_error;
+            vec![
+                r.name.to_string(),
+                r.samples.to_string(),
+                format!("{:.3}", r.chi2_per_value),
+                format!("{:.2} %", 100.0 * r.relative_error),
+                format!("{:.2} %", 100.0 * r.expected_error),
+                if passed { "passes" } else { "fails" }.to_string(),
+            ]
+        })
+        .collect();
+    let held = match (
+        guard.fallback_below_deg,
+        guard.bounded_below_deg,
+        &guard.reason,
+    ) {
+        (Some(limit), _, Some(reason)) => format!(
+            "Below theta_h {limit:.2} deg the table holds the values as measured (not \
+             deblurred): {reason}."
+        ),
+        (None, Some(limit), Some(reason)) => format!(
+            "Below theta_h {limit:.2} deg the peak is a bound, not a measurement: the table \
+             holds the geometric mean of the deblurred values and the values as measured. \
+             {reason}."
+        ),
+        (None, None, Some(reason)) => {
+            format!(
+                "The deblurred table is kept, flagged: its peak is not a measurement. {reason}."
+            )
+        }
+        _ => "Every region passes: the deblurred table reproduces its samples.".into(),
+    };
+    let energy = guard.energy.map_or_else(
+        || format!("Largest directional albedo {:.3}.", guard.max_albedo),
+        |e| format!("Energy held: {e}."),
+    );
+    TableSection {
+        title: "Checks of the deblurred table".into(),
+        header: [
+            "region of theta_h",
+            "samples",
+            "chi-square per value",
+            "reproduction error",
+            "explained by the uncertainties",
+            "check",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+        notes: vec![
+            format!(
+                "The deblurred table, blurred again by the instrument's response, predicts each \
+                 sample; a region fails when the share of the samples' signal it misses is more \
+                 than {FAIL_FACTOR} times the share their uncertainties explain (peak: within \
+                 twice the resolution, flank: to 20 deg, body: beyond)."
+            ),
+            held,
+            energy,
+        ],
+    }
+}
+
 fn settings_text(s: &MeasureSettings) -> String {
     format!(
         "seed {}, {} probe samples, grid {} ({} function), order {}, exposures {}, method {}{}",
@@ -522,6 +595,8 @@ struct Shown {
     uncertainty: Option<MerlBrdf>,
     /// Where the uncertainty is from, or that there is none.
     uncertainty_origin: String,
+    /// The checks of the deblurred table, when it was deblurred.
+    checks: Option<TableSection>,
 }
 
 /// The uncertainty `measure` wrote beside the table of the session journal `path`
@@ -579,6 +654,7 @@ fn shown_table(
             extrapolated: appearance::extrapolated_cells(&path.to_string_lossy())?,
             uncertainty,
             uncertainty_origin,
+            checks: None,
         }));
     }
     if session.main.is_empty() {
@@ -621,6 +697,7 @@ fn shown_table(
             Ok(Some(Shown {
                 uncertainty,
                 uncertainty_origin,
+                checks: r.safeguard.as_ref().map(checks_table),
                 extrapolated: appearance::extrapolated_cells_of(&r.provenance),
                 table: r.brdf,
                 provenance: Some(r.provenance),
@@ -756,6 +833,9 @@ pub(crate) fn report(
         report
             .tables
             .extend(session.sequence.as_ref().map(batches_table));
+        if engineering {
+            report.tables.extend(shown.checks.clone());
+        }
         verdict = section.verdict;
         warnings = section.warnings;
         report.figures.extend(renders(

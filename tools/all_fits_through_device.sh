@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Every published fit of real data as the truth of the default simulated device (its light
+# disk and its noise, seed 1): the 100 MERL and 51 RGL neural fits, the 100 SGD and the 100
+# ABC fits, each measured by `specula measure` as a lab would (the sequential default) and by
+# the paper's way on the same device (`--grid-preset paper --method linear --order nested
+# --hdr bracket`), both scored by `specula compare` against the truth tabulated
+# (cosine-weighted relative RMSE and log RMSE within 75 deg). One CSV row per truth, in the
+# order they finish:
+#
+#   truth,rel,log,paper_rel,paper_log,samples,simulated_hours,wall_s,fallback,energy
+#
+#   cargo build --release -p specula-cli
+#   SPECULA=target/release/specula JOBS=2 tools/all_fits_through_device.sh > fits.csv
+#   python3 tools/all_fits_summary.py fits.csv
+#
+# TRUTH arguments replace the full list. Each truth's files are removed once it is scored.
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+bin="${SPECULA:-$here/target/release/specula}"
+work="${WORK:-$(mktemp -d)}"
+data="$here/crates/specula-formats/data"
+if [ "$#" -eq 0 ]; then
+    set -- $(
+        sed 's/^/nbrdf:/' "$data/merl_nbrdf/merl100_names.txt"
+        sed 's/^/nbrdf-rgl:/' "$data/merl_nbrdf/rgl_isotropic_names.txt"
+        tail -n +2 "$data/merl_fits_djbrdf/merl_sgd_bagher2012.csv" | cut -d, -f1 | sed 's/^/sgd:/'
+        tail -n +2 "$data/merl_fits_djbrdf/merl_abc_low2012.csv" | cut -d, -f1 | sed 's/^/abc:/'
+    )
+fi
+one() { # truth -> one CSV row
+    local truth="$1" dir
+    dir="$work/${truth//[:\/]/_}"
+    mkdir -p "$dir"
+    local start end
+    start=$(date +%s.%N)
+    if ! "$bin" measure --truth "$truth" --seed 1 --out "$dir/m.binary" > "$dir/m.log" 2>&1; then
+        echo "$truth,error: measure failed"; return
+    fi
+    end=$(date +%s.%N)
+    if ! "$bin" measure --truth "$truth" --seed 1 --grid-preset paper --method linear \
+        --order nested --hdr bracket --out "$dir/p.binary" > /dev/null 2>&1; then
+        echo "$truth,error: the paper's way failed"; return
+    fi
+    "$bin" tabulate "$truth" --out "$dir/t.binary" > /dev/null 2>&1
+    local ours paper
+    ours=$("$bin" compare "$dir/m.binary" "$dir/t.binary" 2>/dev/null | awk -F, '$1 == "within" { print $3 "," $4 }')
+    paper=$("$bin" compare "$dir/p.binary" "$dir/t.binary" 2>/dev/null | awk -F, '$1 == "within" { print $3 "," $4 }')
+    local samples hours fallback energy
+    samples=$(sed -n 's/^measured_samples=//p' "$dir/m.log")
+    hours=$(sed -n 's/^simulated_hours=//p' "$dir/m.log")
+    fallback=$(sed -n 's/^deblur_fallback=\([a-z ]*\).*/\1/p' "$dir/m.log" | sed 's/ *$//')
+    energy=$(grep -q '^energy_conserved=' "$dir/m.log" && echo scaled || echo kept)
+    echo "$truth,$ours,$paper,$samples,$hours,$(echo "$end - $start" | bc),${fallback:-none},$energy"
+    rm -rf "$dir"
+}
+export -f one
+export bin work
+printf '%s\n' "$@" | xargs -P "${JOBS:-1}" -I{} bash -c 'one "$1"' _ {}
