@@ -24,12 +24,17 @@ def rows(path):
                 "log": log,
                 "prel": prel,
                 "plog": plog,
-                "ratio_rel": rel / prel,
-                "ratio_log": log / plog,
-                "ratio": max(rel / prel, log / plog),
+                "ratio_rel": ratio(rel, prel),
+                "ratio_log": ratio(log, plog),
+                "ratio": max(ratio(rel, prel), ratio(log, plog)),
                 "hours": float(r[6]) if len(r) > 6 and r[6] else float("nan"),
                 "fallback": r[8] if len(r) > 8 else "",
             }
+
+
+def ratio(ours, paper):
+    """ours / paper; infinite where the paper's way has no error at the printed precision."""
+    return ours / paper if paper > 0 else float("inf")
 
 
 def line(name, group):

@@ -1,11 +1,18 @@
 #!/usr/bin/env bash
 # Every published fit of real data as the truth of the default simulated device (its light
 # disk and its noise, seed 1): the 100 MERL and 51 RGL neural fits, the 100 SGD and the 100
-# ABC fits, each measured by `specula measure` as a lab would (the sequential default) and by
-# the paper's way on the same device (`--grid-preset paper --method linear --order nested
-# --hdr bracket`), both scored by `specula compare` against the truth tabulated
-# (cosine-weighted relative RMSE and log RMSE within 75 deg). One CSV row per truth, in the
-# order they finish:
+# ABC fits, each measured by `specula measure` as a lab would (the sequential default) and
+# scored by `specula compare` against the truth tabulated (cosine-weighted relative RMSE and
+# log RMSE within 75 deg), beside the paper's way through the same instrument response scored
+# the same way (`specula evaluate --through-instrument --grid-preset paper --method linear`:
+# its grid, k-hat and linear reconstruction, without the camera noise: its figures differ from
+# the paper's way measured with `--order nested --hdr bracket` by 0.01 % on glossy fits and
+# 1.2 % on nbrdf-rgl:paper_yellow_rgb, while simulating its 15 hours of HDR brackets takes
+# minutes per truth). Where that evaluation's relative RMSE is below 0.03 (near-diffuse
+# materials, whose figures are at the level of the camera noise), the paper's way is measured
+# with its noise instead (`specula measure --grid-preset paper --method linear --order nested
+# --hdr bracket`), so that both sides carry it. One CSV row per truth, in the order they
+# finish:
 #
 #   truth,rel,log,paper_rel,paper_log,samples,simulated_hours,wall_s,fallback,energy
 #
@@ -37,14 +44,16 @@ one() { # truth -> one CSV row
         echo "$truth,error: measure failed"; return
     fi
     end=$(date +%s.%N)
-    if ! "$bin" measure --truth "$truth" --seed 1 --grid-preset paper --method linear \
-        --order nested --hdr bracket --out "$dir/p.binary" > /dev/null 2>&1; then
-        echo "$truth,error: the paper's way failed"; return
-    fi
     "$bin" tabulate "$truth" --out "$dir/t.binary" > /dev/null 2>&1
     local ours paper
     ours=$("$bin" compare "$dir/m.binary" "$dir/t.binary" 2>/dev/null | awk -F, '$1 == "within" { print $3 "," $4 }')
-    paper=$("$bin" compare "$dir/p.binary" "$dir/t.binary" 2>/dev/null | awk -F, '$1 == "within" { print $3 "," $4 }')
+    paper=$("$bin" evaluate --truth "$truth" --through-instrument --grid-preset paper \
+        --method linear 2>/dev/null | tail -n 1 | cut -d, -f4,5)
+    if awk -F, '{ exit !($1 < 0.03) }' <<< "$paper"; then
+        "$bin" measure --truth "$truth" --seed 1 --grid-preset paper --method linear \
+            --order nested --hdr bracket --out "$dir/p.binary" > /dev/null 2>&1
+        paper=$("$bin" compare "$dir/p.binary" "$dir/t.binary" 2>/dev/null | awk -F, '$1 == "within" { print $3 "," $4 }')
+    fi
     local samples hours fallback energy
     samples=$(sed -n 's/^measured_samples=//p' "$dir/m.log")
     hours=$(sed -n 's/^simulated_hours=//p' "$dir/m.log")
