@@ -47,6 +47,14 @@ pub struct RegionFigures {
     pub expected_error: f64,
 }
 
+impl RegionFigures {
+    /// True when the region misses its samples by more than `factor` times what their
+    /// uncertainties explain (`relative_error > factor * expected_error`).
+    pub fn misses_by(&self, factor: f64) -> bool {
+        self.relative_error > factor * self.expected_error
+    }
+}
+
 /// How well a table reproduces its samples, per region (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Consistency {

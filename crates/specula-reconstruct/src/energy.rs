@@ -29,7 +29,7 @@ const MAX_ROUNDS: usize = 30;
 
 /// The largest directional albedo accepted after scaling: 1 and the quadrature's error
 /// ([`MerlBrdf::directional_albedo`] on a table, about 1e-3).
-const HELD_ALBEDO: f64 = 1.001;
+pub const HELD_ALBEDO: f64 = 1.001;
 
 /// How a table was scaled to conserve energy.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -442,7 +442,7 @@ fn checks_table(guard: &Safeguard) -> TableSection {
         .regions
         .iter()
         .map(|r| {
-            let passed = r.relative_error <= FAIL_FACTOR * r.expected_error;
+            let passed = !r.misses_by(FAIL_FACTOR);
             vec![
                 r.name.to_string(),
                 r.samples.to_string(),
