@@ -1,25 +1,32 @@
 #!/usr/bin/env bash
 # Coverage of the measurement uncertainty (OUT.uncertainty.binary) on the simulator: for each
-# truth and seed, `specula measure` on the default simulated device (disk and noise) over the
-# whole recommended grid, then
+# truth and seed, `specula measure` on the default simulated device (disk and noise), as a lab
+# runs it (the sequential default; GRID_PRESET=recommended measures the whole recommended grid
+# instead), then
 # `specula coverage` (the share of measured and interpolated cells within 75 deg whose truth
 # lies within 2u) and the figures' coverage (gloss 20/60/85, haze, DOI within their U).
 #
 #   cargo build --release -p specula-cli && SPECULA=target/release/specula \
 #       tools/uncertainty_coverage.sh [TRUTH...] > table.md
 #
-# SEEDS (default "1 2") chooses the seeds. Default truths: the training truths the scales
+# SEEDS (default "1 2") chooses the seeds; WORK=DIR keeps the tables there. Default truths: the training truths the scales
 # were calibrated on and the held-out ones (docs/book/src/uncertainty.md); the RGL files
 # when ../shared/data/measured is present.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${SPECULA:-$here/target/debug/specula}"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+if [ -n "${WORK:-}" ]; then
+    work="$WORK"; mkdir -p "$work"
+else
+    work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+fi
+grid=()
+[ -n "${GRID_PRESET:-}" ] && grid=(--grid-preset "$GRID_PRESET")
 if [ "$#" -eq 0 ]; then
     set -- chrome green-paint sgd:red-metallic-paint nbrdf:alum-bronze \
         "$here"/tools/instrument_truths/chrome-ggx-0.011.toml \
-        "$here"/tools/instrument_truths/two-lobe-silver-haze.toml abc:polyethylene
+        "$here"/tools/instrument_truths/two-lobe-silver-haze.toml abc:polyethylene \
+        paint-red-high-gloss
     rgl="$here/../shared/data/measured/rgl_bsdf"
     if [ -d "$rgl" ]; then
         set -- "$@" "$rgl"/cc_ibiza_sunset_rgb.bsdf "$rgl"/paper_white_rgb.bsdf \
@@ -35,7 +42,7 @@ for truth in "$@"; do
     name="$(basename "$truth")"; name="${name%.*}"; name="${name//:/_}"
     for seed in ${SEEDS:-1 2}; do
         out="$work/$name-$seed.binary"
-        "$bin" measure --truth "$truth" --seed "$seed" --grid-preset recommended --out "$out" > /dev/null 2>&1
+        "$bin" measure --truth "$truth" --seed "$seed" "${grid[@]}" --out "$out" > /dev/null 2>&1
         cells="$("$bin" coverage "$out" "$truth" | awk -F, '$1 == "both" { print $4 }')"
         "$bin" appearance --csv "$truth" "$out" > "$work/figures.csv" 2> /dev/null
         within="$(awk -F, -v want="$figures" '

@@ -8,7 +8,9 @@
 //! Per table, the median of each term over the measured and interpolated cells within
 //! 75 deg at the calibrated scales; `GRID=1` adds the coverage grid. `WRITE=1` rewrites
 //! `T.uncertainty.binary` with the estimate of this build (as `specula measure` would write
-//! it from the same session).
+//! it from the same session). `BATCHES=389,536,635` times what the sequential main stage
+//! does after each batch of that many samples (the table without the response, then its
+//! uncertainty), on the first samples of the session.
 
 use specula_accuracy::coverage::cell_coverage;
 use specula_core::merl::MerlBrdf;
@@ -21,8 +23,8 @@ use specula_session::measured_uncertainty::session_main_noise;
 use specula_session::workflow::session_main_samples;
 use std::path::PathBuf;
 
-const RECONSTRUCTION: [f64; 8] = [0.0, 0.03, 0.06, 0.12, 0.25, 0.5, 1.0, 2.0];
-const DEBLUR: [f64; 6] = [0.0, 0.1, 0.25, 0.5, 1.0, 2.0];
+const RECONSTRUCTION: [f64; 8] = [0.0, 0.25, 0.5, 1.0, 2.0, 3.0, 4.0, 6.0];
+const DEBLUR: [f64; 6] = [0.0, 0.5, 1.0, 2.0, 3.0, 4.0];
 
 fn main() -> anyhow::Result<()> {
     for pair in std::env::args().skip(1) {
@@ -54,11 +56,17 @@ fn main() -> anyhow::Result<()> {
             "uncertainty terms and cells: {:.1} s ({written} bytes)",
             spent.as_secs_f64()
         );
+        if let Ok(batches) = std::env::var("BATCHES") {
+            time_batches(&samples, &noise, &batches)?;
+        }
         if std::env::var_os("WRITE").is_some() {
             default.absolute(&table).write(&sidecar_path(&table_path))?;
         }
         println!("{} {truth_name}", table_path.display());
         term_medians(&table, &terms, &provenance);
+        for line in default.lines() {
+            println!("{line}");
+        }
         if std::env::var_os("GRID").is_none() {
             continue;
         }
@@ -90,6 +98,39 @@ fn main() -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Times the reconstruction without the response and the uncertainty estimate of the first
+/// `n` samples for each `n` of the comma-separated `batches`.
+fn time_batches(
+    samples: &[specula_core::Sample],
+    noise: &[f64],
+    batches: &str,
+) -> anyhow::Result<()> {
+    for n in batches.split(',') {
+        let n: usize = n.trim().parse()?;
+        let (samples, noise) = (
+            &samples[..n.min(samples.len())],
+            &noise[..n.min(noise.len())],
+        );
+        let started = std::time::Instant::now();
+        let none = None::<&dyn specula_core::capture::CaptureResponse>;
+        let table = reconstruct_halves(samples, Method::Lobe, "batch", none, None)?;
+        let reconstructed = started.elapsed();
+        let inputs = UncertaintyInputs {
+            samples,
+            noise_rel: Some(noise),
+            method: Method::Lobe,
+            prior: None,
+        };
+        specula_reconstruct::uncertainty::estimate(&inputs, &table)?;
+        println!(
+            "batch of {n} samples: table {:.2} s, uncertainty {:.2} s",
+            reconstructed.as_secs_f64(),
+            (started.elapsed() - reconstructed).as_secs_f64()
+        );
+    }
+    Ok(())
+}
+
 /// The median of each term over the measured and interpolated cells and channels within
 /// 75 deg, at the calibrated scales.
 fn term_medians(table: &MerlBrdf, terms: &Terms, provenance: &Provenance) {
@@ -115,17 +156,22 @@ fn term_medians(table: &MerlBrdf, terms: &Terms, provenance: &Provenance) {
     );
 }
 
-/// Coverage by theta_h band at scales (0.25, 0.5): where the uncertainty falls short.
+/// Coverage by theta_h band at the scales `BANDS_RECONSTRUCTION` and `BANDS_DEBLUR` (0.25 and
+/// 0.5 unless given): where the uncertainty falls short.
 fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlBrdf) {
     use specula_core::merl::Bin;
-    let u = terms.combined(
-        table,
-        provenance,
-        Scales {
-            reconstruction: 0.25,
-            deblur: 0.5,
-        },
-    );
+    let scale = |name: &str, default: f64| {
+        std::env::var(name)
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    let scales = Scales {
+        reconstruction: scale("BANDS_RECONSTRUCTION", 0.25),
+        deblur: scale("BANDS_DEBLUR", 0.5),
+    };
+    println!("by theta_h band at {scales:?}:");
+    let u = terms.combined(table, provenance, scales);
     let abs = u.absolute(table);
     for (lo, hi) in [
         (0.0, 2.0),

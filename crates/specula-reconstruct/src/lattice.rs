@@ -9,7 +9,7 @@
 
 use crate::axis::Axis;
 use crate::sample::fold_phi_d_rad;
-use specula_core::Sample;
+use specula_core::{HalfDiff, Sample};
 
 /// Angles closer than this (degrees) are one node.
 pub(crate) const NODE_TOLERANCE: f64 = 1e-3;
@@ -46,10 +46,15 @@ pub(crate) struct Lattice {
 
 /// A sample's theta_h, theta_d and folded phi_d in degrees.
 pub(crate) fn sample_coordinates(sample: &Sample) -> [f64; 3] {
+    coordinates(sample.hd)
+}
+
+/// The lattice coordinates of `hd`: theta_h, theta_d and folded phi_d in degrees.
+pub(crate) fn coordinates(hd: HalfDiff) -> [f64; 3] {
     [
-        sample.hd.theta_h.to_degrees(),
-        sample.hd.theta_d.to_degrees(),
-        fold_phi_d_rad(sample.hd.phi_d).to_degrees(),
+        hd.theta_h.to_degrees(),
+        hd.theta_d.to_degrees(),
+        fold_phi_d_rad(hd.phi_d).to_degrees(),
     ]
 }
 
