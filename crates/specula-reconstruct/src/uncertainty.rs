@@ -236,47 +236,15 @@ impl Terms {
         });
         let local_factors: [f64; AXES] =
             std::array::from_fn(|a| covering_factor(&held_out[a], &local[a], exponents[a], &noise));
-        let extrapolated_rel = {
-            let mut differences: Vec<f64> = held_out
-                .iter()
-                .flatten()
-                .flat_map(|h| h.log_difference.into_iter().flatten())
-                .collect();
-            differences.sort_by(f64::total_cmp);
-            if differences.is_empty() {
-                0.0
-            } else {
-                quantile(&differences, EXTRAPOLATED_QUANTILE)
-            }
-        };
         let amplitude = (0..samples.len())
             .map(|i| std::array::from_fn(|a| local[a][i].map(|k| local_factors[a] * k)))
             .collect();
-        let nearest_sample = NearestSample::of(samples, both_halves);
-        let nearest = (0..CELLS)
-            .into_par_iter()
-            .map(|index| {
-                let centre = Bin::from_index(index).centre(0.0);
-                let sample = nearest_sample.nearest_to(centre);
-                let u = coordinates(centre);
-                let place =
-                    std::array::from_fn(|a| place_deg2(axes[a], u[a]).powf(exponents[a]) as f32);
-                (place, sample as u32)
-            })
-            .collect();
-        let median_left_out_rel = std::array::from_fn(|a| {
-            median_of(
-                held_out[a]
-                    .iter()
-                    .flat_map(|h| h.log_difference.into_iter().flatten())
-                    .collect(),
-            )
-        });
+        let nearest = cell_places(samples, both_halves, axes, exponents);
         let model = ErrorModel {
             local_factors,
             growth_exponents: exponents,
-            median_left_out_rel,
-            extrapolated_rel,
+            median_left_out_rel: std::array::from_fn(|a| median_of(differences(&held_out[a]))),
+            extrapolated_rel: extrapolation_term(&held_out),
             median_noise_rel: median_of(noise.clone()),
             deblurred,
         };
@@ -540,6 +508,47 @@ impl NearestSample {
         let p = distance_coordinates(hd, self.both_halves);
         self.tree.nearest_neighbor(&p).map_or(0, |n| n.data)
     }
+}
+
+/// Every left-out difference of `held_out`, over samples and channels.
+fn differences(held_out: &[HeldOut]) -> Vec<f64> {
+    held_out
+        .iter()
+        .flat_map(|h| h.log_difference.into_iter().flatten())
+        .collect()
+}
+
+/// The term an extrapolated cell adds: the [`EXTRAPOLATED_QUANTILE`] quantile of the
+/// left-out differences of every axis; zero when there are none.
+fn extrapolation_term(held_out: &[Vec<HeldOut>; AXES]) -> f64 {
+    let mut all: Vec<f64> = held_out.iter().flat_map(|h| differences(h)).collect();
+    if all.is_empty() {
+        return 0.0;
+    }
+    all.sort_by(f64::total_cmp);
+    quantile(&all, EXTRAPOLATED_QUANTILE)
+}
+
+/// Per cell, its place `w^beta` along each of the lattice's `axes` (with the axes'
+/// `exponents`) and its nearest sample.
+fn cell_places(
+    samples: &[Sample],
+    both_halves: bool,
+    axes: [&Axis; AXES],
+    exponents: [f64; AXES],
+) -> Vec<([f32; AXES], u32)> {
+    let nearest_sample = NearestSample::of(samples, both_halves);
+    (0..CELLS)
+        .into_par_iter()
+        .map(|index| {
+            let centre = Bin::from_index(index).centre(0.0);
+            let sample = nearest_sample.nearest_to(centre);
+            let u = coordinates(centre);
+            let place =
+                std::array::from_fn(|a| place_deg2(axes[a], u[a]).powf(exponents[a]) as f32);
+            (place, sample as u32)
+        })
+        .collect()
 }
 
 /// One sample left out along an axis: its index, its place (deg^2) between the two planes
