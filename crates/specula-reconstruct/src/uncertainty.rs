@@ -51,7 +51,7 @@ use rstar::primitives::GeomWithData;
 use rstar::RTree;
 use specula_core::capture::CaptureResponse;
 use specula_core::geometry::{within_elevation, USED_ELEVATION_DEG};
-use specula_core::merl::{Bin, MerlBrdf, CELLS};
+use specula_core::merl::{Bin, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::statistics::median;
 use specula_core::{HalfDiff, Rgb, Sample};
 use std::path::{Path, PathBuf};
@@ -226,9 +226,10 @@ impl Terms {
         let noise = noise_of(samples, inputs.noise_rel);
         let lattice = Lattice::spanned_by(samples);
         let axes = [&lattice.theta_h, &lattice.theta_d, &lattice.phi_d];
+        let coords: Vec<[f64; 3]> = samples.iter().map(|s| coordinates(s.hd)).collect();
         let mut held_out: [Vec<HeldOut>; AXES] = Default::default();
         for (a, axis) in axes.iter().enumerate() {
-            held_out[a] = cross_validate_along(inputs, reference, axis, a)?;
+            held_out[a] = cross_validate_along(inputs, reference, &coords, axis, a)?;
         }
         let exponents: [f64; AXES] = std::array::from_fn(|a| growth_exponent(&held_out[a]));
         let local: [Vec<[f64; 3]>; AXES] = std::array::from_fn(|a| {
@@ -537,15 +538,35 @@ fn cell_places(
     axes: [&Axis; AXES],
     exponents: [f64; AXES],
 ) -> Vec<([f32; AXES], u32)> {
+    // A bin centre's coordinate along an axis depends on that axis's bin alone: the places
+    // are worked out once per bin of each axis.
+    let along: [Vec<f32>; AXES] = std::array::from_fn(|a| {
+        (0..[THETA_H_BINS, THETA_D_BINS, PHI_D_BINS][a])
+            .map(|i| {
+                let mut bin = [0; AXES];
+                bin[a] = i;
+                let [theta_h_i, theta_d_i, phi_d_i] = bin;
+                let centre = Bin {
+                    theta_h_i,
+                    theta_d_i,
+                    phi_d_i,
+                }
+                .centre(0.0);
+                place_deg2(axes[a], coordinates(centre)[a]).powf(exponents[a]) as f32
+            })
+            .collect()
+    });
     let nearest_sample = NearestSample::of(samples, both_halves);
     (0..CELLS)
         .into_par_iter()
         .map(|index| {
-            let centre = Bin::from_index(index).centre(0.0);
-            let sample = nearest_sample.nearest_to(centre);
-            let u = coordinates(centre);
-            let place =
-                std::array::from_fn(|a| place_deg2(axes[a], u[a]).powf(exponents[a]) as f32);
+            let bin = Bin::from_index(index);
+            let sample = nearest_sample.nearest_to(bin.centre(0.0));
+            let place = [
+                along[0][bin.theta_h_i],
+                along[1][bin.theta_d_i],
+                along[2][bin.phi_d_i],
+            ];
             (place, sample as u32)
         })
         .collect()
@@ -574,15 +595,16 @@ fn place_deg2(axis: &Axis, u: f64) -> f64 {
 
 /// Reconstructs the table without every other plane of `axis` (lattice axis `a`: the odd
 /// planes, then the even ones; no response) and compares it with `reference`, the table of
-/// all samples made the same way, at the left-out samples.
+/// all samples made the same way, at the left-out samples; `coords` are the samples' lattice
+/// coordinates.
 fn cross_validate_along(
     inputs: &UncertaintyInputs<'_>,
     reference: &MerlBrdf,
+    coords: &[[f64; 3]],
     axis: &Axis,
     a: usize,
 ) -> Result<Vec<HeldOut>, ReconstructError> {
     let samples = inputs.samples;
-    let coords: Vec<[f64; 3]> = samples.iter().map(|s| coordinates(s.hd)).collect();
     let plane: Vec<usize> = coords.iter().map(|c| axis.nearest(c[a])).collect();
     let mut held_out = Vec::new();
     for parity in 0..2 {
