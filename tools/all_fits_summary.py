@@ -17,6 +17,7 @@ def rows(path):
                 print(f"{r[0]}: {','.join(r[1:]) or 'no result'}", file=sys.stderr)
                 continue
             rel, log, prel, plog = map(float, r[1:5])
+            ratio_rel, ratio_log = ratio(rel, prel), ratio(log, plog)
             yield {
                 "truth": r[0],
                 "set": r[0].split(":")[0],
@@ -24,9 +25,9 @@ def rows(path):
                 "log": log,
                 "prel": prel,
                 "plog": plog,
-                "ratio_rel": ratio(rel, prel),
-                "ratio_log": ratio(log, plog),
-                "ratio": max(ratio(rel, prel), ratio(log, plog)),
+                "ratio_rel": ratio_rel,
+                "ratio_log": ratio_log,
+                "ratio": max(ratio_rel, ratio_log),
                 "hours": float(r[6]) if len(r) > 6 and r[6] else float("nan"),
                 "fallback": r[8] if len(r) > 8 else "",
             }
