@@ -27,9 +27,12 @@ pub const BLOCKS: [usize; 3] = [6, 6, 15];
 const SEED: u64 = 0x5EC_0A1A;
 
 /// Each figure's expanded uncertainty (k = 2), in [`column_values`]'s order without a
-/// reference (`None` where the figure is unknown in some draw), of `table` with the standard
-/// uncertainty `u` (1/sr per cell, negative where none: such cells are not perturbed).
+/// reference, of `table` with the standard uncertainty `u` (1/sr per cell, negative where
+/// none). `None` where the figure is unknown in some draw, or where it depends on a cell
+/// without an uncertainty ([`moved_by_cells_without_one`]): nothing says what that cell is
+/// worth, so neither what the figure is.
 pub fn expanded_uncertainty(table: &MerlBrdf, u: &MerlBrdf, options: &Options) -> Vec<Option<f64>> {
+    let unknown = moved_by_cells_without_one(table, u, options);
     let mut rng = ChaCha8Rng::seed_from_u64(SEED);
     let draws: Vec<Vec<Option<f64>>> = (0..DRAWS)
         .map(|_| {
@@ -42,7 +45,39 @@ pub fn expanded_uncertainty(table: &MerlBrdf, u: &MerlBrdf, options: &Options) -
     (0..columns)
         .map(|k| {
             let values: Option<Vec<f64>> = draws.iter().map(|d| d[k]).collect();
+            let values = values.filter(|_| !unknown.get(k).copied().unwrap_or(true));
             values.map(|v| 2.0 * standard_deviation(&v))
+        })
+        .collect()
+}
+
+/// Per figure (in [`column_values`]'s order), whether it changes when the cells of `table`
+/// that have no uncertainty in `u` change, each channel of each by its own factor between 1.5
+/// and 2.5 (so that a ratio of two regions moves too): whether it depends on one of them.
+fn moved_by_cells_without_one(table: &MerlBrdf, u: &MerlBrdf, options: &Options) -> Vec<bool> {
+    let factor = |index: usize, c: usize| {
+        let hashed = ((3 * index + c) as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40;
+        1.5 + hashed as f64 / (1u64 << 24) as f64
+    };
+    let probed = MerlBrdf::from_fn(specula_core::Brdf::name(table), |index| {
+        let v = table.cell(index)?;
+        if u.cell(index).is_some() {
+            return Some(v);
+        }
+        Some(Rgb::new(
+            v.x * factor(index, 0),
+            v.y * factor(index, 1),
+            v.z * factor(index, 2),
+        ))
+    });
+    let before = column_values(&appearance(table, options), None);
+    let after = column_values(&appearance(&probed, options), None);
+    before
+        .iter()
+        .zip(&after)
+        .map(|(b, a)| match (b, a) {
+            (Some(b), Some(a)) => (a - b).abs() > 1e-9 * b.abs().max(1e-12),
+            (b, a) => b.is_some() != a.is_some(),
         })
         .collect()
 }

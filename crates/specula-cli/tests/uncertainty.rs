@@ -133,6 +133,42 @@ fn appearance_csv_appends_the_figures_expanded_uncertainty() {
     assert!(table.contains(" ± "), "{table}");
 }
 
+/// One sample says nothing of how the table varies away from it: the cells off its bin get no
+/// uncertainty (not the calibration's floor alone), and neither do the figures over them.
+#[test]
+fn a_single_sample_gives_no_uncertainty_away_from_it_nor_to_the_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let samples = dir.path().join("one.csv");
+    std::fs::write(
+        &samples,
+        "theta_h,phi_h,theta_d,phi_d,r,g,b\n10.3,45,30.4,40.3,2.0,1.5,1.0\n",
+    )
+    .unwrap();
+    let out = dir.path().join("one.binary");
+    let stdout = run(&[
+        "reconstruct",
+        "--samples-csv",
+        text(&samples),
+        "--out",
+        text(&out),
+    ]);
+    assert!(stdout.contains("given on 2 of "), "{stdout}");
+    assert!(
+        stdout.contains("uncertainty_not_given=off the plane of theta_h and theta_d and phi_d"),
+        "{stdout}"
+    );
+    let u = MerlBrdf::read(&sidecar_path(&out)).unwrap();
+    assert_eq!(u.measured_count(), 2);
+    let csv = run(&["appearance", "--csv", text(&out)]);
+    let lines: Vec<&str> = csv.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let row: Vec<&str> = lines[1].split(',').collect();
+    for figure in ["U_gloss_20", "U_gloss_60", "U_gloss_85", "U_haze", "U_doi"] {
+        let k = header.iter().position(|h| *h == figure).unwrap();
+        assert_eq!(row[k], "", "{figure}: {}", lines[1]);
+    }
+}
+
 /// The cell coverage at k = 2 of `truth` measured with seed 1 on the default simulated
 /// device as a lab runs it (`specula measure`, sequential, then `specula coverage`).
 fn measured_coverage(truth: &str) -> f64 {

@@ -273,6 +273,24 @@ fn stored_values(value: Option<Rgb>) -> [f64; 3] {
     }
 }
 
+/// f_r in 1/sr of a cell's three stored values; `None` when any is negative (not measured).
+fn value_of_stored(stored: [f64; 3]) -> Option<Rgb> {
+    (stored.iter().all(|&s| s >= 0.0)).then(|| {
+        Rgb::new(
+            stored[0] * CHANNEL_SCALE[0],
+            stored[1] * CHANNEL_SCALE[1],
+            stored[2] * CHANNEL_SCALE[2],
+        )
+    })
+}
+
+/// What a table's cell set to `value` reads back ([`MerlBrdf::cell`]): f_r through the
+/// stored values' scale, `None` for what a table stores as not measured. For values worked
+/// out cell by cell that must equal a table's bit for bit.
+pub fn stored_round_trip(value: Option<Rgb>) -> Option<Rgb> {
+    value_of_stored(stored_values(value))
+}
+
 /// The half-difference angles in degrees as MERL's reference reader computes them from
 /// radians (`angle / (pi/2) * 90`, phi_d folded into `[0, 180]` first): `[theta_h, theta_d,
 /// phi_d]`.
@@ -566,13 +584,7 @@ impl MerlBrdf {
 
     /// f_r in 1/sr of a cell, or `None` when it was not measured.
     pub fn cell(&self, index: usize) -> Option<Rgb> {
-        self.is_measured(index).then(|| {
-            Rgb::new(
-                self.stored[index] * CHANNEL_SCALE[0],
-                self.stored[index + CELLS] * CHANNEL_SCALE[1],
-                self.stored[index + 2 * CELLS] * CHANNEL_SCALE[2],
-            )
-        })
+        value_of_stored(std::array::from_fn(|c| self.stored[index + c * CELLS]))
     }
 
     /// Sets a cell to f_r in 1/sr, or marks it not measured with `None`.

@@ -10,7 +10,7 @@ use crate::axis::{Axis, Bracket};
 use crate::kernel::{Kernel, Line};
 use crate::lattice::{Lattice, NodeStatus, NODE_TOLERANCE};
 use rayon::prelude::*;
-use specula_core::merl::{theta_h_centre_deg, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::merl::{theta_h_centre_deg, Bin, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 
 /// The phi_d bins of one half, `[0, 90)`; the other half mirrors them.
 const PHI_D_HALF: usize = PHI_D_BINS / 2;
@@ -57,6 +57,40 @@ pub(crate) fn interpolate_to_merl(lattice: &Lattice, kernel: Kernel) -> [Vec<f64
         .values
         .each_ref()
         .map(|plane| interpolate_plane(lattice.shape(), plane, &targets, &lines, kernel))
+}
+
+/// The lattice's values at the centre of MERL cell `index`, one per channel: what
+/// [`interpolate_to_merl`] gives there, bit for bit (the same three passes, through this one
+/// cell's brackets), for a caller that reads a few cells and not the 1.5 million.
+pub(crate) fn interpolate_cell(lattice: &Lattice, kernel: Kernel, index: usize) -> [f64; 3] {
+    let bin = Bin::from_index(index);
+    let theta_h = [lattice.theta_h.bracket(theta_h_centre_deg(bin.theta_h_i))];
+    let theta_d = [lattice.theta_d.bracket(bin.theta_d_i as f64 + 0.5)];
+    let phi_d_i = bin.phi_d_i.min(PHI_D_BINS - 1 - bin.phi_d_i);
+    let phi_d = [lattice.phi_d.bracket(phi_d_i as f64 + 0.5)];
+    let lines = lines(lattice);
+    let [nh, nd, np] = lattice.shape();
+    let mut slopes = vec![0.0; nh.max(nd).max(np)];
+    let mut along = |line: &Line, values: &[f64], at: &[Bracket; 1]| {
+        let mut out = [0.0];
+        line.interpolate(kernel, values, &mut slopes, at, &mut out);
+        out[0]
+    };
+    lattice.values.each_ref().map(|plane| {
+        let by_h: Vec<f64> = (0..nd * np)
+            .map(|dp| {
+                let column: Vec<f64> = (0..nh).map(|h| plane[h * nd * np + dp]).collect();
+                along(&lines[0], &column, &theta_h)
+            })
+            .collect();
+        let by_d: Vec<f64> = (0..np)
+            .map(|p| {
+                let column: Vec<f64> = (0..nd).map(|d| by_h[d * np + p]).collect();
+                along(&lines[1], &column, &theta_d)
+            })
+            .collect();
+        along(&lines[2], &by_d, &phi_d)
+    })
 }
 
 /// The three axes as interpolation lines with their even ends.

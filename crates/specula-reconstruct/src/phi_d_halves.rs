@@ -18,11 +18,12 @@
 
 use crate::prior::PriorBasis;
 use crate::provenance::Provenance;
+use crate::reconstruct::reconstruct_cells;
 use crate::sample::mirror_fold_phi_d_rad;
 use crate::{reconstruct_through, ReconstructError, Reconstruction};
 use specula_core::capture::CaptureResponse;
 use specula_core::merl::{MerlBrdf, CELLS, PHI_D_BINS};
-use specula_core::{HalfDiff, Sample};
+use specula_core::{HalfDiff, Rgb, Sample};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Angles closer than this (radians) to 90 deg belong to both halves.
@@ -117,9 +118,42 @@ pub fn reconstruct_halves_with<E>(
     Ok(joined(first, second))
 }
 
+/// The cells `indices` of the table [`reconstruct_halves`] makes without a response, bit
+/// for bit ([`reconstruct_cells`]): each from the half whose table [`joined`] takes it from.
+pub fn reconstruct_halves_cells(
+    samples: &[Sample],
+    method: crate::Method,
+    indices: &[usize],
+    prior: Option<&PriorBasis>,
+) -> Result<Vec<Option<Rgb>>, ReconstructError> {
+    if !measures_both_halves(samples) {
+        return reconstruct_cells(samples, method, indices, prior);
+    }
+    let [first, second] = halves(samples);
+    let (of_second, of_first): (Vec<usize>, Vec<usize>) =
+        indices.iter().partition(|&&index| in_second(index));
+    let mut first = reconstruct_cells(&first, method, &of_first, prior)?.into_iter();
+    let mut second = reconstruct_cells(&second, method, &of_second, prior)?.into_iter();
+    Ok(indices
+        .iter()
+        .map(|&index| {
+            let half = if in_second(index) {
+                &mut second
+            } else {
+                &mut first
+            };
+            half.next().flatten()
+        })
+        .collect())
+}
+
+/// Whether MERL cell `index` lies in the second half of phi_d, `[90, 180)` deg.
+fn in_second(index: usize) -> bool {
+    index % PHI_D_BINS >= PHI_D_BINS / 2
+}
+
 /// The table whose cells of phi_d below 90 deg are `first`'s and the others `second`'s.
 fn joined(first: Reconstruction, second: Reconstruction) -> Reconstruction {
-    let in_second = |index: usize| index % PHI_D_BINS >= PHI_D_BINS / 2;
     let brdf = MerlBrdf::from_fn(specula_core::Brdf::name(&first.brdf), |index| {
         if in_second(index) {
             second.brdf.cell(index)
@@ -259,5 +293,49 @@ mod tests {
         let b = crate::reconstruct(&quarter, Method::Lobe, "b").unwrap();
         assert!((0..CELLS).all(|i| a.brdf.cell(i) == b.brdf.cell(i)));
         assert_eq!(a.provenance, b.provenance);
+    }
+
+    /// A glossy peak over a surface that is not reciprocal, sampled on a lattice with holes
+    /// (so that nodes are extrapolated) in both halves of phi_d or in one.
+    fn peaked_with_holes(phi_d_deg: &[f64]) -> Vec<Sample> {
+        let mut out = Vec::new();
+        for h in [0.0, 0.4, 1.5, 4.0, 12.0, 30.0, 60.0] {
+            for d in [2.0, 20.0, 41.0, 63.0, 79.0] {
+                for &p in phi_d_deg {
+                    if h > 20.0 && d > 70.0 {
+                        continue;
+                    }
+                    let hd = HalfDiff::from_degrees(h, 45.0, d, p);
+                    let peak = (-(h / 2.5) * (h / 2.5)).exp() * (1.0 + d / 40.0);
+                    out.push(Sample::new(
+                        hd,
+                        tilted(hd) * 0.1 + Rgb::new(9.0, 6.0, 3.0) * peak,
+                    ));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_few_cells_are_the_table_s_bit_for_bit() {
+        let cells: Vec<usize> = (0..CELLS).step_by(89).collect();
+        for phi_d_deg in [&[0.0, 30.0, 90.0, 150.0, 180.0][..], &[0.0, 40.0, 90.0][..]] {
+            let samples = peaked_with_holes(phi_d_deg);
+            for method in [Method::Linear, Method::Log, Method::Lobe] {
+                let none = None::<&dyn CaptureResponse>;
+                let table = reconstruct_halves(&samples, method, "t", none, None).unwrap();
+                assert!(table.filled_nodes > 0);
+                let read = reconstruct_halves_cells(&samples, method, &cells, None).unwrap();
+                for (&index, value) in cells.iter().zip(&read) {
+                    let expected = table.brdf.cell(index);
+                    let same = match (expected, value) {
+                        (Some(e), Some(v)) => (0..3).all(|c| e[c].to_bits() == v[c].to_bits()),
+                        (e, v) => e.is_none() && v.is_none(),
+                    };
+                    assert!(same, "{method:?} cell {index}: {expected:?} read {value:?}");
+                }
+            }
+        }
     }
 }

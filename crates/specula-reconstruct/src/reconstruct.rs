@@ -9,7 +9,8 @@ use crate::method::Method;
 use crate::prior::PriorBasis;
 use crate::prior_reconstruct::reconstruct_with_prior;
 use crate::reconstruction::{
-    measured_lobe, reciprocal_canonical, table_of_domain_values, ReconstructError, Reconstruction,
+    cells_of_domain_values, measured_lobe, reciprocal_canonical, table_of_domain_values,
+    ReconstructError, Reconstruction,
 };
 use crate::response_nodes::ResponseNodes;
 use rayon::prelude::*;
@@ -65,23 +66,8 @@ fn reconstruct_on_lattice<R: CaptureResponse + ?Sized>(
     name: &str,
     response: Option<&R>,
 ) -> Result<Reconstruction, ReconstructError> {
-    if samples.is_empty() {
-        return Err(ReconstructError::NoSamples);
-    }
-    let canonical: Vec<Sample> = samples.iter().map(reciprocal_canonical).collect();
     let nodes = ResponseNodes::of(response.filter(|_| method.domain().uses_lobe()));
-    let lobe = if method.domain().uses_lobe() {
-        Some(Lobe::fit_through(&canonical, &nodes.fit).ok_or(ReconstructError::NoLobe)?)
-    } else {
-        None
-    };
-    let domain_values: Vec<[f64; 3]> = canonical
-        .par_iter()
-        .map(|s| {
-            let model = lobe.map_or(Rgb::ZERO, |l| measured_lobe(&l, &nodes.residual, s.hd));
-            std::array::from_fn(|c| method.domain().forward(s.value[c], model[c]))
-        })
-        .collect();
+    let (lobe, domain_values) = in_domain(samples, method, &nodes)?;
     let lobe_on_grid = lobe.map(LobeOnGrid::new);
     let model = |index: usize| lobe_on_grid.as_ref().map_or(Rgb::ZERO, |l| l.at(index));
     let build = |values: &[[f64; 3]]| table_of_domain_values(samples, values, method, name, model);
@@ -104,6 +90,63 @@ fn reconstruct_on_lattice<R: CaptureResponse + ?Sized>(
         resolution_deg: nodes.resolution_deg,
         ..table
     })
+}
+
+/// The cells `indices` of the table [`reconstruct`] makes from `samples` with `method`,
+/// `None` where it has no value: the same values bit for bit, without tabulating the
+/// 1.5 million cells, for a caller that reads a few (a cross-validation reads its left-out
+/// samples' cells). `prior`: as for [`reconstruct_through`].
+pub fn reconstruct_cells(
+    samples: &[Sample],
+    method: Method,
+    indices: &[usize],
+    prior: Option<&PriorBasis>,
+) -> Result<Vec<Option<Rgb>>, ReconstructError> {
+    if method == Method::Prior {
+        let none = None::<&dyn CaptureResponse>;
+        let table = reconstruct_through(samples, method, "cells", none, prior)?.brdf;
+        return Ok(indices.iter().map(|&index| table.cell(index)).collect());
+    }
+    let (lobe, domain_values) = in_domain(
+        samples,
+        method,
+        &ResponseNodes::of(None::<&dyn CaptureResponse>),
+    )?;
+    let lobe_on_grid = lobe.map(LobeOnGrid::new);
+    let model = |index: usize| lobe_on_grid.as_ref().map_or(Rgb::ZERO, |l| l.at(index));
+    Ok(cells_of_domain_values(
+        samples,
+        &domain_values,
+        method,
+        model,
+        indices,
+    ))
+}
+
+/// The lobe of `method`'s domain fitted through the response's `nodes` (none for the
+/// methods without one) and each sample's value in the domain, over the lobe as measured.
+fn in_domain(
+    samples: &[Sample],
+    method: Method,
+    nodes: &ResponseNodes,
+) -> Result<(Option<Lobe>, Vec<[f64; 3]>), ReconstructError> {
+    if samples.is_empty() {
+        return Err(ReconstructError::NoSamples);
+    }
+    let canonical: Vec<Sample> = samples.iter().map(reciprocal_canonical).collect();
+    let lobe = if method.domain().uses_lobe() {
+        Some(Lobe::fit_through(&canonical, &nodes.fit).ok_or(ReconstructError::NoLobe)?)
+    } else {
+        None
+    };
+    let domain_values = canonical
+        .par_iter()
+        .map(|s| {
+            let model = lobe.map_or(Rgb::ZERO, |l| measured_lobe(&l, &nodes.residual, s.hd));
+            std::array::from_fn(|c| method.domain().forward(s.value[c], model[c]))
+        })
+        .collect();
+    Ok((lobe, domain_values))
 }
 
 /// At most this many rounds of [`corrected_through`].

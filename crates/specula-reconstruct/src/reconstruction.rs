@@ -4,14 +4,15 @@
 //! centres, provenance).
 
 use crate::extrapolate::fill_missing;
-use crate::grid::{extrapolated_cells, interpolate_to_merl};
+use crate::grid::{extrapolated_cells, interpolate_cell, interpolate_to_merl};
 use crate::lattice::Lattice;
 use crate::lobe::{Geometry, Lobe, BLUR_THETA_H_DEG};
 use crate::method::Method;
 use crate::provenance::Provenance;
 use crate::safeguard::Safeguard;
+use rayon::prelude::*;
 use specula_core::capture::CaptureNode;
-use specula_core::merl::MerlBrdf;
+use specula_core::merl::{stored_round_trip, MerlBrdf};
 use specula_core::{HalfDiff, Rgb, Sample};
 
 /// Why samples cannot be reconstructed.
@@ -90,18 +91,11 @@ pub(crate) fn table_of_domain_values(
     name: &str,
     model: impl Fn(usize) -> Rgb + Sync,
 ) -> Reconstruction {
-    let mut lattice = Lattice::of_samples(samples, domain_values);
-    let (measured_nodes, _, _) = lattice.status_counts();
-    fill_missing(&mut lattice);
+    let (lattice, measured_nodes) = filled_lattice(samples, domain_values);
     let planes = interpolate_to_merl(&lattice, method.kernel());
-    let domain = method.domain();
     let brdf = MerlBrdf::from_fn(name, |index| {
-        let m = model(index);
-        Some(Rgb::new(
-            domain.inverse(planes[0][index], m.x),
-            domain.inverse(planes[1][index], m.y),
-            domain.inverse(planes[2][index], m.z),
-        ))
+        let values = planes.each_ref().map(|plane| plane[index]);
+        Some(from_domain(method, values, model(index)))
     });
     Reconstruction {
         brdf,
@@ -114,4 +108,44 @@ pub(crate) fn table_of_domain_values(
         safeguard: None,
         deblurred_replaced: None,
     }
+}
+
+/// The cells `indices` of the table [`table_of_domain_values`] makes, bit for bit, without
+/// making the table: the lattice and its extrapolation as there, then each cell's
+/// interpolation alone ([`interpolate_cell`]).
+pub(crate) fn cells_of_domain_values(
+    samples: &[Sample],
+    domain_values: &[[f64; 3]],
+    method: Method,
+    model: impl Fn(usize) -> Rgb + Sync,
+    indices: &[usize],
+) -> Vec<Option<Rgb>> {
+    let (lattice, _) = filled_lattice(samples, domain_values);
+    indices
+        .par_iter()
+        .map(|&index| {
+            let values = interpolate_cell(&lattice, method.kernel(), index);
+            stored_round_trip(Some(from_domain(method, values, model(index))))
+        })
+        .collect()
+}
+
+/// The samples' lattice with its missing nodes extrapolated ([`crate::extrapolate`]), and
+/// how many nodes were measured.
+fn filled_lattice(samples: &[Sample], domain_values: &[[f64; 3]]) -> (Lattice, usize) {
+    let mut lattice = Lattice::of_samples(samples, domain_values);
+    let (measured_nodes, _, _) = lattice.status_counts();
+    fill_missing(&mut lattice);
+    (lattice, measured_nodes)
+}
+
+/// f_r in 1/sr of a cell's interpolated `values` in `method`'s domain over the model's value
+/// `model` there.
+fn from_domain(method: Method, values: [f64; 3], model: Rgb) -> Rgb {
+    let domain = method.domain();
+    Rgb::new(
+        domain.inverse(values[0], model.x),
+        domain.inverse(values[1], model.y),
+        domain.inverse(values[2], model.z),
+    )
 }

@@ -26,7 +26,10 @@
 //!   its nearest sample ([`distance_coordinates`]), `s sqrt(sum over the axes of
 //!   (c K w^beta)^2)` with its own place `w` along each axis: zero on a plane, largest midway
 //!   between two planes far apart, growing beyond the ends. `s` = [`RECONSTRUCTION_SCALE`] is
-//!   calibrated on training truths;
+//!   calibrated on training truths. An axis of two planes leaves each out in turn, the
+//!   table made from the other (an extrapolation, place `(x - x0)^2`); an axis of one plane
+//!   cannot be cross-validated: a cell off it has no uncertainty (nothing says how the table
+//!   varies there), only one in the plane's own bin;
 //! - **extrapolation**: a cell beyond the measured lattice (provenance extrapolated or prior)
 //!   adds the [`EXTRAPOLATED_QUANTILE`] quantile of the left-out differences of the
 //!   cross-validation;
@@ -42,7 +45,7 @@
 
 use crate::axis::Axis;
 use crate::lattice::{coordinates, Lattice};
-use crate::phi_d_halves::{measures_both_halves, reconstruct_halves};
+use crate::phi_d_halves::{measures_both_halves, reconstruct_halves, reconstruct_halves_cells};
 use crate::provenance::Provenance;
 use crate::sample::{fold_phi_d_rad, mirror_fold_phi_d_rad};
 use crate::{Method, PriorBasis, ReconstructError, Reconstruction};
@@ -123,6 +126,9 @@ pub struct ErrorModel {
     pub extrapolated_rel: f64,
     /// The median relative noise of the samples.
     pub median_noise_rel: f64,
+    /// Whether each axis had the two planes a cross-validation needs; the cells off the
+    /// plane of an axis that had one only have no uncertainty.
+    pub judged: [bool; AXES],
     /// Whether the deblurring term was included.
     pub deblurred: bool,
 }
@@ -240,13 +246,16 @@ impl Terms {
         let amplitude = (0..samples.len())
             .map(|i| std::array::from_fn(|a| local[a][i].map(|k| local_factors[a] * k)))
             .collect();
-        let nearest = cell_places(samples, both_halves, axes, exponents);
+        let judged: [bool; AXES] =
+            std::array::from_fn(|a| held_out[a].iter().any(|h| h.place_deg2 > 0.0));
+        let nearest = cell_places(samples, both_halves, axes, exponents, judged);
         let model = ErrorModel {
             local_factors,
             growth_exponents: exponents,
             median_left_out_rel: std::array::from_fn(|a| median_of(differences(&held_out[a]))),
             extrapolated_rel: extrapolation_term(&held_out),
             median_noise_rel: median_of(noise.clone()),
+            judged,
             deblurred,
         };
         let compared = undeblurred
@@ -283,7 +292,8 @@ impl Terms {
     }
 
     /// The relative terms of cell `index` of `table` per channel with the calibrated
-    /// `scales`; `None` where the cell has no value.
+    /// `scales`; `None` where the cell has no value, or lies off the planes of an axis that
+    /// could not be cross-validated.
     pub fn cell_terms(
         &self,
         index: usize,
@@ -293,6 +303,9 @@ impl Terms {
     ) -> Option<[CellTerms; 3]> {
         let value = table.cell(index)?;
         let (place, sample) = self.nearest[index];
+        if place.iter().any(|p| p.is_nan()) {
+            return None;
+        }
         let sample = sample as usize;
         let extrapolation = if provenance.cells[index].is_extrapolated() {
             self.model.extrapolated_rel
@@ -401,11 +414,21 @@ impl RelativeUncertainty {
         Some((median(&mut values), p95))
     }
 
-    /// The summary's line, `None` when no cell within the elevation has an uncertainty.
+    /// The summary's line, `None` when no cell within the elevation has an uncertainty; it
+    /// says on how many cells there is one when not on all.
     pub fn line(&self) -> Option<String> {
         let (median, p95) = self.summary_within()?;
+        let within: Vec<usize> = (0..CELLS)
+            .filter(|&i| within_summary_elevation(i))
+            .collect();
+        let given = within.iter().filter(|&&i| self.0[i].is_some()).count();
+        let on = if given < within.len() {
+            format!(", given on {given} of {} cells", within.len())
+        } else {
+            String::new()
+        };
         Some(format!(
-            "uncertainty_within_{SUMMARY_ELEVATION_DEG:.0}_deg=median {:.2} %, 95th percentile {:.2} % (relative, k = 1)",
+            "uncertainty_within_{SUMMARY_ELEVATION_DEG:.0}_deg=median {:.2} %, 95th percentile {:.2} % (relative, k = 1){on}",
             100.0 * median,
             100.0 * p95
         ))
@@ -432,6 +455,16 @@ impl CellUncertainty {
             100.0 * m.extrapolated_rel,
             if m.deblurred { "included" } else { "none" }
         ));
+        let unjudged: Vec<&str> = (0..AXES)
+            .filter(|&a| !m.judged[a])
+            .map(|a| AXIS_NAMES[a])
+            .collect();
+        if !unjudged.is_empty() {
+            lines.push(format!(
+                "uncertainty_not_given=off the plane of {}: a single plane, nothing to cross-validate",
+                unjudged.join(" and ")
+            ));
+        }
         lines
     }
 }
@@ -487,6 +520,9 @@ pub fn distance_coordinates(hd: HalfDiff, both_halves: bool) -> [f64; 3] {
 /// The axes of the sample lattice: theta_h, theta_d and folded phi_d.
 const AXES: usize = 3;
 
+/// The axes' names, in the summary.
+const AXIS_NAMES: [&str; AXES] = ["theta_h", "theta_d", "phi_d"];
+
 /// The samples in a tree, for the nearest to any point.
 struct NearestSample {
     tree: RTree<GeomWithData<[f64; 3], usize>>,
@@ -531,17 +567,20 @@ fn extrapolation_term(held_out: &[Vec<HeldOut>; AXES]) -> f64 {
 }
 
 /// Per cell, its place `w^beta` along each of the lattice's `axes` (with the axes'
-/// `exponents`) and its nearest sample.
+/// `exponents`) and its nearest sample. Along an axis that was not `judged` (not
+/// cross-validated), a cell in the bin of one of its planes has place 0 and the others NaN:
+/// nothing says how the table varies between or beyond its planes.
 fn cell_places(
     samples: &[Sample],
     both_halves: bool,
     axes: [&Axis; AXES],
     exponents: [f64; AXES],
+    judged: [bool; AXES],
 ) -> Vec<([f32; AXES], u32)> {
     // A bin centre's coordinate along an axis depends on that axis's bin alone: the places
     // are worked out once per bin of each axis.
     let along: [Vec<f32>; AXES] = std::array::from_fn(|a| {
-        (0..[THETA_H_BINS, THETA_D_BINS, PHI_D_BINS][a])
+        let centres: Vec<f64> = (0..[THETA_H_BINS, THETA_D_BINS, PHI_D_BINS][a])
             .map(|i| {
                 let mut bin = [0; AXES];
                 bin[a] = i;
@@ -552,9 +591,19 @@ fn cell_places(
                     phi_d_i,
                 }
                 .centre(0.0);
-                place_deg2(axes[a], coordinates(centre)[a]).powf(exponents[a]) as f32
+                coordinates(centre)[a]
             })
-            .collect()
+            .collect();
+        if judged[a] {
+            let place = |&u: &f64| place_deg2(axes[a], u).powf(exponents[a]) as f32;
+            centres.iter().map(place).collect()
+        } else {
+            let on_plane = bins_on_planes(axes[a], &centres);
+            on_plane
+                .iter()
+                .map(|&on| if on { 0.0 } else { f32::NAN })
+                .collect()
+        }
     });
     let nearest_sample = NearestSample::of(samples, both_halves);
     (0..CELLS)
@@ -572,6 +621,23 @@ fn cell_places(
         .collect()
 }
 
+/// Per bin of an axis whose bin centres lie at `centres`, whether it is a bin nearest to a
+/// plane of `axis` (a plane's own bin: with phi_d folded, a bin and its mirror).
+fn bins_on_planes(axis: &Axis, centres: &[f64]) -> Vec<bool> {
+    let mut on = vec![false; centres.len()];
+    for &node in &axis.nodes {
+        let gap = |u: f64| (u - node).abs();
+        let nearest = centres
+            .iter()
+            .map(|&u| gap(u))
+            .fold(f64::INFINITY, f64::min);
+        for (on, &u) in on.iter_mut().zip(centres) {
+            *on |= gap(u) <= nearest + 1e-9;
+        }
+    }
+    on
+}
+
 /// One sample left out along an axis: its index, its place (deg^2) between the two planes
 /// its fold kept ([`place_deg2`]) and `|ln(fold table / full table)|` at its bin per channel
 /// (`None` where not finite).
@@ -584,19 +650,22 @@ struct HeldOut {
 
 /// `|(u - x0)(u - x1)|` (deg^2) for coordinate `u` between the nodes `x0` and `x1` of `axis`
 /// that bracket it, or the two end nodes beyond them: the shape of a linear interpolation's
-/// (and extrapolation's) error; zero on a node and along an axis of fewer than two nodes.
+/// (and extrapolation's) error; zero on a node. Along an axis of one node `x0`, `(u - x0)^2`
+/// (both ends are that node).
 fn place_deg2(axis: &Axis, u: f64) -> f64 {
-    if axis.len() < 2 {
-        return 0.0;
+    match axis.len() {
+        0 => return 0.0,
+        1 => return (u - axis.nodes[0]).powi(2),
+        _ => {}
     }
     let lower = axis.bracket(u).lower;
     ((u - axis.nodes[lower]) * (u - axis.nodes[lower + 1])).abs()
 }
 
 /// Reconstructs the table without every other plane of `axis` (lattice axis `a`: the odd
-/// planes, then the even ones; no response) and compares it with `reference`, the table of
-/// all samples made the same way, at the left-out samples; `coords` are the samples' lattice
-/// coordinates.
+/// planes, then the even ones; of two planes, each in turn; no response) and compares it with `reference`, the table of
+/// all samples made the same way, at the left-out samples' cells (only those cells of the
+/// fold's table are made); `coords` are the samples' lattice coordinates.
 fn cross_validate_along(
     inputs: &UncertaintyInputs<'_>,
     reference: &MerlBrdf,
@@ -616,16 +685,21 @@ fn cross_validate_along(
         };
         let (left_out, kept): (Vec<usize>, Vec<usize>) =
             (0..samples.len()).partition(|&i| plane[i] % 2 == parity);
-        if kept_planes.len() < 2 || left_out.is_empty() {
+        // Two planes: each left out in turn, the table made from the other; more: every
+        // other plane, so that each fold interpolates between at least two.
+        let min_kept = if axis.len() == 2 { 1 } else { 2 };
+        if kept_planes.len() < min_kept || left_out.is_empty() {
             continue;
         }
         let training: Vec<Sample> = kept.iter().map(|&i| samples[i]).collect();
-        let none = None::<&dyn CaptureResponse>;
-        let fold_table =
-            reconstruct_halves(&training, inputs.method, "fold", none, inputs.prior)?.brdf;
-        held_out.extend(left_out.into_iter().filter_map(|i| {
+        let cells: Vec<usize> = left_out
+            .iter()
+            .map(|&i| Bin::of(samples[i].hd).index())
+            .collect();
+        let fold = reconstruct_halves_cells(&training, inputs.method, &cells, inputs.prior)?;
+        held_out.extend(left_out.into_iter().zip(fold).filter_map(|(i, f)| {
             let hd = samples[i].hd;
-            let (f, t) = (fold_table.lookup(hd)?, reference.lookup(hd)?);
+            let (f, t) = (f?, reference.lookup(hd)?);
             let log_difference = std::array::from_fn(|c| {
                 let d = (f[c] / t[c]).ln().abs();
                 d.is_finite().then_some(d)
@@ -971,7 +1045,7 @@ mod tests {
         assert!((place_deg2(&axis, 7.0) - 12.0).abs() < 1e-12);
         assert!((place_deg2(&axis, -1.0) - 2.0).abs() < 1e-12);
         let single = Axis { nodes: vec![2.0] };
-        assert_eq!(place_deg2(&single, 7.0), 0.0);
+        assert!((place_deg2(&single, 7.0) - 25.0).abs() < 1e-12);
     }
 
     /// Left-out samples whose difference is `0.02 place^power`, places from 0.012 to 15 deg^2.
@@ -1037,5 +1111,47 @@ mod tests {
             median_u < 4.0 * CALIBRATION_REL,
             "{median_u} {median_error}"
         );
+    }
+
+    /// Samples at one phi_d plane, at two, and a single sample: off a single plane nothing
+    /// says how the table varies, so the cells there get no uncertainty, not the calibration's
+    /// floor alone; two planes are cross-validated each from the other.
+    #[test]
+    fn an_axis_of_one_plane_leaves_the_cells_off_it_without_uncertainty() {
+        let truth = preset("green-paint").unwrap();
+        let at_phi_d = |keep: &dyn Fn(f64) -> bool| -> Vec<Sample> {
+            let folded = |s: &Sample| fold_phi_d_rad(s.hd.phi_d).to_degrees();
+            (samples_of(&truth).into_iter())
+                .filter(|s| keep(folded(s)))
+                .collect()
+        };
+        let has = |u: &CellUncertainty, phi_d_i| {
+            let bin = Bin {
+                theta_h_i: 30,
+                theta_d_i: 30,
+                phi_d_i,
+            };
+            u.relative.0[bin.index()].is_some()
+        };
+        let (_, _, u) = estimated(&at_phi_d(&|p| p < 1.0), None);
+        assert_eq!(u.model.judged, [true, true, false]);
+        assert!(has(&u, 0) && has(&u, 179));
+        assert!(!has(&u, 45) && !has(&u, 20) && !has(&u, 90));
+        let lines = u.lines();
+        assert!(lines[0].contains(", given on "), "{}", lines[0]);
+        let not_given = "uncertainty_not_given=off the plane of phi_d";
+        assert!(lines.iter().any(|l| l.starts_with(not_given)), "{lines:?}");
+
+        let (_, _, u) = estimated(&at_phi_d(&|p| !(1.0..=89.0).contains(&p)), None);
+        assert_eq!(u.model.judged, [true; 3]);
+        assert!(has(&u, 45) && has(&u, 20));
+
+        let hd = HalfDiff::from_degrees(10.3, 45.0, 30.4, 40.3);
+        let one = [Sample::new(hd, truth.eval_half_diff(hd).unwrap())];
+        let (_, _, u) = estimated(&one, None);
+        assert_eq!(u.model.judged, [false; 3]);
+        let given: Vec<usize> = (0..CELLS).filter(|&i| u.relative.0[i].is_some()).collect();
+        assert_eq!(given.len(), 2, "{given:?}");
+        assert!(given.contains(&Bin::of(hd).index()));
     }
 }
