@@ -45,6 +45,16 @@
 //! of the interval), and the summary gives the bounds at the highest cell. Elsewhere the
 //! deblurred table stays and the summary says which check it failed.
 //!
+//! A deblurred table that passes both checks can still hold a peak nothing in the data asks
+//! for: on a near-diffuse fabric the lobe family fits a spike of half width 0.04 deg on top
+//! of the body, which the captures cannot see and which puts 13 % into the first theta_h
+//! bins. When the fitted lobe is that narrow ([`width_detection_limit_deg`]) and the
+//! un-deblurred table, blurred by the response, reproduces every region's samples within
+//! what their uncertainties explain (not merely within [`FAIL_FACTOR`] times it), the
+//! deblurring adds only what the instrument cannot see, and the un-deblurred values take its
+//! place below the peak region's upper theta_h. On a sharp peak they cannot: blurred once
+//! more, the measured peak falls well below its samples.
+//!
 //! Whatever table is kept, its directional albedo is then held to 1
 //! ([`energy::conserve_energy`]): a fallback removes an invented spike, but a lobe continued
 //! towards grazing incidence, where the device does not reach, can still reflect more than
@@ -99,7 +109,8 @@ pub struct Safeguard {
 }
 
 impl Safeguard {
-    /// True when the deblurred table failed a check (whether or not it was replaced).
+    /// True when the deblurred table failed a check or was not asked for by the data
+    /// (whether or not it was replaced).
     pub fn failed(&self) -> bool {
         self.reason.is_some()
     }
@@ -172,6 +183,28 @@ fn checked<R: CaptureResponse + ?Sized, E>(
     let check = Consistency::check(samples, &u, &deblurred, instrument);
     let albedo = max_albedo(&deblurred);
     let Some((limit_deg, reason)) = failure(&check, albedo) else {
+        let undetected = undetected_half_width_deg(lobe, response.resolution_deg());
+        if let Some(half_width_deg) = undetected {
+            let plain = without_response()?;
+            let plain_check = Consistency::check(samples, &u, &plain, instrument);
+            if reproduces_within_uncertainty(&plain_check) {
+                let limit_deg = check.peak_limit_deg;
+                let merged = replaced_below(&deblurred, &plain, limit_deg);
+                let limit = width_detection_limit_deg(response.resolution_deg());
+                let unasked = Safeguard {
+                    consistency: Consistency::check(samples, &u, &merged, instrument),
+                    deblurred: Some(check),
+                    fallback_below_deg: Some(limit_deg),
+                    bounded_below_deg: None,
+                    reason: Some(format!(
+                        "not asked for by the data: the un-deblurred values reproduce every region within what its uncertainties explain, and the lobe's half width {half_width_deg:.3} deg is below the {limit:.3} deg the captures can tell from zero"
+                    )),
+                    max_albedo: max_albedo(&merged),
+                    energy: None,
+                };
+                return Ok((merged, unasked, Some(deblurred)));
+            }
+        }
         let passed = Safeguard {
             consistency: check,
             deblurred: None,
@@ -189,9 +222,7 @@ fn checked<R: CaptureResponse + ?Sized, E>(
     let merged_albedo = max_albedo(&merged);
     if !fits_better(&merged_check, &check, limit_deg) {
         let limit = width_detection_limit_deg(response.resolution_deg());
-        let undetected = lobe
-            .map(|l| l.shape.half_width_deg())
-            .filter(|&w| w < limit);
+        let undetected = undetected_half_width_deg(lobe, response.resolution_deg());
         let flank_failed = region_failure(&check, "flank").is_some();
         let refuted = check
             .region("peak")
@@ -284,6 +315,20 @@ fn prediction_uncertainty(
 pub fn width_detection_limit_deg(resolution_deg: f64) -> f64 {
     let a = consistency::POSITIONING_ACCURACY_DEG;
     (2.0 * a * resolution_deg + a * a).sqrt()
+}
+
+/// The fitted `lobe`'s half width (degrees) when it is below what the captures of a response
+/// of `resolution_deg` can tell from zero ([`width_detection_limit_deg`]).
+fn undetected_half_width_deg(lobe: Option<&Lobe>, resolution_deg: f64) -> Option<f64> {
+    let limit = width_detection_limit_deg(resolution_deg);
+    lobe.map(|l| l.shape.half_width_deg())
+        .filter(|&w| w < limit)
+}
+
+/// Whether a table reproduces every region's samples within what their uncertainties
+/// explain (the reproduction error at most the expected one; not [`FAIL_FACTOR`] times it).
+fn reproduces_within_uncertainty(check: &Consistency) -> bool {
+    check.regions.iter().all(|r| !r.misses_by(1.0))
 }
 
 /// `sqrt(sum of squares)` per channel.
@@ -664,5 +709,64 @@ mod tests {
         }
         let default = width_detection_limit_deg(Device::utia().response().resolution_deg());
         assert!((default - 0.257).abs() < 0.002, "{default}");
+    }
+
+    #[test]
+    fn a_spike_the_captures_cannot_see_on_a_flat_material_is_not_kept() {
+        // A matte material (the lobe's diffuse part alone) and a "deblurred" table that adds
+        // a spike of half width below the detection limit on top: blurred, the spike changes
+        // the captures by far less than their uncertainty, so both checks pass. The flat
+        // table reproduces every region within its uncertainty too: nothing asks for the
+        // spike, and the flat values take the peak's cells.
+        let response = Device::utia().response();
+        let flat = Lobe {
+            specular: Rgb::ZERO,
+            grazing: Rgb::ZERO,
+            ..lobe(0.3)
+        };
+        let spiky = Lobe {
+            shape: Shape {
+                alpha: 0.0005,
+                gamma: 2.0,
+            },
+            specular: Rgb::splat(1e-7),
+            ..flat
+        };
+        let samples = along_theta_h(&flat, &response);
+        let limit = width_detection_limit_deg(response.resolution_deg());
+        assert!(spiky.shape.half_width_deg() < limit);
+        let spike = tabulated(&spiky).cell(peak_cell()).unwrap().y;
+        let body = tabulated(&flat).cell(peak_cell()).unwrap().y;
+        assert!(spike > 1.1 * body, "{spike} {body}");
+        let (kept, guard, replaced) =
+            safeguarded(&samples, tabulated(&spiky), Some(&spiky), &response, || {
+                Ok::<_, ()>(tabulated(&flat))
+            })
+            .unwrap();
+        let checked = guard
+            .deblurred
+            .as_ref()
+            .expect("the deblurred table's figures");
+        assert!(failure(checked, 0.0).is_none(), "{guard:?}");
+        assert!(guard.fallback_below_deg.is_some(), "{guard:?}");
+        assert!(replaced.is_some());
+        assert_eq!(kept.cell(peak_cell()).unwrap().y, body);
+        assert!(
+            guard
+                .lines()
+                .iter()
+                .any(|l| l.contains("not asked for by the data")),
+            "{guard:?}"
+        );
+
+        // The same spike on a sharp material is needed: the flat table cannot stand in.
+        let sharp = lobe(0.0005);
+        let samples = along_theta_h(&sharp, &response);
+        let (_, guard, _) =
+            safeguarded(&samples, tabulated(&sharp), Some(&sharp), &response, || {
+                Ok::<_, ()>(tabulated(&flat))
+            })
+            .unwrap();
+        assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
     }
 }

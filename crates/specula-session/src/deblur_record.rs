@@ -61,7 +61,7 @@ impl DeblurRecord {
                 "{resolution}; the deblurred table does not reproduce its samples within their uncertainty, so its peak is not a measurement"
             ),
             _ if self.fallback_below_deg.is_some() => format!(
-                "{resolution}; the deblurred peak did not reproduce the samples, so theta_h below {:.2} deg holds the values as measured (a bound, not a measurement)",
+                "{resolution}; the deblurred peak was not kept (deblur_fallback says why), so theta_h below {:.2} deg holds the values as measured (a bound, not a measurement)",
                 self.fallback_below_deg.unwrap_or_default()
             ),
             Some(w) if self.resolved() => {
@@ -88,7 +88,7 @@ impl DeblurRecord {
                 "peak_resolved=true".into()
             } else if let Some(limit) = self.fallback_below_deg {
                 format!(
-                    "peak_resolved=false (the deblurred peak failed its checks: theta_h below {limit:.2} deg holds the values as measured, a bound at the instrument's resolution)"
+                    "peak_resolved=false (the deblurred peak was not kept, see deblur_fallback: theta_h below {limit:.2} deg holds the values as measured, a bound at the instrument's resolution)"
                 )
             } else if self.check_failed {
                 "peak_resolved=false (the deblurred table does not reproduce its samples within their uncertainty: see deblur_fallback; its peak is not a measurement)".into()
