@@ -22,11 +22,19 @@
 //!
 //! Regions: `peak` (theta_h within twice the instrument's resolution, where deblurring acts),
 //! `flank` (up to [`BLUR_THETA_H_DEG`]) and `body` (beyond), and `all`.
+//!
+//! Beside the samples, one identity: at theta_h = 0 the half vector is the normal, and
+//! turning the pair of directions about it (phi_d) changes nothing, so every phi_d of a MERL
+//! cell at theta_h bin 0 names one configuration and holds one value for any material. A
+//! table that varies there ([`NormalSpread`]) holds a feature of one half of phi_d that the
+//! other does not (the halves are reconstructed apart, [`crate::phi_d_halves`]): not the
+//! material.
 
 use crate::lobe::BLUR_THETA_H_DEG;
 use rayon::prelude::*;
 use specula_core::capture::{self, CaptureNode};
-use specula_core::merl::MerlBrdf;
+use specula_core::geometry::{within_elevation, USED_ELEVATION_DEG};
+use specula_core::merl::{Bin, MerlBrdf, PHI_D_BINS, THETA_D_BINS};
 use specula_core::{HalfDiff, Rgb, Sample};
 
 /// Without a response, the `peak` region reaches this far in theta_h (degrees).
@@ -62,6 +70,72 @@ pub struct Consistency {
     pub regions: Vec<RegionFigures>,
     /// Where the `peak` region ends, theta_h in degrees.
     pub peak_limit_deg: f64,
+    /// How much the table varies with phi_d where it cannot (see the module documentation).
+    pub normal_spread: NormalSpread,
+}
+
+/// The largest ratio between a table's values (the sum of the channels, so that a dark
+/// channel's last digits do not count) over phi_d at theta_h bin 0 (its centre is 0.003 deg
+/// from the normal), over the theta_d bins within [`USED_ELEVATION_DEG`]: 1 for any material.
+/// Measured tables and fits of real data come out at 1.0 to 1.3 (the RGL satin_rosaline's
+/// fit 1.28 and a neural fit's own table 1.33, both at grazing theta_d).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalSpread {
+    /// max / min over phi_d (1 when no theta_d bin has two positive values).
+    pub ratio: f64,
+    /// The theta_d bin's centre where it is largest, degrees.
+    pub theta_d_deg: f64,
+}
+
+/// A spread above this says one half of phi_d holds what the other does not: well above the
+/// 1.33 of any table seen of real data.
+pub const NORMAL_SPREAD_LIMIT: f64 = 2.0;
+
+impl NormalSpread {
+    /// Of `table` (see [`NormalSpread`]).
+    pub fn of(table: &MerlBrdf) -> Self {
+        let mut worst = Self {
+            ratio: 1.0,
+            theta_d_deg: 0.0,
+        };
+        for theta_d_i in 0..THETA_D_BINS {
+            let bin = |phi_d_i| Bin {
+                theta_h_i: 0,
+                theta_d_i,
+                phi_d_i,
+            };
+            if !within_elevation(bin(0).centre(0.0), USED_ELEVATION_DEG) {
+                continue;
+            }
+            let positive = (0..PHI_D_BINS)
+                .filter_map(|k| table.cell(bin(k).index()))
+                .map(|v| v.x + v.y + v.z)
+                .filter(|&v| v > 0.0);
+            let (lo, hi) = positive.fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+            if lo.is_finite() && hi / lo > worst.ratio {
+                worst = Self {
+                    ratio: hi / lo,
+                    theta_d_deg: bin(0).centre_deg()[1],
+                };
+            }
+        }
+        worst
+    }
+
+    /// The summary's line.
+    pub fn line(&self) -> String {
+        let verdict = if self.ratio > NORMAL_SPREAD_LIMIT {
+            ": one half of phi_d holds a feature the other does not, not the material"
+        } else {
+            ""
+        };
+        format!(
+            "consistency_normal=the table varies {:.3}x over phi_d at theta_h 0 (theta_d {:.1} deg), where every phi_d is one configuration{verdict}",
+            self.ratio, self.theta_d_deg
+        )
+    }
 }
 
 /// What the check needs of the measurement besides its samples.
@@ -123,6 +197,7 @@ impl Consistency {
         Self {
             regions,
             peak_limit_deg,
+            normal_spread: NormalSpread::of(table),
         }
     }
 
@@ -132,11 +207,9 @@ impl Consistency {
     }
 
     /// One line per region: `consistency_NAME=chi2 per value X, reproduction error Y % (Z %
-    /// expected), N samples`.
+    /// expected), N samples`; then the identity at the normal ([`NormalSpread::line`]).
     pub fn lines(&self) -> Vec<String> {
-        self.regions
-            .iter()
-            .map(|r| {
+        let regions = self.regions.iter().map(|r| {
                 format!(
                     "consistency_{}=chi2 per value {:.3e}, reproduction error {:.2} % ({:.2} % expected), {} samples",
                     r.name,
@@ -145,8 +218,8 @@ impl Consistency {
                     100.0 * r.expected_error,
                     r.samples
                 )
-            })
-            .collect()
+            });
+        regions.chain([self.normal_spread.line()]).collect()
     }
 }
 
@@ -339,6 +412,41 @@ mod tests {
         );
         assert!(peak_bad.chi2_per_value > 100.0 * peak_good.chi2_per_value.max(1e-3));
         assert_eq!(good.region("all").unwrap().samples, samples.len());
-        assert_eq!(good.lines().len(), good.regions.len());
+        let lines = good.lines();
+        assert_eq!(lines.len(), good.regions.len() + 1);
+        assert!(lines[lines.len() - 1].starts_with("consistency_normal="));
+    }
+
+    #[test]
+    fn a_table_varies_over_phi_d_at_the_normal_only_where_a_half_invents_a_feature() {
+        // Any material: one value per theta_d at theta_h 0, whatever phi_d.
+        let truth = lobe(0.05);
+        let centre = CaptureNode {
+            light: glam::DVec2::ZERO,
+            camera: glam::DVec2::ZERO,
+        };
+        let (_, table) = measured(&truth, &[centre]);
+        let spread = NormalSpread::of(&table);
+        assert!(spread.ratio < 1.001, "{spread:?}");
+        assert!(
+            !spread.line().contains("not the material"),
+            "{}",
+            spread.line()
+        );
+        // The first half of phi_d three times higher from theta_d 50 on, at theta_h 0 only.
+        let invented = MerlBrdf::from_fn("i", |index| {
+            let bin = Bin::from_index(index);
+            let v = table.cell(index)?;
+            let bump = bin.theta_h_i == 0 && bin.theta_d_i >= 50 && bin.phi_d_i < PHI_D_BINS / 2;
+            Some(if bump { v * 3.0 } else { v })
+        });
+        let spread = NormalSpread::of(&invented);
+        assert!((spread.ratio - 3.0).abs() < 1e-6, "{spread:?}");
+        assert!(spread.theta_d_deg >= 50.0);
+        assert!(
+            spread.line().contains("not the material"),
+            "{}",
+            spread.line()
+        );
     }
 }
