@@ -14,7 +14,8 @@ use crate::figures::{appearance, column_values, Appearance, Options};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
-use specula_core::merl::{Bin, MerlBrdf, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use rayon::prelude::*;
+use specula_core::merl::{Bin, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::Rgb;
 
 /// Monte Carlo draws per table.
@@ -45,7 +46,7 @@ pub fn expanded_uncertainty(table: &MerlBrdf, u: &MerlBrdf, options: &Options) -
     (0..columns)
         .map(|k| {
             let values: Option<Vec<f64>> = draws.iter().map(|d| d[k]).collect();
-            let values = values.filter(|_| !unknown.get(k).copied().unwrap_or(true));
+            let values = values.filter(|_| !unknown.get(k).copied().unwrap_or(false));
             values.map(|v| 2.0 * standard_deviation(&v))
         })
         .collect()
@@ -54,7 +55,13 @@ pub fn expanded_uncertainty(table: &MerlBrdf, u: &MerlBrdf, options: &Options) -
 /// Per figure (in [`column_values`]'s order), whether it changes when the cells of `table`
 /// that have no uncertainty in `u` change, each channel of each by its own factor between 1.5
 /// and 2.5 (so that a ratio of two regions moves too): whether it depends on one of them.
+/// Empty (none does) when every cell with a value has an uncertainty, as in every table a
+/// measurement writes: the figures are then not computed twice more.
 fn moved_by_cells_without_one(table: &MerlBrdf, u: &MerlBrdf, options: &Options) -> Vec<bool> {
+    let without_one = |index: usize| table.cell(index).is_some() && u.cell(index).is_none();
+    if !(0..CELLS).into_par_iter().any(without_one) {
+        return Vec::new();
+    }
     let factor = |index: usize, c: usize| {
         let hashed = ((3 * index + c) as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40;
         1.5 + hashed as f64 / (1u64 << 24) as f64

@@ -21,6 +21,17 @@ fn run(args: &[&str]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
+/// `specula reconstruct --samples-csv SAMPLES --out OUT`'s standard output.
+fn reconstruct(samples: &Path, out: &Path) -> String {
+    run(&[
+        "reconstruct",
+        "--samples-csv",
+        text(samples),
+        "--out",
+        text(out),
+    ])
+}
+
 /// A table reconstructed from green-paint's samples on a small plan, with its sidecars.
 fn reconstructed(dir: &Path) -> std::path::PathBuf {
     let samples = dir.join("samples.csv");
@@ -38,13 +49,7 @@ fn reconstructed(dir: &Path) -> std::path::PathBuf {
         "--samples-out",
         text(&samples),
     ]);
-    let stdout = run(&[
-        "reconstruct",
-        "--samples-csv",
-        text(&samples),
-        "--out",
-        text(&out),
-    ]);
+    let stdout = reconstruct(&samples, &out);
     assert!(
         stdout.contains("uncertainty_within_75_deg=median"),
         "{stdout}"
@@ -145,13 +150,7 @@ fn a_single_sample_gives_no_uncertainty_away_from_it_nor_to_the_figures() {
     )
     .unwrap();
     let out = dir.path().join("one.binary");
-    let stdout = run(&[
-        "reconstruct",
-        "--samples-csv",
-        text(&samples),
-        "--out",
-        text(&out),
-    ]);
+    let stdout = reconstruct(&samples, &out);
     assert!(stdout.contains("given on 2 of "), "{stdout}");
     assert!(
         stdout.contains("uncertainty_not_given=off the plane of theta_h and theta_d and phi_d"),

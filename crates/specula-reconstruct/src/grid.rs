@@ -69,27 +69,13 @@ pub(crate) fn interpolate_cell(lattice: &Lattice, kernel: Kernel, index: usize) 
     let phi_d_i = bin.phi_d_i.min(PHI_D_BINS - 1 - bin.phi_d_i);
     let phi_d = [lattice.phi_d.bracket(phi_d_i as f64 + 0.5)];
     let lines = lines(lattice);
-    let [nh, nd, np] = lattice.shape();
-    let mut slopes = vec![0.0; nh.max(nd).max(np)];
-    let mut along = |line: &Line, values: &[f64], at: &[Bracket; 1]| {
-        let mut out = [0.0];
-        line.interpolate(kernel, values, &mut slopes, at, &mut out);
-        out[0]
-    };
+    let shape = lattice.shape();
+    let mut slopes = vec![0.0; shape[2]];
     lattice.values.each_ref().map(|plane| {
-        let by_h: Vec<f64> = (0..nd * np)
-            .map(|dp| {
-                let column: Vec<f64> = (0..nh).map(|h| plane[h * nd * np + dp]).collect();
-                along(&lines[0], &column, &theta_h)
-            })
-            .collect();
-        let by_d: Vec<f64> = (0..np)
-            .map(|p| {
-                let column: Vec<f64> = (0..nd).map(|d| by_h[d * np + p]).collect();
-                along(&lines[1], &column, &theta_d)
-            })
-            .collect();
-        along(&lines[2], &by_d, &phi_d)
+        let by_d = theta_passes(shape, plane, [&theta_h, &theta_d], &lines, kernel);
+        let mut out = [0.0];
+        lines[2].interpolate(kernel, &by_d, &mut slopes, &phi_d, &mut out);
+        out[0]
     })
 }
 
@@ -120,38 +106,14 @@ fn interpolate_plane(
     lines: &[Line; 3],
     kernel: Kernel,
 ) -> Vec<f64> {
-    let [nh, nd, np] = shape;
-    let mut slopes = vec![0.0; nh.max(nd).max(np)];
-    // Pass 1, theta_h: [nh][nd][np] -> [90][nd][np].
-    let mut by_h = vec![0.0; THETA_H_BINS * nd * np];
-    let mut column = vec![0.0; nh];
-    let mut out = vec![0.0; THETA_H_BINS];
-    for d in 0..nd {
-        for p in 0..np {
-            for (h, c) in column.iter_mut().enumerate() {
-                *c = plane[(h * nd + d) * np + p];
-            }
-            lines[0].interpolate(kernel, &column, &mut slopes, &targets.theta_h, &mut out);
-            for (i, v) in out.iter().enumerate() {
-                by_h[(i * nd + d) * np + p] = *v;
-            }
-        }
-    }
-    // Pass 2, theta_d: [90][nd][np] -> [90][90][np].
-    let mut by_d = vec![0.0; THETA_H_BINS * THETA_D_BINS * np];
-    let mut column = vec![0.0; nd];
-    let mut out = vec![0.0; THETA_D_BINS];
-    for i in 0..THETA_H_BINS {
-        for p in 0..np {
-            for (d, c) in column.iter_mut().enumerate() {
-                *c = by_h[(i * nd + d) * np + p];
-            }
-            lines[1].interpolate(kernel, &column, &mut slopes, &targets.theta_d, &mut out);
-            for (j, v) in out.iter().enumerate() {
-                by_d[(i * THETA_D_BINS + j) * np + p] = *v;
-            }
-        }
-    }
+    let np = shape[2];
+    let by_d = theta_passes(
+        shape,
+        plane,
+        [&targets.theta_h, &targets.theta_d],
+        lines,
+        kernel,
+    );
     // Pass 3, phi_d: [90][90][np] -> [90][90][180], one theta_h bin per task.
     let mut cells = vec![0.0; CELLS];
     let slab = THETA_D_BINS * PHI_D_BINS;
@@ -176,6 +138,53 @@ fn interpolate_plane(
             }
         });
     cells
+}
+
+/// Passes 1 and 2 of one channel: the `plane` of a lattice of `shape` `[nh][nd][np]`
+/// interpolated along theta_h at the brackets `at[0]`, then along theta_d at `at[1]`, into
+/// `[at[0].len()][at[1].len()][np]`.
+fn theta_passes(
+    shape: [usize; 3],
+    plane: &[f64],
+    at: [&[Bracket]; 2],
+    lines: &[Line; 3],
+    kernel: Kernel,
+) -> Vec<f64> {
+    let [nh, nd, np] = shape;
+    let [theta_h, theta_d] = at;
+    let (th, td) = (theta_h.len(), theta_d.len());
+    let mut slopes = vec![0.0; nh.max(nd)];
+    // Pass 1, theta_h: [nh][nd][np] -> [th][nd][np].
+    let mut by_h = vec![0.0; th * nd * np];
+    let mut column = vec![0.0; nh];
+    let mut out = vec![0.0; th];
+    for d in 0..nd {
+        for p in 0..np {
+            for (h, c) in column.iter_mut().enumerate() {
+                *c = plane[(h * nd + d) * np + p];
+            }
+            lines[0].interpolate(kernel, &column, &mut slopes, theta_h, &mut out);
+            for (i, v) in out.iter().enumerate() {
+                by_h[(i * nd + d) * np + p] = *v;
+            }
+        }
+    }
+    // Pass 2, theta_d: [th][nd][np] -> [th][td][np].
+    let mut by_d = vec![0.0; th * td * np];
+    let mut column = vec![0.0; nd];
+    let mut out = vec![0.0; td];
+    for i in 0..th {
+        for p in 0..np {
+            for (d, c) in column.iter_mut().enumerate() {
+                *c = by_h[(i * nd + d) * np + p];
+            }
+            lines[1].interpolate(kernel, &column, &mut slopes, theta_d, &mut out);
+            for (j, v) in out.iter().enumerate() {
+                by_d[(i * td + j) * np + p] = *v;
+            }
+        }
+    }
+    by_d
 }
 
 /// For every MERL cell, whether its value depends on extrapolation: a bin centre beyond the

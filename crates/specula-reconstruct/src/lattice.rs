@@ -44,11 +44,6 @@ pub(crate) struct Lattice {
     pub status: Vec<NodeStatus>,
 }
 
-/// A sample's theta_h, theta_d and folded phi_d in degrees.
-pub(crate) fn sample_coordinates(sample: &Sample) -> [f64; 3] {
-    coordinates(sample.hd)
-}
-
 /// The lattice coordinates of `hd`: theta_h, theta_d and folded phi_d in degrees.
 pub(crate) fn coordinates(hd: HalfDiff) -> [f64; 3] {
     [
@@ -61,7 +56,7 @@ pub(crate) fn coordinates(hd: HalfDiff) -> [f64; 3] {
 impl Lattice {
     /// The lattice spanned by the samples, every node missing.
     pub(crate) fn spanned_by(samples: &[Sample]) -> Self {
-        let coords: Vec<[f64; 3]> = samples.iter().map(sample_coordinates).collect();
+        let coords: Vec<[f64; 3]> = samples.iter().map(|s| coordinates(s.hd)).collect();
         let axis = |a: usize, max_nodes: usize| {
             let values: Vec<f64> = coords.iter().map(|c| c[a]).collect();
             Axis::cluster(&values, NODE_TOLERANCE, max_nodes)
@@ -91,7 +86,7 @@ impl Lattice {
         let mut lattice = Self::spanned_by(samples);
         let mut counts = vec![0usize; lattice.status.len()];
         for (sample, value) in samples.iter().zip(domain_values) {
-            let [h, d, p] = sample_coordinates(sample);
+            let [h, d, p] = coordinates(sample.hd);
             let node = lattice.index(
                 lattice.theta_h.nearest(h),
                 lattice.theta_d.nearest(d),

@@ -20,7 +20,7 @@
 //! predicts held-out samples worse than the lobe, keeps `w` near 0.
 
 use crate::domain::{Domain, LOG_OFFSET};
-use crate::lattice::{sample_coordinates, Lattice, NodeStatus};
+use crate::lattice::{coordinates, Lattice, NodeStatus};
 use crate::lobe::{Geometry, Lobe, LobeOnGrid};
 use crate::method::Method;
 use crate::prior::{PriorBasis, PriorFit};
@@ -211,7 +211,7 @@ fn folds(samples: &[Sample]) -> Vec<Fold> {
             }
         }
         let axis_of = |s: &Sample| {
-            let c = sample_coordinates(s);
+            let c = coordinates(s.hd);
             if axis == 1 {
                 lattice.theta_d.nearest(c[1])
             } else {

@@ -182,27 +182,15 @@ fn checked<R: CaptureResponse + ?Sized, E>(
     let u = prediction_uncertainty(samples, lobe, &deblurred, &nodes);
     let check = Consistency::check(samples, &u, &deblurred, instrument);
     let albedo = max_albedo(&deblurred);
+    let undetected = Undetected::of(lobe, response.resolution_deg());
     let Some((limit_deg, reason)) = failure(&check, albedo) else {
-        let undetected = undetected_half_width_deg(lobe, response.resolution_deg());
-        if let Some(half_width_deg) = undetected {
+        if let Some(undetected) = undetected {
             let plain = without_response()?;
-            let plain_check = Consistency::check(samples, &u, &plain, instrument);
-            if reproduces_within_uncertainty(&plain_check) {
-                let limit_deg = check.peak_limit_deg;
-                let merged = replaced_below(&deblurred, &plain, limit_deg);
-                let limit = width_detection_limit_deg(response.resolution_deg());
-                let unasked = Safeguard {
-                    consistency: Consistency::check(samples, &u, &merged, instrument),
-                    deblurred: Some(check),
-                    fallback_below_deg: Some(limit_deg),
-                    bounded_below_deg: None,
-                    reason: Some(format!(
-                        "not asked for by the data: the un-deblurred values reproduce every region within what its uncertainties explain, and the lobe's half width {half_width_deg:.3} deg is below the {limit:.3} deg the captures can tell from zero"
-                    )),
-                    max_albedo: max_albedo(&merged),
-                    energy: None,
-                };
-                return Ok((merged, unasked, Some(deblurred)));
+            if reproduces_within_uncertainty(&Consistency::check(samples, &u, &plain, instrument)) {
+                let (kept, guard) = unasked(
+                    samples, &u, instrument, &deblurred, check, &plain, undetected,
+                );
+                return Ok((kept, guard, Some(deblurred)));
             }
         }
         let passed = Safeguard {
@@ -221,13 +209,11 @@ fn checked<R: CaptureResponse + ?Sized, E>(
     let merged_check = Consistency::check(samples, &u, &merged, instrument);
     let merged_albedo = max_albedo(&merged);
     if !fits_better(&merged_check, &check, limit_deg) {
-        let limit = width_detection_limit_deg(response.resolution_deg());
-        let undetected = undetected_half_width_deg(lobe, response.resolution_deg());
         let flank_failed = region_failure(&check, "flank").is_some();
         let refuted = check
             .region("peak")
             .is_some_and(|r| r.misses_by(REFUTED_FACTOR));
-        if let Some(half_width_deg) = undetected.filter(|_| flank_failed || refuted) {
+        if let Some(undetected) = undetected.filter(|_| flank_failed || refuted) {
             let limit_deg = check.peak_limit_deg;
             let bounds = PeakBounds::of(&deblurred, &plain, limit_deg);
             let bounded = geometric_mean_below(&deblurred, &plain, limit_deg);
@@ -240,13 +226,13 @@ fn checked<R: CaptureResponse + ?Sized, E>(
                 fallback_below_deg: None,
                 bounded_below_deg: Some(limit_deg),
                 reason: Some(format!(
-                    "{reason}; the un-deblurred values reproduce the samples no better, and the lobe's half width {half_width_deg:.3} deg is below the {limit:.3} deg the captures can tell from zero: {bounds}"
+                    "{reason}; the un-deblurred values reproduce the samples no better, and {undetected}: {bounds}"
                 )),
             };
             return Ok((bounded, guard, Some(deblurred)));
         }
         let why_kept = match undetected {
-            Some(w) => format!("the lobe's half width {w:.3} deg is below the {limit:.3} deg the captures can tell from zero, but the lobe reproduces the flank they resolve, so its peak stays as that shape's continuation"),
+            Some(undetected) => format!("{undetected}, but the lobe reproduces the flank they resolve, so its peak stays as that shape's continuation"),
             None => "so the deblurred ones stay".into(),
         };
         let kept = Safeguard {
@@ -317,12 +303,64 @@ pub fn width_detection_limit_deg(resolution_deg: f64) -> f64 {
     (2.0 * a * resolution_deg + a * a).sqrt()
 }
 
-/// The fitted `lobe`'s half width (degrees) when it is below what the captures of a response
-/// of `resolution_deg` can tell from zero ([`width_detection_limit_deg`]).
-fn undetected_half_width_deg(lobe: Option<&Lobe>, resolution_deg: f64) -> Option<f64> {
-    let limit = width_detection_limit_deg(resolution_deg);
-    lobe.map(|l| l.shape.half_width_deg())
-        .filter(|&w| w < limit)
+/// A fitted lobe's peak narrower than the captures can tell from zero
+/// ([`width_detection_limit_deg`]).
+#[derive(Debug, Clone, Copy)]
+struct Undetected {
+    half_width_deg: f64,
+    limit_deg: f64,
+}
+
+impl Undetected {
+    /// Of the fitted `lobe` through a response of `resolution_deg`; `None` when its peak is
+    /// wide enough to be told from zero.
+    fn of(lobe: Option<&Lobe>, resolution_deg: f64) -> Option<Self> {
+        let limit_deg = width_detection_limit_deg(resolution_deg);
+        lobe.map(|l| l.shape.half_width_deg())
+            .filter(|&w| w < limit_deg)
+            .map(|half_width_deg| Self {
+                half_width_deg,
+                limit_deg,
+            })
+    }
+}
+
+impl std::fmt::Display for Undetected {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the lobe's half width {:.3} deg is below the {:.3} deg the captures can tell from zero",
+            self.half_width_deg, self.limit_deg
+        )
+    }
+}
+
+/// The `deblurred` table (which passed its `check`) with the un-deblurred `plain` values
+/// below the peak region's upper theta_h, where nothing in the data asks for its
+/// `undetected` peak (see the module documentation), and what the checks found.
+fn unasked(
+    samples: &[Sample],
+    u: &[Rgb],
+    instrument: Instrument<'_>,
+    deblurred: &MerlBrdf,
+    check: Consistency,
+    plain: &MerlBrdf,
+    undetected: Undetected,
+) -> (MerlBrdf, Safeguard) {
+    let limit_deg = check.peak_limit_deg;
+    let merged = replaced_below(deblurred, plain, limit_deg);
+    let guard = Safeguard {
+        consistency: Consistency::check(samples, u, &merged, instrument),
+        deblurred: Some(check),
+        fallback_below_deg: Some(limit_deg),
+        bounded_below_deg: None,
+        reason: Some(format!(
+            "not asked for by the data: the un-deblurred values reproduce every region within what its uncertainties explain, and {undetected}"
+        )),
+        max_albedo: max_albedo(&merged),
+        energy: None,
+    };
+    (merged, guard)
 }
 
 /// Whether a table reproduces every region's samples within what their uncertainties

@@ -675,6 +675,9 @@ fn cross_validate_along(
 ) -> Result<Vec<HeldOut>, ReconstructError> {
     let samples = inputs.samples;
     let plane: Vec<usize> = coords.iter().map(|c| axis.nearest(c[a])).collect();
+    // Two planes: each left out in turn, the table made from the other; more: every other
+    // plane, so that each fold interpolates between at least two.
+    let min_kept = if axis.len() == 2 { 1 } else { 2 };
     let mut held_out = Vec::new();
     for parity in 0..2 {
         let kept_planes = Axis {
@@ -685,9 +688,6 @@ fn cross_validate_along(
         };
         let (left_out, kept): (Vec<usize>, Vec<usize>) =
             (0..samples.len()).partition(|&i| plane[i] % 2 == parity);
-        // Two planes: each left out in turn, the table made from the other; more: every
-        // other plane, so that each fold interpolates between at least two.
-        let min_kept = if axis.len() == 2 { 1 } else { 2 };
         if kept_planes.len() < min_kept || left_out.is_empty() {
             continue;
         }
@@ -731,13 +731,16 @@ fn growth_exponent(held_out: &[HeldOut]) -> f64 {
                 .map(move |r| (x, r.ln()))
         })
         .collect();
+    if points.len() < 2 {
+        return 1.0;
+    }
     let n = points.len() as f64;
     let (mx, my) = points
         .iter()
         .fold((0.0, 0.0), |(sx, sy), (x, y)| (sx + x / n, sy + y / n));
     let sxx: f64 = points.iter().map(|(x, _)| (x - mx).powi(2)).sum();
     let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
-    if points.len() < 2 || sxx <= 1e-12 {
+    if sxx <= 1e-12 {
         return 1.0;
     }
     (sxy / sxx).clamp(0.0, 1.0)
