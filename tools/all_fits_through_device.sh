@@ -14,7 +14,10 @@
 # --hdr bracket`), so that both sides carry it. One CSV row per truth, in the order they
 # finish:
 #
-#   truth,rel,log,paper_rel,paper_log,samples,simulated_hours,wall_s,fallback,energy
+#   truth,rel,log,paper_rel,paper_log,samples,simulated_hours,wall_s,fallback,energy,normal
+#
+# `normal` is the table's spread over phi_d at theta_h 0 (`consistency_normal`), followed by
+# `fallback` where one half of phi_d took the un-deblurred values to restore it.
 #
 #   cargo build --release -p specula-cli
 #   SPECULA=target/release/specula JOBS=2 tools/all_fits_through_device.sh > fits.csv
@@ -68,7 +71,9 @@ one() { # truth -> one CSV row
     hours=$(sed -n 's/^simulated_hours=//p' "$dir/m.log")
     fallback=$(sed -n 's/^deblur_fallback=\([a-z ]*\).*/\1/p' "$dir/m.log" | sed 's/ *$//')
     energy=$(grep -q '^energy_conserved=' "$dir/m.log" && echo scaled || echo kept)
-    echo "$truth,$ours,$paper,$samples,$hours,$(echo "$end - $start" | bc),${fallback:-none},$energy"
+    normal=$(sed -n 's/^consistency_normal=the table varies \([0-9.]*\)x.*/\1/p' "$dir/m.log")
+    grep -q '^deblur_fallback_normal=' "$dir/m.log" && normal="$normal fallback"
+    echo "$truth,$ours,$paper,$samples,$hours,$(echo "$end - $start" | bc),${fallback:-none},$energy,${normal:-}"
     rm -rf "$dir"
 }
 export -f one

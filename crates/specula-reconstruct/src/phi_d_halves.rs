@@ -148,7 +148,7 @@ pub fn reconstruct_halves_cells(
 }
 
 /// Whether MERL cell `index` lies in the second half of phi_d, `[90, 180)` deg.
-fn in_second(index: usize) -> bool {
+pub(crate) fn in_second(index: usize) -> bool {
     index % PHI_D_BINS >= PHI_D_BINS / 2
 }
 

@@ -55,14 +55,26 @@
 //! place below the peak region's upper theta_h. On a sharp peak they cannot: blurred once
 //! more, the measured peak falls well below its samples.
 //!
+//! One more check needs no samples: at theta_h 0 every phi_d names one configuration
+//! ([`NormalSpread`]), and the halves of phi_d are reconstructed apart
+//! ([`crate::phi_d_halves`]). When the kept table varies there by more than
+//! [`NORMAL_SPREAD_LIMIT`], one half holds a peak that the other half's samples, at the same
+//! configurations, do not: on a flat-topped silk the first half's lobe put three times the
+//! material's value at the normal while the second half's held it. The half whose
+//! un-deblurred values bring the spread within the limit takes them ([`NormalFallback`]), up
+//! to the upper theta_h of the region whose samples the table failed (the peak region's when
+//! none did); where neither half's do, the table stays and the summary says the identity
+//! fails.
+//!
 //! Whatever table is kept, its directional albedo is then held to 1
 //! ([`energy::conserve_energy`]): a fallback removes an invented spike, but a lobe continued
 //! towards grazing incidence, where the device does not reach, can still reflect more than
 //! arrives, and such a table is scaled down where it does.
 
-use crate::consistency::{self, Consistency, Instrument};
+use crate::consistency::{self, Consistency, Instrument, NormalSpread, NORMAL_SPREAD_LIMIT};
 use crate::energy::{self, max_albedo, EnergyScale};
 use crate::lobe::{Lobe, LobeOnGrid};
+use crate::phi_d_halves::in_second;
 use crate::response_nodes::FIT_RESPONSE_NODES;
 use specula_core::capture::{CaptureNode, CaptureResponse};
 use specula_core::merl::{Bin, MerlBrdf};
@@ -106,13 +118,41 @@ pub struct Safeguard {
     pub max_albedo: f64,
     /// How the table was scaled to conserve energy ([`energy::conserve_energy`]), if it was.
     pub energy: Option<EnergyScale>,
+    /// The half of phi_d that took the un-deblurred values to restore the identity at the
+    /// normal, if one did (see the module documentation).
+    pub normal_fallback: Option<NormalFallback>,
+}
+
+/// One half of phi_d whose cells below `below_deg` in theta_h hold the un-deblurred values
+/// because the deblurred table broke the identity at the normal ([`NormalSpread`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalFallback {
+    /// The half: `[0, 90)` deg of phi_d when false, `[90, 180)` when true.
+    pub second_half: bool,
+    /// Cells with theta_h below this (degrees) were replaced in that half.
+    pub below_deg: f64,
+    /// The deblurred table's spread, which the fallback removed.
+    pub before: NormalSpread,
+    /// The spread of the table returned.
+    pub after: NormalSpread,
+}
+
+impl std::fmt::Display for NormalFallback {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let half = if self.second_half { "90-180" } else { "0-90" };
+        write!(
+            f,
+            "theta_h below {:.2} deg of phi_d {half} deg holds the un-deblurred values: the deblurred table varied {:.3}x over phi_d at theta_h 0 (theta_d {:.1} deg), where every phi_d is one configuration; now {:.3}x",
+            self.below_deg, self.before.ratio, self.before.theta_d_deg, self.after.ratio
+        )
+    }
 }
 
 impl Safeguard {
     /// True when the deblurred table failed a check or was not asked for by the data
     /// (whether or not it was replaced).
     pub fn failed(&self) -> bool {
-        self.reason.is_some()
+        self.reason.is_some() || self.normal_fallback.is_some()
     }
 
     /// The summary's lines: the consistency per region, the albedo and any fallback.
@@ -130,8 +170,14 @@ impl Safeguard {
                 "deblur_fallback=theta_h below {limit:.2} deg holds the geometric mean of the deblurred and the un-deblurred values, a bounded peak ({reason})"
             ),
             (None, None, Some(reason)) => format!("deblur_fallback=none, check failed: {reason}"),
+            _ if self.normal_fallback.is_some() => {
+                "deblur_fallback=none beyond one half of phi_d: the samples' checks passed, the identity at the normal did not".into()
+            }
             _ => "deblur_fallback=none, checks passed".into(),
         });
+        if let Some(normal) = &self.normal_fallback {
+            lines.push(format!("deblur_fallback_normal={normal}"));
+        }
         if let Some(d) = &self.deblurred {
             lines.extend(d.lines().into_iter().map(|l| format!("deblurred_{l}")));
         }
@@ -140,8 +186,9 @@ impl Safeguard {
 }
 
 /// Checks the `deblurred` table (made through `response` from `samples`, with its fitted
-/// `lobe`) and falls back per region to the table `without_response()` makes where it fails
-/// (see the module documentation), then holds the kept table's directional albedo to 1
+/// `lobe`) and falls back per region to the table `without_response()` makes where it fails,
+/// and per half of phi_d where it breaks the identity at the normal (see the module
+/// documentation), then holds the kept table's directional albedo to 1
 /// ([`energy::conserve_energy`]): the table to keep, what the checks found and, when its
 /// cells were replaced, the deblurred table itself.
 pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
@@ -149,10 +196,29 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
     deblurred: MerlBrdf,
     lobe: Option<&Lobe>,
     response: &R,
-    without_response: impl FnOnce() -> Result<MerlBrdf, E>,
+    without_response: impl Fn() -> Result<MerlBrdf, E>,
 ) -> Result<(MerlBrdf, Safeguard, Option<MerlBrdf>), E> {
-    let (kept, mut guard, replaced) =
-        checked(samples, deblurred, lobe, response, without_response)?;
+    let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
+    let checks = Checks {
+        samples,
+        u: prediction_uncertainty(samples, lobe, &deblurred, &nodes),
+        instrument: Instrument {
+            nodes: &nodes,
+            resolution_deg: Some(response.resolution_deg()),
+        },
+    };
+    let mut plain = Plain {
+        make: &without_response,
+        table: None,
+    };
+    let undetected = Undetected::of(lobe, response.resolution_deg());
+    let (kept, guard, replaced) = checked(&checks, deblurred, undetected, &mut plain)?;
+    let (kept, mut guard, replaced) = if guard.consistency.normal_spread.ratio > NORMAL_SPREAD_LIMIT
+    {
+        normal_restored(&checks, kept, guard, replaced, plain.get()?)
+    } else {
+        (kept, guard, replaced)
+    };
     // The checks measured the kept table's albedo at the same incidences: only a table that
     // breaks 1 is integrated again.
     if guard.max_albedo <= energy::HELD_ALBEDO {
@@ -166,30 +232,51 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
     Ok((kept, guard, replaced))
 }
 
-/// [`safeguarded`] before the energy is held: the checks and the fallback.
-fn checked<R: CaptureResponse + ?Sized, E>(
-    samples: &[Sample],
+/// The samples a table is checked against, their predictions' standard uncertainties and the
+/// instrument that predicts them.
+struct Checks<'a> {
+    samples: &'a [Sample],
+    u: Vec<Rgb>,
+    instrument: Instrument<'a>,
+}
+
+impl Checks<'_> {
+    /// How well `table` reproduces the samples ([`Consistency::check`]).
+    fn of(&self, table: &MerlBrdf) -> Consistency {
+        Consistency::check(self.samples, &self.u, table, self.instrument)
+    }
+}
+
+/// The un-deblurred table, reconstructed when a check first needs it and then kept.
+struct Plain<'a, E> {
+    make: &'a dyn Fn() -> Result<MerlBrdf, E>,
+    table: Option<MerlBrdf>,
+}
+
+impl<E> Plain<'_, E> {
+    fn get(&mut self) -> Result<&MerlBrdf, E> {
+        Ok(match self.table.take() {
+            Some(table) => self.table.insert(table),
+            None => self.table.insert((self.make)()?),
+        })
+    }
+}
+
+/// [`safeguarded`] before the identity at the normal and the energy: the checks against the
+/// samples and the fallback.
+fn checked<E>(
+    checks: &Checks<'_>,
     deblurred: MerlBrdf,
-    lobe: Option<&Lobe>,
-    response: &R,
-    without_response: impl FnOnce() -> Result<MerlBrdf, E>,
+    undetected: Option<Undetected>,
+    plain: &mut Plain<'_, E>,
 ) -> Result<(MerlBrdf, Safeguard, Option<MerlBrdf>), E> {
-    let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
-    let instrument = Instrument {
-        nodes: &nodes,
-        resolution_deg: Some(response.resolution_deg()),
-    };
-    let u = prediction_uncertainty(samples, lobe, &deblurred, &nodes);
-    let check = Consistency::check(samples, &u, &deblurred, instrument);
+    let check = checks.of(&deblurred);
     let albedo = max_albedo(&deblurred);
-    let undetected = Undetected::of(lobe, response.resolution_deg());
     let Some((limit_deg, reason)) = failure(&check, albedo) else {
         if let Some(undetected) = undetected {
-            let plain = without_response()?;
-            if reproduces_within_uncertainty(&Consistency::check(samples, &u, &plain, instrument)) {
-                let (kept, guard) = unasked(
-                    samples, &u, instrument, &deblurred, check, &plain, undetected,
-                );
+            let plain = plain.get()?;
+            if reproduces_within_uncertainty(&checks.of(plain)) {
+                let (kept, guard) = unasked(checks, &deblurred, check, plain, undetected);
                 return Ok((kept, guard, Some(deblurred)));
             }
         }
@@ -201,12 +288,13 @@ fn checked<R: CaptureResponse + ?Sized, E>(
             reason: None,
             max_albedo: albedo,
             energy: None,
+            normal_fallback: None,
         };
         return Ok((deblurred, passed, None));
     };
-    let plain = without_response()?;
-    let merged = replaced_below(&deblurred, &plain, limit_deg);
-    let merged_check = Consistency::check(samples, &u, &merged, instrument);
+    let plain = plain.get()?;
+    let merged = replaced_below(&deblurred, plain, limit_deg);
+    let merged_check = checks.of(&merged);
     let merged_albedo = max_albedo(&merged);
     if !fits_better(&merged_check, &check, limit_deg) {
         let flank_failed = region_failure(&check, "flank").is_some();
@@ -215,12 +303,13 @@ fn checked<R: CaptureResponse + ?Sized, E>(
             .is_some_and(|r| r.misses_by(REFUTED_FACTOR));
         if let Some(undetected) = undetected.filter(|_| flank_failed || refuted) {
             let limit_deg = check.peak_limit_deg;
-            let bounds = PeakBounds::of(&deblurred, &plain, limit_deg);
-            let bounded = geometric_mean_below(&deblurred, &plain, limit_deg);
-            let bounded_check = Consistency::check(samples, &u, &bounded, instrument);
+            let bounds = PeakBounds::of(&deblurred, plain, limit_deg);
+            let bounded = geometric_mean_below(&deblurred, plain, limit_deg);
+            let bounded_check = checks.of(&bounded);
             let guard = Safeguard {
                 max_albedo: max_albedo(&bounded),
                 energy: None,
+                normal_fallback: None,
                 consistency: bounded_check,
                 deblurred: Some(check),
                 fallback_below_deg: None,
@@ -245,6 +334,7 @@ fn checked<R: CaptureResponse + ?Sized, E>(
             )),
             max_albedo: albedo,
             energy: None,
+            normal_fallback: None,
         };
         return Ok((deblurred, kept, None));
     }
@@ -256,6 +346,7 @@ fn checked<R: CaptureResponse + ?Sized, E>(
         reason: Some(reason),
         max_albedo: merged_albedo,
         energy: None,
+        normal_fallback: None,
     };
     Ok((merged, replaced, Some(deblurred)))
 }
@@ -339,9 +430,7 @@ impl std::fmt::Display for Undetected {
 /// below the peak region's upper theta_h, where nothing in the data asks for its
 /// `undetected` peak (see the module documentation), and what the checks found.
 fn unasked(
-    samples: &[Sample],
-    u: &[Rgb],
-    instrument: Instrument<'_>,
+    checks: &Checks<'_>,
     deblurred: &MerlBrdf,
     check: Consistency,
     plain: &MerlBrdf,
@@ -350,7 +439,7 @@ fn unasked(
     let limit_deg = check.peak_limit_deg;
     let merged = replaced_below(deblurred, plain, limit_deg);
     let guard = Safeguard {
-        consistency: Consistency::check(samples, u, &merged, instrument),
+        consistency: checks.of(&merged),
         deblurred: Some(check),
         fallback_below_deg: Some(limit_deg),
         bounded_below_deg: None,
@@ -359,8 +448,54 @@ fn unasked(
         )),
         max_albedo: max_albedo(&merged),
         energy: None,
+        normal_fallback: None,
     };
     (merged, guard)
+}
+
+/// The `kept` table (with its `guard` and the deblurred table it `replaced`, if any), which
+/// breaks the identity at the normal, with the un-deblurred `plain` values in the half of
+/// phi_d where they restore it (see the module documentation); as it was when neither
+/// half's do. They replace the cells below the upper theta_h of the region the samples'
+/// checks failed in ([`failure`]: the flank's when the flank failed), else below the peak
+/// region's.
+fn normal_restored(
+    checks: &Checks<'_>,
+    kept: MerlBrdf,
+    guard: Safeguard,
+    replaced: Option<MerlBrdf>,
+    plain: &MerlBrdf,
+) -> (MerlBrdf, Safeguard, Option<MerlBrdf>) {
+    let below_deg = failure(&guard.consistency, guard.max_albedo)
+        .map_or(guard.consistency.peak_limit_deg, |(limit_deg, _)| limit_deg);
+    let restored = [false, true]
+        .map(|second_half| {
+            let table = replaced_where(&kept, plain, |index| {
+                in_second(index) == second_half
+                    && Bin::from_index(index).centre_deg()[0] < below_deg
+            });
+            (second_half, NormalSpread::of(&table), table)
+        })
+        .into_iter()
+        .min_by(|a, b| a.1.ratio.total_cmp(&b.1.ratio))
+        .filter(|(_, after, _)| after.ratio <= NORMAL_SPREAD_LIMIT);
+    let Some((second_half, after, table)) = restored else {
+        return (kept, guard, replaced);
+    };
+    let consistency = checks.of(&table);
+    let guard = Safeguard {
+        max_albedo: max_albedo(&table),
+        deblurred: guard.deblurred.or(Some(guard.consistency.clone())),
+        normal_fallback: Some(NormalFallback {
+            second_half,
+            below_deg,
+            before: guard.consistency.normal_spread,
+            after,
+        }),
+        consistency,
+        ..guard
+    };
+    (table, guard, replaced.or(Some(kept)))
 }
 
 /// Whether a table reproduces every region's samples within what their uncertainties
@@ -426,6 +561,21 @@ fn fits_better(merged: &Consistency, deblurred: &Consistency, limit_deg: f64) ->
 /// `deblurred` with every cell whose theta_h centre lies below `limit_deg` taken from `plain`.
 fn replaced_below(deblurred: &MerlBrdf, plain: &MerlBrdf, limit_deg: f64) -> MerlBrdf {
     combined_below(deblurred, plain, limit_deg, |_, p| p)
+}
+
+/// `table` with the cells `replace` names taken from `plain` (where it has them).
+fn replaced_where(
+    table: &MerlBrdf,
+    plain: &MerlBrdf,
+    replace: impl Fn(usize) -> bool + Sync,
+) -> MerlBrdf {
+    MerlBrdf::from_fn(specula_core::Brdf::name(table), |index| {
+        if replace(index) {
+            plain.cell(index).or(table.cell(index))
+        } else {
+            table.cell(index)
+        }
+    })
 }
 
 /// `deblurred` with every cell whose theta_h centre lies below `limit_deg` holding the
@@ -509,7 +659,7 @@ mod tests {
     use super::*;
     use crate::lobe::{Geometry, Shape};
     use specula_acquisition::device::Device;
-    use specula_core::merl::THETA_H_BINS;
+    use specula_core::merl::{PHI_D_BINS, THETA_H_BINS};
     use specula_core::HalfDiff;
 
     fn lobe(alpha: f64) -> Lobe {
@@ -806,5 +956,80 @@ mod tests {
             })
             .unwrap();
         assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
+    }
+
+    #[test]
+    fn a_peak_one_half_of_phi_d_invents_at_the_normal_falls_back_in_that_half() {
+        // A flat-topped material (a wide lobe) measured at theta_d 40, and a "deblurred" table
+        // whose first half of phi_d holds a sharp peak on top from theta_d 60: the samples
+        // cannot see it, so their checks pass, but at theta_h 0 the two halves name the same
+        // configurations and differ several times over. The first half takes the
+        // un-deblurred values; the second half stays.
+        let response = Device::utia().response();
+        let flat = Lobe {
+            grazing: Rgb::ZERO,
+            specular: Rgb::splat(0.3),
+            ..lobe(0.4)
+        };
+        let invented = Lobe {
+            specular: Rgb::splat(5.0),
+            ..lobe(0.02)
+        };
+        let table = MerlBrdf::from_fn("t", |index| {
+            let [h, d, p] = Bin::from_index(index).centre_deg();
+            let wide = flat.eval(&Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p)));
+            let peak = invented.eval(&Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p)));
+            Some(if in_second(index) || d < 60.0 {
+                wide
+            } else {
+                wide + peak
+            })
+        });
+        let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
+        let samples: Vec<Sample> = (0..40)
+            .map(|k| {
+                let h = (k as f64 * 1.5).powi(2) / 90.0;
+                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 135.0);
+                Sample::new(hd, flat.measured(&nodes, hd))
+            })
+            .collect();
+        let before = NormalSpread::of(&table);
+        assert!(before.ratio > 2.0 * NORMAL_SPREAD_LIMIT, "{before:?}");
+        let (kept, guard, replaced) =
+            safeguarded(&samples, table.clone(), Some(&flat), &response, || {
+                Ok::<_, ()>(tabulated(&flat))
+            })
+            .unwrap();
+        let at = |phi_d_i| {
+            Bin {
+                theta_h_i: 0,
+                theta_d_i: 70,
+                phi_d_i,
+            }
+            .index()
+        };
+        let Some(fallback) = guard.normal_fallback else {
+            panic!("the first half falls back: {:#?}", guard.lines());
+        };
+        assert!(!fallback.second_half, "{fallback:?}");
+        assert!(fallback.after.ratio < 1.01, "{fallback:?}");
+        assert_eq!(guard.consistency.normal_spread, fallback.after);
+        assert!(guard.failed());
+        let replaced = replaced.expect("the deblurred table, for the uncertainty");
+        assert_eq!(replaced.cell(at(45)), table.cell(at(45)));
+        assert_eq!(kept.cell(at(45)), tabulated(&flat).cell(at(45)));
+        assert_eq!(kept.cell(at(135)), table.cell(at(135)));
+        assert!(guard
+            .lines()
+            .iter()
+            .any(|l| l.starts_with("deblur_fallback_normal=theta_h below")));
+
+        // The same peak in both halves is one material's: nothing to restore.
+        let both = MerlBrdf::from_fn("b", |index| table.cell(index - index % PHI_D_BINS + 45));
+        let (_, guard, _) = safeguarded(&samples, both, Some(&flat), &response, || {
+            Ok::<_, ()>(tabulated(&flat))
+        })
+        .unwrap();
+        assert_eq!(guard.normal_fallback, None, "{guard:?}");
     }
 }

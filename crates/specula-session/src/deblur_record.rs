@@ -58,7 +58,7 @@ impl DeblurRecord {
         let resolution = format!("resolution {:.3} deg in theta_h", self.resolution_deg);
         match self.peak_half_width_deg {
             _ if self.check_failed && self.fallback_below_deg.is_none() => format!(
-                "{resolution}; the deblurred table does not reproduce its samples within their uncertainty, so its peak is not a measurement"
+                "{resolution}; the deblurred table failed a check (deblur_fallback says which), so its peak is not a measurement"
             ),
             _ if self.fallback_below_deg.is_some() => format!(
                 "{resolution}; the deblurred peak was not kept (deblur_fallback says why), so theta_h below {:.2} deg holds the values as measured (a bound, not a measurement)",
@@ -91,7 +91,7 @@ impl DeblurRecord {
                     "peak_resolved=false (the deblurred peak was not kept, see deblur_fallback: theta_h below {limit:.2} deg holds the values as measured, a bound at the instrument's resolution)"
                 )
             } else if self.check_failed {
-                "peak_resolved=false (the deblurred table does not reproduce its samples within their uncertainty: see deblur_fallback; its peak is not a measurement)".into()
+                "peak_resolved=false (the deblurred table failed a check: see deblur_fallback; its peak is not a measurement)".into()
             } else {
                 format!(
                     "peak_resolved=false (the peak is narrower than the instrument's resolution of {:.2} deg: its width is a bound, not a measurement)",
