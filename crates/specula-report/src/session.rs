@@ -474,6 +474,13 @@ fn checks_table(guard: &Safeguard) -> TableSection {
         }
         _ => "Every region passes: the deblurred table reproduces its samples.".into(),
     };
+    let normal = guard.normal_fallback.map(|n| {
+        format!(
+            "At theta_h 0 every phi_d is one configuration, and the deblurred table varied \
+             {:.2} times over phi_d there: {n}.",
+            n.before.ratio
+        )
+    });
     let energy = guard.energy.map_or_else(
         || format!("Largest directional albedo {:.3}.", guard.max_albedo),
         |e| format!("Energy held: {e}."),
@@ -499,8 +506,11 @@ fn checks_table(guard: &Safeguard) -> TableSection {
                  twice the resolution, flank: to 20 deg, body: beyond)."
             ),
             held,
-            energy,
-        ],
+        ]
+        .into_iter()
+        .chain(normal)
+        .chain([energy])
+        .collect(),
     }
 }
 
@@ -899,6 +909,49 @@ pub(crate) fn report(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use specula_reconstruct::consistency::{Consistency, NormalSpread, RegionFigures};
+    use specula_reconstruct::safeguard::NormalFallback;
+
+    #[test]
+    fn the_checks_say_which_half_of_phi_d_took_the_values_as_measured_at_the_normal() {
+        let spread = |ratio, theta_d_deg| NormalSpread { ratio, theta_d_deg };
+        let guard = Safeguard {
+            consistency: Consistency {
+                regions: vec![RegionFigures {
+                    name: "peak",
+                    samples: 10,
+                    chi2_per_value: 1.0,
+                    relative_error: 0.01,
+                    expected_error: 0.01,
+                }],
+                peak_limit_deg: 2.17,
+                normal_spread: spread(1.05, 0.5),
+            },
+            deblurred: None,
+            fallback_below_deg: None,
+            bounded_below_deg: None,
+            reason: None,
+            max_albedo: 0.5,
+            energy: None,
+            normal_fallback: Some(NormalFallback {
+                second_half: false,
+                below_deg: 20.0,
+                before: spread(7.764, 74.5),
+                after: spread(1.05, 0.5),
+            }),
+        };
+        let table = checks_table(&guard);
+        let normal = table
+            .notes
+            .iter()
+            .find(|n| n.contains("varied 7.76 times"))
+            .unwrap_or_else(|| panic!("{:?}", table.notes));
+        assert!(
+            normal.contains("theta_h below 20.00 deg of phi_d 0-90 deg"),
+            "{normal}"
+        );
+        assert!(table.notes.last().is_some_and(|n| n.contains("albedo")));
+    }
 
     #[test]
     fn unix_times_read_as_utc_dates() {
