@@ -470,10 +470,15 @@ fn normal_restored(
         .map_or(guard.consistency.peak_limit_deg, |(limit_deg, _)| limit_deg);
     let restored = [false, true]
         .map(|second_half| {
-            let table = replaced_where(&kept, plain, |index| {
-                in_second(index) == second_half
-                    && Bin::from_index(index).centre_deg()[0] < below_deg
-            });
+            let table = combined_where(
+                &kept,
+                plain,
+                |index| {
+                    in_second(index) == second_half
+                        && Bin::from_index(index).centre_deg()[0] < below_deg
+                },
+                |_, p| p,
+            );
             (second_half, NormalSpread::of(&table), table)
         })
         .into_iter()
@@ -563,21 +568,6 @@ fn replaced_below(deblurred: &MerlBrdf, plain: &MerlBrdf, limit_deg: f64) -> Mer
     combined_below(deblurred, plain, limit_deg, |_, p| p)
 }
 
-/// `table` with the cells `replace` names taken from `plain` (where it has them).
-fn replaced_where(
-    table: &MerlBrdf,
-    plain: &MerlBrdf,
-    replace: impl Fn(usize) -> bool + Sync,
-) -> MerlBrdf {
-    MerlBrdf::from_fn(specula_core::Brdf::name(table), |index| {
-        if replace(index) {
-            plain.cell(index).or(table.cell(index))
-        } else {
-            table.cell(index)
-        }
-    })
-}
-
 /// `deblurred` with every cell whose theta_h centre lies below `limit_deg` holding the
 /// geometric mean of its value and `plain`'s, per channel (a cell either lacks: `plain`'s).
 fn geometric_mean_below(deblurred: &MerlBrdf, plain: &MerlBrdf, limit_deg: f64) -> MerlBrdf {
@@ -596,9 +586,20 @@ fn combined_below(
     limit_deg: f64,
     combine: impl Fn(Rgb, Rgb) -> Rgb + Sync,
 ) -> MerlBrdf {
+    let below = |index| Bin::from_index(index).centre_deg()[0] < limit_deg;
+    combined_where(deblurred, plain, below, combine)
+}
+
+/// `deblurred` with every cell that `replace` names made by `combine(deblurred cell, plain
+/// cell)`; `plain`'s cell where `deblurred` has none.
+fn combined_where(
+    deblurred: &MerlBrdf,
+    plain: &MerlBrdf,
+    replace: impl Fn(usize) -> bool + Sync,
+    combine: impl Fn(Rgb, Rgb) -> Rgb + Sync,
+) -> MerlBrdf {
     MerlBrdf::from_fn(specula_core::Brdf::name(deblurred), |index| {
-        let [theta_h_deg, _, _] = Bin::from_index(index).centre_deg();
-        if theta_h_deg >= limit_deg {
+        if !replace(index) {
             return deblurred.cell(index);
         }
         match (deblurred.cell(index), plain.cell(index)) {
