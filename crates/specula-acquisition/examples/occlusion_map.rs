@@ -9,7 +9,7 @@
 use plotters::prelude::*;
 use specula_acquisition::device::Device;
 use specula_acquisition::kinematics::solutions;
-use specula_acquisition::occlusion::{blockage, Blockage};
+use specula_acquisition::occlusion::{blockage_within_accuracy, Blockage};
 use specula_core::HalfDiff;
 use std::path::Path;
 
@@ -71,9 +71,13 @@ fn classify(device: &Device, hd: HalfDiff) -> Cell {
     let Some(first) = reachable.first() else {
         return Cell::Limit;
     };
-    match blockage(device, first) {
+    match blockage_within_accuracy(device, first) {
         None => Cell::FirstPosition,
-        Some(b) if reachable[1..].iter().any(|a| blockage(device, a).is_none()) => {
+        Some(b)
+            if reachable[1..]
+                .iter()
+                .any(|a| blockage_within_accuracy(device, a).is_none()) =>
+        {
             Cell::Alternative(b)
         }
         Some(_) => Cell::Occluded,

@@ -11,6 +11,13 @@
 //! part enters the view cone, a camera part enters the beam cone, or a light part and a camera
 //! part overlap. The turntable does not matter: it turns only the sample, which is small
 //! next to the arms, and the axis ranges already keep the arms above the sample stage.
+//!
+//! The arms stop where the positioning accuracy puts them, not exactly where they were sent.
+//! A plan therefore asks [`blockage_within_accuracy`]: every part is thickened by the farthest
+//! an error of [`ACCURACY_SIGMAS`] times the device's accuracy on every axis can move it
+//! relative to the other arm, so that a position the plan keeps is free wherever within that
+//! error the arms stop. [`blockage`] is the exact test at the axes as placed, which the
+//! simulator applies where the arms really are.
 
 use crate::device::{Cone, Device, Part};
 use crate::kinematics::{AxisPositions, CAMERA_AXIS};
@@ -61,9 +68,39 @@ impl Blockage {
     }
 }
 
+/// How many times the device's accuracy (one standard deviation per axis) a plan allows the
+/// arms to stop away from their command, on every axis at once.
+pub const ACCURACY_SIGMAS: f64 = 3.0;
+
 /// The first thing that blocks the measurement at these axis angles, or `None` when the
-/// light sees the sample, the camera sees it and the arms are clear of each other.
+/// light sees the sample, the camera sees it and the arms are clear of each other: the exact
+/// test, for arms placed exactly there.
 pub fn blockage(device: &Device, axes: &AxisPositions) -> Option<Blockage> {
+    blockage_with_clearance(device, axes, 0.0)
+}
+
+/// [`blockage`] for a command: what blocks it, or would block it were every axis to stop
+/// [`ACCURACY_SIGMAS`] times the device's accuracy away from it. Plans and checks choose
+/// positions with this test, so that a kept position neither drives the arms into each other
+/// nor hides the sample when the axes stop off their command.
+///
+/// A point at distance `r` from the sample moves at most `r * delta` when the camera arm's
+/// axis errs by `delta`, and at most `2 r delta` when both of the light arm's axes do; the
+/// camera's view cone and the light's beam turn with their arms. Thickening every part by
+/// `3 r delta` (its farthest point's `r`) covers each of the three tests: a light part against
+/// the camera's parts or its view, a camera part against the beam.
+pub fn blockage_within_accuracy(device: &Device, axes: &AxisPositions) -> Option<Blockage> {
+    let delta_rad = ACCURACY_SIGMAS * device.accuracy_deg.to_radians();
+    blockage_with_clearance(device, axes, 3.0 * delta_rad)
+}
+
+/// The tests of [`blockage`] with every part thickened by `per_metre` times its farthest
+/// point's distance from the sample, metres.
+fn blockage_with_clearance(
+    device: &Device,
+    axes: &AxisPositions,
+    per_metre: f64,
+) -> Option<Blockage> {
     let camera_dir = axes.camera_direction();
     let light_dir = axes.light_direction();
     let light_axis = axes.light_axis();
@@ -71,13 +108,13 @@ pub fn blockage(device: &Device, axes: &AxisPositions) -> Option<Blockage> {
         .light
         .parts
         .iter()
-        .map(|p| Capsule::place(p, light_dir, light_axis))
+        .map(|p| Capsule::place(p, light_dir, light_axis, per_metre))
         .collect();
     let camera_parts: Vec<Capsule> = device
         .camera
         .parts
         .iter()
-        .map(|p| Capsule::place(p, camera_dir, CAMERA_AXIS))
+        .map(|p| Capsule::place(p, camera_dir, CAMERA_AXIS, per_metre))
         .collect();
 
     if let Some(i) = light_parts
@@ -114,13 +151,18 @@ struct Capsule {
 }
 
 impl Capsule {
-    /// Places an arm part: `[u, v]` goes to `u * pointing + v * arm_axis`.
-    fn place(part: &Part, pointing: DVec3, arm_axis: DVec3) -> Self {
+    /// Places an arm part: `[u, v]` goes to `u * pointing + v * arm_axis` (`pointing` and
+    /// `arm_axis` are orthogonal unit vectors), its radius thickened by `per_metre` times the
+    /// distance of its farthest point from the sample.
+    fn place(part: &Part, pointing: DVec3, arm_axis: DVec3, per_metre: f64) -> Self {
         let at = |[u, v]: [f64; 2]| u * pointing + v * arm_axis;
+        let reach_m = part.radius_m
+            + f64::hypot(part.from_m[0], part.from_m[1])
+                .max(f64::hypot(part.to_m[0], part.to_m[1]));
         Self {
             a: at(part.from_m),
             b: at(part.to_m),
-            radius_m: part.radius_m,
+            radius_m: part.radius_m + per_metre * reach_m,
         }
     }
 }
@@ -308,6 +350,57 @@ mod tests {
                 "angle {angle_deg} (limit {limit_deg}): {b:?}"
             );
         }
+    }
+
+    /// Every position that the test within the accuracy keeps stays free, by the exact test,
+    /// wherever within that error the arm axes stop: the corners of the error box and points
+    /// inside it, over a grid that crosses the boundaries of all three kinds of blockage.
+    #[test]
+    fn a_position_free_within_the_accuracy_is_free_wherever_the_axes_stop() {
+        let device = Device::utia();
+        let delta = ACCURACY_SIGMAS * device.accuracy_deg.to_radians();
+        let offsets = [-1.0, -0.5, 0.0, 0.5, 1.0];
+        let (mut kept, mut near_boundary) = (0, 0);
+        for theta_h in [0.0, 3.0, 10.0, 25.0, 45.0, 70.0] {
+            for theta_d in (0..=30).map(|i| 3.0 * i as f64) {
+                for phi_d in (0..=12).map(|i| 15.0 * i as f64) {
+                    for axes in position_at(theta_h, theta_d, phi_d) {
+                        let exact = blockage(&device, &axes);
+                        if blockage_within_accuracy(&device, &axes).is_some() {
+                            near_boundary += usize::from(exact.is_none());
+                            continue;
+                        }
+                        kept += 1;
+                        let [t, c, az, el] = axes.as_array();
+                        for dc in offsets {
+                            for da in offsets {
+                                for de in offsets {
+                                    let moved = AxisPositions::new(
+                                        t,
+                                        c + dc * delta,
+                                        az + da * delta,
+                                        el + de * delta,
+                                    );
+                                    assert_eq!(blockage(&device, &moved), None, "{axes:?}");
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(kept > 1000, "{kept} kept");
+        // The margin is a margin: some positions free as placed are refused, not many.
+        assert!(
+            (1..kept / 20).contains(&near_boundary),
+            "{near_boundary} of {kept}"
+        );
+    }
+
+    fn position_at(theta_h: f64, theta_d: f64, phi_d: f64) -> Vec<AxisPositions> {
+        let device = Device::utia();
+        let (wi, wo) = HalfDiff::from_degrees(theta_h, 30.0, theta_d, phi_d).to_directions();
+        solutions(&device, wi, wo)
     }
 
     #[test]

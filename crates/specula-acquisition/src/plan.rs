@@ -14,7 +14,7 @@
 
 use crate::device::Device;
 use crate::kinematics::{solutions, AxisPositions};
-use crate::occlusion::{blockage, Blockage};
+use crate::occlusion::{blockage_within_accuracy, Blockage};
 use crate::timing::{StepTime, TimeModel};
 use glam::DVec3;
 use specula_core::geometry::Spherical;
@@ -315,7 +315,10 @@ fn plan_sample(
 ) -> PlannedSample {
     let (wi, wo) = hd.to_directions();
     let reachable = solutions(device, wi, wo);
-    let blocked: Vec<Option<Blockage>> = reachable.iter().map(|a| blockage(device, a)).collect();
+    let blocked: Vec<Option<Blockage>> = reachable
+        .iter()
+        .map(|a| blockage_within_accuracy(device, a))
+        .collect();
     let alternatives: Vec<AxisPositions> = reachable
         .iter()
         .zip(&blocked)
@@ -390,7 +393,7 @@ mod tests {
         for (s, axes) in plan.measured() {
             assert!(s.alternatives().contains(&axes));
             assert!(d.within_limits(&axes));
-            assert_eq!(blockage(&d, &axes), None);
+            assert_eq!(crate::occlusion::blockage_within_accuracy(&d, &axes), None);
             let (wi, wo) = axes.directions();
             assert!((wi - s.wi).length() < 1e-9 && (wo - s.wo).length() < 1e-9);
             let hd = HalfDiff::from_directions(wi, wo);

@@ -21,7 +21,7 @@ use crate::device::Device;
 use crate::hdr::{HdrCapturer, HdrMeasurement};
 use crate::instrument::{Instrument, InstrumentError};
 use crate::kinematics::{solutions, AxisPositions};
-use crate::occlusion::blockage;
+use crate::occlusion::blockage_within_accuracy;
 use glam::DVec3;
 
 /// Why a check could not finish.
@@ -45,7 +45,7 @@ pub fn free_positions(
 ) -> Vec<AxisPositions> {
     let mut free: Vec<AxisPositions> = solutions(device, wi, wo)
         .into_iter()
-        .filter(|a| blockage(device, a).is_none())
+        .filter(|a| blockage_within_accuracy(device, a).is_none())
         .collect();
     if let Some(near) = near {
         let distance = |a: &AxisPositions| -> f64 {
