@@ -308,27 +308,58 @@ impl Journal {
     pub fn captures(&self, stage: Stage, seq: u32) -> Result<Vec<CaptureRecord>, JournalError> {
         let mut statement = self
             .conn
-            .prepare(
-                "SELECT exposure_s, light_level, mean_r, mean_g, mean_b, saturated_r,
-                        saturated_g, saturated_b, pixel_count, used, unix_s
-                 FROM captures WHERE stage = ?1 AND seq = ?2 ORDER BY id",
-            )
+            .prepare(&format!(
+                "SELECT {CAPTURE_COLUMNS} FROM captures WHERE stage = ?1 AND seq = ?2 ORDER BY id"
+            ))
             .map_err(|e| self.err(e))?;
         let rows = statement
-            .query_map(params![stage, seq], |r| {
-                Ok(CaptureRecord {
-                    exposure_s: r.get(0)?,
-                    light_level: r.get(1)?,
-                    mean_raw: [r.get(2)?, r.get(3)?, r.get(4)?],
-                    saturated_fraction: [r.get(5)?, r.get(6)?, r.get(7)?],
-                    pixel_count: r.get(8)?,
-                    used: r.get(9)?,
-                    unix_s: r.get(10)?,
-                })
-            })
+            .query_map(params![stage, seq], |r| capture_of_row(r, 0))
             .map_err(|e| self.err(e))?;
         rows.collect::<Result<_, _>>().map_err(|e| self.err(e))
     }
+
+    /// The captures of every finished sample of a stage, by seq, each sample's in the order
+    /// they were taken.
+    pub fn stage_captures(
+        &self,
+        stage: Stage,
+    ) -> Result<BTreeMap<u32, Vec<CaptureRecord>>, JournalError> {
+        let mut statement = self
+            .conn
+            .prepare(&format!(
+                "SELECT seq, {CAPTURE_COLUMNS} FROM captures WHERE stage = ?1 ORDER BY id"
+            ))
+            .map_err(|e| self.err(e))?;
+        let rows = statement
+            .query_map(params![stage], |r| {
+                Ok((r.get::<_, u32>(0)?, capture_of_row(r, 1)?))
+            })
+            .map_err(|e| self.err(e))?;
+        let mut by_seq: BTreeMap<u32, Vec<CaptureRecord>> = BTreeMap::new();
+        for row in rows {
+            let (seq, capture) = row.map_err(|e| self.err(e))?;
+            by_seq.entry(seq).or_default().push(capture);
+        }
+        Ok(by_seq)
+    }
+}
+
+/// The columns of a capture, in the order [`capture_of_row`] reads them.
+const CAPTURE_COLUMNS: &str = "exposure_s, light_level, mean_r, mean_g, mean_b, saturated_r, \
+    saturated_g, saturated_b, pixel_count, used, unix_s";
+
+/// A capture from a row whose [`CAPTURE_COLUMNS`] start at column `first`.
+fn capture_of_row(r: &rusqlite::Row, first: usize) -> rusqlite::Result<CaptureRecord> {
+    let get = |i: usize| r.get::<_, f64>(first + i);
+    Ok(CaptureRecord {
+        exposure_s: get(0)?,
+        light_level: get(1)?,
+        mean_raw: [get(2)?, get(3)?, get(4)?],
+        saturated_fraction: [get(5)?, get(6)?, get(7)?],
+        pixel_count: r.get(first + 8)?,
+        used: r.get(first + 9)?,
+        unix_s: get(10)?,
+    })
 }
 
 fn insert_plan(tx: &Transaction, stage: Stage, rows: &[PlannedRow]) -> rusqlite::Result<()> {

@@ -12,7 +12,8 @@
 //!    seconds), estimate every cell's uncertainty (`specula_reconstruct::uncertainty`), forecast
 //!    the error figures and credit each candidate plane with the part of them it would take
 //!    from a gap ([`forecast::Forecast`]); choose the planes with the most credit per second of
-//!    device time, priced by the ordering's time model, into a batch of at most half the time
+//!    device time, priced by the ordering's time model and scaled by how much longer than
+//!    priced the samples so far took ([`pace::Pace`]), into a batch of at most half the time
 //!    left; order, price and measure it;
 //! 3. **stop** at the first limit: the session's device time (`max_hours`: checks, probe and
 //!    main stage), the sample count, the table's median relative uncertainty
@@ -22,11 +23,12 @@
 //! Every batch is appended to the journal's main plan together with the decision that chose it
 //! ([`SequenceRecord`]) in one transaction, so a killed run finishes the batch it was in and
 //! then decides exactly as an uninterrupted one: the decisions depend only on the journal
-//! (the main samples' values and their *predicted* times, the checks' and the probe's device
-//! time).
+//! (the main samples' values, their planned rows and their captures priced by the time model,
+//! the checks' and the probe's device time), not on the clock of a run that was stopped.
 
 mod forecast;
 mod lattice;
+mod pace;
 
 use crate::engine::{Engine, StageOutcome};
 use crate::estimate::{price_captures, PredictedExposures};
@@ -40,6 +42,7 @@ use crate::workflow::{measured_samples, rows_of, run_stage};
 use crate::workflow_error::WorkflowError;
 use forecast::{CellMap, Forecast};
 use lattice::{CandidateLattice, AXES};
+use pace::Pace;
 use specula_acquisition::device::Device;
 use specula_acquisition::ordering::order;
 use specula_acquisition::plan::Plan;
@@ -55,8 +58,9 @@ use std::collections::BTreeSet;
 const INITIAL_SHARE: f64 = 0.6;
 /// The share of the time left that a batch may take at most.
 const BATCH_SHARE: f64 = 0.5;
-/// The share of the session's time limit the decisions plan with: the time model predicts a
-/// batch within a few per cent (the guide's performance page), and the limit is a limit.
+/// The share of the session's time limit the decisions plan with: the samples so far, priced
+/// as taken, predict a batch within a few per cent (the guide's performance page), and the
+/// limit is a limit.
 const TIME_MARGIN: f64 = 0.97;
 /// A batch is never planned for less than this, seconds: below it the reconstruction between
 /// batches would cost more than it decides.
@@ -137,7 +141,8 @@ pub(crate) fn run(
         }
         let plan = engine.journal.plan(Stage::Main)?;
         let forecast = forecast_of(engine, &plan, &lattice, &map, spec)?;
-        let spent_s = spec.before_main_s + plan.iter().map(|r| r.predicted_s).sum::<f64>();
+        let pace = Pace::of(&plan, &engine.journal.stage_captures(Stage::Main)?, device);
+        let spent_s = spec.before_main_s + pace.taken_s;
         observer.step(&format!(
             "sequential: {} samples, {:.2} h: median relative uncertainty {:.2} % (k = 1)",
             plan.len(),
@@ -145,7 +150,7 @@ pub(crate) fn run(
             100.0 * forecast.median_relative
         ));
         let decision = next_batch(
-            &lattice, &forecast, &plan, spent_s, device, spec, predictor, engine,
+            &lattice, &forecast, &plan, &pace, spent_s, device, spec, predictor, engine,
         );
         record.final_median_uncertainty_rel = Some(forecast.median_relative);
         match decision {
@@ -294,12 +299,14 @@ enum Decision {
     Stop(String),
 }
 
-/// The next batch: the planes with the most credit per second, within the limits.
+/// The next batch: the planes with the most credit per second, within the limits; its price
+/// scaled by how much longer than priced the samples so far took (`pace`).
 #[allow(clippy::too_many_arguments)]
 fn next_batch(
     lattice: &CandidateLattice,
     forecast: &Forecast,
     plan: &[PlannedRow],
+    pace: &Pace,
     spent_s: f64,
     device: &Device,
     spec: &SequentialSpec,
@@ -318,7 +325,7 @@ fn next_batch(
     }
     let left_s = TIME_MARGIN * limits.max_hours * 3600.0 - spent_s;
     let samples_left = limits.max_samples.saturating_sub(plan.len());
-    let per_sample_s = plan.iter().map(|r| r.predicted_s).sum::<f64>() / plan.len().max(1) as f64;
+    let per_sample_s = pace.taken_s / plan.len().max(1) as f64;
     let batch_s = (BATCH_SHARE * left_s).max(MIN_BATCH_S.min(left_s));
     let mut chosen = lattice.chosen.clone();
     let measured: BTreeSet<[usize; AXES]> = lattice.chosen_product().into_iter().collect();
@@ -349,7 +356,7 @@ fn next_batch(
             predictor,
             engine,
         );
-        let time_s: f64 = rows.iter().map(|r| r.predicted_s).sum();
+        let time_s = pace.ratio() * rows.iter().map(|r| r.predicted_s).sum::<f64>();
         if !rows.is_empty() && time_s <= left_s {
             return Decision::Batch {
                 chosen: candidate,
