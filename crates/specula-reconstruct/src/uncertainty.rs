@@ -86,6 +86,11 @@ pub const RECONSTRUCTION_SCALE: f64 = 1.0;
 /// No relative uncertainty is larger than this: beyond it a value says only its order.
 pub const MAX_RELATIVE: f64 = 10.0;
 
+/// No left-out difference `|ln(fold / table)|` counts for more than `ln(1 + MAX_RELATIVE)`:
+/// a fold that puts a value further off (its lobe extrapolated to a peak's centre can be
+/// e^25 times off) says only that the value is off by more than the cap.
+const MAX_LOG_DIFFERENCE: f64 = 2.397_895_272_798_371;
+
 /// The relative uncertainty of a sample whose HDR merge gave no finite sigma (saturated in
 /// every capture: a lower bound).
 const LOWER_BOUND_NOISE_REL: f64 = 1.0;
@@ -556,9 +561,16 @@ fn differences(held_out: &[HeldOut]) -> Vec<f64> {
 }
 
 /// The term an extrapolated cell adds: the [`EXTRAPOLATED_QUANTILE`] quantile of the
-/// left-out differences of every axis; zero when there are none.
+/// left-out differences of every axis, but those of planes at an edge of the table (whose
+/// folds extrapolate where no cell of the table lies); zero when there are none.
 fn extrapolation_term(held_out: &[Vec<HeldOut>; AXES]) -> f64 {
-    let mut all: Vec<f64> = held_out.iter().flat_map(|h| differences(h)).collect();
+    let mut all: Vec<f64> = held_out
+        .iter()
+        .flat_map(|h| {
+            let inside: Vec<HeldOut> = h.iter().filter(|h| !h.at_an_edge).copied().collect();
+            differences(&inside)
+        })
+        .collect();
     if all.is_empty() {
         return 0.0;
     }
@@ -580,20 +592,7 @@ fn cell_places(
     // A bin centre's coordinate along an axis depends on that axis's bin alone: the places
     // are worked out once per bin of each axis.
     let along: [Vec<f32>; AXES] = std::array::from_fn(|a| {
-        let centres: Vec<f64> = (0..[THETA_H_BINS, THETA_D_BINS, PHI_D_BINS][a])
-            .map(|i| {
-                let mut bin = [0; AXES];
-                bin[a] = i;
-                let [theta_h_i, theta_d_i, phi_d_i] = bin;
-                let centre = Bin {
-                    theta_h_i,
-                    theta_d_i,
-                    phi_d_i,
-                }
-                .centre(0.0);
-                coordinates(centre)[a]
-            })
-            .collect();
+        let centres = bin_centres_along(a);
         if judged[a] {
             let place = |&u: &f64| place_deg2(axes[a], u).powf(exponents[a]) as f32;
             centres.iter().map(place).collect()
@@ -621,6 +620,42 @@ fn cell_places(
         .collect()
 }
 
+/// The lattice coordinate along axis `a` (degrees) of the centre of each MERL bin of that
+/// axis, in bin order.
+fn bin_centres_along(a: usize) -> Vec<f64> {
+    (0..[THETA_H_BINS, THETA_D_BINS, PHI_D_BINS][a])
+        .map(|i| {
+            let mut bin = [0; AXES];
+            bin[a] = i;
+            let [theta_h_i, theta_d_i, phi_d_i] = bin;
+            let centre = Bin {
+                theta_h_i,
+                theta_d_i,
+                phi_d_i,
+            }
+            .centre(0.0);
+            coordinates(centre)[a]
+        })
+        .collect()
+}
+
+/// Whether the table has no cell beyond plane `node` of `axis` but those of the plane's own
+/// bin: the plane is an end of the axis (its first or last), and no bin centre among
+/// `centres` lies farther beyond it than the nearest one. Theta_h 0 (the mirror direction)
+/// and phi_d 0 and 90 once folded are such ends; theta_d 3 deg is not (the bins from 0 to
+/// 3 deg lie beyond it).
+fn nothing_beyond(axis: &Axis, node: usize, centres: &[f64]) -> bool {
+    let x = axis.nodes[node];
+    let own = centres
+        .iter()
+        .map(|c| (c - x).abs())
+        .fold(f64::INFINITY, f64::min)
+        + 1e-9;
+    let last = axis.len() - 1;
+    (node == 0 && centres.iter().all(|&c| c >= x - own))
+        || (node == last && centres.iter().all(|&c| c <= x + own))
+}
+
 /// Per bin of an axis whose bin centres lie at `centres`, whether it is a bin nearest to a
 /// plane of `axis` (a plane's own bin: with phi_d folded, a bin and its mirror).
 fn bins_on_planes(axis: &Axis, centres: &[f64]) -> Vec<bool> {
@@ -646,6 +681,9 @@ struct HeldOut {
     sample: usize,
     place_deg2: f64,
     log_difference: [Option<f64>; 3],
+    /// Whether its plane is an end of the axis beyond which the table has no cells
+    /// ([`nothing_beyond`]), so that its fold extrapolated where the table never does.
+    at_an_edge: bool,
 }
 
 /// `|(u - x0)(u - x1)|` (deg^2) for coordinate `u` between the nodes `x0` and `x1` of `axis`
@@ -678,6 +716,12 @@ fn cross_validate_along(
     // Two planes: each left out in turn, the table made from the other; more: every other
     // plane, so that each fold interpolates between at least two.
     let min_kept = if axis.len() == 2 { 1 } else { 2 };
+    // A left-out end plane beyond which the table has no cells (theta_h 0, phi_d 0 or 90) is
+    // extrapolated to by its fold, as the table never is: the table holds that plane's
+    // samples. Its differences still say how the table varies along the axis, but not what
+    // an extrapolated cell is worth.
+    let centres = bin_centres_along(a);
+    let at_an_edge = |node: usize| axis.len() >= 3 && nothing_beyond(axis, node, &centres);
     let mut held_out = Vec::new();
     for parity in 0..2 {
         let kept_planes = Axis {
@@ -702,12 +746,13 @@ fn cross_validate_along(
             let (f, t) = (f?, reference.lookup(hd)?);
             let log_difference = std::array::from_fn(|c| {
                 let d = (f[c] / t[c]).ln().abs();
-                d.is_finite().then_some(d)
+                d.is_finite().then_some(d.min(MAX_LOG_DIFFERENCE))
             });
             Some(HeldOut {
                 sample: i,
                 place_deg2: place_deg2(&kept_planes, coords[i][a]),
                 log_difference,
+                at_an_edge: at_an_edge(plane[i]),
             })
         }));
     }
@@ -854,6 +899,7 @@ mod tests {
     use crate::provenance::CellOrigin;
     use specula_core::materials::preset;
     use specula_core::Brdf;
+    use std::collections::BTreeSet;
 
     /// A plan's tensor grid of `truth` within 75 deg: theta_d every 5 deg.
     fn samples_of(truth: &dyn Brdf) -> Vec<Sample> {
@@ -901,6 +947,100 @@ mod tests {
             phi_d_i,
         };
         u.relative.0[bin.index()].unwrap()[0]
+    }
+
+    #[test]
+    fn an_end_plane_has_nothing_beyond_it_only_at_the_ends_of_the_domain() {
+        let axis = |nodes: &[f64]| Axis {
+            nodes: nodes.to_vec(),
+        };
+        let (theta_h, theta_d, phi_d) = (
+            bin_centres_along(0),
+            bin_centres_along(1),
+            bin_centres_along(2),
+        );
+        let mirror = axis(&[0.0, 2.2, 7.0]);
+        assert!(nothing_beyond(&mirror, 0, &theta_h));
+        assert!(!nothing_beyond(&mirror, 1, &theta_h), "not an end");
+        assert!(
+            !nothing_beyond(&mirror, 2, &theta_h),
+            "theta_h 7 to 90 lies beyond"
+        );
+        let from_3 = axis(&[3.0, 6.0, 12.0, 74.0]);
+        assert!(
+            !nothing_beyond(&from_3, 0, &theta_d),
+            "theta_d 0 to 3 lies beyond"
+        );
+        assert!(
+            !nothing_beyond(&from_3, 3, &theta_d),
+            "theta_d 74 to 90 lies beyond"
+        );
+        let folded = axis(&[0.0, 30.0, 60.0, 90.0]);
+        assert!(nothing_beyond(&folded, 0, &phi_d) && nothing_beyond(&folded, 3, &phi_d));
+    }
+
+    /// A fold that leaves out theta_h 0 extrapolates to the centre of the peak, which the
+    /// table never does: those samples are marked as at an edge, and so are phi_d 0 and 90,
+    /// not the planes between; an axis of two planes marks neither. The differences are
+    /// capped, and the extrapolation term leaves the edges' out.
+    #[test]
+    fn the_planes_at_an_edge_of_the_table_do_not_price_its_extrapolation() {
+        assert!((MAX_LOG_DIFFERENCE - (1.0 + MAX_RELATIVE).ln()).abs() < 1e-12);
+        let truth = preset("chrome").unwrap();
+        let samples = samples_of(&truth);
+        let inputs = UncertaintyInputs {
+            samples: &samples,
+            noise_rel: None,
+            method: Method::Lobe,
+            prior: None,
+        };
+        let none = None::<&dyn CaptureResponse>;
+        let reference = reconstruct_halves(&samples, Method::Lobe, "t", none, None)
+            .unwrap()
+            .brdf;
+        let coords: Vec<[f64; 3]> = samples.iter().map(|s| coordinates(s.hd)).collect();
+        let lattice = Lattice::spanned_by(&samples);
+        let at_edge = |axis: &Axis, a: usize| -> (BTreeSet<u64>, Vec<HeldOut>) {
+            let held = cross_validate_along(&inputs, &reference, &coords, axis, a).unwrap();
+            let edges = held
+                .iter()
+                .filter(|h| h.at_an_edge)
+                .map(|h| (coords[h.sample][a] * 1e6).round() as u64)
+                .collect();
+            (edges, held)
+        };
+        let (theta_h, held_h) = at_edge(&lattice.theta_h, 0);
+        assert_eq!(theta_h, [0].into());
+        let (phi_d, held_p) = at_edge(&lattice.phi_d, 2);
+        assert_eq!(phi_d, [0, 90_000_000].into());
+        let (theta_d, held_d) = at_edge(&lattice.theta_d, 1);
+        assert_eq!(theta_d, [0].into(), "theta_d 85 has cells beyond it");
+        let all = [held_h, held_d, held_p];
+        let capped = all
+            .iter()
+            .flatten()
+            .flat_map(|h| h.log_difference.into_iter().flatten());
+        assert!(capped.clone().all(|r| r <= MAX_LOG_DIFFERENCE));
+        let inside: [Vec<HeldOut>; AXES] = all
+            .each_ref()
+            .map(|h| h.iter().filter(|h| !h.at_an_edge).copied().collect());
+        assert_eq!(extrapolation_term(&all), extrapolation_term(&inside));
+        let two = Axis {
+            nodes: vec![0.0, 90.0],
+        };
+        let at_two: Vec<Sample> = samples
+            .iter()
+            .filter(|s| [0.0, 90.0].contains(&coordinates(s.hd)[2].round()))
+            .copied()
+            .collect();
+        let inputs_two = UncertaintyInputs {
+            samples: &at_two,
+            ..inputs
+        };
+        let coords_two: Vec<[f64; 3]> = at_two.iter().map(|s| coordinates(s.hd)).collect();
+        let held = cross_validate_along(&inputs_two, &reference, &coords_two, &two, 2).unwrap();
+        assert_eq!(held.len(), at_two.len());
+        assert!(held.iter().all(|h| !h.at_an_edge));
     }
 
     #[test]
@@ -1060,6 +1200,7 @@ mod tests {
                     sample: k as usize,
                     place_deg2,
                     log_difference: [Some(0.02 * place_deg2.powf(power)); 3],
+                    at_an_edge: false,
                 }
             })
             .collect()
