@@ -107,13 +107,25 @@ impl CandidateLattice {
     }
 
     /// Chooses the nodes a first design measures: on each axis every `stride`-th node and the
-    /// last, for the strides whose reachable product is the largest with at most
-    /// `max_samples` positions (ties to the finer theta_h, where the peak is); the coarsest
-    /// when none is that small.
+    /// last, and on phi_d over a half-turn the node at 90 deg too, for the strides whose
+    /// reachable product is the largest with at most `max_samples` positions (ties to the
+    /// finer theta_h, where the peak is); the coarsest when none is that small.
+    ///
+    /// The halves of phi_d (0 to 90 and 90 to 180 deg) are reconstructed apart, each from its
+    /// own planes: without the plane at 90 deg where they meet, every other stride would
+    /// leave each half extrapolating over its last gap (0, 60, 120, 180 deg measures 60 to
+    /// 120 deg nowhere).
     pub(crate) fn choose_initial(&mut self, max_samples: usize) {
         let lens = self.nodes_deg.each_ref().map(Vec::len);
+        let meeting = self.nodes_deg[2]
+            .iter()
+            .position(|&p| (p - 90.0).abs() < 1e-9)
+            .filter(|&i| i + 1 < lens[2]);
         let designs = initial_strides(lens).into_iter().map(|stride| {
-            let chosen: [Vec<bool>; AXES] = std::array::from_fn(|a| every(lens[a], stride[a]));
+            let mut chosen: [Vec<bool>; AXES] = std::array::from_fn(|a| every(lens[a], stride[a]));
+            if let Some(i) = meeting {
+                chosen[2][i] = true;
+            }
             (self.product(&chosen).len(), stride, chosen)
         });
         let (fitting, too_large): (Vec<_>, Vec<_>) =
@@ -256,6 +268,7 @@ mod tests {
             let c = &lattice.chosen[axis];
             assert!(c[0] && c[c.len() - 1], "axis {axis} keeps its ends");
         }
+        assert!(lattice.chosen[2][3], "phi_d 90, where the halves meet");
         let design = lattice.design_text();
         assert!(design.contains(" of 30 theta_d x "), "{design}");
         // Choosing a theta_d node adds one position per reachable (theta_h, phi_d) pair.
@@ -266,5 +279,31 @@ mod tests {
         more[1][free] = true;
         let words = lattice.planes_added_by(&more);
         assert_eq!(words, format!("theta_d {} deg", 1.5 + 3.0 * free as f64));
+    }
+
+    /// Each half of phi_d holds both its ends whatever the stride: with every other node
+    /// (0, 60, 120, 180 deg) the first design adds 90 deg; over a quarter (0 to 90 deg) 90 is
+    /// the last node anyway.
+    #[test]
+    fn a_first_design_measures_phi_d_where_the_halves_meet() {
+        let device = utia();
+        let candidates = |phi_d: Vec<f64>| {
+            CandidateLattice::new(
+                vec![0.0, 1.0, 4.0, 10.0, 20.0, 40.0],
+                (0..20).map(|i| 3.0 + 3.0 * i as f64).collect(),
+                phi_d,
+                45.0,
+                &device,
+            )
+        };
+        for max_samples in [150, 300, 600] {
+            let mut half_turn = candidates((0..7).map(|i| 30.0 * i as f64).collect());
+            half_turn.choose_initial(max_samples);
+            let phi_d = &half_turn.chosen[2];
+            assert!(phi_d[0] && phi_d[3] && phi_d[6], "{max_samples}: {phi_d:?}");
+            let mut quarter = candidates(vec![0.0, 30.0, 60.0, 90.0]);
+            quarter.choose_initial(max_samples);
+            assert!(quarter.chosen[2][0] && quarter.chosen[2][3]);
+        }
     }
 }
