@@ -910,7 +910,7 @@ pub(crate) fn report(
 mod tests {
     use super::*;
     use specula_reconstruct::consistency::{Consistency, NormalSpread, RegionFigures};
-    use specula_reconstruct::safeguard::NormalFallback;
+    use specula_reconstruct::safeguard::{Halves, NormalFallback};
 
     #[test]
     fn the_checks_say_which_half_of_phi_d_took_the_values_as_measured_at_the_normal() {
@@ -934,7 +934,7 @@ mod tests {
             max_albedo: 0.5,
             energy: None,
             normal_fallback: Some(NormalFallback {
-                second_half: false,
+                halves: Halves::First,
                 below_deg: 20.0,
                 before: spread(7.764, 74.5),
                 after: spread(1.05, 0.5),
