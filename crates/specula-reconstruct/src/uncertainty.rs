@@ -32,7 +32,10 @@
 //!   varies there), only one in the plane's own bin;
 //! - **extrapolation**: a cell beyond the measured lattice (provenance extrapolated or prior)
 //!   adds the [`EXTRAPOLATED_QUANTILE`] quantile of the left-out differences of the
-//!   cross-validation;
+//!   cross-validation, but those of the planes at an edge of the table (theta_h 0, phi_d 0
+//!   and 90 once folded: their folds extrapolate where no cell lies, and near a sharp peak a
+//!   fold's lobe can miss the peak's centre by orders of magnitude). No left-out difference
+//!   counts for more than `ln(1 + MAX_RELATIVE)`;
 //! - **deblurring** [`DEBLUR_SENSITIVITY`] `* |deblurred - un-deblurred| / value` where the
 //!   table was deblurred through the instrument's response (where the safeguard put the
 //!   un-deblurred values in its place, the deblurred table it replaced is the other side):
