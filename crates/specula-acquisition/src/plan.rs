@@ -393,7 +393,7 @@ mod tests {
         for (s, axes) in plan.measured() {
             assert!(s.alternatives().contains(&axes));
             assert!(d.within_limits(&axes));
-            assert_eq!(crate::occlusion::blockage_within_accuracy(&d, &axes), None);
+            assert_eq!(blockage_within_accuracy(&d, &axes), None);
             let (wi, wo) = axes.directions();
             assert!((wi - s.wi).length() < 1e-9 && (wo - s.wo).length() < 1e-9);
             let hd = HalfDiff::from_directions(wi, wo);

@@ -569,10 +569,9 @@ fn differences(held_out: &[HeldOut]) -> Vec<f64> {
 fn extrapolation_term(held_out: &[Vec<HeldOut>; AXES]) -> f64 {
     let mut all: Vec<f64> = held_out
         .iter()
-        .flat_map(|h| {
-            let inside: Vec<HeldOut> = h.iter().filter(|h| !h.at_an_edge).copied().collect();
-            differences(&inside)
-        })
+        .flatten()
+        .filter(|h| !h.at_an_edge)
+        .flat_map(|h| h.log_difference.into_iter().flatten())
         .collect();
     if all.is_empty() {
         return 0.0;
@@ -724,7 +723,9 @@ fn cross_validate_along(
     // samples. Its differences still say how the table varies along the axis, but not what
     // an extrapolated cell is worth.
     let centres = bin_centres_along(a);
-    let at_an_edge = |node: usize| axis.len() >= 3 && nothing_beyond(axis, node, &centres);
+    let at_an_edge: Vec<bool> = (0..axis.len())
+        .map(|node| axis.len() >= 3 && nothing_beyond(axis, node, &centres))
+        .collect();
     let mut held_out = Vec::new();
     for parity in 0..2 {
         let kept_planes = Axis {
@@ -755,7 +756,7 @@ fn cross_validate_along(
                 sample: i,
                 place_deg2: place_deg2(&kept_planes, coords[i][a]),
                 log_difference,
-                at_an_edge: at_an_edge(plane[i]),
+                at_an_edge: at_an_edge[plane[i]],
             })
         }));
     }
