@@ -797,14 +797,21 @@ fn growth_exponent(held_out: &[HeldOut]) -> f64 {
 
 /// Each sample's local amplitude `K` per channel: the root mean square of `r / place^beta`
 /// over its [`NEIGHBOURS`] nearest samples of `held_out`, itself excluded; zero for a sample
-/// with none.
+/// with none. Samples of a plane at an edge of the table do not count: their fold
+/// extrapolated to the plane, as the table never does, and an extrapolation's difference per
+/// unit of place says nothing of how the table errs between two planes (divided by the large
+/// place of a point beyond both kept planes, the mirror plane's miss made the cells between
+/// it and the next theta_h plane look several times surer than they are).
 fn local_amplitudes(
     samples: &[Sample],
     held_out: &[HeldOut],
     beta: f64,
     both_halves: bool,
 ) -> Vec<[f64; 3]> {
-    let usable: Vec<&HeldOut> = held_out.iter().filter(|h| h.place_deg2 > 0.0).collect();
+    let usable: Vec<&HeldOut> = held_out
+        .iter()
+        .filter(|h| h.place_deg2 > 0.0 && !h.at_an_edge)
+        .collect();
     let tree: RTree<GeomWithData<[f64; 3], usize>> = RTree::bulk_load(
         usable
             .iter()
@@ -1208,6 +1215,37 @@ mod tests {
                 }
             })
             .collect()
+    }
+
+    /// A fold that leaves out the mirror plane extrapolates to it from planes beyond: its
+    /// difference, whatever it is, must not set how the cells between two planes are priced.
+    #[test]
+    fn the_planes_at_an_edge_do_not_set_the_local_amplitudes() {
+        let samples: Vec<Sample> = (0..20)
+            .map(|k| {
+                let theta_h = if k < 5 { 0.0 } else { 10.0 };
+                let hd = HalfDiff::from_degrees(theta_h, 0.0, 4.0 * k as f64, 0.0);
+                Sample::new(hd, Rgb::new(1.0, 1.0, 1.0))
+            })
+            .collect();
+        let held_out = |edge_difference: f64| -> Vec<HeldOut> {
+            (0..20)
+                .map(|k| HeldOut {
+                    sample: k,
+                    place_deg2: if k < 5 { 360.0 } else { 25.0 },
+                    log_difference: [Some(if k < 5 { edge_difference } else { 0.05 }); 3],
+                    at_an_edge: k < 5,
+                })
+                .collect()
+        };
+        let interior = local_amplitudes(&samples, &held_out(0.05), 1.0, false);
+        for edge_difference in [0.0, 2.0] {
+            let with = local_amplitudes(&samples, &held_out(edge_difference), 1.0, false);
+            assert_eq!(with, interior, "edge difference {edge_difference}");
+        }
+        for k in &interior {
+            assert!((k[0] - 0.05 / 25.0).abs() < 1e-12, "{k:?}");
+        }
     }
 
     #[test]
