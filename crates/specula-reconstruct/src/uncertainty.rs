@@ -20,12 +20,13 @@
 //!   differences grow as `w^beta`, `beta` the least-squares slope of `ln r` against `ln w`
 //!   within `[MIN_GROWTH_EXPONENT, 1]` ([`growth_exponent`]: 1 for pure interpolation, less
 //!   where refitting the table changes it whatever the gap, but never less than the growth of
-//!   a continuous function's interpolation error with the gap). A sample's local amplitude `K` is the root mean square
-//!   of `r / w^beta` over its [`NEIGHBOURS`] nearest left-out neighbours (itself excluded, and
-//!   those of a plane at an edge of the table, whose fold extrapolated: `local_amplitudes`); the
-//!   axis's factor `c` is the smallest with which [`CV_COVERAGE`] of its left-out samples' `r`
-//!   lie within `2 sqrt(a^2 + floor^2 + (c K w^beta)^2)` at their own `w`. A cell takes, from
-//!   its nearest sample ([`distance_coordinates`]), `s sqrt(sum over the axes of
+//!   a continuous function's interpolation error with the gap). A sample's local amplitude
+//!   `K` is the root mean square of `r / w^beta` over its [`NEIGHBOURS`] nearest left-out
+//!   neighbours (itself excluded, and those of a plane at an edge of the table, whose fold
+//!   extrapolated: `local_amplitudes`); the axis's factor `c` is the smallest with which
+//!   [`CV_COVERAGE`] of its left-out samples' `r` lie within
+//!   `2 sqrt(a^2 + floor^2 + (c K w^beta)^2)` at their own `w`. A cell takes, from its nearest
+//!   sample ([`distance_coordinates`]), `s sqrt(sum over the axes of
 //!   (c K w^beta)^2)` with its own place `w` along each axis: zero on a plane, largest midway
 //!   between two planes far apart, growing beyond the ends. `s` = [`RECONSTRUCTION_SCALE`] is
 //!   calibrated on training truths. An axis of two planes leaves each out in turn, the
