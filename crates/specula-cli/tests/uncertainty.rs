@@ -3,7 +3,9 @@
 //! expanded uncertainty in `U_` columns and `coverage` says how often it covers the truth.
 
 use assert_cmd::Command;
-use specula_core::merl::MerlBrdf;
+use specula_core::geometry::elevation_deg;
+use specula_core::merl::{Bin, MerlBrdf};
+use specula_core::HalfDiff;
 use specula_reconstruct::uncertainty::sidecar_path;
 use std::path::Path;
 
@@ -64,18 +66,38 @@ fn reconstruct_writes_the_uncertainty_and_info_and_coverage_read_it() {
     let out = reconstructed(dir.path());
     let table = MerlBrdf::read(&out).unwrap();
     let u = MerlBrdf::read(&sidecar_path(&out)).unwrap();
-    // A value where the table has one, none elsewhere; never below the calibration's 0.5 %.
+    // A value where the table has one within the samples' reach (the largest elevation of
+    // their lights and cameras, and one degree more), none elsewhere; never below the
+    // calibration's 0.5 %.
+    let samples = std::fs::read_to_string(dir.path().join("samples.csv")).unwrap();
+    let reach = samples
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let a: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+            elevation_deg(HalfDiff::from_degrees(a[0], a[1], a[2], a[3]))
+        })
+        .fold(0.0, f64::max);
+    assert!(reach > 60.0 && reach <= 75.0 + 1e-9, "{reach}");
+    let mut beyond = 0;
     for index in (0..specula_core::merl::CELLS).step_by(97) {
+        let elevation = elevation_deg(Bin::from_index(index).centre(0.0));
         match (table.cell(index), u.cell(index)) {
             (Some(v), Some(u)) => {
+                assert!(
+                    elevation <= reach + 1.0 + 1e-9,
+                    "cell {index} at {elevation} deg"
+                );
                 for c in 0..3 {
                     assert!(u[c] >= 0.005 * v[c] * (1.0 - 1e-5), "{index} {v:?} {u:?}");
                 }
             }
+            (Some(_), None) if elevation > reach => beyond += 1,
             (None, None) => {}
-            other => panic!("cell {index}: {other:?}"),
+            other => panic!("cell {index} at {elevation} deg: {other:?}"),
         }
     }
+    assert!(beyond > 0);
     let info = run(&["info", text(&out)]);
     assert!(info.contains("uncertainty_within_75_deg=median"), "{info}");
     let coverage = run(&["coverage", text(&out), "green-paint"]);
@@ -133,6 +155,10 @@ fn appearance_csv_appends_the_figures_expanded_uncertainty() {
     assert_eq!(row(1)[column("U_gloss_60")], "");
     let u: f64 = row(2)[column("U_gloss_60")].parse().unwrap();
     assert!(u > 0.0 && u.is_finite(), "{}", lines[2]);
+    // The planned samples stay within 75 deg of the normal: gloss 85's light and camera lie
+    // beyond their reach, where the cells have no uncertainty, and so has the figure.
+    assert!(!row(2)[column("gloss_85")].is_empty(), "{}", lines[2]);
+    assert_eq!(row(2)[column("U_gloss_85")], "", "{}", lines[2]);
     // The text table shows it as ± U.
     let table = run(&["appearance", text(&out)]);
     assert!(table.contains(" ± "), "{table}");
@@ -153,7 +179,7 @@ fn a_single_sample_gives_no_uncertainty_away_from_it_nor_to_the_figures() {
     let stdout = reconstruct(&samples, &out);
     assert!(stdout.contains("given on 2 of "), "{stdout}");
     assert!(
-        stdout.contains("uncertainty_not_given=off the plane of theta_h and theta_d and phi_d"),
+        stdout.contains("off the plane of theta_h and theta_d and phi_d"),
         "{stdout}"
     );
     let u = MerlBrdf::read(&sidecar_path(&out)).unwrap();

@@ -81,6 +81,13 @@ pub struct HalfDiff {
 /// edge-on there and a small error of angle changes f_r most.
 pub const USED_ELEVATION_DEG: f64 = 75.0;
 
+/// The larger elevation of light and camera of `hd`, degrees from the normal (the elevations
+/// do not depend on phi_h).
+pub fn elevation_deg(hd: HalfDiff) -> f64 {
+    let (wi, wo) = hd.to_directions();
+    wi.z.min(wo.z).clamp(-1.0, 1.0).acos().to_degrees()
+}
+
 /// Light and camera of `hd` both within `max_elevation_deg` of the normal.
 pub fn within_elevation(hd: HalfDiff, max_elevation_deg: f64) -> bool {
     let (wi, wo) = hd.to_directions();

@@ -59,7 +59,7 @@ use rayon::prelude::*;
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
 use specula_core::capture::CaptureResponse;
-use specula_core::geometry::{within_elevation, USED_ELEVATION_DEG};
+use specula_core::geometry::{elevation_deg, within_elevation, USED_ELEVATION_DEG};
 use specula_core::merl::{Bin, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::statistics::median;
 use specula_core::{HalfDiff, Rgb, Sample};
@@ -91,6 +91,11 @@ pub const EXTRAPOLATED_QUANTILE: f64 = 0.95;
 /// shows (on paper_white the theta_h folds change the table by 1.6 % at the median, the table
 /// errs by 0.4 %).
 pub const MIN_GROWTH_EXPONENT: f64 = 0.5;
+
+/// How far beyond the samples' reach (the largest elevation of light or camera among them) a
+/// cell's centre may lie and still be given an uncertainty, degrees: one theta_d bin, so that
+/// the cells holding the furthest samples keep theirs.
+pub const REACH_MARGIN_DEG: f64 = 1.0;
 
 /// The share of the left-out samples that the reconstruction term must cover at k = 2.
 pub const CV_COVERAGE: f64 = 0.95;
@@ -152,6 +157,9 @@ pub struct ErrorModel {
     pub judged: [bool; AXES],
     /// Whether the deblurring term was included.
     pub deblurred: bool,
+    /// The samples' reach: the largest elevation of light or camera among them (degrees);
+    /// the cells beyond it by more than [`REACH_MARGIN_DEG`] have no uncertainty.
+    pub reach_deg: f64,
 }
 
 /// Every cell's standard uncertainty and the model it came from.
@@ -269,7 +277,8 @@ impl Terms {
             .collect();
         let judged: [bool; AXES] =
             std::array::from_fn(|a| held_out[a].iter().any(|h| h.place_deg2 > 0.0));
-        let nearest = cell_places(samples, both_halves, axes, exponents, judged);
+        let reach_deg = reach_deg(samples);
+        let nearest = cell_places(samples, both_halves, axes, exponents, judged, reach_deg);
         let model = ErrorModel {
             local_factors,
             growth_exponents: exponents,
@@ -278,6 +287,7 @@ impl Terms {
             median_noise_rel: median_of(noise.clone()),
             judged,
             deblurred,
+            reach_deg,
         };
         let compared = undeblurred
             .into_iter()
@@ -480,11 +490,21 @@ impl CellUncertainty {
             .filter(|&a| !m.judged[a])
             .map(|a| AXIS_NAMES[a])
             .collect();
+        let mut not_given = Vec::new();
+        if m.reach_deg + REACH_MARGIN_DEG < 90.0 {
+            not_given.push(format!(
+                "beyond the samples' reach (light or camera more than {:.1} deg from the normal): nothing measured comes near",
+                m.reach_deg + REACH_MARGIN_DEG
+            ));
+        }
         if !unjudged.is_empty() {
-            lines.push(format!(
-                "uncertainty_not_given=off the plane of {}: a single plane, nothing to cross-validate",
+            not_given.push(format!(
+                "off the plane of {}: a single plane, nothing to cross-validate",
                 unjudged.join(" and ")
             ));
+        }
+        if !not_given.is_empty() {
+            lines.push(format!("uncertainty_not_given={}", not_given.join("; ")));
         }
         lines
     }
@@ -494,6 +514,14 @@ impl CellUncertainty {
 /// (the elevations do not depend on phi_h).
 fn within_summary_elevation(index: usize) -> bool {
     within_elevation(Bin::from_index(index).centre(0.0), SUMMARY_ELEVATION_DEG)
+}
+
+/// The samples' reach: the largest elevation of light or camera among `samples` (degrees).
+fn reach_deg(samples: &[Sample]) -> f64 {
+    samples
+        .iter()
+        .map(|s| elevation_deg(s.hd))
+        .fold(0.0, f64::max)
 }
 
 /// The `q` quantile of sorted `values` (nearest rank).
@@ -596,13 +624,17 @@ fn extrapolation_term(held_out: &[Vec<HeldOut>; AXES]) -> f64 {
 /// Per cell, its place `w^beta` along each of the lattice's `axes` (with the axes'
 /// `exponents`) and its nearest sample. Along an axis that was not `judged` (not
 /// cross-validated), a cell in the bin of one of its planes has place 0 and the others NaN:
-/// nothing says how the table varies between or beyond its planes.
+/// nothing says how the table varies between or beyond its planes. A cell beyond the
+/// samples' reach (`reach_deg` plus [`REACH_MARGIN_DEG`]) has NaN places too: no sample
+/// and no cross-validation comes near it (every fold's samples lie within the reach), so
+/// nothing measured says what the table's continuation there is worth.
 fn cell_places(
     samples: &[Sample],
     both_halves: bool,
     axes: [&Axis; AXES],
     exponents: [f64; AXES],
     judged: [bool; AXES],
+    reach_deg: f64,
 ) -> Vec<([f32; AXES], u32)> {
     // A bin centre's coordinate along an axis depends on that axis's bin alone: the places
     // are worked out once per bin of each axis.
@@ -624,12 +656,17 @@ fn cell_places(
         .into_par_iter()
         .map(|index| {
             let bin = Bin::from_index(index);
-            let sample = nearest_sample.nearest_to(bin.centre(0.0));
-            let place = [
-                along[0][bin.theta_h_i],
-                along[1][bin.theta_d_i],
-                along[2][bin.phi_d_i],
-            ];
+            let centre = bin.centre(0.0);
+            let sample = nearest_sample.nearest_to(centre);
+            let place = if elevation_deg(centre) > reach_deg + REACH_MARGIN_DEG {
+                [f32::NAN; AXES]
+            } else {
+                [
+                    along[0][bin.theta_h_i],
+                    along[1][bin.theta_d_i],
+                    along[2][bin.phi_d_i],
+                ]
+            };
             (place, sample as u32)
         })
         .collect()
@@ -1076,20 +1113,21 @@ mod tests {
             "{:?}",
             u.model
         );
-        // theta_h bin 50 (30.9 deg), phi_d 0.5 deg: the samples end at theta_d 40, so theta_d
-        // 42.5 lies 2.5 deg beyond them and 60.5 lies 20.5 deg beyond; both extrapolated.
+        // theta_h bin 50 (30.9 deg), phi_d 90.5 deg: the samples end at theta_d 40, so theta_d
+        // 42.5 lies 2.5 deg beyond them and 60.5 lies 20.5 deg beyond; both extrapolated,
+        // both within the samples' reach (light and camera 51 and 65 deg from the normal).
         let cell = |theta_d_i| {
             Bin {
                 theta_h_i: 50,
                 theta_d_i,
-                phi_d_i: 0,
+                phi_d_i: 90,
             }
             .index()
         };
         assert!(provenance.cells[cell(42)].is_extrapolated());
         assert!(provenance.cells[cell(60)].is_extrapolated());
-        let near = relative_at(&u, 50, 42, 0);
-        let far = relative_at(&u, 50, 60, 0);
+        let near = relative_at(&u, 50, 42, 90);
+        let far = relative_at(&u, 50, 60, 90);
         assert!(far > 1.5 * near, "{near} {far}");
     }
 
@@ -1115,6 +1153,36 @@ mod tests {
                 assert!(r[0] >= u.model.extrapolated_rel.min(MAX_RELATIVE) - 1e-12);
             }
         }
+    }
+
+    #[test]
+    fn cells_beyond_the_samples_reach_have_none() {
+        // Samples up to theta_d 45 deg reach 45 deg at theta_h 0 and about 75 deg elsewhere
+        // (the grid's elevation limit): the reach is the largest of their elevations.
+        let truth = preset("green-paint").unwrap();
+        let samples = samples_up_to(&truth, 50);
+        let (table, _, u) = estimated(&samples, None);
+        let reach = samples
+            .iter()
+            .map(|s| elevation_deg(s.hd))
+            .fold(0.0, f64::max);
+        assert!((u.model.reach_deg - reach).abs() < 1e-9, "{:?}", u.model);
+        assert!(reach > 70.0 && reach <= 75.0 + 1e-9, "{reach}");
+        let (mut beyond, mut within) = (0, 0);
+        for index in (0..CELLS).filter(|&i| table.cell(i).is_some()) {
+            let elevation = elevation_deg(Bin::from_index(index).centre(0.0));
+            let given = u.relative.0[index].is_some();
+            if elevation > reach + REACH_MARGIN_DEG {
+                assert!(!given, "cell {index} at {elevation} deg has one");
+                beyond += 1;
+            } else if elevation <= reach {
+                assert!(given, "cell {index} at {elevation} deg has none");
+                within += 1;
+            }
+        }
+        assert!(beyond > 100_000 && within > 100_000, "{beyond} {within}");
+        let line = u.lines().join("\n");
+        assert!(line.contains("beyond the samples' reach"), "{line}");
     }
 
     #[test]
@@ -1342,8 +1410,10 @@ mod tests {
         assert!(!has(&u, 45) && !has(&u, 20) && !has(&u, 90));
         let lines = u.lines();
         assert!(lines[0].contains(", given on "), "{}", lines[0]);
-        let not_given = "uncertainty_not_given=off the plane of phi_d";
-        assert!(lines.iter().any(|l| l.starts_with(not_given)), "{lines:?}");
+        let not_given = |l: &String| {
+            l.starts_with("uncertainty_not_given=") && l.contains("off the plane of phi_d")
+        };
+        assert!(lines.iter().any(not_given), "{lines:?}");
 
         let (_, _, u) = estimated(&at_phi_d(&|p| !(1.0..=89.0).contains(&p)), None);
         assert_eq!(u.model.judged, [true; 3]);
