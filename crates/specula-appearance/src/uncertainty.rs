@@ -52,7 +52,7 @@ pub fn expanded_uncertainty(table: &MerlBrdf, u: &MerlBrdf, options: &Options) -
         .into_par_iter()
         .map(|draw| {
             let mut rng = ChaCha8Rng::seed_from_u64(SEED.wrapping_add(draw as u64));
-            let field = Field::draw(&mut rng);
+            let field = Field::draw(&mut rng, &points);
             let perturbed = perturbed(table, u, &field, &points);
             column_values(&appearance(&perturbed, options), None)
         })
@@ -148,23 +148,21 @@ struct Field {
     offset: [f64; 3],
 }
 
-/// Nodes of the grid that holds every cell's polar coordinates after any offset: along
-/// `i_h cos phi_d` (from -90 to 90 bins), `i_h sin phi_d` (0 to 90) and `i_d` (0 to 90).
-fn grid_nodes() -> [usize; 3] {
-    let half = (THETA_H_BINS as f64 / NODE_SPACING_BINS).ceil() as usize;
-    let along_d = (THETA_D_BINS as f64 / NODE_SPACING_BINS).ceil() as usize;
-    [2 * half + 2, half + 2, along_d + 2]
-}
-
-/// Every cell's place on the grid, in node spacings before a draw's offset: its polar
-/// coordinates `(i_h cos phi_d, i_h sin phi_d, i_d)` at the bin's centre, the first moved by
-/// 90 bins so that it is never negative. Worked out once per pair of theta_h and phi_d bins.
+/// The field's grid and every cell's place on it, in node spacings before a draw's offset:
+/// its polar coordinates `(i_h cos phi_d, i_h sin phi_d, i_d)` at the bin's centre, the first
+/// moved by 90 bins so that it is never negative. Worked out once per pair of theta_h and
+/// phi_d bins, and once for all draws.
 struct GridPoints {
     polar: Vec<[f64; 2]>,
+    /// Nodes of the grid that holds every cell after any offset: along `i_h cos phi_d`
+    /// (from -90 to 90 bins), `i_h sin phi_d` (0 to 90) and `i_d` (0 to 90).
+    nodes: [usize; 3],
 }
 
 impl GridPoints {
     fn new() -> Self {
+        let half = (THETA_H_BINS as f64 / NODE_SPACING_BINS).ceil() as usize;
+        let along_d = (THETA_D_BINS as f64 / NODE_SPACING_BINS).ceil() as usize;
         let polar = (0..THETA_H_BINS * PHI_D_BINS)
             .map(|k| {
                 let i_h = (k / PHI_D_BINS) as f64 + 0.5;
@@ -175,7 +173,10 @@ impl GridPoints {
                 ]
             })
             .collect();
-        Self { polar }
+        Self {
+            polar,
+            nodes: [2 * half + 2, half + 2, along_d + 2],
+        }
     }
 
     fn of(&self, index: usize) -> [f64; 3] {
@@ -186,10 +187,9 @@ impl GridPoints {
 }
 
 impl Field {
-    fn draw(rng: &mut ChaCha8Rng) -> Self {
-        let nodes: usize = grid_nodes().iter().product();
+    fn draw(rng: &mut ChaCha8Rng, points: &GridPoints) -> Self {
         Self {
-            deviates: (0..nodes)
+            deviates: (0..points.nodes.iter().product())
                 .map(|_| std::array::from_fn(|_| rng.sample(StandardNormal)))
                 .collect(),
             offset: std::array::from_fn(|_| rng.random::<f64>()),
@@ -200,7 +200,7 @@ impl Field {
     /// it, divided by the root sum of the squared weights (unit variance wherever the cell
     /// lies between the nodes).
     fn at(&self, index: usize, points: &GridPoints) -> [f64; 3] {
-        let [nx, ny, nz] = grid_nodes();
+        let [nx, ny, nz] = points.nodes;
         let point = points.of(index);
         let g: [f64; 3] = std::array::from_fn(|k| point[k] + self.offset[k]);
         let lower: [usize; 3] = std::array::from_fn(|k| g[k].floor() as usize);
@@ -256,7 +256,7 @@ mod tests {
         let points = GridPoints::new();
         let (mut aa, mut bb, mut ab) = (0.0, 0.0, 0.0);
         for _ in 0..draws {
-            let field = Field::draw(&mut rng);
+            let field = Field::draw(&mut rng, &points);
             let (x, y) = (field.at(a, &points)[0], field.at(b, &points)[0]);
             aa += x * x;
             bb += y * y;

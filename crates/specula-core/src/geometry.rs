@@ -81,18 +81,21 @@ pub struct HalfDiff {
 /// edge-on there and a small error of angle changes f_r most.
 pub const USED_ELEVATION_DEG: f64 = 75.0;
 
-/// The larger elevation of light and camera of `hd`, degrees from the normal (the elevations
-/// do not depend on phi_h).
-pub fn elevation_deg(hd: HalfDiff) -> f64 {
+/// The cosine of the larger elevation of light and camera of `hd` (the smaller of their z;
+/// the elevations do not depend on phi_h).
+fn lowest_cos(hd: HalfDiff) -> f64 {
     let (wi, wo) = hd.to_directions();
-    wi.z.min(wo.z).clamp(-1.0, 1.0).acos().to_degrees()
+    wi.z.min(wo.z)
+}
+
+/// The larger elevation of light and camera of `hd`, degrees from the normal.
+pub fn elevation_deg(hd: HalfDiff) -> f64 {
+    lowest_cos(hd).clamp(-1.0, 1.0).acos().to_degrees()
 }
 
 /// Light and camera of `hd` both within `max_elevation_deg` of the normal.
 pub fn within_elevation(hd: HalfDiff, max_elevation_deg: f64) -> bool {
-    let (wi, wo) = hd.to_directions();
-    let min_cos = max_elevation_deg.to_radians().cos() - 1e-12;
-    wi.z >= min_cos && wo.z >= min_cos
+    lowest_cos(hd) >= max_elevation_deg.to_radians().cos() - 1e-12
 }
 
 impl HalfDiff {
