@@ -1,7 +1,8 @@
 //! What a BRDF source holds (`specula info`): its format, grid, measured cells, per-channel
 //! statistics and peak. A MERL table's peak is given within the region people use (light
 //! and camera within [`USED_ELEVATION_DEG`] of the normal) first, the grazing cells' peak
-//! after it, named as such.
+//! after it, named as such; then its largest directional albedo, which energy conservation
+//! holds to 1.
 
 use crate::error::{OrReport, ReportError};
 use specula_accuracy::{within_elevation, USED_ELEVATION_DEG};
@@ -12,6 +13,7 @@ use specula_core::tabulate::tabulate;
 use specula_formats::convert::Loaded;
 use specula_formats::samples_csv::SampleSet;
 use specula_formats::utia::{self, UtiaBrdf};
+use specula_reconstruct::energy::{albedo_per_incidence, HELD_ALBEDO, INCIDENCES_DEG};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use std::fmt::{self, Write};
 use std::path::Path;
@@ -136,7 +138,34 @@ fn describe_merl(
             merl_peak(&peak)
         )?;
     }
-    Ok(())
+    writeln!(out, "directional albedo: {}", albedo_in_words(table))
+}
+
+/// The table's largest directional albedo over its channels and the incidences the
+/// reconstruction holds it to 1 at ([`INCIDENCES_DEG`]), in words: above 1 (beyond the
+/// quadrature's error, [`HELD_ALBEDO`]) the table reflects more light than arrives, which no
+/// material does.
+fn albedo_in_words(table: &MerlBrdf) -> String {
+    let (incidence_deg, albedo) = INCIDENCES_DEG
+        .into_iter()
+        .zip(albedo_per_incidence(table))
+        .fold((0.0, f64::NEG_INFINITY), |best, (t, a)| {
+            if a > best.1 {
+                (t, a)
+            } else {
+                best
+            }
+        });
+    let verdict = if albedo > HELD_ALBEDO {
+        ": above 1, the table reflects more light than arrives (no material does)"
+    } else {
+        ""
+    };
+    format!(
+        "at most {:.3} (largest channel, at {} deg incidence){verdict}",
+        albedo,
+        plain(incidence_deg)
+    )
 }
 
 /// A peak cell in words: its value and where it lies.
@@ -204,4 +233,42 @@ fn describe_samples(out: &mut String, set: &SampleSet) -> fmt::Result {
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use specula_core::Rgb;
+
+    /// A Lambertian table of albedo `rho` (f = rho / pi in every cell).
+    fn lambertian(rho: f64) -> MerlBrdf {
+        MerlBrdf::from_fn("lambertian", |_| {
+            Some(Rgb::splat(rho / std::f64::consts::PI))
+        })
+    }
+
+    /// The albedo the words give.
+    fn stated(words: &str) -> f64 {
+        let number = words
+            .strip_prefix("at most ")
+            .and_then(|w| w.split(' ').next());
+        number.and_then(|n| n.parse().ok()).unwrap_or(f64::NAN)
+    }
+
+    #[test]
+    fn a_lambertian_table_has_its_albedo_at_every_incidence() {
+        let words = albedo_in_words(&lambertian(0.5));
+        assert!((stated(&words) - 0.5).abs() < 0.002, "{words}");
+        assert!(!words.contains("above 1"), "{words}");
+    }
+
+    #[test]
+    fn a_table_that_reflects_more_than_arrives_is_named() {
+        let words = albedo_in_words(&lambertian(2.0));
+        assert!((stated(&words) - 2.0).abs() < 0.004, "{words}");
+        assert!(
+            words.contains("above 1, the table reflects more light than arrives"),
+            "{words}"
+        );
+    }
 }

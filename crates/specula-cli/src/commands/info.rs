@@ -5,7 +5,7 @@ use specula_core::merl::MerlBrdf;
 use specula_reconstruct::uncertainty::{sidecar_path, RelativeUncertainty};
 use std::path::Path;
 
-/// Describe a BRDF source: format, grid, measured cells, statistics, peak, uncertainty.
+/// Describe a BRDF source: format, grid, cells, statistics, peak, albedo, uncertainty.
 ///
 /// A measured MERL table with its `.uncertainty.binary` beside it also gets the relative
 /// uncertainty of its cells.
