@@ -79,22 +79,28 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
     })?;
     match response {
         Some(response) if table.resolution_deg.is_some() => {
+            // The un-deblurred table the checks make is kept for the uncertainty's
+            // deblurring term, which compares with it.
+            let undeblurred = std::cell::RefCell::new(None);
             let (brdf, safeguard, replaced) = crate::safeguard::safeguarded(
                 samples,
                 table.brdf,
                 table.lobe.as_ref(),
                 response,
                 || {
-                    reconstruct_halves_with(samples, |half| {
+                    let plain = reconstruct_halves_with(samples, |half| {
                         reconstruct_through(half, method, name, None::<&R>, prior)
-                    })
-                    .map(|plain| plain.brdf)
+                    })?
+                    .brdf;
+                    *undeblurred.borrow_mut() = Some(plain.clone());
+                    Ok(plain)
                 },
             )?;
             Ok(Reconstruction {
                 brdf,
                 safeguard: Some(safeguard),
                 deblurred_replaced: replaced,
+                undeblurred: undeblurred.into_inner(),
                 ..table
             })
         }
@@ -180,6 +186,7 @@ fn joined(first: Reconstruction, second: Reconstruction) -> Reconstruction {
         filled_nodes: first.filled_nodes + second.filled_nodes,
         safeguard: None,
         deblurred_replaced: None,
+        undeblurred: None,
     }
 }
 

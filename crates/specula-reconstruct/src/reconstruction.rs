@@ -54,6 +54,9 @@ pub struct Reconstruction {
     /// bounded ([`Safeguard::fallback_below_deg`], [`Safeguard::bounded_below_deg`]): what the uncertainty's deblurring term compares
     /// them with ([`crate::uncertainty`]); `None` when nothing was replaced.
     pub deblurred_replaced: Option<MerlBrdf>,
+    /// The table made from the same samples without the response, when the safeguard made
+    /// it (it does whenever the deblurred table's checks pass or fail on its samples).
+    pub undeblurred: Option<MerlBrdf>,
 }
 
 /// The lobe as a capture at `hd` measures it: through the nodes near the peak, where the fit
@@ -107,6 +110,7 @@ pub(crate) fn table_of_domain_values(
         filled_nodes: lattice.status.len() - measured_nodes,
         safeguard: None,
         deblurred_replaced: None,
+        undeblurred: None,
     }
 }
 

@@ -249,12 +249,12 @@ impl Terms {
             return Err(ReconstructError::NoSamples);
         }
         let none = None::<&dyn CaptureResponse>;
-        let undeblurred = if deblurred {
-            Some(
+        let undeblurred = match (&reconstruction.undeblurred, deblurred) {
+            (Some(made), _) => Some(made.clone()),
+            (None, true) => Some(
                 reconstruct_halves(samples, inputs.method, "undeblurred", none, inputs.prior)?.brdf,
-            )
-        } else {
-            None
+            ),
+            (None, false) => None,
         };
         let reference = undeblurred.as_ref().unwrap_or(table);
         let both_halves = measures_both_halves(samples);
