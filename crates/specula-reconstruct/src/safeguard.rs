@@ -942,6 +942,15 @@ mod tests {
         assert!((default - 0.257).abs() < 0.002, "{default}");
     }
 
+    /// `flat` with a GGX spike of roughness `alpha` and specular weight `weight` on top.
+    fn spiked(flat: Lobe, alpha: f64, weight: f64) -> Lobe {
+        Lobe {
+            shape: Shape { alpha, gamma: 2.0 },
+            specular: Rgb::splat(weight),
+            ..flat
+        }
+    }
+
     #[test]
     fn a_spike_the_captures_cannot_see_on_a_flat_material_is_not_kept() {
         // A matte material (the lobe's diffuse part alone) and a "deblurred" table that adds
@@ -955,14 +964,7 @@ mod tests {
             grazing: Rgb::ZERO,
             ..lobe(0.3)
         };
-        let spiky = Lobe {
-            shape: Shape {
-                alpha: 0.0005,
-                gamma: 2.0,
-            },
-            specular: Rgb::splat(1e-7),
-            ..flat
-        };
+        let spiky = spiked(flat, 0.0005, 1e-7);
         let samples = along_theta_h(&flat, &response);
         let limit = width_detection_limit_deg(response.resolution_deg());
         assert!(spiky.shape.half_width_deg() < limit);
@@ -992,14 +994,7 @@ mod tests {
 
         // A spike the captures could tell from zero (its half width above the limit) but
         // too weak for them to see: the flat values take its place all the same.
-        let visible_width = Lobe {
-            shape: Shape {
-                alpha: 0.008,
-                gamma: 2.0,
-            },
-            specular: Rgb::splat(1e-6),
-            ..flat
-        };
+        let visible_width = spiked(flat, 0.008, 1e-6);
         assert!(visible_width.shape.half_width_deg() > limit);
         let spike = tabulated(&visible_width).cell(peak_cell()).unwrap().y;
         assert!(spike > 1.1 * body, "{spike} {body}");
