@@ -71,7 +71,14 @@ pub fn albedo_per_incidence(table: &MerlBrdf) -> [f64; INCIDENCES_DEG.len()] {
 
 /// The largest directional albedo of `table` over channels and [`INCIDENCES_DEG`].
 pub fn max_albedo(table: &MerlBrdf) -> f64 {
-    albedo_per_incidence(table).into_iter().fold(0.0, f64::max)
+    worst_albedo(table).1
+}
+
+/// The incidence (degrees, of [`INCIDENCES_DEG`]) at which `table`'s directional albedo is
+/// largest over its channels, and that albedo.
+pub fn worst_albedo(table: &MerlBrdf) -> (f64, f64) {
+    let (worst, albedo) = argmax(&albedo_per_incidence(table));
+    (INCIDENCES_DEG[worst], albedo)
 }
 
 /// `table` with its directional albedo held to at most 1 (see the module documentation), and

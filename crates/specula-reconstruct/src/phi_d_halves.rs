@@ -79,28 +79,24 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
     })?;
     match response {
         Some(response) if table.resolution_deg.is_some() => {
-            // The un-deblurred table the checks make is kept for the uncertainty's
-            // deblurring term, which compares with it.
-            let undeblurred = std::cell::RefCell::new(None);
+            // The table made without the response: what the checks compare with, and
+            // kept for the uncertainty's deblurring term.
+            let plain = reconstruct_halves_with(samples, |half| {
+                reconstruct_through(half, method, name, None::<&R>, prior)
+            })?
+            .brdf;
             let (brdf, safeguard, replaced) = crate::safeguard::safeguarded(
                 samples,
                 table.brdf,
                 table.lobe.as_ref(),
                 response,
-                || {
-                    let plain = reconstruct_halves_with(samples, |half| {
-                        reconstruct_through(half, method, name, None::<&R>, prior)
-                    })?
-                    .brdf;
-                    *undeblurred.borrow_mut() = Some(plain.clone());
-                    Ok(plain)
-                },
-            )?;
+                &plain,
+            );
             Ok(Reconstruction {
                 brdf,
                 safeguard: Some(safeguard),
                 deblurred_replaced: replaced,
-                undeblurred: undeblurred.into_inner(),
+                undeblurred: Some(plain),
                 ..table
             })
         }

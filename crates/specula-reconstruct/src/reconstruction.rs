@@ -54,8 +54,8 @@ pub struct Reconstruction {
     /// bounded ([`Safeguard::fallback_below_deg`], [`Safeguard::bounded_below_deg`]): what the uncertainty's deblurring term compares
     /// them with ([`crate::uncertainty`]); `None` when nothing was replaced.
     pub deblurred_replaced: Option<MerlBrdf>,
-    /// The table made from the same samples without the response, when the safeguard made
-    /// it (it does whenever the deblurred table's checks pass or fail on its samples).
+    /// The table made from the same samples without the response, which the safeguard
+    /// checked the deblurred one against; `None` when the table was not deblurred.
     pub undeblurred: Option<MerlBrdf>,
 }
 

@@ -224,18 +224,19 @@ impl Safeguard {
 }
 
 /// Checks the `deblurred` table (made through `response` from `samples`, with its fitted
-/// `lobe`) and falls back per region to the table `without_response()` makes where it fails,
+/// `lobe`) and falls back per region to the `plain` table (made without the response, which
+/// every path of the checks compares with) where it fails,
 /// and per half of phi_d where it breaks the identity at the normal (see the module
 /// documentation), then holds the kept table's directional albedo to 1
 /// ([`energy::conserve_energy`]): the table to keep, what the checks found and, when its
 /// cells were replaced, the deblurred table itself.
-pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
+pub(crate) fn safeguarded<R: CaptureResponse + ?Sized>(
     samples: &[Sample],
     deblurred: MerlBrdf,
     lobe: Option<&Lobe>,
     response: &R,
-    without_response: impl Fn() -> Result<MerlBrdf, E>,
-) -> Result<(MerlBrdf, Safeguard, Option<MerlBrdf>), E> {
+    plain: &MerlBrdf,
+) -> (MerlBrdf, Safeguard, Option<MerlBrdf>) {
     let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
     let checks = Checks {
         samples,
@@ -245,29 +246,25 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized, E>(
             resolution_deg: Some(response.resolution_deg()),
         },
     };
-    let mut plain = Plain {
-        make: &without_response,
-        table: None,
-    };
     let undetected = Undetected::of(lobe, response.resolution_deg());
-    let (kept, guard, replaced) = checked(&checks, deblurred, undetected, &mut plain)?;
+    let (kept, guard, replaced) = checked(&checks, deblurred, undetected, plain);
     let (kept, mut guard, replaced) = if guard.consistency.normal_spread.ratio > NORMAL_SPREAD_LIMIT
     {
-        normal_restored(&checks, kept, guard, replaced, plain.get()?)
+        normal_restored(&checks, kept, guard, replaced, plain)
     } else {
         (kept, guard, replaced)
     };
     // The checks measured the kept table's albedo at the same incidences: only a table that
     // breaks 1 is integrated again.
     if guard.max_albedo <= energy::HELD_ALBEDO {
-        return Ok((kept, guard, replaced));
+        return (kept, guard, replaced);
     }
     let (kept, scale) = energy::conserve_energy(kept);
     if let Some(scale) = &scale {
         guard.max_albedo = scale.albedo_after;
     }
     guard.energy = scale;
-    Ok((kept, guard, replaced))
+    (kept, guard, replaced)
 }
 
 /// The samples a table is checked against, their predictions' standard uncertainties and the
@@ -285,36 +282,20 @@ impl Checks<'_> {
     }
 }
 
-/// The un-deblurred table, reconstructed when a check first needs it and then kept.
-struct Plain<'a, E> {
-    make: &'a dyn Fn() -> Result<MerlBrdf, E>,
-    table: Option<MerlBrdf>,
-}
-
-impl<E> Plain<'_, E> {
-    fn get(&mut self) -> Result<&MerlBrdf, E> {
-        Ok(match self.table.take() {
-            Some(table) => self.table.insert(table),
-            None => self.table.insert((self.make)()?),
-        })
-    }
-}
-
 /// [`safeguarded`] before the identity at the normal and the energy: the checks against the
 /// samples and the fallback.
-fn checked<E>(
+fn checked(
     checks: &Checks<'_>,
     deblurred: MerlBrdf,
     undetected: Option<Undetected>,
-    plain: &mut Plain<'_, E>,
-) -> Result<(MerlBrdf, Safeguard, Option<MerlBrdf>), E> {
+    plain: &MerlBrdf,
+) -> (MerlBrdf, Safeguard, Option<MerlBrdf>) {
     let check = checks.of(&deblurred);
     let albedo = max_albedo(&deblurred);
     let Some((limit_deg, reason)) = failure(&check, albedo) else {
-        let plain = plain.get()?;
         if reproduces_within_uncertainty(&checks.of(plain)) {
             let (kept, guard) = unasked(checks, &deblurred, check, plain, undetected);
-            return Ok((kept, guard, Some(deblurred)));
+            return (kept, guard, Some(deblurred));
         }
         let passed = Safeguard {
             consistency: check,
@@ -326,9 +307,8 @@ fn checked<E>(
             energy: None,
             normal_fallback: None,
         };
-        return Ok((deblurred, passed, None));
+        return (deblurred, passed, None);
     };
-    let plain = plain.get()?;
     let merged = replaced_below(&deblurred, plain, limit_deg);
     let merged_check = checks.of(&merged);
     let merged_albedo = max_albedo(&merged);
@@ -354,7 +334,7 @@ fn checked<E>(
                     "{reason}; the un-deblurred values reproduce the samples no better, and {undetected}: {bounds}"
                 )),
             };
-            return Ok((bounded, guard, Some(deblurred)));
+            return (bounded, guard, Some(deblurred));
         }
         let why_kept = match undetected {
             Some(undetected) => format!("{undetected}, but the lobe reproduces the flank they resolve, so its peak stays as that shape's continuation"),
@@ -372,7 +352,7 @@ fn checked<E>(
             energy: None,
             normal_fallback: None,
         };
-        return Ok((deblurred, kept, None));
+        return (deblurred, kept, None);
     }
     let replaced = Safeguard {
         consistency: merged_check,
@@ -384,7 +364,7 @@ fn checked<E>(
         energy: None,
         normal_fallback: None,
     };
-    Ok((merged, replaced, Some(deblurred)))
+    (merged, replaced, Some(deblurred))
 }
 
 /// The standard uncertainty of each sample's prediction (see the module documentation):
@@ -743,11 +723,13 @@ mod tests {
         let truth = lobe(0.05);
         let samples = along_theta_h(&truth, &response);
         let spiky = lobe(0.0125);
-        let (kept, guard, replaced) =
-            safeguarded(&samples, tabulated(&spiky), Some(&spiky), &response, || {
-                Ok::<_, ()>(tabulated(&truth))
-            })
-            .unwrap();
+        let (kept, guard, replaced) = safeguarded(
+            &samples,
+            tabulated(&spiky),
+            Some(&spiky),
+            &response,
+            &tabulated(&truth),
+        );
         assert!(guard.fallback_below_deg.is_some(), "{guard:?}");
         // The deblurred table replaced is kept for the uncertainty's deblurring term.
         assert!(replaced.is_some());
@@ -770,11 +752,13 @@ mod tests {
 
         // The un-deblurred table, wider than the truth, blurred once more misses the peak's
         // samples: it cannot stand in for the deblurred one.
-        let (_, guard, replaced) =
-            safeguarded(&samples, tabulated(&truth), Some(&truth), &response, || {
-                Ok::<_, ()>(tabulated(&lobe(0.1)))
-            })
-            .unwrap();
+        let (_, guard, replaced) = safeguarded(
+            &samples,
+            tabulated(&truth),
+            Some(&truth),
+            &response,
+            &tabulated(&lobe(0.1)),
+        );
         assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
         assert!(replaced.is_none());
         let peak = guard.consistency.region("peak").unwrap();
@@ -801,11 +785,13 @@ mod tests {
         let limit_deg = width_detection_limit_deg(response.resolution_deg());
         assert!(spiky.shape.half_width_deg() < limit_deg, "{limit_deg}");
         assert!(truth.shape.half_width_deg() > response.resolution_deg());
-        let (kept, guard, replaced) =
-            safeguarded(&samples, tabulated(&spiky), Some(&spiky), &response, || {
-                Ok::<_, ()>(tabulated(&wide))
-            })
-            .unwrap();
+        let (kept, guard, replaced) = safeguarded(
+            &samples,
+            tabulated(&spiky),
+            Some(&spiky),
+            &response,
+            &tabulated(&wide),
+        );
         let limit = guard.bounded_below_deg.expect("bounded");
         assert!(replaced.is_some());
         assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
@@ -832,11 +818,13 @@ mod tests {
             "{guard:?}"
         );
 
-        let (kept, guard, replaced) =
-            safeguarded(&samples, tabulated(&spiky), Some(&truth), &response, || {
-                Ok::<_, ()>(tabulated(&wide))
-            })
-            .unwrap();
+        let (kept, guard, replaced) = safeguarded(
+            &samples,
+            tabulated(&spiky),
+            Some(&truth),
+            &response,
+            &tabulated(&wide),
+        );
         assert!(replaced.is_none());
         assert_eq!(guard.bounded_below_deg, None, "{guard:?}");
         assert_eq!(kept.cell(peak), d.cell(peak));
@@ -862,11 +850,13 @@ mod tests {
             let near = Bin::from_index(index).centre_deg()[0] < 0.5;
             exact.cell(index).map(|v| if near { v * scale } else { v })
         });
-        let (kept, guard, _) =
-            safeguarded(&samples, overshoot.clone(), Some(&truth), &response, || {
-                Ok::<_, ()>(tabulated(&lobe(0.6)))
-            })
-            .unwrap();
+        let (kept, guard, _) = safeguarded(
+            &samples,
+            overshoot.clone(),
+            Some(&truth),
+            &response,
+            &tabulated(&lobe(0.6)),
+        );
         (kept, guard, overshoot)
     }
 
@@ -971,11 +961,13 @@ mod tests {
         let spike = tabulated(&spiky).cell(peak_cell()).unwrap().y;
         let body = tabulated(&flat).cell(peak_cell()).unwrap().y;
         assert!(spike > 1.1 * body, "{spike} {body}");
-        let (kept, guard, replaced) =
-            safeguarded(&samples, tabulated(&spiky), Some(&spiky), &response, || {
-                Ok::<_, ()>(tabulated(&flat))
-            })
-            .unwrap();
+        let (kept, guard, replaced) = safeguarded(
+            &samples,
+            tabulated(&spiky),
+            Some(&spiky),
+            &response,
+            &tabulated(&flat),
+        );
         let checked = guard
             .deblurred
             .as_ref()
@@ -1003,20 +995,21 @@ mod tests {
             tabulated(&visible_width),
             Some(&visible_width),
             &response,
-            || Ok::<_, ()>(tabulated(&flat)),
-        )
-        .unwrap();
+            &tabulated(&flat),
+        );
         assert!(guard.fallback_below_deg.is_some(), "{guard:?}");
         assert_eq!(kept.cell(peak_cell()).unwrap().y, body);
 
         // The same spike on a sharp material is needed: the flat table cannot stand in.
         let sharp = lobe(0.0005);
         let samples = along_theta_h(&sharp, &response);
-        let (_, guard, _) =
-            safeguarded(&samples, tabulated(&sharp), Some(&sharp), &response, || {
-                Ok::<_, ()>(tabulated(&flat))
-            })
-            .unwrap();
+        let (_, guard, _) = safeguarded(
+            &samples,
+            tabulated(&sharp),
+            Some(&sharp),
+            &response,
+            &tabulated(&flat),
+        );
         assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
     }
 
@@ -1057,11 +1050,13 @@ mod tests {
             .collect();
         let before = NormalSpread::of(&table);
         assert!(before.ratio > 2.0 * NORMAL_SPREAD_LIMIT, "{before:?}");
-        let (kept, guard, replaced) =
-            safeguarded(&samples, table.clone(), Some(&flat), &response, || {
-                Ok::<_, ()>(tabulated(&flat))
-            })
-            .unwrap();
+        let (kept, guard, replaced) = safeguarded(
+            &samples,
+            table.clone(),
+            Some(&flat),
+            &response,
+            &tabulated(&flat),
+        );
         let at = |phi_d_i| {
             Bin {
                 theta_h_i: 0,
@@ -1088,10 +1083,7 @@ mod tests {
 
         // The same peak in both halves is one material's: nothing to restore.
         let both = MerlBrdf::from_fn("b", |index| table.cell(index - index % PHI_D_BINS + 45));
-        let (_, guard, _) = safeguarded(&samples, both, Some(&flat), &response, || {
-            Ok::<_, ()>(tabulated(&flat))
-        })
-        .unwrap();
+        let (_, guard, _) = safeguarded(&samples, both, Some(&flat), &response, &tabulated(&flat));
         assert_eq!(guard.normal_fallback, None, "{guard:?}");
 
         // Different peaks in the two halves: neither half's values as measured restore the
@@ -1106,10 +1098,8 @@ mod tests {
             let peak = if in_second(index) { &weaker } else { &invented };
             Some(flat.eval(&g) + if d < 60.0 { Rgb::ZERO } else { peak.eval(&g) })
         });
-        let (kept, guard, _) = safeguarded(&samples, two, Some(&flat), &response, || {
-            Ok::<_, ()>(tabulated(&flat))
-        })
-        .unwrap();
+        let (kept, guard, _) =
+            safeguarded(&samples, two, Some(&flat), &response, &tabulated(&flat));
         let Some(fallback) = guard.normal_fallback else {
             panic!("both halves fall back: {:#?}", guard.lines());
         };

@@ -13,7 +13,7 @@ use specula_core::tabulate::tabulate;
 use specula_formats::convert::Loaded;
 use specula_formats::samples_csv::SampleSet;
 use specula_formats::utia::{self, UtiaBrdf};
-use specula_reconstruct::energy::{albedo_per_incidence, HELD_ALBEDO, INCIDENCES_DEG};
+use specula_reconstruct::energy::{worst_albedo, HELD_ALBEDO};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use std::fmt::{self, Write};
 use std::path::Path;
@@ -142,20 +142,11 @@ fn describe_merl(
 }
 
 /// The table's largest directional albedo over its channels and the incidences the
-/// reconstruction holds it to 1 at ([`INCIDENCES_DEG`]), in words: above 1 (beyond the
+/// reconstruction holds it to 1 at ([`worst_albedo`]), in words: above 1 (beyond the
 /// quadrature's error, [`HELD_ALBEDO`]) the table reflects more light than arrives, which no
 /// material does.
 fn albedo_in_words(table: &MerlBrdf) -> String {
-    let (incidence_deg, albedo) = INCIDENCES_DEG
-        .into_iter()
-        .zip(albedo_per_incidence(table))
-        .fold((0.0, f64::NEG_INFINITY), |best, (t, a)| {
-            if a > best.1 {
-                (t, a)
-            } else {
-                best
-            }
-        });
+    let (incidence_deg, albedo) = worst_albedo(table);
     let verdict = if albedo > HELD_ALBEDO {
         ": above 1, the table reflects more light than arrives (no material does)"
     } else {
