@@ -26,7 +26,8 @@ if [ "$#" -eq 0 ]; then
     set -- chrome green-paint sgd:red-metallic-paint nbrdf:alum-bronze \
         "$here"/tools/instrument_truths/chrome-ggx-0.011.toml \
         "$here"/tools/instrument_truths/two-lobe-silver-haze.toml abc:polyethylene \
-        paint-red-high-gloss
+        paint-red-high-gloss nbrdf:aluminium nbrdf:nickel nbrdf:chrome nbrdf:tungsten-carbide \
+        nbrdf:steel nbrdf:chrome-steel
     rgl="$here/../shared/data/measured/rgl_bsdf"
     if [ -d "$rgl" ]; then
         set -- "$@" "$rgl"/cc_ibiza_sunset_rgb.bsdf "$rgl"/paper_white_rgb.bsdf \

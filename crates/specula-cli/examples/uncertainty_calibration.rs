@@ -6,7 +6,9 @@
 //!   cargo run --release -p specula-cli --example uncertainty_calibration -- T.binary=TRUTH ...
 //!
 //! Per table, the median of each term over the measured and interpolated cells within
-//! 75 deg at the calibrated scales; `GRID=1` adds the coverage grid. `WRITE=1` rewrites
+//! 75 deg at the calibrated scales; `COV=1` adds the cell coverage at those scales (a line
+//! `COV TABLE FRACTION`), `GRID=1` the coverage grid, `BANDS=1` the coverage and the terms'
+//! medians by theta_h band. `WRITE=1` rewrites
 //! `T.uncertainty.binary` with the estimate of this build (as `specula measure` would write
 //! it from the same session). `BATCHES=389,536,635` times what the sequential main stage
 //! does after each batch of that many samples (the table without the response, then its
@@ -67,6 +69,17 @@ fn main() -> anyhow::Result<()> {
         for line in default.lines() {
             println!("{line}");
         }
+        if std::env::var_os("COV").is_some() {
+            let c = cell_coverage(&table, &default.absolute(&table), &provenance, &truth, 75.0);
+            println!(
+                "COV {} {:.4}",
+                table_path.display(),
+                c.both.fraction().unwrap_or(f64::NAN)
+            );
+        }
+        if std::env::var_os("BANDS").is_some() {
+            bands(&table, &terms, &provenance, &truth);
+        }
         if std::env::var_os("GRID").is_none() {
             continue;
         }
@@ -90,9 +103,6 @@ fn main() -> anyhow::Result<()> {
                 print!(" {:>7.4}", c.both.fraction().unwrap_or(f64::NAN));
             }
             println!();
-        }
-        if std::env::var_os("BANDS").is_some() {
-            bands(&table, &terms, &provenance, &truth);
         }
     }
     Ok(())
@@ -156,8 +166,9 @@ fn term_medians(table: &MerlBrdf, terms: &Terms, provenance: &Provenance) {
     );
 }
 
-/// Coverage by theta_h band at the scales `BANDS_RECONSTRUCTION` and `BANDS_DEBLUR` (0.25 and
-/// 0.5 unless given): where the uncertainty falls short.
+/// Coverage and the terms' medians by theta_h band at the scales `BANDS_RECONSTRUCTION` and
+/// `BANDS_DEBLUR` (the calibrated ones unless given): where the uncertainty falls short or
+/// runs long, and which term sets it.
 fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlBrdf) {
     use specula_core::merl::Bin;
     let scale = |name: &str, default: f64| {
@@ -166,9 +177,10 @@ fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlB
             .and_then(|v| v.parse().ok())
             .unwrap_or(default)
     };
+    let calibrated = Scales::default();
     let scales = Scales {
-        reconstruction: scale("BANDS_RECONSTRUCTION", 0.25),
-        deblur: scale("BANDS_DEBLUR", 0.5),
+        reconstruction: scale("BANDS_RECONSTRUCTION", calibrated.reconstruction),
+        deblur: scale("BANDS_DEBLUR", calibrated.deblur),
     };
     println!("by theta_h band at {scales:?}:");
     let u = terms.combined(table, provenance, scales);
@@ -181,6 +193,7 @@ fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlB
         (40.0, 90.0),
     ] {
         let (mut n, mut ok, mut above, mut ratio) = (0, 0, 0, Vec::new());
+        let mut by_source: [Vec<f64>; 4] = Default::default();
         for i in 0..specula_core::merl::CELLS {
             let th = Bin::from_index(i).centre_deg()[0];
             if th < lo || th >= hi || provenance.cells[i].is_extrapolated() {
@@ -192,6 +205,14 @@ fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlB
             let (Some(v), Some(uu), Some(t)) = (table.cell(i), abs.cell(i), truth.cell(i)) else {
                 continue;
             };
+            if let Some(cell) = terms.cell_terms(i, table, provenance, scales) {
+                for t in cell {
+                    by_source[0].push(t.noise.hypot(t.calibration));
+                    by_source[1].push(t.reconstruction);
+                    by_source[2].push(t.extrapolation);
+                    by_source[3].push(t.deblurring);
+                }
+            }
             for c in 0..3 {
                 n += 1;
                 let e = (v[c] - t[c]).abs();
@@ -210,6 +231,14 @@ fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlB
                 .copied()
                 .unwrap_or(0.0)
         };
+        let med = |v: &mut Vec<f64>| 100.0 * specula_core::statistics::median(v);
+        println!(
+            "  terms med % noise+cal {:.2} recon {:.2} extrap {:.2} deblur {:.2}",
+            med(&mut by_source[0]),
+            med(&mut by_source[1]),
+            med(&mut by_source[2]),
+            med(&mut by_source[3])
+        );
         println!("theta_h {lo}-{hi}: {n} values, covered {:.3}, above {above}, rel err median {:.3} p90 {:.3}", ok as f64 / n.max(1) as f64, q(0.5), q(0.9));
     }
 }
