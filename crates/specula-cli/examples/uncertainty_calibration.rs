@@ -6,8 +6,8 @@
 //!   cargo run --release -p specula-cli --example uncertainty_calibration -- T.binary=TRUTH ...
 //!
 //! Per table, the median of each term over the measured and interpolated cells within
-//! 75 deg at the calibrated scales; `COV=1` adds the cell coverage at those scales (a line
-//! `COV TABLE FRACTION`), `GRID=1` the coverage grid, `BANDS=1` the coverage and the terms'
+//! 75 deg at the calibrated scales; `COV=1` adds the cell coverage at those scales or at
+//! `COV_RECONSTRUCTION` and `COV_DEBLUR` (a line `COV TABLE FRACTION`), `GRID=1` the coverage grid, `BANDS=1` the coverage and the terms'
 //! medians by theta_h band. `WRITE=1` rewrites
 //! `T.uncertainty.binary` with the estimate of this build (as `specula measure` would write
 //! it from the same session). `BATCHES=389,536,635` times what the sequential main stage
@@ -70,7 +70,9 @@ fn main() -> anyhow::Result<()> {
             println!("{line}");
         }
         if std::env::var_os("COV").is_some() {
-            let c = cell_coverage(&table, &default.absolute(&table), &provenance, &truth, 75.0);
+            let scales = scales_from_env("COV", Scales::default());
+            let u = terms.combined(&table, &provenance, scales);
+            let c = cell_coverage(&table, &u.absolute(&table), &provenance, &truth, 75.0);
             println!(
                 "COV {} {:.4}",
                 table_path.display(),
@@ -166,22 +168,27 @@ fn term_medians(table: &MerlBrdf, terms: &Terms, provenance: &Provenance) {
     );
 }
 
+/// The scales `{PREFIX}_RECONSTRUCTION` and `{PREFIX}_DEBLUR` where they are set, else
+/// `calibrated`'s.
+fn scales_from_env(prefix: &str, calibrated: Scales) -> Scales {
+    let scale = |name: &str, default: f64| {
+        std::env::var(format!("{prefix}_{name}"))
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    Scales {
+        reconstruction: scale("RECONSTRUCTION", calibrated.reconstruction),
+        deblur: scale("DEBLUR", calibrated.deblur),
+    }
+}
+
 /// Coverage and the terms' medians by theta_h band at the scales `BANDS_RECONSTRUCTION` and
 /// `BANDS_DEBLUR` (the calibrated ones unless given): where the uncertainty falls short or
 /// runs long, and which term sets it.
 fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlBrdf) {
     use specula_core::merl::Bin;
-    let scale = |name: &str, default: f64| {
-        std::env::var(name)
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(default)
-    };
-    let calibrated = Scales::default();
-    let scales = Scales {
-        reconstruction: scale("BANDS_RECONSTRUCTION", calibrated.reconstruction),
-        deblur: scale("BANDS_DEBLUR", calibrated.deblur),
-    };
+    let scales = scales_from_env("BANDS", Scales::default());
     println!("by theta_h band at {scales:?}:");
     let u = terms.combined(table, provenance, scales);
     let abs = u.absolute(table);
