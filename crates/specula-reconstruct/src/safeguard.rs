@@ -958,16 +958,17 @@ mod tests {
         let samples = along_theta_h(&flat, &response);
         let limit = width_detection_limit_deg(response.resolution_deg());
         assert!(spiky.shape.half_width_deg() < limit);
-        let spike = tabulated(&spiky).cell(peak_cell()).unwrap().y;
-        let body = tabulated(&flat).cell(peak_cell()).unwrap().y;
-        assert!(spike > 1.1 * body, "{spike} {body}");
-        let (kept, guard, replaced) = safeguarded(
-            &samples,
-            tabulated(&spiky),
-            Some(&spiky),
-            &response,
-            &tabulated(&flat),
-        );
+        let flat_table = tabulated(&flat);
+        let body = flat_table.cell(peak_cell()).unwrap().y;
+        // The spike as the deblurred table, checked against the flat table; the spike shows
+        // in the table's peak cell.
+        let guard_of = |spiky: &Lobe| {
+            let table = tabulated(spiky);
+            let spike = table.cell(peak_cell()).unwrap().y;
+            assert!(spike > 1.1 * body, "{spike} {body}");
+            safeguarded(&samples, table, Some(spiky), &response, &flat_table)
+        };
+        let (kept, guard, replaced) = guard_of(&spiky);
         let checked = guard
             .deblurred
             .as_ref()
@@ -988,15 +989,7 @@ mod tests {
         // too weak for them to see: the flat values take its place all the same.
         let visible_width = spiked(flat, 0.008, 1e-6);
         assert!(visible_width.shape.half_width_deg() > limit);
-        let spike = tabulated(&visible_width).cell(peak_cell()).unwrap().y;
-        assert!(spike > 1.1 * body, "{spike} {body}");
-        let (kept, guard, _) = safeguarded(
-            &samples,
-            tabulated(&visible_width),
-            Some(&visible_width),
-            &response,
-            &tabulated(&flat),
-        );
+        let (kept, guard, _) = guard_of(&visible_width);
         assert!(guard.fallback_below_deg.is_some(), "{guard:?}");
         assert_eq!(kept.cell(peak_cell()).unwrap().y, body);
 
@@ -1008,7 +1001,7 @@ mod tests {
             tabulated(&sharp),
             Some(&sharp),
             &response,
-            &tabulated(&flat),
+            &flat_table,
         );
         assert_eq!(guard.fallback_below_deg, None, "{guard:?}");
     }
