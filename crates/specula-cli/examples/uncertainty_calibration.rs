@@ -70,7 +70,7 @@ fn main() -> anyhow::Result<()> {
             println!("{line}");
         }
         if std::env::var_os("COV").is_some() {
-            let scales = scales_from_env("COV", Scales::default());
+            let scales = scales_from_env("COV", Scales::default())?;
             let u = terms.combined(&table, &provenance, scales);
             let c = cell_coverage(&table, &u.absolute(&table), &provenance, &truth, 75.0);
             println!(
@@ -80,7 +80,7 @@ fn main() -> anyhow::Result<()> {
             );
         }
         if std::env::var_os("BANDS").is_some() {
-            bands(&table, &terms, &provenance, &truth);
+            bands(&table, &terms, &provenance, &truth)?;
         }
         if std::env::var_os("GRID").is_none() {
             continue;
@@ -169,26 +169,34 @@ fn term_medians(table: &MerlBrdf, terms: &Terms, provenance: &Provenance) {
 }
 
 /// The scales `{PREFIX}_RECONSTRUCTION` and `{PREFIX}_DEBLUR` where they are set, else
-/// `calibrated`'s.
-fn scales_from_env(prefix: &str, calibrated: Scales) -> Scales {
-    let scale = |name: &str, default: f64| {
-        std::env::var(format!("{prefix}_{name}"))
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(default)
+/// `calibrated`'s; an error names a variable that is not a number.
+fn scales_from_env(prefix: &str, calibrated: Scales) -> anyhow::Result<Scales> {
+    let scale = |name: &str, default: f64| -> anyhow::Result<f64> {
+        let variable = format!("{prefix}_{name}");
+        match std::env::var(&variable) {
+            Ok(v) => v
+                .parse()
+                .map_err(|_| anyhow::anyhow!("{variable}={v}: expected a number")),
+            Err(_) => Ok(default),
+        }
     };
-    Scales {
-        reconstruction: scale("RECONSTRUCTION", calibrated.reconstruction),
-        deblur: scale("DEBLUR", calibrated.deblur),
-    }
+    Ok(Scales {
+        reconstruction: scale("RECONSTRUCTION", calibrated.reconstruction)?,
+        deblur: scale("DEBLUR", calibrated.deblur)?,
+    })
 }
 
 /// Coverage and the terms' medians by theta_h band at the scales `BANDS_RECONSTRUCTION` and
 /// `BANDS_DEBLUR` (the calibrated ones unless given): where the uncertainty falls short or
 /// runs long, and which term sets it.
-fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlBrdf) {
+fn bands(
+    table: &MerlBrdf,
+    terms: &Terms,
+    provenance: &Provenance,
+    truth: &MerlBrdf,
+) -> anyhow::Result<()> {
     use specula_core::merl::Bin;
-    let scales = scales_from_env("BANDS", Scales::default());
+    let scales = scales_from_env("BANDS", Scales::default())?;
     println!("by theta_h band at {scales:?}:");
     let u = terms.combined(table, provenance, scales);
     let abs = u.absolute(table);
@@ -248,4 +256,5 @@ fn bands(table: &MerlBrdf, terms: &Terms, provenance: &Provenance, truth: &MerlB
         );
         println!("theta_h {lo}-{hi}: {n} values, covered {:.3}, above {above}, rel err median {:.3} p90 {:.3}", ok as f64 / n.max(1) as f64, q(0.5), q(0.9));
     }
+    Ok(())
 }
