@@ -12,6 +12,7 @@
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::Plan;
 use specula_core::HalfDiff;
+use std::cmp::Reverse;
 
 /// The three axes of the lattice, in its index order.
 pub(crate) const AXES: usize = 3;
@@ -107,9 +108,20 @@ impl CandidateLattice {
     }
 
     /// Chooses the nodes a first design measures: on each axis every `stride`-th node and the
-    /// last, and on phi_d over a half-turn the node at 90 deg too, for the strides whose
-    /// reachable product is the largest with at most `max_samples` positions (ties to the
-    /// finer theta_h, where the peak is); the coarsest when none is that small.
+    /// last, and on phi_d over a half-turn the node at 90 deg too. Of the strides whose
+    /// reachable product has at most `max_samples` positions, the finest on theta_h down to
+    /// [`FIRST_THETA_H_NODES`] nodes, then the largest product; the coarsest when none is
+    /// that small.
+    ///
+    /// theta_h comes first because its nodes are the sampling function's (paper 5.2), fitted
+    /// to the material's peak from the probe, while theta_d and phi_d are the grid's uniform
+    /// steps, which the batches refine where the table asks for it. The largest product alone
+    /// took every third theta_h and every theta_d on near-diffuse materials (6 theta_h planes
+    /// 15 deg apart, 50 theta_d ones), whose structure in theta_h no batch could afford to fill
+    /// in: a theta_h plane at every theta_d and phi_d costs more than the time left. Finer
+    /// than [`FIRST_THETA_H_NODES`] it does not go: the grid for a peak the instrument does
+    /// not resolve has about 30 theta_h nodes, most of them within the instrument's
+    /// resolution, and taking them all left the first design 5 theta_d planes.
     ///
     /// The halves of phi_d (0 to 90 and 90 to 180 deg) are reconstructed apart, each from its
     /// own planes: without the plane at 90 deg where they meet, every other stride would
@@ -130,9 +142,16 @@ impl CandidateLattice {
         });
         let (fitting, too_large): (Vec<_>, Vec<_>) =
             designs.partition(|(count, ..)| *count <= max_samples);
+        let finest_theta_h = (1..lens[0].max(1))
+            .find(|&stride| {
+                every(lens[0], stride).iter().filter(|&&c| c).count() <= FIRST_THETA_H_NODES
+            })
+            .unwrap_or(1);
+        // Strides at or above the finest allowed first, the finest of them first; finer ones last.
+        let theta_h_rank = |stride: usize| (stride >= finest_theta_h, Reverse(stride));
         let best = fitting
             .into_iter()
-            .max_by(|a, b| a.0.cmp(&b.0).then(b.1[0].cmp(&a.1[0])))
+            .max_by_key(|(count, stride, _)| (theta_h_rank(stride[0]), *count))
             .or_else(|| too_large.into_iter().min_by_key(|d| d.0));
         if let Some((_, _, chosen)) = best {
             self.chosen = chosen;
@@ -193,6 +212,10 @@ impl CandidateLattice {
         self.product(&plane).len()
     }
 }
+
+/// A first design takes theta_h nodes no finer than this many: the recommended grid's theta_h
+/// count, every node of its axis ([`CandidateLattice::choose_initial`]).
+const FIRST_THETA_H_NODES: usize = 16;
 
 /// Every `stride`-th of `len` nodes, and the last.
 fn every(len: usize, stride: usize) -> Vec<bool> {
@@ -279,6 +302,53 @@ mod tests {
         more[1][free] = true;
         let words = lattice.planes_added_by(&more);
         assert_eq!(words, format!("theta_d {} deg", 1.5 + 3.0 * free as f64));
+    }
+
+    /// The first design takes every theta_h node (the sampling function's, fitted to the
+    /// peak) when a design with all of them fits, however many theta_d planes that leaves to
+    /// the batches; with less room every second theta_h node. The largest design alone would
+    /// take every third theta_h node and every theta_d one here.
+    #[test]
+    fn a_first_design_takes_the_finest_theta_h_that_fits() {
+        let device = utia();
+        let candidates = || {
+            CandidateLattice::new(
+                (0..16).map(|i| (i * i) as f64 * 0.2).collect(),
+                (0..50).map(|i| 1.5 * (1 + i) as f64).collect(),
+                (0..7).map(|i| 30.0 * i as f64).collect(),
+                45.0,
+                &device,
+            )
+        };
+        let count = |chosen: &[bool]| chosen.iter().filter(|&&c| c).count();
+        let mut roomy = candidates();
+        roomy.choose_initial(800);
+        assert_eq!(count(&roomy.chosen[0]), 16, "{}", roomy.design_text());
+        assert!(count(&roomy.chosen[1]) < 50, "{}", roomy.design_text());
+        assert!(roomy.chosen_product().len() <= 800);
+        let mut tight = candidates();
+        tight.choose_initial(100);
+        let every_second: Vec<bool> = (0..16).map(|i| i % 2 == 0 || i == 15).collect();
+        assert_eq!(tight.chosen[0], every_second, "{}", tight.design_text());
+        assert!(tight.chosen_product().len() <= 100);
+    }
+
+    /// The grid for a peak the instrument does not resolve has 28 theta_h nodes, most of
+    /// them within the resolution: the first design takes every second one (15, at most
+    /// [`FIRST_THETA_H_NODES`]), not all 28 with fewer theta_d planes.
+    #[test]
+    fn a_first_design_takes_every_second_theta_h_of_an_unresolved_peak() {
+        let device = utia();
+        let mut lattice = CandidateLattice::new(
+            (0..28).map(|i| (i * i) as f64 * 0.07).collect(),
+            (0..30).map(|i| 3.0 * (1 + i) as f64).collect(),
+            (0..7).map(|i| 30.0 * i as f64).collect(),
+            45.0,
+            &device,
+        );
+        lattice.choose_initial(600);
+        assert_eq!(lattice.chosen[0], every(28, 2), "{}", lattice.design_text());
+        assert!(lattice.chosen_product().len() <= 600);
     }
 
     /// Each half of phi_d holds both its ends whatever the stride: with every other node

@@ -326,43 +326,54 @@ fn next_batch(
     let left_s = TIME_MARGIN * limits.max_hours * 3600.0 - spent_s;
     let samples_left = limits.max_samples.saturating_sub(plan.len());
     let per_sample_s = pace.taken_s / plan.len().max(1) as f64;
-    let batch_s = (BATCH_SHARE * left_s).max(MIN_BATCH_S.min(left_s));
-    let mut chosen = lattice.chosen.clone();
     let measured: BTreeSet<[usize; AXES]> = lattice.chosen_product().into_iter().collect();
-    let mut picks: Vec<[Vec<bool>; AXES]> = Vec::new();
-    loop {
-        let current = lattice.product(&chosen).len() - measured.len();
-        let room = samples_left.saturating_sub(current).min(
-            ((batch_s / per_sample_s.max(f64::MIN_POSITIVE)) as usize).saturating_sub(current),
-        );
-        let Some((axis, node)) = best_plane(lattice, forecast, &chosen, per_sample_s, room) else {
-            break;
-        };
-        chosen[axis][node] = true;
-        picks.push(chosen.clone());
-    }
-    while let Some(candidate) = picks.pop() {
-        let positions: Vec<[usize; AXES]> = lattice
-            .product(&candidate)
-            .into_iter()
-            .filter(|p| !measured.contains(p))
-            .collect();
-        let rows = priced_rows(
-            lattice,
-            &positions,
-            plan.len(),
-            device,
-            spec,
-            predictor,
-            engine,
-        );
-        let time_s = pace.ratio() * rows.iter().map(|r| r.predicted_s).sum::<f64>();
-        if !rows.is_empty() && time_s <= left_s {
-            return Decision::Batch {
-                chosen: candidate,
-                rows,
+    // The planes with the most credit per second whose samples take at most `cap_s`, priced;
+    // `None` when no plane's do.
+    let batch_within = |cap_s: f64| -> Option<Decision> {
+        let mut chosen = lattice.chosen.clone();
+        let mut picks: Vec<[Vec<bool>; AXES]> = Vec::new();
+        loop {
+            let current = lattice.product(&chosen).len() - measured.len();
+            let room = samples_left.saturating_sub(current).min(
+                ((cap_s / per_sample_s.max(f64::MIN_POSITIVE)) as usize).saturating_sub(current),
+            );
+            let Some((axis, node)) = best_plane(lattice, forecast, &chosen, per_sample_s, room)
+            else {
+                break;
             };
+            chosen[axis][node] = true;
+            picks.push(chosen.clone());
         }
+        while let Some(candidate) = picks.pop() {
+            let positions: Vec<[usize; AXES]> = lattice
+                .product(&candidate)
+                .into_iter()
+                .filter(|p| !measured.contains(p))
+                .collect();
+            let rows = priced_rows(
+                lattice,
+                &positions,
+                plan.len(),
+                device,
+                spec,
+                predictor,
+                engine,
+            );
+            let time_s = pace.ratio() * rows.iter().map(|r| r.predicted_s).sum::<f64>();
+            if !rows.is_empty() && time_s <= left_s {
+                return Some(Decision::Batch {
+                    chosen: candidate,
+                    rows,
+                });
+            }
+        }
+        None
+    };
+    // A batch takes at most BATCH_SHARE of the time left, so that the next one decides on
+    // its samples; when no plane fits in that, the last batch may take all of it.
+    let batch_s = (BATCH_SHARE * left_s).max(MIN_BATCH_S.min(left_s));
+    if let Some(decision) = batch_within(batch_s).or_else(|| batch_within(left_s)) {
+        return decision;
     }
     Decision::Stop(if samples_left == 0 {
         format!("{} samples, the most allowed", plan.len())
