@@ -14,7 +14,8 @@
 //!    from a gap ([`forecast::Forecast`]); choose the planes with the most credit per second of
 //!    device time, priced by the ordering's time model and scaled by how much longer than
 //!    priced the samples so far took ([`pace::Pace`]), into a batch of at most half the time
-//!    left; order, price and measure it;
+//!    left (when no plane fits in half, a last batch of at most all of it); order, price and
+//!    measure it;
 //! 3. **stop** at the first limit: the session's device time (`max_hours`: checks, probe and
 //!    main stage), the sample count, the table's median relative uncertainty
 //!    (`target_uncertainty_rel`), or
@@ -299,7 +300,8 @@ enum Decision {
     Stop(String),
 }
 
-/// The next batch: the planes with the most credit per second, within the limits; its price
+/// The next batch: the planes with the most credit per second, within the limits and at most
+/// [`BATCH_SHARE`] of the time left (all of it when no plane fits in that share); its price
 /// scaled by how much longer than priced the samples so far took (`pace`).
 #[allow(clippy::too_many_arguments)]
 fn next_batch(
