@@ -11,7 +11,7 @@
 
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::Plan;
-use specula_core::HalfDiff;
+use specula_core::{GridSpec, HalfDiff};
 use std::cmp::Reverse;
 
 /// The three axes of the lattice, in its index order.
@@ -215,7 +215,7 @@ impl CandidateLattice {
 
 /// A first design takes theta_h nodes no finer than this many: the recommended grid's theta_h
 /// count, every node of its axis ([`CandidateLattice::choose_initial`]).
-const FIRST_THETA_H_NODES: usize = 16;
+const FIRST_THETA_H_NODES: usize = GridSpec::recommended().theta_h_samples;
 
 /// Every `stride`-th of `len` nodes, and the last.
 fn every(len: usize, stride: usize) -> Vec<bool> {
