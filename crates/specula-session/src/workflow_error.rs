@@ -162,6 +162,23 @@ pub enum WorkflowError {
         /// The session journal.
         session: PathBuf,
     },
+    /// The session's time limit leaves too little after the checks and the probe for even
+    /// the coarsest first design of the main stage.
+    #[error("{session}: --max-hours {limit_h} leaves {left_h:.2} h after the checks and the probe ({spent_h:.2} h), and the coarsest first design of the material takes {needed_h:.2} h; measure into a new --session with --max-hours {suggested_h:.1} or more")]
+    NoTimeLeft {
+        /// The session journal.
+        session: PathBuf,
+        /// The session's time limit, hours.
+        limit_h: f64,
+        /// The device time the checks and the probe took, hours.
+        spent_h: f64,
+        /// The time left for the main stage, hours (0 when the limit is spent).
+        left_h: f64,
+        /// The coarsest first design's priced time, hours.
+        needed_h: f64,
+        /// A time limit that holds the coarsest first design and the batches after it, hours.
+        suggested_h: f64,
+    },
     /// A stage the summary needs is not in the journal.
     #[error("the journal has no {0}")]
     MissingStage(&'static str),

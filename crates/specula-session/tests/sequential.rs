@@ -7,6 +7,7 @@ use specula_core::{GridSpec, ThetaDSteps};
 use specula_session::engine::{Progress, StageOutcome};
 use specula_session::journal::{Journal, SequenceRecord, SequentialSettings};
 use specula_session::workflow::{measure, MeasureOutcome, MeasureSettings, Observer, Source};
+use specula_session::workflow_error::WorkflowError;
 use specula_session::Stage;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -99,6 +100,15 @@ fn a_sequential_measurement_keeps_its_time_limit_and_resumes_to_the_same_table()
     );
     let sequence = record(whole.path());
     assert!(sequence.batches.len() >= 2, "{sequence:?}");
+    // The first design takes at most 60 % of the time the checks and the probe left (with the
+    // decisions' 3 % margin).
+    let first_design = &sequence.batches[0];
+    let left_s = 0.97 * MAX_HOURS * 3600.0 - first_design.device_s_before;
+    assert!(
+        first_design.predicted_s <= 0.6 * left_s,
+        "{} s of {left_s} s left",
+        first_design.predicted_s
+    );
     assert!(sequence.batches[0].median_uncertainty_rel.is_none());
     assert!(sequence.batches[1..]
         .iter()
@@ -141,4 +151,50 @@ fn a_sequential_measurement_keeps_its_time_limit_and_resumes_to_the_same_table()
         bytes(whole.path()) == bytes(resumed.path()),
         "the tables differ"
     );
+}
+
+#[test]
+fn a_time_limit_the_checks_and_the_probe_use_up_measures_nothing_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut settings = settings();
+    settings.sequential = Some(SequentialSettings {
+        max_hours: 0.01,
+        ..SequentialSettings::default()
+    });
+    let never = Arc::new(AtomicBool::new(false));
+    let mut quiet = StopAfter {
+        after: usize::MAX,
+        stop: never.clone(),
+        stage: None,
+    };
+    let session = dir.path().join("s.sqlite");
+    let result = measure(
+        Source::Simulated {
+            truth: Arc::new(preset("silver-925").unwrap()),
+            speedup: None,
+        },
+        &Device::utia(),
+        &settings,
+        None,
+        &session,
+        &dir.path().join("s.binary"),
+        never,
+        &mut quiet,
+    );
+    let Err(WorkflowError::NoTimeLeft {
+        limit_h,
+        spent_h,
+        suggested_h,
+        ..
+    }) = result
+    else {
+        panic!("measured with no time left");
+    };
+    assert_eq!(limit_h, 0.01);
+    assert!(spent_h > limit_h, "{spent_h} h");
+    assert!(suggested_h > spent_h, "{suggested_h} h after {spent_h} h");
+    // Nothing of the main stage was planned, and no table was written.
+    let journal = Journal::open_read_only(&session).unwrap();
+    assert!(journal.plan(Stage::Main).unwrap().is_empty());
+    assert!(!dir.path().join("s.binary").exists());
 }

@@ -63,6 +63,10 @@ const BATCH_SHARE: f64 = 0.5;
 /// as taken, predict a batch within a few per cent (the guide's performance page), and the
 /// limit is a limit.
 const TIME_MARGIN: f64 = 0.97;
+/// The first design's cap is searched to within this fraction of itself.
+const CAP_TOLERANCE: f64 = 0.02;
+/// At most this many first designs are priced while searching the cap.
+const MAX_PRICINGS: usize = 16;
 /// A batch is never planned for less than this, seconds: below it the reconstruction between
 /// batches would cost more than it decides.
 const MIN_BATCH_S: f64 = 300.0;
@@ -113,6 +117,21 @@ pub(crate) fn run(
     if stored.is_empty() {
         let budget_s = TIME_MARGIN * spec.limits.max_hours * 3600.0 - spec.before_main_s;
         let rows = first_design(&mut lattice, device, spec, predictor, engine, budget_s);
+        let first_s: f64 = rows.iter().map(|r| r.predicted_s).sum();
+        if first_s > budget_s {
+            let hours = |s: f64| s / 3600.0;
+            return Err(WorkflowError::NoTimeLeft {
+                session: engine.journal.path().to_path_buf(),
+                limit_h: spec.limits.max_hours,
+                spent_h: hours(spec.before_main_s),
+                left_h: hours(budget_s.max(0.0)),
+                needed_h: hours(first_s),
+                suggested_h: (hours(spec.before_main_s + first_s / INITIAL_SHARE) / TIME_MARGIN
+                    * 10.0)
+                    .ceil()
+                    / 10.0,
+            });
+        }
         observer.step(&format!(
             "sequential: a first design of {} samples, then batches where the table is least sure",
             rows.len()
@@ -192,8 +211,15 @@ fn batch_record(
     }
 }
 
-/// The first design: the finest coarse sub-lattice whose priced time is at most
-/// [`INITIAL_SHARE`] of `budget_s`, as journal rows.
+/// The first design: the best-ranked coarse sub-lattice
+/// ([`CandidateLattice::choose_initial`]) whose priced time is at most [`INITIAL_SHARE`] of
+/// `budget_s`, as journal rows; the coarsest when none is.
+///
+/// The design is chosen by a sample cap, and its time grows with the cap, so the cap is
+/// found by bisection: shrunk in proportion to the time until a design fits, then halved
+/// between the largest cap that fits and the smallest design that does not, until they are
+/// within [`CAP_TOLERANCE`] of each other. A single proportional step lands well under the
+/// share when the designs' counts jump (nbrdf:aluminium: 351 samples, 79 % of the share).
 fn first_design(
     lattice: &mut CandidateLattice,
     device: &Device,
@@ -202,21 +228,49 @@ fn first_design(
     engine: &Engine,
     budget_s: f64,
 ) -> Vec<PlannedRow> {
-    let mut max_samples = spec.limits.max_samples;
-    loop {
-        lattice.choose_initial(max_samples);
+    let share_s = INITIAL_SHARE * budget_s;
+    let price = |lattice: &mut CandidateLattice, cap: usize| {
+        lattice.choose_initial(cap);
         let positions = lattice.chosen_product();
         let rows = priced_rows(lattice, &positions, 0, device, spec, predictor, engine);
         let time_s: f64 = rows.iter().map(|r| r.predicted_s).sum();
-        if time_s <= INITIAL_SHARE * budget_s || positions.len() <= 1 || max_samples <= 1 {
-            return rows;
+        (time_s, positions.len(), rows)
+    };
+    // The largest cap known to fit, with its design; the smallest count known not to.
+    let mut fitting: Option<(usize, [Vec<bool>; AXES], Vec<PlannedRow>)> = None;
+    let mut too_long: Option<usize> = None;
+    let mut cap = spec.limits.max_samples;
+    for _ in 0..MAX_PRICINGS {
+        let (time_s, count, rows) = price(lattice, cap);
+        if time_s <= share_s {
+            fitting = Some((cap, lattice.chosen.clone(), rows));
+        } else {
+            too_long = Some(count);
         }
-        let shrink = (INITIAL_SHARE * budget_s / time_s).clamp(0.1, 0.9);
-        let smaller = ((positions.len() as f64 * shrink) as usize).max(1);
-        if smaller >= max_samples {
-            return rows;
+        let next = match (&fitting, too_long) {
+            // The largest cap fits, or nothing is left between the two.
+            (Some(_), None) => break,
+            (Some((lo, ..)), Some(hi))
+                if hi <= lo + ((*lo as f64 * CAP_TOLERANCE) as usize).max(1) =>
+            {
+                break
+            }
+            (Some((lo, ..)), Some(hi)) => lo + (hi - lo) / 2,
+            (None, _) => (count as f64 * (share_s / time_s).clamp(0.1, 0.9)) as usize,
+        };
+        // With nothing fitting, a design larger than its cap is the coarsest: no smaller one.
+        if fitting.is_none() && (next == 0 || count > cap) {
+            break;
         }
-        max_samples = smaller;
+        cap = next;
+    }
+    match fitting {
+        Some((_, chosen, rows)) => {
+            lattice.chosen = chosen;
+            rows
+        }
+        // None fits: the coarsest.
+        None => price(lattice, 1).2,
     }
 }
 
