@@ -54,21 +54,30 @@ impl Observer for StopAfter {
     fn stage_finished(&mut self, _: Stage, _: &StageOutcome) {}
 }
 
-fn run(dir: &Path, observer: &mut dyn Observer, stop: Arc<AtomicBool>) -> MeasureOutcome {
+/// Measures silver-925 on the simulated device into `dir`'s `s.sqlite` and `s.binary`.
+fn measure_silver(
+    dir: &Path,
+    settings: &MeasureSettings,
+    observer: &mut dyn Observer,
+    stop: Arc<AtomicBool>,
+) -> Result<MeasureOutcome, WorkflowError> {
     measure(
         Source::Simulated {
             truth: Arc::new(preset("silver-925").unwrap()),
             speedup: None,
         },
         &Device::utia(),
-        &settings(),
+        settings,
         None,
         &dir.join("s.sqlite"),
         &dir.join("s.binary"),
         stop,
         observer,
     )
-    .unwrap()
+}
+
+fn run(dir: &Path, observer: &mut dyn Observer, stop: Arc<AtomicBool>) -> MeasureOutcome {
+    measure_silver(dir, &settings(), observer, stop).unwrap()
 }
 
 fn record(dir: &Path) -> SequenceRecord {
@@ -167,20 +176,7 @@ fn a_time_limit_the_checks_and_the_probe_use_up_measures_nothing_and_says_so() {
         stop: never.clone(),
         stage: None,
     };
-    let session = dir.path().join("s.sqlite");
-    let result = measure(
-        Source::Simulated {
-            truth: Arc::new(preset("silver-925").unwrap()),
-            speedup: None,
-        },
-        &Device::utia(),
-        &settings,
-        None,
-        &session,
-        &dir.path().join("s.binary"),
-        never,
-        &mut quiet,
-    );
+    let result = measure_silver(dir.path(), &settings, &mut quiet, never);
     let Err(WorkflowError::NoTimeLeft {
         limit_h,
         spent_h,
@@ -194,7 +190,7 @@ fn a_time_limit_the_checks_and_the_probe_use_up_measures_nothing_and_says_so() {
     assert!(spent_h > limit_h, "{spent_h} h");
     assert!(suggested_h > spent_h, "{suggested_h} h after {spent_h} h");
     // Nothing of the main stage was planned, and no table was written.
-    let journal = Journal::open_read_only(&session).unwrap();
+    let journal = Journal::open_read_only(&dir.path().join("s.sqlite")).unwrap();
     assert!(journal.plan(Stage::Main).unwrap().is_empty());
     assert!(!dir.path().join("s.binary").exists());
 }
