@@ -219,7 +219,8 @@ fn batch_record(
 /// found by bisection: shrunk in proportion to the time until a design fits, then halved
 /// between the largest cap that fits and the smallest design that does not, until they are
 /// within [`CAP_TOLERANCE`] of each other. A single proportional step lands well under the
-/// share when the designs' counts jump (nbrdf:aluminium: 351 samples, 79 % of the share).
+/// share when the designs' counts jump (nbrdf:aluminium: 351 samples, 79 % of the share,
+/// where the search takes 432, 97 %).
 fn first_design(
     lattice: &mut CandidateLattice,
     device: &Device,
