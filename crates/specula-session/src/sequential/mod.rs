@@ -119,18 +119,7 @@ pub(crate) fn run(
         let rows = first_design(&mut lattice, device, spec, predictor, engine, budget_s);
         let first_s: f64 = rows.iter().map(|r| r.predicted_s).sum();
         if first_s > budget_s {
-            let hours = |s: f64| s / 3600.0;
-            return Err(WorkflowError::NoTimeLeft {
-                session: engine.journal.path().to_path_buf(),
-                limit_h: spec.limits.max_hours,
-                spent_h: hours(spec.before_main_s),
-                left_h: hours(budget_s.max(0.0)),
-                needed_h: hours(first_s),
-                suggested_h: (hours(spec.before_main_s + first_s / INITIAL_SHARE) / TIME_MARGIN
-                    * 10.0)
-                    .ceil()
-                    / 10.0,
-            });
+            return Err(no_time_left(engine, spec, budget_s, first_s));
         }
         observer.step(&format!(
             "sequential: a first design of {} samples, then batches where the table is least sure",
@@ -208,6 +197,27 @@ fn batch_record(
         predicted_s: rows.iter().map(|r| r.predicted_s).sum(),
         median_uncertainty_rel: forecast.map(|f| f.median_relative),
         planes: String::new(),
+    }
+}
+
+/// The error of a session whose checks and probe left `budget_s` for a main stage whose
+/// coarsest first design takes `first_s`, with the time limit (to a tenth of an hour, up)
+/// that would hold that design as [`INITIAL_SHARE`] of the time left.
+fn no_time_left(
+    engine: &Engine,
+    spec: &SequentialSpec,
+    budget_s: f64,
+    first_s: f64,
+) -> WorkflowError {
+    let hours = |s: f64| s / 3600.0;
+    let holding_h = hours(spec.before_main_s + first_s / INITIAL_SHARE) / TIME_MARGIN;
+    WorkflowError::NoTimeLeft {
+        session: engine.journal.path().to_path_buf(),
+        limit_h: spec.limits.max_hours,
+        spent_h: hours(spec.before_main_s),
+        left_h: hours(budget_s.max(0.0)),
+        needed_h: hours(first_s),
+        suggested_h: (holding_h * 10.0).ceil() / 10.0,
     }
 }
 
