@@ -33,33 +33,23 @@ import tempfile
 
 import numpy as np
 
-# MERL's per-channel scale (1/sr per stored unit).
-MERL_SCALE = np.array([1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0])
-THETA_H_BINS, THETA_D_BINS, PHI_D_BINS = 90, 90, 180
+from merl_read_numpy import read_merl
+from tabulate_numpy import SCALE, bin_centres
+
+THETA_H_BINS = 90
 MAX_ELEVATION_DEG = 75.0
 
 
-def read_merl(path):
-    with open(path, "rb") as f:
-        dims = np.fromfile(f, dtype="<i4", count=3)
-        data = np.fromfile(f, dtype="<f8")
-    return data.reshape(3, *dims) * MERL_SCALE[:, None, None, None]
-
-
 def bin_geometry():
-    """theta_h of each bin's centre and its edges (MERL's squared spacing), radians, and the
-    light's and camera's cosines of every cell's centre."""
-    i = np.arange(THETA_H_BINS)
-    theta_h = ((i + 0.5) / THETA_H_BINS) ** 2 * np.pi / 2
+    """theta_h of each bin's centre and the bins' edges (MERL's squared spacing), radians,
+    and the light's and camera's cosines of every cell's centre."""
+    th, td, pd = bin_centres()
     edges = (np.arange(THETA_H_BINS + 1) / THETA_H_BINS) ** 2 * np.pi / 2
-    theta_d = (np.arange(THETA_D_BINS) + 0.5) / THETA_D_BINS * np.pi / 2
-    phi_d = (np.arange(PHI_D_BINS) + 0.5) / PHI_D_BINS * np.pi
-    th, td, pd = np.meshgrid(theta_h, theta_d, phi_d, indexing="ij")
     dx, dz = np.sin(td) * np.cos(pd), np.cos(td)
     # The light: the difference vector rotated by theta_h about y (Bin::to_directions).
     light_z = -np.sin(th) * dx + np.cos(th) * dz
     camera_z = np.sin(th) * dx + np.cos(th) * dz
-    return theta_h, edges, light_z, camera_z
+    return th[:, 0, 0], edges, light_z, camera_z
 
 
 def floor_table(truth, theta_h, edges, width_rad):
@@ -68,7 +58,7 @@ def floor_table(truth, theta_h, edges, width_rad):
     turns them about it)."""
     below = theta_h < width_rad
     weight = np.sin(theta_h[below]) * np.diff(edges)[below]
-    weight = weight / (weight.sum() * PHI_D_BINS)
+    weight = weight / (weight.sum() * truth.shape[3])
     # Channels x theta_d: the mean over theta_h below the width and every phi_d.
     mean = np.einsum("chdp,h->cd", truth[:, below], weight)
     floor = truth.copy()
@@ -104,7 +94,7 @@ def main():
             rel, log, paper_rel, paper_log = map(float, row[1:5])
             path = os.path.join(tmp, "truth.binary")
             subprocess.run([specula, "tabulate", name, "--out", path], check=True, capture_output=True)
-            truth = read_merl(path)
+            truth = read_merl(path) * SCALE[:, None, None, None]
             floor_rel, floor_log = figures(floor_table(truth, theta_h, edges, width_rad), truth, light_z, camera_z)
             floor_ratio = max(floor_rel / paper_rel, floor_log / paper_log)
             measured_ratio = max(rel / paper_rel, log / paper_log)

@@ -117,7 +117,7 @@ pub(crate) fn run(
     if stored.is_empty() {
         let budget_s = TIME_MARGIN * spec.limits.max_hours * 3600.0 - spec.before_main_s;
         let rows = first_design(&mut lattice, device, spec, predictor, engine, budget_s);
-        let first_s: f64 = rows.iter().map(|r| r.predicted_s).sum();
+        let first_s = priced_s(&rows);
         if first_s > budget_s {
             return Err(no_time_left(engine, spec, budget_s, first_s));
         }
@@ -183,6 +183,11 @@ pub(crate) fn run(
     }
 }
 
+/// The device time the time model predicts for `rows`, seconds.
+fn priced_s(rows: &[PlannedRow]) -> f64 {
+    rows.iter().map(|r| r.predicted_s).sum()
+}
+
 /// The record of a batch of `rows` chosen after `plan`.
 fn batch_record(
     plan: &[PlannedRow],
@@ -194,7 +199,7 @@ fn batch_record(
         samples_before: plan.len(),
         samples: rows.len(),
         device_s_before: spent_s,
-        predicted_s: rows.iter().map(|r| r.predicted_s).sum(),
+        predicted_s: priced_s(rows),
         median_uncertainty_rel: forecast.map(|f| f.median_relative),
         planes: String::new(),
     }
@@ -244,8 +249,7 @@ fn first_design(
         lattice.choose_initial(cap);
         let positions = lattice.chosen_product();
         let rows = priced_rows(lattice, &positions, 0, device, spec, predictor, engine);
-        let time_s: f64 = rows.iter().map(|r| r.predicted_s).sum();
-        (time_s, positions.len(), rows)
+        (priced_s(&rows), positions.len(), rows)
     };
     // The largest cap known to fit, with its design; the smallest count known not to.
     let mut fitting: Option<(usize, [Vec<bool>; AXES], Vec<PlannedRow>)> = None;
@@ -426,7 +430,7 @@ fn next_batch(
                 predictor,
                 engine,
             );
-            let time_s = pace.ratio() * rows.iter().map(|r| r.predicted_s).sum::<f64>();
+            let time_s = pace.ratio() * priced_s(&rows);
             if !rows.is_empty() && time_s <= left_s {
                 return Some(Decision::Batch {
                     chosen: candidate,
