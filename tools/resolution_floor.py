@@ -85,15 +85,22 @@ def main():
     specula = os.environ.get("SPECULA", "target/release/specula")
     theta_h, edges, light_z, camera_z = bin_geometry()
     width_rad = np.radians(args.width_deg)
+    try:
+        fits = open(args.fits)
+    except OSError as e:
+        sys.exit(f"error: {args.fits}: {e.strerror}")
     print("truth,floor_rel,floor_log,floor_ratio,measured_ratio")
-    with tempfile.TemporaryDirectory() as tmp, open(args.fits) as f:
+    with tempfile.TemporaryDirectory() as tmp, fits as f:
         for row in csv.reader(f):
             if not row or row[0] == "truth":
                 continue
             name = row[0]
             rel, log, paper_rel, paper_log = map(float, row[1:5])
             path = os.path.join(tmp, "truth.binary")
-            subprocess.run([specula, "tabulate", name, "--out", path], check=True, capture_output=True)
+            done = subprocess.run([specula, "tabulate", name, "--out", path], capture_output=True, text=True)
+            if done.returncode != 0:
+                cause = done.stderr.strip().removeprefix("error: ") or "specula tabulate failed"
+                sys.exit(f"error: {args.fits}: {cause}")
             truth = read_merl(path) * SCALE[:, None, None, None]
             floor_rel, floor_log = figures(floor_table(truth, theta_h, edges, width_rad), truth, light_z, camera_z)
             floor_ratio = max(floor_rel / paper_rel, floor_log / paper_log)
