@@ -229,8 +229,10 @@ fn measured_coverage_of_data_derived_truths_is_within_the_target() {
 }
 
 #[test]
-#[ignore = "fails: two-lobe-silver-haze's coverage is 0.9955 at k = 2, just above 0.995: the deblurring term allows for a lobe of the wrong shape where the table is within a few percent"]
+#[ignore = "a full simulated measurement, minutes: cargo test --release -p specula-cli --test uncertainty -- --ignored"]
 fn measured_coverage_of_a_two_lobe_truth_is_within_the_target() {
+    // 0.9955 when the deblurring term counted at every theta_h; 0.977 with it within the
+    // peak region, where the deblurred table's checks pass beyond it.
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../tools/instrument_truths/two-lobe-silver-haze.toml");
     let fraction = measured_coverage(text(&path));
@@ -238,8 +240,21 @@ fn measured_coverage_of_a_two_lobe_truth_is_within_the_target() {
 }
 
 #[test]
-#[ignore = "fails: chrome's coverage is 1.0000 at k = 2, above 0.995: on a truth of the lobe's own family the deblurred table is nearly exact, and the deblurring term allows for a lobe of the wrong shape"]
+#[ignore = "a full simulated measurement, minutes: cargo test --release -p specula-cli --test uncertainty -- --ignored"]
 fn measured_coverage_of_an_analytic_truth_is_within_the_target() {
+    // 1.0000 when the folds of the cross-validation refitted a lobe without the response and
+    // the deblurring term counted at every theta_h; 0.991 with the folds over the deblurred
+    // lobe and the term within the peak region.
     let fraction = measured_coverage("chrome");
     assert!((0.90..=0.995).contains(&fraction), "chrome: {fraction}");
+}
+
+#[test]
+#[ignore = "fails: green-paint's coverage is 0.9977 at k = 2, above 0.995: within 2 deg of the mirror direction the deblurring term allows 160 % where the coat's deblurred peak errs by 2 %, and from theta_h 8 to 20 deg the reconstruction term is 6.6 % where the table errs by 0.1 % (medians)"]
+fn measured_coverage_of_a_clear_coat_is_within_the_target() {
+    let fraction = measured_coverage("green-paint");
+    assert!(
+        (0.90..=0.995).contains(&fraction),
+        "green-paint: {fraction}"
+    );
 }

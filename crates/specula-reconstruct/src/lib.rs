@@ -42,5 +42,5 @@ pub use kernel::Kernel;
 pub use method::Method;
 pub use prior::PriorBasis;
 pub use reconstruct::{reconstruct, reconstruct_through};
-pub use reconstruction::{ReconstructError, Reconstruction};
+pub use reconstruction::{ReconstructError, Reconstruction, ResidualModel};
 pub use request::{run_reconstruct, ReconstructRequest, RunReconstructError};

@@ -18,9 +18,9 @@
 
 use crate::prior::PriorBasis;
 use crate::provenance::Provenance;
-use crate::reconstruct::reconstruct_cells;
+use crate::reconstruct::{reconstruct_cells, reconstruct_cells_over};
 use crate::sample::mirror_fold_phi_d_rad;
-use crate::{reconstruct_through, ReconstructError, Reconstruction};
+use crate::{reconstruct_through, ReconstructError, Reconstruction, ResidualModel};
 use specula_core::capture::CaptureResponse;
 use specula_core::merl::{MerlBrdf, CELLS, PHI_D_BINS};
 use specula_core::{HalfDiff, Rgb, Sample};
@@ -122,20 +122,30 @@ pub fn reconstruct_halves_with<E>(
 
 /// The cells `indices` of the table [`reconstruct_halves`] makes without a response, bit
 /// for bit ([`reconstruct_cells`]): each from the half whose table [`joined`] takes it from.
+/// With residual models (a deblurred table's, [`Reconstruction::residual_models`]), each
+/// half's cells are made over its model instead of a lobe fitted to the samples
+/// ([`reconstruct_cells_over`]; samples that do not measure both halves, over the first).
 pub fn reconstruct_halves_cells(
     samples: &[Sample],
     method: crate::Method,
     indices: &[usize],
     prior: Option<&PriorBasis>,
+    over: &[ResidualModel],
 ) -> Result<Vec<Option<Rgb>>, ReconstructError> {
+    let cells = |half: &[Sample], indices: &[usize], model: Option<&ResidualModel>| {
+        model.map_or_else(
+            || reconstruct_cells(half, method, indices, prior),
+            |model| reconstruct_cells_over(half, method, indices, model),
+        )
+    };
     if !measures_both_halves(samples) {
-        return reconstruct_cells(samples, method, indices, prior);
+        return cells(samples, indices, over.first());
     }
     let [first, second] = halves(samples);
     let (of_second, of_first): (Vec<usize>, Vec<usize>) =
         indices.iter().partition(|&&index| in_second(index));
-    let mut first = reconstruct_cells(&first, method, &of_first, prior)?.into_iter();
-    let mut second = reconstruct_cells(&second, method, &of_second, prior)?.into_iter();
+    let mut first = cells(&first, &of_first, over.first())?.into_iter();
+    let mut second = cells(&second, &of_second, over.get(1).or(over.first()))?.into_iter();
     Ok(indices
         .iter()
         .map(|&index| {
@@ -183,6 +193,7 @@ fn joined(first: Reconstruction, second: Reconstruction) -> Reconstruction {
         safeguard: None,
         deblurred_replaced: None,
         undeblurred: None,
+        residual_models: [first.residual_models, second.residual_models].concat(),
     }
 }
 
@@ -329,7 +340,7 @@ mod tests {
                 let none = None::<&dyn CaptureResponse>;
                 let table = reconstruct_halves(&samples, method, "t", none, None).unwrap();
                 assert!(table.filled_nodes > 0);
-                let read = reconstruct_halves_cells(&samples, method, &cells, None).unwrap();
+                let read = reconstruct_halves_cells(&samples, method, &cells, None, &[]).unwrap();
                 for (&index, value) in cells.iter().zip(&read) {
                     let expected = table.brdf.cell(index);
                     let same = match (expected, value) {

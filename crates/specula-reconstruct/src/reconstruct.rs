@@ -10,7 +10,7 @@ use crate::prior::PriorBasis;
 use crate::prior_reconstruct::reconstruct_with_prior;
 use crate::reconstruction::{
     cells_of_domain_values, measured_lobe, reciprocal_canonical, table_of_domain_values,
-    ReconstructError, Reconstruction,
+    ReconstructError, Reconstruction, ResidualModel,
 };
 use crate::response_nodes::ResponseNodes;
 use rayon::prelude::*;
@@ -71,23 +71,23 @@ fn reconstruct_on_lattice<R: CaptureResponse + ?Sized>(
     let lobe_on_grid = lobe.map(LobeOnGrid::new);
     let model = |index: usize| lobe_on_grid.as_ref().map_or(Rgb::ZERO, |l| l.at(index));
     let build = |values: &[[f64; 3]]| table_of_domain_values(samples, values, method, name, model);
-    let table = if let (Some(lobe), Some(on_grid)) = (lobe, &lobe_on_grid) {
-        if nodes.residual.is_empty() {
-            build(&domain_values)
-        } else {
+    let (table, residual_models) = match (lobe, &lobe_on_grid) {
+        (Some(lobe), Some(on_grid)) if !nodes.residual.is_empty() => {
             let lobe_table = MerlBrdf::from_fn(name, |index| Some(on_grid.at(index)));
             let floor = LobeTableFloor {
                 lobe: &lobe,
                 table: &lobe_table,
             };
-            corrected_through(samples, domain_values, &nodes.residual, floor, build)
+            let (table, values) =
+                corrected_through(samples, domain_values, &nodes.residual, floor, build);
+            (table, vec![ResidualModel::new(lobe, samples, &values)])
         }
-    } else {
-        build(&domain_values)
+        _ => (build(&domain_values), Vec::new()),
     };
     Ok(Reconstruction {
         lobe,
         resolution_deg: nodes.resolution_deg,
+        residual_models,
         ..table
     })
 }
@@ -119,6 +119,35 @@ pub fn reconstruct_cells(
         &domain_values,
         method,
         model,
+        indices,
+    ))
+}
+
+/// The cells `indices` of the table a deblurred `lobe` reconstruction makes from `samples`
+/// over `model`, without fitting a lobe or correcting through the response again: the
+/// table of those samples' values as the deblurred table holds them
+/// ([`ResidualModel`]; a sample it was not made from is left out). The uncertainty's
+/// cross-validation reconstructs its folds so ([`crate::uncertainty`]): a fold that refitted
+/// the lobe would judge another table.
+pub fn reconstruct_cells_over(
+    samples: &[Sample],
+    method: Method,
+    indices: &[usize],
+    model: &ResidualModel,
+) -> Result<Vec<Option<Rgb>>, ReconstructError> {
+    let (held, values): (Vec<Sample>, Vec<[f64; 3]>) = samples
+        .iter()
+        .filter_map(|s| Some((*s, model.value(s)?)))
+        .unzip();
+    if held.is_empty() {
+        return Err(ReconstructError::NoSamples);
+    }
+    let on_grid = LobeOnGrid::new(model.lobe);
+    Ok(cells_of_domain_values(
+        &held,
+        &values,
+        method,
+        |index| on_grid.at(index),
         indices,
     ))
 }
@@ -170,14 +199,14 @@ const MIN_CORRECTION_GAIN: f64 = 0.1;
 /// reproduction error `sqrt(sum (P - S)^2 / sum S^2)` by less than
 /// [`MIN_CORRECTION_GAIN`] (the samples' noise and the table's binning are then what is
 /// left, and further rounds would fit them) or after [`MAX_CORRECTIONS`] rounds; a round
-/// that makes it worse is not kept.
+/// that makes it worse is not kept. Returns the table and the samples' values it holds.
 fn corrected_through(
     samples: &[Sample],
     mut values: Vec<[f64; 3]>,
     nodes: &[CaptureNode],
     floor: LobeTableFloor<'_>,
     build: impl Fn(&[[f64; 3]]) -> Reconstruction,
-) -> Reconstruction {
+) -> (Reconstruction, Vec<[f64; 3]>) {
     let blurred: Vec<usize> = (0..samples.len())
         .filter(|&i| samples[i].hd.theta_h.to_degrees() < BLUR_THETA_H_DEG)
         .collect();
@@ -214,7 +243,7 @@ fn corrected_through(
             break;
         }
     }
-    table
+    (table, values)
 }
 
 /// A sample's miss is corrected only by what exceeds this many of its uncertainties.

@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use specula_core::capture::CaptureNode;
 use specula_core::merl::{stored_round_trip, MerlBrdf};
 use specula_core::{HalfDiff, Rgb, Sample};
+use std::collections::HashMap;
 
 /// Why samples cannot be reconstructed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -57,6 +58,56 @@ pub struct Reconstruction {
     /// The table made from the same samples without the response, which the safeguard
     /// checked the deblurred one against; `None` when the table was not deblurred.
     pub undeblurred: Option<MerlBrdf>,
+    /// The models a deblurred `lobe` table holds its samples' residuals over, one per half of
+    /// phi_d reconstructed apart (first, second) or one for the whole: what the uncertainty
+    /// cross-validates the table with ([`crate::uncertainty`]). Empty when the table was not
+    /// deblurred, or deblurred by another method.
+    pub residual_models: Vec<ResidualModel>,
+}
+
+/// What a deblurred `lobe` table is made of: the lobe fitted through the instrument's
+/// response and each sample's value in the method's domain over that lobe as measured, after
+/// the corrections through the response ([`crate::reconstruct`]). The table is the lobe
+/// times those values interpolated; a table of some of the samples over the same model is
+/// what the uncertainty's cross-validation compares with it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResidualModel {
+    /// The lobe before the blur.
+    pub lobe: Lobe,
+    /// Each sample's domain value, by its reciprocal canonical form ([`configuration_key`]).
+    values: HashMap<[u64; 6], [f64; 3]>,
+}
+
+impl ResidualModel {
+    /// The model of `lobe` whose samples hold `values` in the method's domain.
+    pub(crate) fn new(lobe: Lobe, samples: &[Sample], values: &[[f64; 3]]) -> Self {
+        let values = samples
+            .iter()
+            .zip(values)
+            .map(|(s, v)| (configuration_key(s), *v))
+            .collect();
+        Self { lobe, values }
+    }
+
+    /// The domain value the table holds for `sample`, `None` for a sample it was not made
+    /// from.
+    pub(crate) fn value(&self, sample: &Sample) -> Option<[f64; 3]> {
+        self.values.get(&configuration_key(sample)).copied()
+    }
+}
+
+/// A sample's reciprocal canonical configuration and value, bit for bit: the same key for
+/// a sample and its light/camera swap.
+fn configuration_key(sample: &Sample) -> [u64; 6] {
+    let s = reciprocal_canonical(sample);
+    [
+        s.hd.theta_h.to_bits(),
+        s.hd.theta_d.to_bits(),
+        s.hd.phi_d.to_bits(),
+        s.value.x.to_bits(),
+        s.value.y.to_bits(),
+        s.value.z.to_bits(),
+    ]
 }
 
 /// The lobe as a capture at `hd` measures it: through the nodes near the peak, where the fit
@@ -111,6 +162,7 @@ pub(crate) fn table_of_domain_values(
         safeguard: None,
         deblurred_replaced: None,
         undeblurred: None,
+        residual_models: Vec::new(),
     }
 }
 

@@ -10,9 +10,14 @@
 //! - **reconstruction** (type A, from the data), axis by axis of the sample lattice
 //!   (theta_h, theta_d, folded phi_d; paper 5.3's tensor grid or a sub-lattice of it): a
 //!   cross-validation leaves out every other plane of the axis (the odd planes, then the even
-//!   ones), reconstructs the table from the rest with the same method (without the
-//!   instrument's response, whose fit would take minutes per fold) and takes each left-out
-//!   sample's log difference `r` to the table of all samples made the same way. Linear
+//!   ones), reconstructs the table from the rest as the table was made and takes each
+//!   left-out sample's log difference `r` to the table of all samples. A deblurred `lobe`
+//!   table is the lobe fitted through the instrument's response times the samples' ratios to
+//!   it as measured: each fold keeps that lobe and interpolates its own samples' ratios
+//!   ([`crate::reconstruct::reconstruct_cells_over`]; refitting the lobe through the response
+//!   would take seconds per fold) and is compared with the deblurred table before the
+//!   safeguard replaced any of it. Any other table is refitted by the same method without the
+//!   response and compared with the table of all samples made so. Linear
 //!   interpolation of a smooth function between planes at `x0` and `x1` errs by
 //!   `f''/2 (x - x0)(x - x1)`; beyond the ends the same product with the two end planes is the
 //!   extrapolation's. So a point's **place** along an axis is `w = |(x - x0)(x - x1)|`
@@ -43,24 +48,34 @@
 //!   table was deblurred through the instrument's response (where the safeguard put the
 //!   un-deblurred values in its place, the deblurred table it replaced is the other side):
 //!   the model error a sample cannot show, since the blurred table reproduces the samples
-//!   either way; calibrated on training truths.
+//!   either way; calibrated on training truths. It applies where the samples cannot decide
+//!   the deblurred table ([`deblurring_below_deg`]): within the checks' peak region (twice
+//!   the instrument's resolution in theta_h), in the flank and the body when the deblurred
+//!   table fails to reproduce their samples, and wherever the safeguard replaced cells.
+//!   Beyond, the samples decide the table, and the cross-validation over the deblurred lobe
+//!   prices it.
 //!
 //! The uncertainty of a cell in 1/sr is its relative uncertainty times its value; a cell with
 //! no value has none (a negative value in the file). Beside `OUT.binary` it is written as
 //! `OUT.uncertainty.binary` ([`sidecar_path`]), in the MERL layout and scale.
 
 use crate::axis::Axis;
+use crate::consistency::Consistency;
 use crate::lattice::{coordinates, Lattice};
+use crate::lobe::BLUR_THETA_H_DEG;
 use crate::phi_d_halves::{measures_both_halves, reconstruct_halves, reconstruct_halves_cells};
 use crate::provenance::Provenance;
+use crate::safeguard::{Safeguard, FAIL_FACTOR};
 use crate::sample::{fold_phi_d_rad, mirror_fold_phi_d_rad};
-use crate::{Method, PriorBasis, ReconstructError, Reconstruction};
+use crate::{Method, PriorBasis, ReconstructError, Reconstruction, ResidualModel};
 use rayon::prelude::*;
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
 use specula_core::capture::CaptureResponse;
 use specula_core::geometry::{elevation_deg, within_elevation, USED_ELEVATION_DEG};
-use specula_core::merl::{Bin, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
+use specula_core::merl::{
+    theta_h_centre_deg, Bin, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS,
+};
 use specula_core::statistics::median;
 use specula_core::{HalfDiff, Rgb, Sample};
 use std::path::{Path, PathBuf};
@@ -155,8 +170,9 @@ pub struct ErrorModel {
     /// Whether each axis had the two planes a cross-validation needs; the cells off the
     /// plane of an axis that had one only have no uncertainty.
     pub judged: [bool; AXES],
-    /// Whether the deblurring term was included.
-    pub deblurred: bool,
+    /// Below which theta_h (degrees) the deblurring term was included; `None` when the
+    /// table was not deblurred ([`deblurring_below_deg`]).
+    pub deblurring_below_deg: Option<f64>,
     /// The samples' reach: the largest elevation of light or camera among them (degrees);
     /// the cells beyond it by more than [`REACH_MARGIN_DEG`] have no uncertainty.
     pub reach_deg: f64,
@@ -256,7 +272,19 @@ impl Terms {
             ),
             (None, false) => None,
         };
-        let reference = undeblurred.as_ref().unwrap_or(table);
+        // A deblurred `lobe` table is cross-validated as it was made, over its lobe through
+        // the response, against the deblurred table before any safeguard replaced part of it;
+        // other tables by the same method without the response.
+        let over: &[ResidualModel] = if deblurred {
+            &reconstruction.residual_models
+        } else {
+            &[]
+        };
+        let reference = if over.is_empty() {
+            undeblurred.as_ref().unwrap_or(table)
+        } else {
+            reconstruction.deblurred_replaced.as_ref().unwrap_or(table)
+        };
         let both_halves = measures_both_halves(samples);
         let noise = noise_of(samples, inputs.noise_rel);
         let lattice = Lattice::spanned_by(samples);
@@ -264,7 +292,7 @@ impl Terms {
         let coords: Vec<[f64; 3]> = samples.iter().map(|s| coordinates(s.hd)).collect();
         let mut held_out: [Vec<HeldOut>; AXES] = Default::default();
         for (a, axis) in axes.iter().enumerate() {
-            held_out[a] = cross_validate_along(inputs, reference, &coords, axis, a)?;
+            held_out[a] = cross_validate_along(inputs, over, reference, &coords, axis, a)?;
         }
         let exponents: [f64; AXES] = std::array::from_fn(|a| growth_exponent(&held_out[a]));
         let local: [Vec<[f64; 3]>; AXES] = std::array::from_fn(|a| {
@@ -286,7 +314,8 @@ impl Terms {
             extrapolated_rel: extrapolation_term(&held_out),
             median_noise_rel: median_of(noise.clone()),
             judged,
-            deblurred,
+            deblurring_below_deg: deblurred
+                .then(|| deblurring_below_deg(reconstruction.safeguard.as_ref())),
             reach_deg,
         };
         let compared = undeblurred
@@ -343,7 +372,14 @@ impl Terms {
         } else {
             0.0
         };
-        let others: Vec<Rgb> = self.compared.iter().filter_map(|t| t.cell(index)).collect();
+        let deblurring_here = self
+            .model
+            .deblurring_below_deg
+            .is_some_and(|below| theta_h_centre_deg(index / (THETA_D_BINS * PHI_D_BINS)) < below);
+        let others: Vec<Rgb> = (self.compared.iter())
+            .filter(|_| deblurring_here)
+            .filter_map(|t| t.cell(index))
+            .collect();
         Some(std::array::from_fn(|c| {
             let v = value[c];
             let spread = others.iter().map(|o| (v - o[c]).abs()).fold(0.0, f64::max);
@@ -484,7 +520,11 @@ impl CellUncertainty {
             100.0 * m.median_noise_rel,
             100.0 * CALIBRATION_REL,
             100.0 * m.extrapolated_rel,
-            if m.deblurred { "included" } else { "none" }
+            match m.deblurring_below_deg {
+                None => "none".to_string(),
+                Some(below) if below.is_finite() => format!("within theta_h {below:.2} deg"),
+                Some(_) => "everywhere".to_string(),
+            }
         ));
         let unjudged: Vec<&str> = (0..AXES)
             .filter(|&a| !m.judged[a])
@@ -752,12 +792,47 @@ fn place_deg2(axis: &Axis, u: f64) -> f64 {
     ((u - axis.nodes[lower]) * (u - axis.nodes[lower + 1])).abs()
 }
 
+/// Below which theta_h (degrees) a deblurred table's cells take the deblurring term: the
+/// checks' peak region, where the samples cannot decide how the light is spread within the
+/// instrument's resolution, and beyond it each region whose samples the deblurred table does
+/// not reproduce ([`FAIL_FACTOR`]: the flank up to [`BLUR_THETA_H_DEG`], the body
+/// everywhere), and every cell the safeguard replaced. Where the deblurred table reproduces
+/// its samples beyond the peak region, the samples decide it there and the cross-validation
+/// prices it. Everywhere when there is no record of the checks.
+pub fn deblurring_below_deg(safeguard: Option<&Safeguard>) -> f64 {
+    let Some(guard) = safeguard else {
+        return f64::INFINITY;
+    };
+    let checked: &Consistency = guard.deblurred.as_ref().unwrap_or(&guard.consistency);
+    let fails = |name: &str| {
+        checked
+            .region(name)
+            .is_some_and(|r| r.misses_by(FAIL_FACTOR))
+    };
+    let checked_below = if fails("body") {
+        f64::INFINITY
+    } else if fails("flank") {
+        BLUR_THETA_H_DEG
+    } else {
+        checked.peak_limit_deg
+    };
+    [
+        guard.fallback_below_deg,
+        guard.bounded_below_deg,
+        guard.normal_fallback.map(|n| n.below_deg),
+    ]
+    .into_iter()
+    .flatten()
+    .fold(checked_below, f64::max)
+}
+
 /// Reconstructs the table without every other plane of `axis` (lattice axis `a`: the odd
 /// planes, then the even ones; of two planes, each in turn; no response) and compares it with `reference`, the table of
 /// all samples made the same way, at the left-out samples' cells (only those cells of the
 /// fold's table are made); `coords` are the samples' lattice coordinates.
 fn cross_validate_along(
     inputs: &UncertaintyInputs<'_>,
+    over: &[ResidualModel],
     reference: &MerlBrdf,
     coords: &[[f64; 3]],
     axis: &Axis,
@@ -794,7 +869,7 @@ fn cross_validate_along(
             .iter()
             .map(|&i| Bin::of(samples[i].hd).index())
             .collect();
-        let fold = reconstruct_halves_cells(&training, inputs.method, &cells, inputs.prior)?;
+        let fold = reconstruct_halves_cells(&training, inputs.method, &cells, inputs.prior, over)?;
         held_out.extend(left_out.into_iter().zip(fold).filter_map(|(i, f)| {
             let hd = samples[i].hd;
             let (f, t) = (f?, reference.lookup(hd)?);
@@ -1062,7 +1137,7 @@ mod tests {
         let coords: Vec<[f64; 3]> = samples.iter().map(|s| coordinates(s.hd)).collect();
         let lattice = Lattice::spanned_by(&samples);
         let at_edge = |axis: &Axis, a: usize| -> (BTreeSet<u64>, Vec<HeldOut>) {
-            let held = cross_validate_along(&inputs, &reference, &coords, axis, a).unwrap();
+            let held = cross_validate_along(&inputs, &[], &reference, &coords, axis, a).unwrap();
             let edges = held
                 .iter()
                 .filter(|h| h.at_an_edge)
@@ -1099,7 +1174,8 @@ mod tests {
             ..inputs
         };
         let coords_two: Vec<[f64; 3]> = at_two.iter().map(|s| coordinates(s.hd)).collect();
-        let held = cross_validate_along(&inputs_two, &reference, &coords_two, &two, 2).unwrap();
+        let held =
+            cross_validate_along(&inputs_two, &[], &reference, &coords_two, &two, 2).unwrap();
         assert_eq!(held.len(), at_two.len());
         assert!(held.iter().all(|h| !h.at_an_edge));
     }
@@ -1300,6 +1376,98 @@ mod tests {
 
     /// A fold that leaves out the mirror plane extrapolates to it from planes beyond: its
     /// difference, whatever it is, must not set how the cells between two planes are priced.
+    /// The median over the cells within 75 deg of one term of the first channel.
+    fn median_term(terms: &Terms, r: &Reconstruction, term: fn(&CellTerms) -> f64) -> f64 {
+        let mut values: Vec<f64> = (0..CELLS)
+            .filter(|&i| within_summary_elevation(i))
+            .filter_map(|i| terms.cell_terms(i, &r.brdf, &r.provenance, Scales::default()))
+            .map(|t| term(&t[0]))
+            .collect();
+        median(&mut values)
+    }
+
+    #[test]
+    fn a_deblurred_table_is_cross_validated_over_its_lobe_and_deblurring_counts_near_the_peak() {
+        // A GGX lobe of alpha 0.02 (a peak narrower than the UTIA device resolves) measured
+        // through its response: a truth of the lobe's own family, whose deblurred table is
+        // nearly exact. Folds that refit a lobe without the response (the un-deblurred
+        // reconstruction) change the table far more than folds over the deblurred lobe, which
+        // interpolate the samples' flat ratio to it.
+        use crate::lobe::{Lobe, Shape};
+        use specula_acquisition::device::Device;
+        let response = Device::utia().response();
+        let truth = Lobe {
+            shape: Shape {
+                alpha: 0.02,
+                gamma: 2.0,
+            },
+            diffuse: Rgb::splat(0.02),
+            specular: Rgb::splat(0.9),
+            grazing: Rgb::splat(0.1),
+        };
+        let nodes = response.capture_nodes(crate::response_nodes::FIT_RESPONSE_NODES);
+        let mut samples = Vec::new();
+        for h in [0.0, 0.4, 1.0, 2.0, 4.0, 8.0, 16.0, 30.0, 50.0] {
+            for d in [10.0, 30.0, 50.0, 70.0] {
+                for p in [0.0, 45.0, 90.0] {
+                    let hd = HalfDiff::from_degrees(h, 45.0, d, p);
+                    let (wi, wo) = hd.to_directions();
+                    if wi.z > 0.26 && wo.z > 0.26 {
+                        samples.push(Sample::new(hd, truth.measured(&nodes, hd)));
+                    }
+                }
+            }
+        }
+        let r = reconstruct_halves(&samples, Method::Lobe, "t", Some(&response), None).unwrap();
+        assert_eq!(r.residual_models.len(), 1, "one half of phi_d measured");
+        let inputs = UncertaintyInputs {
+            samples: &samples,
+            noise_rel: None,
+            method: Method::Lobe,
+            prior: None,
+        };
+        let over = Terms::of(&inputs, &r).unwrap();
+        let refitted = Reconstruction {
+            residual_models: Vec::new(),
+            ..r.clone()
+        };
+        let refit = Terms::of(&inputs, &refitted).unwrap();
+        let reconstruction = |t: &CellTerms| t.reconstruction;
+        let (over_median, refit_median) = (
+            median_term(&over, &r, reconstruction),
+            median_term(&refit, &refitted, reconstruction),
+        );
+        assert!(
+            over_median < 0.5 * refit_median,
+            "over the lobe {over_median}, refitted {refit_median}"
+        );
+
+        // The checks pass: the deblurring term counts within the peak region only.
+        let guard = r.safeguard.as_ref().unwrap();
+        assert!(!guard.failed(), "{:?}", guard.reason);
+        let below = over.model.deblurring_below_deg.unwrap();
+        assert_eq!(below, guard.consistency.peak_limit_deg);
+        let deblurring_at = |theta_h_i: usize| {
+            let index = Bin {
+                theta_h_i,
+                theta_d_i: 30,
+                phi_d_i: 45,
+            }
+            .index();
+            over.cell_terms(index, &r.brdf, &r.provenance, Scales::default())
+                .unwrap()[0]
+                .deblurring
+        };
+        let last_within = (0..THETA_H_BINS)
+            .take_while(|&i| theta_h_centre_deg(i) < below)
+            .last()
+            .unwrap();
+        assert!(deblurring_at(0) > 0.0);
+        assert!(deblurring_at(last_within) > 0.0);
+        assert_eq!(deblurring_at(last_within + 1), 0.0);
+        assert_eq!(deblurring_at(40), 0.0);
+    }
+
     #[test]
     fn the_planes_at_an_edge_do_not_set_the_local_amplitudes() {
         let samples: Vec<Sample> = (0..20)
