@@ -60,7 +60,6 @@
 //! `OUT.uncertainty.binary` ([`sidecar_path`]), in the MERL layout and scale.
 
 use crate::axis::Axis;
-use crate::consistency::Consistency;
 use crate::lattice::{coordinates, Lattice};
 use crate::lobe::BLUR_THETA_H_DEG;
 use crate::phi_d_halves::{measures_both_halves, reconstruct_halves, reconstruct_halves_cells};
@@ -375,7 +374,7 @@ impl Terms {
         let deblurring_here = self
             .model
             .deblurring_below_deg
-            .is_some_and(|below| theta_h_centre_deg(index / (THETA_D_BINS * PHI_D_BINS)) < below);
+            .is_some_and(|below| theta_h_centre_deg(Bin::from_index(index).theta_h_i) < below);
         let others: Vec<Rgb> = (self.compared.iter())
             .filter(|_| deblurring_here)
             .filter_map(|t| t.cell(index))
@@ -803,7 +802,7 @@ pub fn deblurring_below_deg(safeguard: Option<&Safeguard>) -> f64 {
     let Some(guard) = safeguard else {
         return f64::INFINITY;
     };
-    let checked: &Consistency = guard.deblurred.as_ref().unwrap_or(&guard.consistency);
+    let checked = guard.deblurred.as_ref().unwrap_or(&guard.consistency);
     let fails = |name: &str| {
         checked
             .region(name)
