@@ -187,6 +187,32 @@ impl std::fmt::Display for NormalFallback {
 }
 
 impl Safeguard {
+    /// Below which theta_h (degrees) the samples do not decide the deblurred table, as the
+    /// uncertainty's deblurring term takes it ([`crate::uncertainty`]): the peak region,
+    /// where a blurred table reproduces the samples whatever lies within the resolution;
+    /// beyond it each region whose samples the deblurred table fails ([`region_failure`]:
+    /// the flank up to [`crate::lobe::BLUR_THETA_H_DEG`], the body everywhere); and every
+    /// cell the safeguard replaced.
+    pub fn undecided_below_deg(&self) -> f64 {
+        let checked = self.deblurred.as_ref().unwrap_or(&self.consistency);
+        let fails = |name: &str| region_failure(checked, name).is_some();
+        let checked_below = if fails("body") {
+            f64::INFINITY
+        } else if fails("flank") {
+            crate::lobe::BLUR_THETA_H_DEG
+        } else {
+            checked.peak_limit_deg
+        };
+        [
+            self.fallback_below_deg,
+            self.bounded_below_deg,
+            self.normal_fallback.map(|n| n.below_deg),
+        ]
+        .into_iter()
+        .flatten()
+        .fold(checked_below, f64::max)
+    }
+
     /// True when the deblurred table failed a check or was not asked for by the data
     /// (whether or not it was replaced).
     pub fn failed(&self) -> bool {

@@ -49,7 +49,8 @@
 //!   un-deblurred values in its place, the deblurred table it replaced is the other side):
 //!   the model error a sample cannot show, since the blurred table reproduces the samples
 //!   either way; calibrated on training truths. It applies where the samples cannot decide
-//!   the deblurred table ([`deblurring_below_deg`]): within the checks' peak region (twice
+//!   the deblurred table ([`Safeguard::undecided_below_deg`]; everywhere without a record of
+//!   the checks): within the checks' peak region (twice
 //!   the instrument's resolution in theta_h), in the flank and the body when the deblurred
 //!   table fails to reproduce their samples, and wherever the safeguard replaced cells.
 //!   Beyond, the samples decide the table, and the cross-validation over the deblurred lobe
@@ -61,10 +62,9 @@
 
 use crate::axis::Axis;
 use crate::lattice::{coordinates, Lattice};
-use crate::lobe::BLUR_THETA_H_DEG;
 use crate::phi_d_halves::{measures_both_halves, reconstruct_halves, reconstruct_halves_cells};
 use crate::provenance::Provenance;
-use crate::safeguard::{Safeguard, FAIL_FACTOR};
+use crate::safeguard::Safeguard;
 use crate::sample::{fold_phi_d_rad, mirror_fold_phi_d_rad};
 use crate::{Method, PriorBasis, ReconstructError, Reconstruction, ResidualModel};
 use rayon::prelude::*;
@@ -170,7 +170,7 @@ pub struct ErrorModel {
     /// plane of an axis that had one only have no uncertainty.
     pub judged: [bool; AXES],
     /// Below which theta_h (degrees) the deblurring term was included; `None` when the
-    /// table was not deblurred ([`deblurring_below_deg`]).
+    /// table was not deblurred ([`Safeguard::undecided_below_deg`]).
     pub deblurring_below_deg: Option<f64>,
     /// The samples' reach: the largest elevation of light or camera among them (degrees);
     /// the cells beyond it by more than [`REACH_MARGIN_DEG`] have no uncertainty.
@@ -313,8 +313,10 @@ impl Terms {
             extrapolated_rel: extrapolation_term(&held_out),
             median_noise_rel: median_of(noise.clone()),
             judged,
-            deblurring_below_deg: deblurred
-                .then(|| deblurring_below_deg(reconstruction.safeguard.as_ref())),
+            deblurring_below_deg: deblurred.then(|| {
+                (reconstruction.safeguard.as_ref())
+                    .map_or(f64::INFINITY, Safeguard::undecided_below_deg)
+            }),
             reach_deg,
         };
         let compared = undeblurred
@@ -789,40 +791,6 @@ fn place_deg2(axis: &Axis, u: f64) -> f64 {
     }
     let lower = axis.bracket(u).lower;
     ((u - axis.nodes[lower]) * (u - axis.nodes[lower + 1])).abs()
-}
-
-/// Below which theta_h (degrees) a deblurred table's cells take the deblurring term: the
-/// checks' peak region, where the samples cannot decide how the light is spread within the
-/// instrument's resolution, and beyond it each region whose samples the deblurred table does
-/// not reproduce ([`FAIL_FACTOR`]: the flank up to [`BLUR_THETA_H_DEG`], the body
-/// everywhere), and every cell the safeguard replaced. Where the deblurred table reproduces
-/// its samples beyond the peak region, the samples decide it there and the cross-validation
-/// prices it. Everywhere when there is no record of the checks.
-pub fn deblurring_below_deg(safeguard: Option<&Safeguard>) -> f64 {
-    let Some(guard) = safeguard else {
-        return f64::INFINITY;
-    };
-    let checked = guard.deblurred.as_ref().unwrap_or(&guard.consistency);
-    let fails = |name: &str| {
-        checked
-            .region(name)
-            .is_some_and(|r| r.misses_by(FAIL_FACTOR))
-    };
-    let checked_below = if fails("body") {
-        f64::INFINITY
-    } else if fails("flank") {
-        BLUR_THETA_H_DEG
-    } else {
-        checked.peak_limit_deg
-    };
-    [
-        guard.fallback_below_deg,
-        guard.bounded_below_deg,
-        guard.normal_fallback.map(|n| n.below_deg),
-    ]
-    .into_iter()
-    .flatten()
-    .fold(checked_below, f64::max)
 }
 
 /// Reconstructs the table without every other plane of `axis` (lattice axis `a`: the odd
