@@ -25,8 +25,8 @@ use specula_session::measured_uncertainty::session_main_noise;
 use specula_session::workflow::session_main_samples;
 use std::path::PathBuf;
 
-const RECONSTRUCTION: [f64; 8] = [0.0, 0.25, 0.5, 1.0, 2.0, 3.0, 4.0, 6.0];
-const DEBLUR: [f64; 6] = [0.0, 0.5, 1.0, 2.0, 3.0, 4.0];
+const RECONSTRUCTION: [f64; 8] = [0.25, 0.5, 0.6, 0.7, 0.8, 1.0, 1.5, 2.0];
+const DEBLUR: [f64; 6] = [0.0, 1.0, 2.0, 3.0, 4.0, 6.0];
 
 fn main() -> anyhow::Result<()> {
     for pair in std::env::args().skip(1) {

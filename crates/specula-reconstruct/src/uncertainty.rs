@@ -26,8 +26,8 @@
 //!   within `[MIN_GROWTH_EXPONENT, 1]` ([`growth_exponent`]: 1 for pure interpolation, less
 //!   where refitting the table changes it whatever the gap, but never less than the growth of
 //!   a continuous function's interpolation error with the gap). A sample's local amplitude
-//!   `K` is the root mean square of `r / w^beta` over its [`NEIGHBOURS`] nearest left-out
-//!   neighbours (itself excluded, and those of a plane at an edge of the table, whose fold
+//!   `K` is the standard deviation that the median of `r / w^beta` over its [`NEIGHBOURS`]
+//!   nearest left-out neighbours gives (itself excluded, and those of a plane at an edge of the table, whose fold
 //!   extrapolated: `local_amplitudes`); the axis's factor `c` is the smallest with which
 //!   [`CV_COVERAGE`] of its left-out samples' `r` lie within
 //!   `2 sqrt(a^2 + floor^2 + (c K w^beta)^2)` at their own `w`. A cell takes, from its nearest
@@ -887,9 +887,12 @@ fn growth_exponent(held_out: &[HeldOut]) -> f64 {
     (sxy / sxx).clamp(MIN_GROWTH_EXPONENT, 1.0)
 }
 
-/// Each sample's local amplitude `K` per channel: the root mean square of `r / place^beta`
-/// over its [`NEIGHBOURS`] nearest samples of `held_out`, itself excluded; zero for a sample
-/// with none. Samples of a plane at an edge of the table do not count: their fold
+/// Each sample's local amplitude `K` per channel: the standard deviation that the median of
+/// `r / place^beta` over its [`NEIGHBOURS`] nearest samples of `held_out` (itself excluded)
+/// gives ([`robust_scale`]); zero for a sample with none. A root mean square is set by the
+/// largest of the twelve: one fold's outlier made its whole neighbourhood look as uncertain
+/// as itself. With the median each neighbourhood keeps its typical level, and the axis's
+/// factor ([`covering_factor`]) covers the tails. Samples of a plane at an edge of the table do not count: their fold
 /// extrapolated to the plane, as the table never does, and an extrapolation's difference per
 /// unit of place says nothing of how the table errs between two planes (divided by the large
 /// place of a point beyond both kept planes, the mirror plane's miss made the cells between
@@ -928,14 +931,23 @@ fn local_amplitudes(
                     .iter()
                     .filter_map(|h| h.log_difference[c].map(|r| r / h.place_deg2.powf(beta)))
                     .collect();
-                if values.is_empty() {
-                    0.0
-                } else {
-                    (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt()
-                }
+                robust_scale(values)
             })
         })
         .collect()
+}
+
+/// The median of `|x|` over a normal distribution of unit standard deviation.
+const HALF_NORMAL_MEDIAN: f64 = 0.674_489_750_196_081_7;
+
+/// The standard deviation of a normal distribution whose absolute values have the median of
+/// `absolute` (non-negative), `median / 0.6745`: robust to the one large difference among a
+/// few that would set a root mean square; zero for none.
+fn robust_scale(mut absolute: Vec<f64>) -> f64 {
+    if absolute.is_empty() {
+        return 0.0;
+    }
+    specula_core::statistics::median(&mut absolute) / HALF_NORMAL_MEDIAN
 }
 
 /// The smallest factor `c` with which [`CV_COVERAGE`] of the left-out samples' differences
@@ -1285,6 +1297,28 @@ mod tests {
     }
 
     #[test]
+    fn a_local_amplitude_is_the_median_s_normal_scale_and_ignores_one_outlier() {
+        // Twelve neighbours at 0.01 and one far off: a root mean square would be set by the
+        // outlier (about 0.29), the median's scale is that of the twelve.
+        let mut values = vec![0.01; 12];
+        values.push(1.0);
+        let k = robust_scale(values);
+        assert!((k - 0.01 / HALF_NORMAL_MEDIAN).abs() < 1e-12, "{k}");
+        // The absolute values of normal deviates of standard deviation 0.3: the scale comes
+        // back within sampling (the median of 40,000 deviates, about 0.6 %).
+        use rand::SeedableRng;
+        use rand_distr::Distribution;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let normal = rand_distr::Normal::new(0.0, 0.3).unwrap();
+        let absolute: Vec<f64> = (0..40_000)
+            .map(|_| f64::abs(normal.sample(&mut rng)))
+            .collect();
+        let k = robust_scale(absolute);
+        assert!((k / 0.3 - 1.0).abs() < 0.02, "{k}");
+        assert_eq!(robust_scale(Vec::new()), 0.0);
+    }
+
+    #[test]
     fn the_covering_factor_covers_the_left_out_differences_and_no_more() {
         // Differences |z| L with z spread evenly over [-1.5, 1.5] and L from 0.01 to 0.07.
         let cases: Vec<(f64, f64, f64)> = (0..400)
@@ -1459,8 +1493,13 @@ mod tests {
             let with = local_amplitudes(&samples, &held_out(edge_difference), 1.0, false);
             assert_eq!(with, interior, "edge difference {edge_difference}");
         }
+        // Every interior neighbour has r / place = 0.002: the normal whose |x| has that
+        // median.
         for k in &interior {
-            assert!((k[0] - 0.05 / 25.0).abs() < 1e-12, "{k:?}");
+            assert!(
+                (k[0] - 0.05 / 25.0 / HALF_NORMAL_MEDIAN).abs() < 1e-12,
+                "{k:?}"
+            );
         }
     }
 
