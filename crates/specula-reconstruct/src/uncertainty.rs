@@ -27,12 +27,12 @@
 //!   where refitting the table changes it whatever the gap, but never less than the growth of
 //!   a continuous function's interpolation error with the gap). A sample's local amplitude
 //!   `K` is the standard deviation that the median of `r / w^beta` over its [`NEIGHBOURS`]
-//!   nearest left-out neighbours gives (itself excluded, and those of a plane at an edge of the table, whose fold
-//!   extrapolated: `local_amplitudes`); the axis's factor `c` is the smallest with which
-//!   [`CV_COVERAGE`] of its left-out samples' `r` lie within
+//!   nearest left-out neighbours gives (itself excluded, and those of a plane at an edge of
+//!   the table, whose fold extrapolated: `local_amplitudes`); the axis's factor `c` is the
+//!   smallest with which [`CV_COVERAGE`] of its left-out samples' `r` lie within
 //!   `2 sqrt(a^2 + floor^2 + (c K w^beta)^2)` at their own `w`. A cell takes, from its nearest
-//!   sample ([`distance_coordinates`]), `s sqrt(sum over the axes of
-//!   (c K w^beta)^2)` with its own place `w` along each axis: zero on a plane, largest midway
+//!   sample ([`distance_coordinates`]), `s sqrt(sum over the axes of (c K w^beta)^2)` with
+//!   its own place `w` along each axis: zero on a plane, largest midway
 //!   between two planes far apart, growing beyond the ends. `s` = [`RECONSTRUCTION_SCALE`] is
 //!   calibrated on training truths. An axis of two planes leaves each out in turn, the
 //!   table made from the other (an extrapolation, place `(x - x0)^2`); an axis of one plane
@@ -888,15 +888,15 @@ fn growth_exponent(held_out: &[HeldOut]) -> f64 {
 }
 
 /// Each sample's local amplitude `K` per channel: the standard deviation that the median of
-/// `r / place^beta` over its [`NEIGHBOURS`] nearest samples of `held_out` (itself excluded)
-/// gives ([`robust_scale`]); zero for a sample with none. A root mean square is set by the
-/// largest of the twelve: one fold's outlier made its whole neighbourhood look as uncertain
-/// as itself. With the median each neighbourhood keeps its typical level, and the axis's
-/// factor ([`covering_factor`]) covers the tails. Samples of a plane at an edge of the table do not count: their fold
-/// extrapolated to the plane, as the table never does, and an extrapolation's difference per
-/// unit of place says nothing of how the table errs between two planes (divided by the large
-/// place of a point beyond both kept planes, the mirror plane's miss made the cells between
-/// it and the next theta_h plane look several times surer than they are).
+/// `r / place^beta` over its [`NEIGHBOURS`] nearest samples of `held_out` (itself excluded) gives
+/// ([`robust_scale`]); zero for a sample with none. A root mean square is set by the largest of
+/// the twelve: one fold's outlier made its whole neighbourhood look as uncertain as itself. With
+/// the median each neighbourhood keeps its typical level, and the axis's factor
+/// ([`covering_factor`]) covers the tails. Samples of a plane at an edge of the table do not
+/// count: their fold extrapolated to the plane, as the table never does, and an extrapolation's
+/// difference per unit of place says nothing of how the table errs between two planes (divided by
+/// the large place of a point beyond both kept planes, the mirror plane's miss made the cells
+/// between it and the next theta_h plane look several times surer than they are).
 fn local_amplitudes(
     samples: &[Sample],
     held_out: &[HeldOut],
@@ -1299,7 +1299,7 @@ mod tests {
     #[test]
     fn a_local_amplitude_is_the_median_s_normal_scale_and_ignores_one_outlier() {
         // Twelve neighbours at 0.01 and one far off: a root mean square would be set by the
-        // outlier (about 0.29), the median's scale is that of the twelve.
+        // outlier (about 0.28), the median's scale is that of the twelve.
         let mut values = vec![0.01; 12];
         values.push(1.0);
         let k = robust_scale(values);
