@@ -18,6 +18,19 @@ pub fn median(values: &mut [f64]) -> f64 {
     }
 }
 
+/// The median of `|x|` over a normal distribution of unit standard deviation.
+pub const HALF_NORMAL_MEDIAN: f64 = 0.674_489_750_196_081_7;
+
+/// The standard deviation of a normal distribution whose absolute values have the median of
+/// `absolute` (non-negative; sorted in place), `median / 0.6745`: robust to the few large
+/// values that would set a root mean square; zero when empty.
+pub fn normal_scale_of_absolute(absolute: &mut [f64]) -> f64 {
+    if absolute.is_empty() {
+        return 0.0;
+    }
+    median(absolute) / HALF_NORMAL_MEDIAN
+}
+
 /// A statistic that sums up figures over several materials.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Statistic {

@@ -32,9 +32,9 @@
 //!   smallest with which [`CV_COVERAGE`] of its left-out samples' `r` lie within
 //!   `2 sqrt(a^2 + floor^2 + (c K w^beta)^2)` at their own `w`. A cell takes, from its nearest
 //!   sample ([`distance_coordinates`]), `s sqrt(sum over the axes of (c K w^beta)^2)` with
-//!   its own place `w` along each axis: zero on a plane, largest midway
-//!   between two planes far apart, growing beyond the ends. `s` = [`RECONSTRUCTION_SCALE`] is
-//!   calibrated on training truths. An axis of two planes leaves each out in turn, the
+//!   its own place `w` along each axis: zero on a plane, largest midway between two planes
+//!   far apart, growing beyond the ends. `s` = [`RECONSTRUCTION_SCALE`] is calibrated on
+//!   training truths. An axis of two planes leaves each out in turn, the
 //!   table made from the other (an extrapolation, place `(x - x0)^2`); an axis of one plane
 //!   cannot be cross-validated: a cell off it has no uncertainty (nothing says how the table
 //!   varies there), only one in the plane's own bin;
@@ -75,7 +75,7 @@ use specula_core::geometry::{elevation_deg, within_elevation, USED_ELEVATION_DEG
 use specula_core::merl::{
     theta_h_centre_deg, Bin, MerlBrdf, CELLS, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS,
 };
-use specula_core::statistics::median;
+use specula_core::statistics::{median, normal_scale_of_absolute};
 use specula_core::{HalfDiff, Rgb, Sample};
 use std::path::{Path, PathBuf};
 
@@ -889,7 +889,7 @@ fn growth_exponent(held_out: &[HeldOut]) -> f64 {
 
 /// Each sample's local amplitude `K` per channel: the standard deviation that the median of
 /// `r / place^beta` over its [`NEIGHBOURS`] nearest samples of `held_out` (itself excluded) gives
-/// ([`robust_scale`]); zero for a sample with none. A root mean square is set by the largest of
+/// ([`normal_scale_of_absolute`]); zero for a sample with none. A root mean square is set by the largest of
 /// the twelve: one fold's outlier made its whole neighbourhood look as uncertain as itself. With
 /// the median each neighbourhood keeps its typical level, and the axis's factor
 /// ([`covering_factor`]) covers the tails. Samples of a plane at an edge of the table do not
@@ -927,27 +927,14 @@ fn local_amplitudes(
                 .take(NEIGHBOURS)
                 .collect();
             std::array::from_fn(|c| {
-                let values: Vec<f64> = neighbours
+                let mut values: Vec<f64> = neighbours
                     .iter()
                     .filter_map(|h| h.log_difference[c].map(|r| r / h.place_deg2.powf(beta)))
                     .collect();
-                robust_scale(values)
+                normal_scale_of_absolute(&mut values)
             })
         })
         .collect()
-}
-
-/// The median of `|x|` over a normal distribution of unit standard deviation.
-const HALF_NORMAL_MEDIAN: f64 = 0.674_489_750_196_081_7;
-
-/// The standard deviation of a normal distribution whose absolute values have the median of
-/// `absolute` (non-negative), `median / 0.6745`: robust to the one large difference among a
-/// few that would set a root mean square; zero for none.
-fn robust_scale(mut absolute: Vec<f64>) -> f64 {
-    if absolute.is_empty() {
-        return 0.0;
-    }
-    specula_core::statistics::median(&mut absolute) / HALF_NORMAL_MEDIAN
 }
 
 /// The smallest factor `c` with which [`CV_COVERAGE`] of the left-out samples' differences
@@ -1013,6 +1000,7 @@ mod tests {
     use super::*;
     use crate::provenance::CellOrigin;
     use specula_core::materials::preset;
+    use specula_core::statistics::HALF_NORMAL_MEDIAN;
     use specula_core::Brdf;
     use std::collections::BTreeSet;
 
@@ -1302,7 +1290,7 @@ mod tests {
         // outlier (about 0.28), the median's scale is that of the twelve.
         let mut values = vec![0.01; 12];
         values.push(1.0);
-        let k = robust_scale(values);
+        let k = normal_scale_of_absolute(&mut values);
         assert!((k - 0.01 / HALF_NORMAL_MEDIAN).abs() < 1e-12, "{k}");
         // The absolute values of normal deviates of standard deviation 0.3: the scale comes
         // back within sampling (the median of 40,000 deviates, about 0.6 %).
@@ -1310,12 +1298,12 @@ mod tests {
         use rand_distr::Distribution;
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
         let normal = rand_distr::Normal::new(0.0, 0.3).unwrap();
-        let absolute: Vec<f64> = (0..40_000)
+        let mut absolute: Vec<f64> = (0..40_000)
             .map(|_| f64::abs(normal.sample(&mut rng)))
             .collect();
-        let k = robust_scale(absolute);
+        let k = normal_scale_of_absolute(&mut absolute);
         assert!((k / 0.3 - 1.0).abs() < 0.02, "{k}");
-        assert_eq!(robust_scale(Vec::new()), 0.0);
+        assert_eq!(normal_scale_of_absolute(&mut []), 0.0);
     }
 
     #[test]

@@ -18,7 +18,7 @@ use crate::device::Device;
 use crate::hdr::HdrCapturer;
 use crate::instrument::Instrument;
 use serde::Serialize;
-use specula_core::statistics::median;
+use specula_core::statistics::{median, normal_scale_of_absolute};
 use specula_core::HalfDiff;
 
 /// Where the rings are measured.
@@ -102,7 +102,7 @@ pub fn analyse(
         let baseline = median(&mut ring.clone());
         let relative: Vec<f64> = ring.iter().map(|v| v / baseline - 1.0).collect();
         let mut deviations: Vec<f64> = relative.iter().map(|r| r.abs()).collect();
-        threshold = threshold.max(5.0 * 1.4826 * median(&mut deviations));
+        threshold = threshold.max(5.0 * normal_scale_of_absolute(&mut deviations));
         for (e, r) in excess.iter_mut().zip(&relative) {
             *e = e.max(*r);
         }
