@@ -4,30 +4,14 @@
 //! mount targets.
 
 mod serve;
+mod small_plan;
 
 use serve::serve;
+use small_plan::SMALL_PLAN;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 const SPECULA: &str = env!("CARGO_BIN_EXE_specula");
-
-/// A small plan on the paper's grid shape (30 probe samples, 8 theta_h x 6 theta_d x 4
-/// phi_d), seed 3, no checks.
-const SMALL: [&str; 13] = [
-    "--skip-checks",
-    "--grid-preset",
-    "paper",
-    "--probe-samples",
-    "30",
-    "--theta-h-samples",
-    "8",
-    "--theta-d-step",
-    "15",
-    "--phi-d-step",
-    "30",
-    "--seed",
-    "3",
-];
 
 fn run(args: &[&str]) -> Output {
     let output = Command::new(SPECULA)
@@ -71,7 +55,7 @@ fn calibrated_and_measured_through_device_serve_it_matches_the_simulator() {
         "--calibration",
         &calibration,
     ];
-    measure.extend(SMALL);
+    measure.extend(SMALL_PLAN);
     measure.extend(["--out", &remote]);
     run(&measure);
     server.kill().unwrap();
@@ -87,7 +71,7 @@ fn calibrated_and_measured_through_device_serve_it_matches_the_simulator() {
 
     let local = path("local.binary");
     let mut measure = vec!["measure", "--truth", "silver-925"];
-    measure.extend(SMALL);
+    measure.extend(SMALL_PLAN);
     measure.extend(["--out", &local]);
     run(&measure);
 

@@ -4,8 +4,10 @@
 //! simulator in process. Small plans keep these quick; the paper-size run is in docs/book/src/plan.md.
 
 mod serve;
+mod small_plan;
 
 use serve::serve;
+use small_plan::measure_args;
 use specula_session::journal::Journal;
 use specula_session::Stage;
 use std::path::{Path, PathBuf};
@@ -13,37 +15,6 @@ use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 const SPECULA: &str = env!("CARGO_BIN_EXE_specula");
-
-/// A small plan on the paper's grid shape: 30 probe samples, 8 theta_h x 6 theta_d x 4 phi_d
-/// (0 to 90 deg).
-const SMALL: [&str; 10] = [
-    "--grid-preset",
-    "paper",
-    "--probe-samples",
-    "30",
-    "--theta-h-samples",
-    "8",
-    "--theta-d-step",
-    "15",
-    "--phi-d-step",
-    "30",
-];
-
-/// `measure` with the small plan, seed 3 unless `extra` gives one, and `extra`.
-fn measure_args(out: &Path, extra: &[&str]) -> Vec<String> {
-    let mut args: Vec<String> = ["measure", "--skip-checks"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    args.extend(SMALL.iter().map(|s| s.to_string()));
-    if !extra.contains(&"--seed") {
-        args.extend(["--seed".to_string(), "3".to_string()]);
-    }
-    args.extend(extra.iter().map(|s| s.to_string()));
-    args.push("--out".into());
-    args.push(out.display().to_string());
-    args
-}
 
 fn run(args: &[String]) -> Output {
     let output = Command::new(SPECULA)

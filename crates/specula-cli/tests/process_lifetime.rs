@@ -8,6 +8,9 @@
 
 #![cfg(target_os = "linux")]
 
+mod small_plan;
+
+use small_plan::SMALL_PLAN;
 use specula_session::Stage;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -19,22 +22,6 @@ const CALIBRATION: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../tools/example_adapter_calibration.toml"
 );
-
-/// A small plan (the paper's grid shape).
-const SMALL: [&str; 12] = [
-    "--skip-checks",
-    "--grid-preset",
-    "paper",
-    "--probe-samples",
-    "30",
-    "--theta-h-samples",
-    "8",
-    "--theta-d-step",
-    "15",
-    "--phi-d-step",
-    "30",
-    "--seed=3",
-];
 
 /// A marker no other process has: a `sleep` duration with this process's id and a counter
 /// as its decimals (`sleep 900.PID0N` sleeps 15 minutes and is found by its command line).
@@ -77,7 +64,7 @@ fn wait_for(limit: Duration, mut done: impl FnMut() -> bool) -> bool {
 fn start_measure(connect: &str, out: &Path, extra: &[&str]) -> Child {
     Command::new(SPECULA)
         .arg("measure")
-        .args(SMALL)
+        .args(SMALL_PLAN)
         .args(["--connect", connect, "--calibration", CALIBRATION])
         .args(extra)
         .arg("--out")
@@ -222,7 +209,7 @@ fn an_adapter_ends_with_a_run_that_fails_or_completes() {
     );
     let output = Command::new(SPECULA)
         .arg("measure")
-        .args(SMALL)
+        .args(SMALL_PLAN)
         .args(["--connect", &served, "--calibration"])
         .arg(&calibration)
         .arg("--out")
@@ -303,7 +290,7 @@ fn a_first_ctrl_c_while_the_device_hangs_stops_within_seconds_resumably() {
 fn slow_run(out: &Path) -> Child {
     Command::new(SPECULA)
         .arg("measure")
-        .args(SMALL)
+        .args(SMALL_PLAN)
         .args(["--truth", "silver-925", "--speedup", "0.001", "--out"])
         .arg(out)
         .stdout(Stdio::null())
@@ -346,7 +333,7 @@ fn a_hard_link_does_not_get_round_the_session_lock() {
     let link: PathBuf = dir.path().join("h.sqlite");
     std::fs::hard_link(&session, &link).unwrap();
     let mut args = vec!["measure", "--truth", "silver-925"];
-    args.extend(SMALL);
+    args.extend(SMALL_PLAN);
     let second = run(&args, &link, &dir.path().join("h.binary"));
     let _ = first.kill();
     let _ = first.wait();
@@ -365,7 +352,7 @@ fn a_directory_or_a_newer_journal_is_refused_in_one_line() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.binary");
     let mut args = vec!["measure", "--truth", "silver-925"];
-    args.extend(SMALL);
+    args.extend(SMALL_PLAN);
     let output = run(&args, dir.path(), &out);
     one_line_error(
         &output,

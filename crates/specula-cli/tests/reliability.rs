@@ -4,8 +4,10 @@
 //! edited material refused. Servers listen on 127.0.0.1 only; every wait is bounded.
 
 mod serve;
+mod small_plan;
 
 use serve::serve;
+use small_plan::measure_args;
 use specula_session::Stage;
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
@@ -119,32 +121,6 @@ fn an_empty_token_is_refused_and_a_token_comes_from_a_file_or_the_environment() 
     assert!(hello(port, Some("from-env"))["result"].is_object());
     server.kill().unwrap();
     server.wait().unwrap();
-}
-
-/// `measure` with a small plan (the paper's grid shape) and `extra`, writing `out`.
-fn measure_args(out: &Path, extra: &[&str]) -> Vec<String> {
-    let mut args: Vec<String> = [
-        "measure",
-        "--skip-checks",
-        "--grid-preset",
-        "paper",
-        "--probe-samples",
-        "30",
-        "--theta-h-samples",
-        "8",
-        "--theta-d-step",
-        "15",
-        "--phi-d-step",
-        "30",
-        "--seed",
-        "3",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    args.extend(extra.iter().map(|s| s.to_string()));
-    args.extend(["--out".to_string(), out.display().to_string()]);
-    args
 }
 
 #[test]
