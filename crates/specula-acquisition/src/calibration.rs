@@ -235,17 +235,42 @@ impl Calibration {
     /// The BRDF of an HDR value and its standard deviation per channel (channels taken as
     /// independent).
     pub fn brdf_with_sigma(&self, value: &HdrValue, cos_theta_i: f64) -> (Rgb, Rgb) {
+        (
+            self.brdf(value.rate_dn_s, cos_theta_i),
+            self.brdf_sigma(value.sigma_dn_s, cos_theta_i),
+        )
+    }
+
+    /// The standard deviation per channel of the BRDF of a rate with standard deviation
+    /// `sigma_dn_s` (channels taken as independent, through the colour matrix).
+    fn brdf_sigma(&self, sigma_dn_s: [f64; 3], cos_theta_i: f64) -> Rgb {
         let m = self.matrix();
-        let sigma_camera = DVec3::from(value.sigma_dn_s) / DVec3::from(self.gain_dn_s_per_sr);
+        let sigma_camera = DVec3::from(sigma_dn_s) / DVec3::from(self.gain_dn_s_per_sr);
         let squared = DMat3::from_cols(
             m.x_axis * m.x_axis,
             m.y_axis * m.y_axis,
             m.z_axis * m.z_axis,
         ) * (sigma_camera * sigma_camera);
-        (
-            self.brdf(value.rate_dn_s, cos_theta_i),
-            squared.map(f64::sqrt) / cos_theta_i,
-        )
+        squared.map(f64::sqrt) / cos_theta_i
+    }
+
+    /// The relative standard deviation of the BRDF value of a rate with standard deviation
+    /// `sigma_dn_s`: the camera's noise through the colour matrix
+    /// ([`Calibration::brdf_with_sigma`]), the largest over the channels; infinite where a
+    /// channel's sigma is not finite (saturated in every capture: the value is a lower bound)
+    /// or its value not positive.
+    pub fn relative_sigma(&self, rate_dn_s: [f64; 3], sigma_dn_s: [f64; 3]) -> f64 {
+        let (brdf, sigma) = (self.brdf(rate_dn_s, 1.0), self.brdf_sigma(sigma_dn_s, 1.0));
+        (0..3)
+            .map(|c| {
+                let r = sigma[c] / brdf[c];
+                if r.is_finite() && brdf[c] > 0.0 {
+                    r
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .fold(0.0, f64::max)
     }
 
     /// The brightest channel's rate (DN/s at full light) a BRDF value should give: the

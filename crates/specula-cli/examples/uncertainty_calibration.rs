@@ -8,7 +8,8 @@
 //! Per table, the median of each term over the measured and interpolated cells within
 //! 75 deg at the calibrated scales; `COV=1` adds the cell coverage at those scales or at
 //! `COV_RECONSTRUCTION` and `COV_DEBLUR` (a line `COV TABLE FRACTION`), `GRID=1` the coverage grid, `BANDS=1` the coverage and the terms'
-//! medians by theta_h band. `WRITE=1` rewrites
+//! medians by theta_h band, `SCATTER=1` how far the samples lie from the truth in their noise.
+//! `WRITE=1` rewrites
 //! `T.uncertainty.binary` with the estimate of this build (as `specula measure` would write
 //! it from the same session). `BATCHES=389,536,635` times what the sequential main stage
 //! does after each batch of that many samples (the table without the response, then its
@@ -16,12 +17,12 @@
 
 use specula_accuracy::coverage::cell_coverage;
 use specula_core::merl::MerlBrdf;
+use specula_core::statistics::normal_scale_of_absolute;
 use specula_core::tabulate::tabulate;
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
 use specula_reconstruct::provenance::Provenance;
 use specula_reconstruct::uncertainty::{sidecar_path, CellTerms, Scales, Terms, UncertaintyInputs};
 use specula_reconstruct::Method;
-use specula_session::measured_uncertainty::session_main_noise;
 use specula_session::workflow::session_main_samples;
 use std::path::PathBuf;
 
@@ -40,12 +41,10 @@ fn main() -> anyhow::Result<()> {
         let reconstruction = reconstruct_halves(&samples, Method::Lobe, "t", through, None)?;
         let table = reconstruction.brdf.clone();
         let provenance = reconstruction.provenance.clone();
-        let noise = session_main_noise(&session)?;
         let phi_h_rad = specula_core::GridSpec::paper().phi_h_deg.to_radians();
         let truth = tabulate(specula_formats::load_brdf(truth_name)?.as_ref(), phi_h_rad);
         let inputs = UncertaintyInputs {
             samples: &samples,
-            noise_rel: Some(&noise),
             method: Method::Lobe,
             prior: None,
         };
@@ -59,7 +58,7 @@ fn main() -> anyhow::Result<()> {
             spent.as_secs_f64()
         );
         if let Ok(batches) = std::env::var("BATCHES") {
-            time_batches(&samples, &noise, &batches)?;
+            time_batches(&samples, &batches)?;
         }
         if std::env::var_os("WRITE").is_some() {
             default.absolute(&table).write(&sidecar_path(&table_path))?;
@@ -78,6 +77,9 @@ fn main() -> anyhow::Result<()> {
                 table_path.display(),
                 c.both.fraction().unwrap_or(f64::NAN)
             );
+        }
+        if std::env::var_os("SCATTER").is_some() {
+            noise_scatter(&samples, truth_name)?;
         }
         if std::env::var_os("BANDS").is_some() {
             bands(&table, &terms, &provenance, &truth)?;
@@ -110,26 +112,45 @@ fn main() -> anyhow::Result<()> {
     Ok(())
 }
 
+/// How far the samples lie from the truth at their nominal directions, in their own noise
+/// ([`specula_core::Sample::noise_rel`]) and in all: a scale of about 1 says the noise
+/// explains the scatter (the blur, the positioning and a calibration's bias add to it).
+fn noise_scatter(samples: &[specula_core::Sample], truth_name: &str) -> anyhow::Result<()> {
+    let truth = specula_formats::load_brdf(truth_name)?;
+    let (mut in_noise, mut in_all) = (Vec::new(), Vec::new());
+    for s in samples {
+        let (Some(noise), Some(t)) = (s.noise_rel, truth.eval_half_diff(s.hd)) else {
+            continue;
+        };
+        for c in 0..3 {
+            let d = (s.value[c] / t[c]).ln().abs();
+            if d.is_finite() {
+                in_noise.push(d / noise);
+                in_all.push(d);
+            }
+        }
+    }
+    println!(
+        "SCATTER {} values: |ln(sample / truth)| has the scale of {:.3} of their noise, {:.6} in all",
+        in_all.len(),
+        normal_scale_of_absolute(&mut in_noise),
+        normal_scale_of_absolute(&mut in_all)
+    );
+    Ok(())
+}
+
 /// Times the reconstruction without the response and the uncertainty estimate of the first
 /// `n` samples for each `n` of the comma-separated `batches`.
-fn time_batches(
-    samples: &[specula_core::Sample],
-    noise: &[f64],
-    batches: &str,
-) -> anyhow::Result<()> {
+fn time_batches(samples: &[specula_core::Sample], batches: &str) -> anyhow::Result<()> {
     for n in batches.split(',') {
         let n: usize = n.trim().parse()?;
-        let (samples, noise) = (
-            &samples[..n.min(samples.len())],
-            &noise[..n.min(noise.len())],
-        );
+        let samples = &samples[..n.min(samples.len())];
         let started = std::time::Instant::now();
         let none = None::<&dyn specula_core::capture::CaptureResponse>;
         let table = reconstruct_halves(samples, Method::Lobe, "batch", none, None)?;
         let reconstructed = started.elapsed();
         let inputs = UncertaintyInputs {
             samples,
-            noise_rel: Some(noise),
             method: Method::Lobe,
             prior: None,
         };

@@ -13,12 +13,27 @@ pub struct Sample {
     pub hd: HalfDiff,
     /// f_r in 1/sr per channel.
     pub value: Rgb,
+    /// The relative standard deviation of the value from the camera's noise (its HDR merge's
+    /// shot, read and dark noise, type A), when the measurement recorded it.
+    pub noise_rel: Option<f64>,
 }
 
 impl Sample {
-    /// The value `value` (1/sr) measured at `hd`.
+    /// The value `value` (1/sr) measured at `hd`, its noise not known.
     pub fn new(hd: HalfDiff, value: Rgb) -> Self {
-        Self { hd, value }
+        Self {
+            hd,
+            value,
+            noise_rel: None,
+        }
+    }
+
+    /// The sample with the relative standard deviation `noise_rel` of its value.
+    pub fn with_noise_rel(self, noise_rel: f64) -> Self {
+        Self {
+            noise_rel: Some(noise_rel),
+            ..self
+        }
     }
 
     /// The directions `(to the light, to the camera)` of the sample, unit vectors in the

@@ -43,8 +43,16 @@ pub(crate) fn samples_dict<'py>(
     dict.set_item(ANGLES[3], angle(|hd| hd.phi_d))?;
     let rgb: Vec<_> = samples.iter().map(|s| s.value).collect();
     dict.set_item("rgb", rgb_array(py, &rgb))?;
+    let noise: Option<Vec<f64>> = samples.iter().map(|s| s.noise_rel).collect();
+    if let Some(noise) = noise.filter(|n| !n.is_empty()) {
+        dict.set_item(NOISE, noise.into_pyarray(py))?;
+    }
     Ok(dict)
 }
+
+/// The optional sample column of each value's relative noise (its HDR merge's, through the
+/// colour matrix), as a measurement session records it.
+const NOISE: &str = "noise_rel";
 
 /// Samples from a mapping with the keys of [`samples_dict`].
 pub(crate) fn samples_of(samples: &Bound<'_, PyMapping>) -> PyResult<Vec<Sample>> {
@@ -61,10 +69,28 @@ pub(crate) fn samples_of(samples: &Bound<'_, PyMapping>) -> PyResult<Vec<Sample>
     }
     let rgb: PyArrayLike2<'_, f64, AllowTypeChange> = samples.get_item("rgb")?.extract()?;
     let rgb = rgb_rows(&rgb, n)?;
+    let noise = match samples.contains(NOISE)? {
+        true => {
+            let column: PyArrayLike1<'_, f64, AllowTypeChange> =
+                samples.get_item(NOISE)?.extract()?;
+            let column = column.as_array().to_vec();
+            if column.len() != n {
+                return Err(invalid(format!(
+                    "the sample column {NOISE:?} must have the length of the others"
+                )));
+            }
+            Some(column)
+        }
+        false => None,
+    };
     Ok((0..n)
         .map(|i| {
             let hd = HalfDiff::from_degrees(angles[0][i], angles[1][i], angles[2][i], angles[3][i]);
-            Sample::new(hd, rgb[i])
+            let sample = Sample::new(hd, rgb[i]);
+            match &noise {
+                Some(noise) => sample.with_noise_rel(noise[i]),
+                None => sample,
+            }
         })
         .collect())
 }
@@ -117,8 +143,9 @@ fn method(name: &str) -> PyResult<Method> {
 
 /// Reconstruct a full MERL table from sparse samples (paper 5.3, `specula reconstruct`):
 /// `samples` is a mapping of arrays `theta_h_deg`, `phi_h_deg`, `theta_d_deg`, `phi_d_deg`
-/// (N,) and `rgb` (N, 3) in 1/sr (as `evaluate(...)["samples"]` and `read_session`
-/// return). `method`: `"lobe"` (ours), `"prior"` (lobe blended with the MERL-100 prior as far
+/// (N,) and `rgb` (N, 3) in 1/sr, and optionally `noise_rel` (N,), each value's relative
+/// standard deviation from the camera's noise, which the `lobe` method smooths the residual
+/// within (as `evaluate(...)["samples"]` and `read_session` return). `method`: `"lobe"` (ours), `"prior"` (lobe blended with the MERL-100 prior as far
 /// as the samples trust it), `"log"` or `"linear"` (the paper's baseline). Samples
 /// that measure both halves of phi_d (0-90 and 90-180 deg, two positions each at least) are
 /// reconstructed half by half, as `specula reconstruct` does. `out`: a MERL `.binary` to

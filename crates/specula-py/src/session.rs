@@ -10,6 +10,7 @@ use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use specula_accuracy::merl_prior::basis_for;
+use specula_acquisition::calibration::Calibration;
 use specula_acquisition::instrument::MountTarget;
 use specula_core::request::ProbeRequest;
 use specula_core::ProbeSpec;
@@ -176,7 +177,7 @@ fn summary_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict
 /// "done", "device_s_done", "predicted_s_left", "captures"}}, "events": {kind: count}, "fit":
 /// {"k", "family", "error"} or None, "probe":
 /// {"theta_h_deg", "rgb"} or None, "samples"}` (the main stage's measured samples in plan
-/// order, a dict for `reconstruct`). A file that is not a journal raises `SpeculaError`.
+/// order with each value's relative noise, `noise_rel`: a dict for `reconstruct`). A file that is not a journal raises `SpeculaError`.
 #[pyfunction]
 pub(crate) fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     let journal = Journal::open_read_only(&path).or_raise()?;
@@ -194,7 +195,9 @@ pub(crate) fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, 
     };
     let samples = if has(Stage::Main) {
         let plan = journal.plan(Stage::Main).or_raise()?;
-        measured_samples(&plan, &journal.samples(Stage::Main).or_raise()?)
+        let calibration: Option<Calibration> = journal.record().or_raise()?;
+        let records = journal.samples(Stage::Main).or_raise()?;
+        measured_samples(&plan, &records, calibration.as_ref())
     } else {
         Vec::new()
     };

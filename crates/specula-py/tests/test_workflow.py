@@ -154,6 +154,23 @@ def test_measure_and_read_session_agree_with_the_cli(cli, tmp_path):
     assert np.array_equal(np.isnan(again), np.isnan(specula.read_merl(blurred)))
 
 
+def test_a_session_s_samples_carry_their_noise_into_the_reconstruction(cli, tmp_path):
+    out = tmp_path / "m.binary"
+    session = tmp_path / "m.sqlite"
+    specula.measure("green-paint", out, session=session, checks=False, probe_samples=30,
+                    **SMALL)
+    samples = specula.read_session(session)["samples"]
+    noise = np.asarray(samples["noise_rel"])
+    assert noise.shape == (len(samples["rgb"]),)
+    # Each value's relative standard deviation from the camera: small, positive, finite.
+    assert np.all((noise > 0) & (noise < 0.05))
+    # With its noise the residual is smoothed as the CLI smooths it.
+    blurred = tmp_path / "blurred.binary"
+    cli("reconstruct", "--session", session, "--no-deblur", "--out", blurred)
+    again = specula.reconstruct(samples)["table"]
+    np.testing.assert_allclose(again, specula.read_merl(blurred), rtol=1e-9)
+
+
 def test_read_session_rejects_a_file_that_is_not_a_journal(cli, tmp_path):
     bad = tmp_path / "bad.sqlite"
     bad.write_text("not a database")

@@ -16,6 +16,7 @@ mod axis;
 pub mod breakdown;
 pub mod consistency;
 pub mod deblur;
+mod denoise;
 mod domain;
 pub mod energy;
 mod extrapolate;

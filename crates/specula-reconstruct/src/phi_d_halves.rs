@@ -37,14 +37,17 @@ fn halves(samples: &[Sample]) -> [Vec<Sample>; 2] {
     for s in samples {
         let phi_d = mirror_fold_phi_d_rad(s.hd.phi_d);
         if phi_d <= FRAC_PI_2 + SEAM_TOLERANCE_RAD {
-            first.push(Sample::new(HalfDiff { phi_d, ..s.hd }, s.value));
+            first.push(Sample {
+                hd: HalfDiff { phi_d, ..s.hd },
+                ..*s
+            });
         }
         if phi_d >= FRAC_PI_2 - SEAM_TOLERANCE_RAD {
             let hd = HalfDiff {
                 phi_d: (PI - phi_d).max(0.0),
                 ..s.hd
             };
-            second.push(Sample::new(hd, s.value));
+            second.push(Sample { hd, ..*s });
         }
     }
     [first, second]

@@ -115,6 +115,7 @@ pub fn reconstruct_with_prior<R: CaptureResponse + ?Sized>(
             std::array::from_fn(|c| domain.forward(s.value[c], m[c]))
         })
         .collect();
+    let residuals = crate::denoise::smoothed(samples, &residuals);
     let lobe_on_grid = LobeOnGrid::new(lobe);
     let prior_on_grid = prior.on_merl_grid();
     let mut reconstruction =

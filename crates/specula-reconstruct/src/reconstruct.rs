@@ -168,13 +168,16 @@ fn in_domain(
     } else {
         None
     };
-    let domain_values = canonical
+    let domain_values: Vec<[f64; 3]> = canonical
         .par_iter()
         .map(|s| {
             let model = lobe.map_or(Rgb::ZERO, |l| measured_lobe(&l, &nodes.residual, s.hd));
             std::array::from_fn(|c| method.domain().forward(s.value[c], model[c]))
         })
         .collect();
+    if method.domain().uses_lobe() {
+        return Ok((lobe, crate::denoise::smoothed(samples, &domain_values)));
+    }
     Ok((lobe, domain_values))
 }
 
@@ -214,6 +217,10 @@ fn corrected_through(
     let lobe = consistency::LobeCaptures::of(&chosen, floor.lobe, floor.table, nodes);
     let representation = log_errors(&lobe);
     let positioning = positioning_log_uncertainty(&chosen, &lobe.tabulated, floor.table, nodes);
+    let noise: Vec<f64> = chosen
+        .iter()
+        .map(|s| crate::denoise::value_sigma(s).unwrap_or(0.0))
+        .collect();
     let mut table = build(&values);
     let mut predictions = predict(samples, &blurred, &table.brdf, nodes);
     let mut error = reproduction_error(samples, &blurred, &predictions);
@@ -223,7 +230,8 @@ fn corrected_through(
             for c in 0..3 {
                 let miss = log_of_measured(samples[i].value[c]) - log_of_measured(p[c]);
                 let (r, u) = (representation[k][c], positioning[k][c]);
-                candidate_values[i][c] += shrunk(miss - r, DEADBAND_UNCERTAINTIES * r.hypot(u));
+                let band = DEADBAND_UNCERTAINTIES * r.hypot(u).hypot(noise[k]);
+                candidate_values[i][c] += shrunk(miss - r, band);
             }
         }
         let candidate = build(&candidate_values);
@@ -246,7 +254,10 @@ fn corrected_through(
     (table, values)
 }
 
-/// A sample's miss is corrected only by what exceeds this many of its uncertainties.
+/// A sample's miss is corrected only by what exceeds this many of its uncertainties: the
+/// table's representation of the lobe, the device's positioning through the table and the
+/// value's own noise ([`crate::denoise::value_sigma`]: the values the lattice holds were
+/// smoothed within it, and a correction must not put it back).
 const DEADBAND_UNCERTAINTIES: f64 = 2.0;
 
 /// `x` moved towards zero by `band`, zero within it (soft thresholding): a miss the sample's

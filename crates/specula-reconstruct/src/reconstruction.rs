@@ -130,7 +130,10 @@ pub(crate) fn reciprocal_canonical(sample: &Sample) -> Sample {
     const QUANTUM_RAD: f64 = 1e-9;
     let folded = sample.hd.phi_d.rem_euclid(std::f64::consts::PI);
     let phi_d = ((folded / QUANTUM_RAD).round() * QUANTUM_RAD).rem_euclid(std::f64::consts::PI);
-    Sample::new(HalfDiff { phi_d, ..sample.hd }, sample.value)
+    Sample {
+        hd: HalfDiff { phi_d, ..sample.hd },
+        ..*sample
+    }
 }
 
 /// The steps every method shares once each sample has its value in `method`'s domain: the

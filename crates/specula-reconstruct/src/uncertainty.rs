@@ -3,8 +3,9 @@
 //!
 //! A cell's relative standard uncertainty combines, in quadrature (GUM, uncorrelated inputs):
 //!
-//! - **noise** `a`: the relative standard deviation of the nearest sample's HDR merge (shot,
-//!   read and dark noise at the exposures used, `sigma / rate` of its captures; type A);
+//! - **noise** `a`: the relative standard deviation of the nearest sample's value from its HDR
+//!   merge (shot, read and dark noise at the exposures used, through the colour matrix:
+//!   [`Sample::noise_rel`]; type A);
 //! - **calibration** [`CALIBRATION_REL`]: the white reference's stated reflectance, the gain
 //!   fit and the colour matrix (type B, the documented budget);
 //! - **reconstruction** (type A, from the data), axis by axis of the sample lattice
@@ -126,8 +127,8 @@ pub const MAX_RELATIVE: f64 = 10.0;
 /// e^25 times off) says only that the value is off by more than the cap.
 const MAX_LOG_DIFFERENCE: f64 = 2.397_895_272_798_371;
 
-/// The relative uncertainty of a sample whose HDR merge gave no finite sigma (saturated in
-/// every capture: a lower bound).
+/// The relative uncertainty of a sample whose value has no finite sigma (saturated in every
+/// capture: a lower bound).
 const LOWER_BOUND_NOISE_REL: f64 = 1.0;
 
 /// The relative uncertainty summarised within this elevation of light and camera (degrees).
@@ -196,9 +197,6 @@ pub struct RelativeUncertainty(pub Vec<Option<[f64; 3]>>);
 pub struct UncertaintyInputs<'a> {
     /// The samples the table was reconstructed from.
     pub samples: &'a [Sample],
-    /// Each sample's relative standard uncertainty from its HDR merge ([`noise_rel`]);
-    /// `None` when not known (a samples file): the noise term is then left out.
-    pub noise_rel: Option<&'a [f64]>,
     /// The method the table was reconstructed with.
     pub method: Method,
     /// The `prior` method's basis, when that is the method.
@@ -208,21 +206,6 @@ pub struct UncertaintyInputs<'a> {
 /// `OUT.uncertainty.binary` beside `OUT.binary`.
 pub fn sidecar_path(out: &Path) -> PathBuf {
     out.with_extension("uncertainty.binary")
-}
-
-/// A sample's relative noise from its HDR merge: the largest `sigma / rate` of its channels;
-/// [`LOWER_BOUND_NOISE_REL`] where a sigma is not finite or a rate not positive.
-pub fn noise_rel(rate_dn_s: [f64; 3], sigma_dn_s: [f64; 3]) -> f64 {
-    (0..3)
-        .map(|c| {
-            let r = sigma_dn_s[c] / rate_dn_s[c];
-            if r.is_finite() && rate_dn_s[c] > 0.0 {
-                r.min(LOWER_BOUND_NOISE_REL)
-            } else {
-                LOWER_BOUND_NOISE_REL
-            }
-        })
-        .fold(0.0, f64::max)
 }
 
 /// Estimates the uncertainty of `reconstruction`, made from the inputs by
@@ -285,7 +268,7 @@ impl Terms {
             reconstruction.deblurred_replaced.as_ref().unwrap_or(table)
         };
         let both_halves = measures_both_halves(samples);
-        let noise = noise_of(samples, inputs.noise_rel);
+        let noise = noise_of(samples);
         let lattice = Lattice::spanned_by(samples);
         let axes = [&lattice.theta_h, &lattice.theta_d, &lattice.phi_d];
         let coords: Vec<[f64; 3]> = samples.iter().map(|s| coordinates(s.hd)).collect();
@@ -581,13 +564,11 @@ fn median_of(mut values: Vec<f64>) -> f64 {
 }
 
 /// Each sample's relative noise, zero when not known.
-fn noise_of(samples: &[Sample], noise_rel: Option<&[f64]>) -> Vec<f64> {
-    match noise_rel {
-        Some(n) if n.len() == samples.len() => {
-            n.iter().map(|r| r.min(LOWER_BOUND_NOISE_REL)).collect()
-        }
-        _ => vec![0.0; samples.len()],
-    }
+fn noise_of(samples: &[Sample]) -> Vec<f64> {
+    samples
+        .iter()
+        .map(|s| s.noise_rel.map_or(0.0, |n| n.min(LOWER_BOUND_NOISE_REL)))
+        .collect()
 }
 
 /// The coordinates (degrees) in which distances are measured: theta_h, theta_d and phi_d
@@ -1027,15 +1008,11 @@ mod tests {
         samples
     }
 
-    fn estimated(
-        samples: &[Sample],
-        noise: Option<&[f64]>,
-    ) -> (MerlBrdf, Provenance, CellUncertainty) {
+    fn estimated(samples: &[Sample]) -> (MerlBrdf, Provenance, CellUncertainty) {
         let none = None::<&dyn CaptureResponse>;
         let r = reconstruct_halves(samples, Method::Lobe, "t", none, None).unwrap();
         let inputs = UncertaintyInputs {
             samples,
-            noise_rel: noise,
             method: Method::Lobe,
             prior: None,
         };
@@ -1093,7 +1070,6 @@ mod tests {
         let samples = samples_of(&truth);
         let inputs = UncertaintyInputs {
             samples: &samples,
-            noise_rel: None,
             method: Method::Lobe,
             prior: None,
         };
@@ -1150,7 +1126,7 @@ mod tests {
     #[test]
     fn the_uncertainty_grows_with_the_distance_from_the_samples() {
         let truth = preset("green-paint").unwrap();
-        let (_, provenance, u) = estimated(&samples_up_to(&truth, 45), None);
+        let (_, provenance, u) = estimated(&samples_up_to(&truth, 45));
         assert!(
             u.model.local_factors.iter().any(|&c| c > 0.0),
             "{:?}",
@@ -1177,7 +1153,7 @@ mod tests {
     #[test]
     fn extrapolated_cells_are_more_uncertain_than_measured_ones() {
         let truth = preset("green-paint").unwrap();
-        let (_, provenance, u) = estimated(&samples_of(&truth), None);
+        let (_, provenance, u) = estimated(&samples_of(&truth));
         assert!(u.model.extrapolated_rel > 0.0, "{:?}", u.model);
         let mean_of = |origin: CellOrigin| {
             let values: Vec<f64> = (0..CELLS)
@@ -1204,7 +1180,7 @@ mod tests {
         // (the grid's elevation limit): the reach is the largest of their elevations.
         let truth = preset("green-paint").unwrap();
         let samples = samples_up_to(&truth, 50);
-        let (table, _, u) = estimated(&samples, None);
+        let (table, _, u) = estimated(&samples);
         let reach = samples
             .iter()
             .map(|s| elevation_deg(s.hd))
@@ -1231,9 +1207,11 @@ mod tests {
     #[test]
     fn the_noise_of_the_nearest_sample_and_the_calibration_are_the_floor() {
         let truth = preset("green-paint").unwrap();
-        let samples = samples_of(&truth);
-        let noise = vec![0.03; samples.len()];
-        let (_, _, u) = estimated(&samples, Some(&noise));
+        let samples: Vec<Sample> = samples_of(&truth)
+            .into_iter()
+            .map(|s| s.with_noise_rel(0.03))
+            .collect();
+        let (_, _, u) = estimated(&samples);
         let floor = (0.03f64.powi(2) + CALIBRATION_REL.powi(2)).sqrt();
         let min = u
             .relative
@@ -1249,7 +1227,7 @@ mod tests {
     #[test]
     fn the_absolute_table_reads_back_as_the_relative_uncertainty() {
         let truth = preset("green-paint").unwrap();
-        let (table, _, u) = estimated(&samples_of(&truth), None);
+        let (table, _, u) = estimated(&samples_of(&truth));
         let absolute = MerlBrdf::from_bytes("u", &u.absolute(&table).to_bytes()).unwrap();
         let back = RelativeUncertainty::of_tables(&table, &absolute);
         for (index, (a, b)) in u.relative.0.iter().zip(&back.0).enumerate() {
@@ -1273,15 +1251,13 @@ mod tests {
 
     #[test]
     fn a_sample_without_a_finite_sigma_is_a_lower_bound() {
-        assert_eq!(
-            noise_rel([100.0, 100.0, 0.0], [1.0, 1.0, 1.0]),
-            LOWER_BOUND_NOISE_REL
-        );
-        assert_eq!(
-            noise_rel([100.0; 3], [1.0, 2.0, f64::INFINITY]),
-            LOWER_BOUND_NOISE_REL
-        );
-        assert!((noise_rel([100.0; 3], [1.0, 2.0, 0.5]) - 0.02).abs() < 1e-15);
+        let sample = Sample::new(HalfDiff::from_degrees(1.0, 0.0, 30.0, 90.0), Rgb::ONE);
+        let samples = [
+            sample.with_noise_rel(f64::INFINITY),
+            sample.with_noise_rel(0.02),
+            sample,
+        ];
+        assert_eq!(noise_of(&samples), vec![LOWER_BOUND_NOISE_REL, 0.02, 0.0]);
     }
 
     #[test]
@@ -1411,7 +1387,6 @@ mod tests {
         assert_eq!(r.residual_models.len(), 1, "one half of phi_d measured");
         let inputs = UncertaintyInputs {
             samples: &samples,
-            noise_rel: None,
             method: Method::Lobe,
             prior: None,
         };
@@ -1522,7 +1497,7 @@ mod tests {
                 }
             }
         }
-        let (table, provenance, u) = estimated(&samples, None);
+        let (table, provenance, u) = estimated(&samples);
         let exact = specula_core::tabulate::tabulate(&truth, 0.0);
         let (mut relative, mut error) = (Vec::new(), Vec::new());
         for i in (0..CELLS).filter(|&i| within_summary_elevation(i)) {
@@ -1566,7 +1541,7 @@ mod tests {
             };
             u.relative.0[bin.index()].is_some()
         };
-        let (_, _, u) = estimated(&at_phi_d(&|p| p < 1.0), None);
+        let (_, _, u) = estimated(&at_phi_d(&|p| p < 1.0));
         assert_eq!(u.model.judged, [true, true, false]);
         assert!(has(&u, 0) && has(&u, 179));
         assert!(!has(&u, 45) && !has(&u, 20) && !has(&u, 90));
@@ -1577,13 +1552,13 @@ mod tests {
         };
         assert!(lines.iter().any(not_given), "{lines:?}");
 
-        let (_, _, u) = estimated(&at_phi_d(&|p| !(1.0..=89.0).contains(&p)), None);
+        let (_, _, u) = estimated(&at_phi_d(&|p| !(1.0..=89.0).contains(&p)));
         assert_eq!(u.model.judged, [true; 3]);
         assert!(has(&u, 45) && has(&u, 20));
 
         let hd = HalfDiff::from_degrees(10.3, 45.0, 30.4, 40.3);
         let one = [Sample::new(hd, truth.eval_half_diff(hd).unwrap())];
-        let (_, _, u) = estimated(&one, None);
+        let (_, _, u) = estimated(&one);
         assert_eq!(u.model.judged, [false; 3]);
         let given: Vec<usize> = (0..CELLS).filter(|&i| u.relative.0[i].is_some()).collect();
         assert_eq!(given.len(), 2, "{given:?}");

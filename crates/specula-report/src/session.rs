@@ -89,7 +89,7 @@ impl Session {
             }
             if stage.stage == Stage::Main {
                 lower_bounds = samples.values().filter(|s| s.lower_bound).count();
-                main = measured_samples(&plan, &samples);
+                main = measured_samples(&plan, &samples, None);
             }
         }
         let device = record

@@ -29,7 +29,6 @@ pub mod ideal;
 pub mod inputs;
 pub mod journal;
 mod measure_request;
-pub mod measured_uncertainty;
 mod observer;
 pub mod pace;
 mod plan_request;

@@ -48,6 +48,7 @@ use specula_core::sampling::SamplingFunction;
 use specula_core::{GridSpec, HalfDiff, ProbePoint, ProbeSpec, Rgb, Sample};
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use specula_reconstruct::provenance::sidecar_path;
+use specula_reconstruct::uncertainty::{self, UncertaintyInputs};
 use specula_reconstruct::{deblur_probe, DeblurredProbe, PriorBasis, ReconstructError};
 use specula_sampling::{fit_k, Probe};
 use std::path::{Path, PathBuf};
@@ -248,7 +249,11 @@ pub fn measure(
 
     observer.step("reconstructing");
     let main = engine.journal.samples(Stage::Main)?;
-    let samples = measured_samples(&engine.journal.plan(Stage::Main)?, &main);
+    let samples = measured_samples(
+        &engine.journal.plan(Stage::Main)?,
+        &main,
+        Some(&calibration),
+    );
     let name = out
         .file_stem()
         .map_or_else(|| "measured".into(), |s| s.to_string_lossy().into_owned());
@@ -259,20 +264,18 @@ pub fn measure(
         .as_ref()
         .filter(|_| result.resolution_deg.is_some())
         .map(|fit| DeblurRecord::new(fit, &result));
-    let uncertainty = crate::measured_uncertainty::of_measurement(
-        &engine.journal.plan(Stage::Main)?,
-        &main,
-        &samples,
+    let inputs = UncertaintyInputs {
+        samples: &samples,
         method,
         prior,
-        &result,
-    )
-    .map_err(|cause| WorkflowError::Reconstruct { cause })?;
+    };
+    let uncertainty = uncertainty::estimate(&inputs, &result)
+        .map_err(|cause| WorkflowError::Reconstruct { cause })?;
     specula_core::atomic_file::write_together(&[
         (out, &result.brdf.to_bytes()),
         (&sidecar_path(out), &result.provenance.to_npy()),
         (
-            &specula_reconstruct::uncertainty::sidecar_path(out),
+            &uncertainty::sidecar_path(out),
             &uncertainty.absolute(&result.brdf).to_bytes(),
         ),
     ])?;
@@ -349,9 +352,10 @@ pub fn session_main_samples(
     path: &Path,
 ) -> Result<(Vec<Sample>, Option<ResponseFit>), WorkflowError> {
     let journal = Journal::open_read_only(path)?;
-    let response = journal.record::<Calibration>()?.and_then(|c| c.response);
+    let calibration = journal.record::<Calibration>()?;
     let plan = journal.plan(Stage::Main)?;
-    let samples = measured_samples(&plan, &journal.samples(Stage::Main)?);
+    let samples = measured_samples(&plan, &journal.samples(Stage::Main)?, calibration.as_ref());
+    let response = calibration.and_then(|c| c.response);
     if samples.is_empty() {
         return Err(WorkflowError::NoMainSamples {
             session: path.to_path_buf(),
@@ -538,13 +542,24 @@ fn stopped(stage: Stage, outcome: &StageOutcome) -> MeasureOutcome {
     }
 }
 
-/// The journal's samples of a stage as reconstruction samples, in plan order.
+/// The journal's samples of a stage as reconstruction samples, in plan order, each with the
+/// relative noise of its value through `calibration` (the session's,
+/// [`Calibration::relative_sigma`]) when one is given.
 pub fn measured_samples(
     plan: &[PlannedRow],
     samples: &std::collections::BTreeMap<u32, SampleRecord>,
+    calibration: Option<&Calibration>,
 ) -> Vec<Sample> {
     plan.iter()
-        .filter_map(|row| samples.get(&row.seq).map(|s| Sample::new(row.hd, s.value)))
+        .filter_map(|row| {
+            samples.get(&row.seq).map(|s| {
+                let sample = Sample::new(row.hd, s.value);
+                match calibration {
+                    Some(c) => sample.with_noise_rel(c.relative_sigma(s.rate_dn_s, s.sigma_dn_s)),
+                    None => sample,
+                }
+            })
+        })
         .collect()
 }
 

@@ -175,6 +175,7 @@ fn a_half_turn_plan_is_measured_and_reconstructed_by_halves() {
     let samples = measured_samples(
         &journal.plan(Stage::Main).unwrap(),
         &journal.samples(Stage::Main).unwrap(),
+        None,
     );
     let beyond_90 = samples
         .iter()

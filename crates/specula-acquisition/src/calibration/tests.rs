@@ -97,6 +97,12 @@ fn calibration_recovers_the_simulated_camera() {
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&sim.info().unwrap()), cal.noise);
     let value = hdr.measure(&mut sim, None).unwrap().value;
     let (brdf, sigma) = cal.brdf_with_sigma(&value, wi.z);
+    let largest = (0..3).map(|c| sigma[c] / brdf[c]).fold(0.0, f64::max);
+    let relative = cal.relative_sigma(value.rate_dn_s, value.sigma_dn_s);
+    assert!(
+        (relative / largest - 1.0).abs() < 1e-12,
+        "{relative} {largest}"
+    );
     let expected = target.reflectance / PI;
     let relative = ((brdf - expected) / expected).abs().max_element();
     assert!(relative < 0.01, "{brdf} vs {expected}");
@@ -133,6 +139,19 @@ fn calibration_file_round_trip_and_errors() {
     let brdf = cal.brdf([2e5, 3e5, 1e5], 0.8);
     let camera = cal.matrix().inverse() * (brdf * 0.8) * DVec3::from(cal.gain_dn_s_per_sr);
     assert!((camera - DVec3::new(2e5, 3e5, 1e5)).abs().max_element() < 1e-6);
+    // A value's relative noise goes through the colour matrix: with every camera channel at
+    // 1 unit of 0.01 standard deviation, red is 1.1 - 0.1 = 1 with sqrt(1.1^2 + 0.1^2) times
+    // 0.01, the largest of the three.
+    let rate = [1e6, 2e6, 3e6];
+    let relative = cal.relative_sigma(rate, [1e4, 2e4, 3e4]);
+    assert!(
+        (relative - 0.01 * 1.22f64.sqrt()).abs() < 1e-12,
+        "{relative}"
+    );
+    assert_eq!(
+        cal.relative_sigma(rate, [1e4, f64::INFINITY, 3e4]),
+        f64::INFINITY
+    );
 
     std::fs::write(&path, "gain_dn_s_per_sr = 3\n").unwrap();
     let err = Calibration::load(&path).unwrap_err().to_string();

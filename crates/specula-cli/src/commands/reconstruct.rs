@@ -6,7 +6,6 @@ use specula_formats::samples_csv::SampleSet;
 use specula_reconstruct::provenance::sidecar_path;
 use specula_reconstruct::uncertainty::{self, UncertaintyInputs};
 use specula_reconstruct::{run_reconstruct, Method, ReconstructRequest, RunReconstructError};
-use specula_session::measured_uncertainty::session_main_noise;
 use specula_session::workflow::{session_main_samples, DeblurRecord};
 use std::path::PathBuf;
 
@@ -55,11 +54,11 @@ pub(crate) fn run(args: Args) -> Result<()> {
         out: Some(args.out.clone()),
     };
     request.validate()?;
-    let (input, samples, response, noise) = match (&args.samples, &args.session) {
-        (Some(path), _) => (path, SampleSet::read(path)?.samples().to_vec(), None, None),
+    let (input, samples, response) = match (&args.samples, &args.session) {
+        (Some(path), _) => (path, SampleSet::read(path)?.samples().to_vec(), None),
         (None, Some(path)) => {
             let (samples, response) = session_main_samples(path)?;
-            (path, samples, response, Some(session_main_noise(path)?))
+            (path, samples, response)
         }
         (None, None) => bail!("give --samples-csv or --session"),
     };
@@ -78,7 +77,6 @@ pub(crate) fn run(args: Args) -> Result<()> {
     };
     let inputs = UncertaintyInputs {
         samples: &samples,
-        noise_rel: noise.as_deref(),
         method: args.method,
         prior: prior.as_deref(),
     };

@@ -58,12 +58,15 @@ class KFit(TypedDict):
     evaluations: int
     theta_h_deg: FloatArray
 
-class Samples(TypedDict):
+class Samples(TypedDict, total=False):
     theta_h_deg: FloatArray
     phi_h_deg: FloatArray
     theta_d_deg: FloatArray
     phi_d_deg: FloatArray
     rgb: FloatArray
+    # Each value's relative standard deviation from the camera's noise (a measured
+    # session's samples have it; the lobe method smooths the residual within it).
+    noise_rel: FloatArray
 
 class Evaluation(TypedDict):
     name: str
@@ -259,6 +262,7 @@ def measure(
 
 def read_session(path: Path) -> dict[str, Any]:
     """A session journal read-only: its grid, stages, events, fit, probe and the main
-    samples."""
+    samples (with each value's relative noise, "noise_rel", which `reconstruct` smooths the
+    residual within)."""
 
 __all__: list[str]

@@ -36,7 +36,6 @@ use crate::estimate::{price_captures, PredictedExposures};
 use crate::journal::{
     BatchRecord, MeasureSettings, PlanOrder, PlannedRow, SequenceRecord, SequentialSettings, Stage,
 };
-use crate::measured_uncertainty::of_measurement;
 use crate::observer::Observer;
 use crate::predict::Predictor;
 use crate::workflow::{measured_samples, rows_of, run_stage};
@@ -51,6 +50,7 @@ use specula_core::capture::CaptureResponse;
 use specula_core::sampling::SamplingFunction;
 use specula_core::{GridSpec, HalfDiff};
 use specula_reconstruct::phi_d_halves::reconstruct_halves;
+use specula_reconstruct::uncertainty::{self, UncertaintyInputs};
 use specula_reconstruct::{Method, PriorBasis};
 use std::collections::BTreeSet;
 
@@ -333,7 +333,7 @@ fn forecast_of(
     spec: &SequentialSpec,
 ) -> Result<Forecast, WorkflowError> {
     let records = engine.journal.samples(Stage::Main)?;
-    let samples = measured_samples(plan, &records);
+    let samples = measured_samples(plan, &records, Some(engine.calibration));
     let method = batch_method(spec.settings.method);
     let reconstruct = |cause| WorkflowError::Reconstruct { cause };
     let table = reconstruct_halves(
@@ -344,8 +344,12 @@ fn forecast_of(
         spec.prior,
     )
     .map_err(reconstruct)?;
-    let u = of_measurement(plan, &records, &samples, method, spec.prior, &table)
-        .map_err(reconstruct)?;
+    let inputs = UncertaintyInputs {
+        samples: &samples,
+        method,
+        prior: spec.prior,
+    };
+    let u = uncertainty::estimate(&inputs, &table).map_err(reconstruct)?;
     Ok(Forecast::new(map, &table.brdf, &u.relative, lattice))
 }
 
