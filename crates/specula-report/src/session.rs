@@ -78,6 +78,8 @@ impl Session {
         let mut last_unix_s: Option<f64> = None;
         let mut lower_bounds = 0;
         let mut main = Vec::new();
+        // The samples carry their noise as `specula reconstruct --session` reads them.
+        let calibration = journal.record::<Calibration>().or_report()?;
         for stage in &record.status.stages {
             let plan = journal.plan(stage.stage).or_report()?;
             predicted_s += plan.iter().map(|row| row.predicted_s).sum::<f64>();
@@ -89,7 +91,7 @@ impl Session {
             }
             if stage.stage == Stage::Main {
                 lower_bounds = samples.values().filter(|s| s.lower_bound).count();
-                main = measured_samples(&plan, &samples, None);
+                main = measured_samples(&plan, &samples, calibration.as_ref());
             }
         }
         let device = record
