@@ -28,7 +28,7 @@
 //! bound (a sample saturated in every capture).
 
 use crate::consistency::POSITIONING_ACCURACY_DEG;
-use crate::lattice::{coordinates, Lattice, NodeStatus};
+use crate::lattice::{Lattice, NodeStatus};
 use argmin::core::{Error, Executor, Operator};
 use argmin::solver::conjugategradient::ConjugateGradient;
 use specula_core::statistics::{median, normal_scale_of_absolute};
@@ -70,7 +70,7 @@ pub(crate) fn smoothed(samples: &[Sample], values: &[[f64; 3]]) -> Vec<[f64; 3]>
         .iter()
         .zip(values)
         .map(|(s, v)| {
-            let k = nodes.position[node_of(&lattice, s)];
+            let k = nodes.position[lattice.node_of(s)];
             std::array::from_fn(|c| v[c] + corrections[c][k])
         })
         .collect()
@@ -97,16 +97,6 @@ fn incidence_sigma(sample: &Sample) -> f64 {
 /// The incidence's cosine is taken as at least this (88 deg), where a sample still holds a
 /// value.
 const MIN_COS_INCIDENCE: f64 = 0.035;
-
-/// The lattice node `sample` falls on.
-fn node_of(lattice: &Lattice, sample: &Sample) -> usize {
-    let [h, d, p] = coordinates(sample.hd);
-    lattice.index(
-        lattice.theta_h.nearest(h),
-        lattice.theta_d.nearest(d),
-        lattice.phi_d.nearest(p),
-    )
-}
 
 /// A measured node and its two measured neighbours along one axis: `v_node - (before_weight
 /// v_before + after_weight v_after)` is its departure from the straight line through them.
@@ -145,7 +135,7 @@ impl MeasuredNodes {
         let mut variance_sum = vec![0.0; index.len()];
         let mut count = vec![0usize; index.len()];
         for s in samples {
-            let k = position[node_of(lattice, s)];
+            let k = position[lattice.node_of(s)];
             variance_sum[k] += value_sigma(s).unwrap_or(f64::INFINITY).powi(2);
             count[k] += 1;
         }
@@ -224,10 +214,11 @@ impl MeasuredNodes {
     /// measured, by conjugate gradients from `start`. The system is scaled symmetrically by
     /// its diagonal (a Jacobi preconditioner), as the weights span orders of magnitude.
     fn solve(&self, y: &[f64], lambda: f64, start: &[f64]) -> Vec<f64> {
+        let scaling = self.scaling(lambda);
         let system = Smoothing {
             nodes: self,
             lambda,
-            scaling: self.scaling(lambda),
+            scaling: scaling.clone(),
         };
         let mut b = system.penalty(y);
         for (b, s) in b.iter_mut().zip(&system.scaling) {
@@ -252,11 +243,7 @@ impl MeasuredNodes {
             .ok()
             .and_then(|mut result| result.state.take_param())
             .unwrap_or_else(|| vec![0.0; y.len()]);
-        scaled
-            .iter()
-            .zip(&self.scaling(lambda))
-            .map(|(x, s)| x * s)
-            .collect()
+        scaled.iter().zip(&scaling).map(|(x, s)| x * s).collect()
     }
 
     /// `1 / sqrt` of the system's diagonal at each free node, zero at a node kept as measured.

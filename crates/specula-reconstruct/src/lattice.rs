@@ -86,12 +86,7 @@ impl Lattice {
         let mut lattice = Self::spanned_by(samples);
         let mut counts = vec![0usize; lattice.status.len()];
         for (sample, value) in samples.iter().zip(domain_values) {
-            let [h, d, p] = coordinates(sample.hd);
-            let node = lattice.index(
-                lattice.theta_h.nearest(h),
-                lattice.theta_d.nearest(d),
-                lattice.phi_d.nearest(p),
-            );
+            let node = lattice.node_of(sample);
             counts[node] += 1;
             for (plane, v) in lattice.values.iter_mut().zip(value) {
                 plane[node] += v;
@@ -106,6 +101,16 @@ impl Lattice {
             }
         }
         lattice
+    }
+
+    /// The node `sample` falls on: the nearest along each axis.
+    pub(crate) fn node_of(&self, sample: &Sample) -> usize {
+        let [h, d, p] = coordinates(sample.hd);
+        self.index(
+            self.theta_h.nearest(h),
+            self.theta_d.nearest(d),
+            self.phi_d.nearest(p),
+        )
     }
 
     /// Node counts along theta_h, theta_d and phi_d.

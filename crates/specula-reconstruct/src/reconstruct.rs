@@ -168,16 +168,17 @@ fn in_domain(
     } else {
         None
     };
-    let domain_values: Vec<[f64; 3]> = canonical
+    let values: Vec<[f64; 3]> = canonical
         .par_iter()
         .map(|s| {
             let model = lobe.map_or(Rgb::ZERO, |l| measured_lobe(&l, &nodes.residual, s.hd));
             std::array::from_fn(|c| method.domain().forward(s.value[c], model[c]))
         })
         .collect();
-    if method.domain().uses_lobe() {
-        return Ok((lobe, crate::denoise::smoothed(samples, &domain_values)));
-    }
+    let domain_values = match method.domain().uses_lobe() {
+        true => crate::denoise::smoothed(samples, &values),
+        false => values,
+    };
     Ok((lobe, domain_values))
 }
 
