@@ -256,21 +256,19 @@ impl Calibration {
 
     /// The relative standard deviation of the BRDF value of a rate with standard deviation
     /// `sigma_dn_s`: the camera's noise through the colour matrix
-    /// ([`Calibration::brdf_with_sigma`]), the largest over the channels; infinite where a
-    /// channel's sigma is not finite (saturated in every capture: the value is a lower bound)
-    /// or its value not positive.
-    pub fn relative_sigma(&self, rate_dn_s: [f64; 3], sigma_dn_s: [f64; 3]) -> f64 {
+    /// ([`Calibration::brdf_with_sigma`]), per channel; infinite in a channel whose sigma is
+    /// not finite (a camera channel saturated in every capture that mixes into it: the value is
+    /// a lower bound) or whose value is not positive.
+    pub fn relative_sigma(&self, rate_dn_s: [f64; 3], sigma_dn_s: [f64; 3]) -> Rgb {
         let (brdf, sigma) = (self.brdf(rate_dn_s, 1.0), self.brdf_sigma(sigma_dn_s, 1.0));
-        (0..3)
-            .map(|c| {
-                let r = sigma[c] / brdf[c];
-                if r.is_finite() && brdf[c] > 0.0 {
-                    r
-                } else {
-                    f64::INFINITY
-                }
-            })
-            .fold(0.0, f64::max)
+        Rgb::from(std::array::from_fn(|c| {
+            let r = sigma[c] / brdf[c];
+            if r.is_finite() && brdf[c] > 0.0 {
+                r
+            } else {
+                f64::INFINITY
+            }
+        }))
     }
 
     /// The brightest channel's rate (DN/s at full light) a BRDF value should give: the

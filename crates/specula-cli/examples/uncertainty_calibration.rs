@@ -125,7 +125,7 @@ fn noise_scatter(samples: &[specula_core::Sample], truth_name: &str) -> anyhow::
         for c in 0..3 {
             let d = (s.value[c] / t[c]).ln().abs();
             if d.is_finite() {
-                in_noise.push(d / noise);
+                in_noise.push(d / noise[c]);
                 in_all.push(d);
             }
         }

@@ -13,9 +13,10 @@ pub struct Sample {
     pub hd: HalfDiff,
     /// f_r in 1/sr per channel.
     pub value: Rgb,
-    /// The relative standard deviation of the value from the camera's noise (its HDR merge's
-    /// shot, read and dark noise, type A), when the measurement recorded it.
-    pub noise_rel: Option<f64>,
+    /// The relative standard deviation of the value in each channel from the camera's noise
+    /// (its HDR merge's shot, read and dark noise through the colour matrix, type A), when the
+    /// measurement recorded it; infinite in a channel that holds a lower bound.
+    pub noise_rel: Option<Rgb>,
 }
 
 impl Sample {
@@ -28,12 +29,17 @@ impl Sample {
         }
     }
 
-    /// The sample with the relative standard deviation `noise_rel` of its value.
-    pub fn with_noise_rel(self, noise_rel: f64) -> Self {
+    /// The sample with the relative standard deviation `noise_rel` of its value, per channel.
+    pub fn with_noise_rel(self, noise_rel: Rgb) -> Self {
         Self {
             noise_rel: Some(noise_rel),
             ..self
         }
+    }
+
+    /// The largest channel's relative standard deviation ([`Sample::noise_rel`]), when known.
+    pub fn largest_noise_rel(&self) -> Option<f64> {
+        self.noise_rel.map(Rgb::max_element)
     }
 
     /// The directions `(to the light, to the camera)` of the sample, unit vectors in the

@@ -15,7 +15,7 @@ use specula_accuracy::merl_prior::basis_for;
 use specula_accuracy::{run_evaluate, EvaluateRequest, Evaluated};
 use specula_core::merl::{MerlBrdf, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use specula_core::progress::NoProgress;
-use specula_core::{HalfDiff, Sample};
+use specula_core::{HalfDiff, Rgb, Sample};
 use specula_reconstruct::provenance::{sidecar_path, Provenance};
 use specula_reconstruct::{run_reconstruct, Method, ReconstructRequest};
 use std::path::PathBuf;
@@ -43,15 +43,15 @@ pub(crate) fn samples_dict<'py>(
     dict.set_item(ANGLES[3], angle(|hd| hd.phi_d))?;
     let rgb: Vec<_> = samples.iter().map(|s| s.value).collect();
     dict.set_item("rgb", rgb_array(py, &rgb))?;
-    let noise: Option<Vec<f64>> = samples.iter().map(|s| s.noise_rel).collect();
+    let noise: Option<Vec<Rgb>> = samples.iter().map(|s| s.noise_rel).collect();
     if let Some(noise) = noise.filter(|n| !n.is_empty()) {
-        dict.set_item(NOISE, noise.into_pyarray(py))?;
+        dict.set_item(NOISE, rgb_array(py, &noise))?;
     }
     Ok(dict)
 }
 
-/// The optional sample column of each value's relative noise (its HDR merge's, through the
-/// colour matrix), as a measurement session records it.
+/// The optional sample column of each value's relative noise per channel (its HDR merge's,
+/// through the colour matrix), as a measurement session records it.
 const NOISE: &str = "noise_rel";
 
 /// Samples from a mapping with the keys of [`samples_dict`].
@@ -68,18 +68,12 @@ pub(crate) fn samples_of(samples: &Bound<'_, PyMapping>) -> PyResult<Vec<Sample>
         )));
     }
     let rgb: PyArrayLike2<'_, f64, AllowTypeChange> = samples.get_item("rgb")?.extract()?;
-    let rgb = rgb_rows(&rgb, n)?;
+    let rgb = rgb_rows("rgb", &rgb, n)?;
     let noise = match samples.contains(NOISE)? {
         true => {
-            let column: PyArrayLike1<'_, f64, AllowTypeChange> =
+            let column: PyArrayLike2<'_, f64, AllowTypeChange> =
                 samples.get_item(NOISE)?.extract()?;
-            let column = column.as_array().to_vec();
-            if column.len() != n {
-                return Err(invalid(format!(
-                    "the sample column {NOISE:?} must have the length of the others"
-                )));
-            }
-            Some(column)
+            Some(rgb_rows(NOISE, &column, n)?)
         }
         false => None,
     };
@@ -143,8 +137,8 @@ fn method(name: &str) -> PyResult<Method> {
 
 /// Reconstruct a full MERL table from sparse samples (paper 5.3, `specula reconstruct`):
 /// `samples` is a mapping of arrays `theta_h_deg`, `phi_h_deg`, `theta_d_deg`, `phi_d_deg`
-/// (N,) and `rgb` (N, 3) in 1/sr, and optionally `noise_rel` (N,), each value's relative
-/// standard deviation from the camera's noise, which the `lobe` method smooths the residual
+/// (N,) and `rgb` (N, 3) in 1/sr, and optionally `noise_rel` (N, 3), each value's relative
+/// standard deviation per channel from the camera's noise, which the `lobe` method smooths the residual
 /// within (as `evaluate(...)["samples"]` and `read_session` return). `method`: `"lobe"` (ours), `"prior"` (lobe blended with the MERL-100 prior as far
 /// as the samples trust it), `"log"` or `"linear"` (the paper's baseline). Samples
 /// that measure both halves of phi_d (0-90 and 90-180 deg, two positions each at least) are

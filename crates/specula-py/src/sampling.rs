@@ -18,13 +18,14 @@ pub(crate) fn rgb_array<'py>(py: Python<'py>, rgb: &[Rgb]) -> Bound<'py, numpy::
 
 /// `(N, 3)` rows of R, G, B from an array-like of that shape.
 pub(crate) fn rgb_rows(
+    name: &str,
     rgb: &PyArrayLike2<'_, f64, AllowTypeChange>,
     rows: usize,
 ) -> PyResult<Vec<Rgb>> {
     let rgb = rgb.as_array();
     if rgb.shape() != [rows, 3] {
         return Err(invalid(format!(
-            "rgb must have the shape ({rows}, 3), got {:?}",
+            "{name} must have the shape ({rows}, 3), got {:?}",
             rgb.shape()
         )));
     }
@@ -84,7 +85,7 @@ pub(crate) fn probe_of(probe: &Bound<'_, PyMapping>) -> PyResult<Probe> {
         probe.get_item("theta_h_deg")?.extract()?;
     let theta_h = theta_h.as_array().to_vec();
     let rgb: PyArrayLike2<'_, f64, AllowTypeChange> = probe.get_item("rgb")?.extract()?;
-    let rgb = rgb_rows(&rgb, theta_h.len())?;
+    let rgb = rgb_rows("rgb", &rgb, theta_h.len())?;
     Probe::new(theta_h, rgb).or_raise()
 }
 

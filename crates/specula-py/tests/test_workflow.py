@@ -161,9 +161,11 @@ def test_a_session_s_samples_carry_their_noise_into_the_reconstruction(cli, tmp_
                     **SMALL)
     samples = specula.read_session(session)["samples"]
     noise = np.asarray(samples["noise_rel"])
-    assert noise.shape == (len(samples["rgb"]),)
-    # Each value's relative standard deviation from the camera: small, positive, finite.
+    assert noise.shape == (len(samples["rgb"]), 3)
+    # Each value's relative standard deviation per channel from the camera: small, positive,
+    # finite, and not the same in every channel of a coloured paint.
     assert np.all((noise > 0) & (noise < 0.05))
+    assert np.any(np.abs(noise[:, 0] - noise[:, 1]) > 0.1 * noise[:, 1])
     # With its noise the residual is smoothed as the CLI smooths it.
     blurred = tmp_path / "blurred.binary"
     cli("reconstruct", "--session", session, "--no-deblur", "--out", blurred)

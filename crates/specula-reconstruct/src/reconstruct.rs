@@ -218,9 +218,9 @@ fn corrected_through(
     let lobe = consistency::LobeCaptures::of(&chosen, floor.lobe, floor.table, nodes);
     let representation = log_errors(&lobe);
     let positioning = positioning_log_uncertainty(&chosen, &lobe.tabulated, floor.table, nodes);
-    let noise: Vec<f64> = chosen
+    let noise: Vec<[f64; 3]> = chosen
         .iter()
-        .map(|s| crate::denoise::value_sigma(s).unwrap_or(0.0))
+        .map(|s| std::array::from_fn(|c| crate::denoise::value_sigma(s, c).unwrap_or(0.0)))
         .collect();
     let mut table = build(&values);
     let mut predictions = predict(samples, &blurred, &table.brdf, nodes);
@@ -231,7 +231,7 @@ fn corrected_through(
             for c in 0..3 {
                 let miss = log_of_measured(samples[i].value[c]) - log_of_measured(p[c]);
                 let (r, u) = (representation[k][c], positioning[k][c]);
-                let band = DEADBAND_UNCERTAINTIES * r.hypot(u).hypot(noise[k]);
+                let band = DEADBAND_UNCERTAINTIES * r.hypot(u).hypot(noise[k][c]);
                 candidate_values[i][c] += shrunk(miss - r, band);
             }
         }

@@ -563,11 +563,14 @@ fn median_of(mut values: Vec<f64>) -> f64 {
     }
 }
 
-/// Each sample's relative noise, zero when not known.
+/// Each sample's relative noise (its largest channel's), zero when not known.
 fn noise_of(samples: &[Sample]) -> Vec<f64> {
     samples
         .iter()
-        .map(|s| s.noise_rel.map_or(0.0, |n| n.min(LOWER_BOUND_NOISE_REL)))
+        .map(|s| {
+            s.largest_noise_rel()
+                .map_or(0.0, |n| n.min(LOWER_BOUND_NOISE_REL))
+        })
         .collect()
 }
 
@@ -1209,7 +1212,7 @@ mod tests {
         let truth = preset("green-paint").unwrap();
         let samples: Vec<Sample> = samples_of(&truth)
             .into_iter()
-            .map(|s| s.with_noise_rel(0.03))
+            .map(|s| s.with_noise_rel(Rgb::splat(0.03)))
             .collect();
         let (_, _, u) = estimated(&samples);
         let floor = (0.03f64.powi(2) + CALIBRATION_REL.powi(2)).sqrt();
@@ -1253,8 +1256,8 @@ mod tests {
     fn a_sample_without_a_finite_sigma_is_a_lower_bound() {
         let sample = Sample::new(HalfDiff::from_degrees(1.0, 0.0, 30.0, 90.0), Rgb::ONE);
         let samples = [
-            sample.with_noise_rel(f64::INFINITY),
-            sample.with_noise_rel(0.02),
+            sample.with_noise_rel(Rgb::new(0.01, f64::INFINITY, 0.01)),
+            sample.with_noise_rel(Rgb::new(0.02, 0.005, 0.01)),
             sample,
         ];
         assert_eq!(noise_of(&samples), vec![LOWER_BOUND_NOISE_REL, 0.02, 0.0]);

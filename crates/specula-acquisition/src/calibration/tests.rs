@@ -97,12 +97,14 @@ fn calibration_recovers_the_simulated_camera() {
     let mut hdr = HdrCapturer::new(HdrSettings::for_device(&sim.info().unwrap()), cal.noise);
     let value = hdr.measure(&mut sim, None).unwrap().value;
     let (brdf, sigma) = cal.brdf_with_sigma(&value, wi.z);
-    let largest = (0..3).map(|c| sigma[c] / brdf[c]).fold(0.0, f64::max);
     let relative = cal.relative_sigma(value.rate_dn_s, value.sigma_dn_s);
-    assert!(
-        (relative / largest - 1.0).abs() < 1e-12,
-        "{relative} {largest}"
-    );
+    for c in 0..3 {
+        let expected = sigma[c] / brdf[c];
+        assert!(
+            (relative[c] / expected - 1.0).abs() < 1e-12,
+            "{relative} {sigma} {brdf}"
+        );
+    }
     let expected = target.reflectance / PI;
     let relative = ((brdf - expected) / expected).abs().max_element();
     assert!(relative < 0.01, "{brdf} vs {expected}");
@@ -139,18 +141,22 @@ fn calibration_file_round_trip_and_errors() {
     let brdf = cal.brdf([2e5, 3e5, 1e5], 0.8);
     let camera = cal.matrix().inverse() * (brdf * 0.8) * DVec3::from(cal.gain_dn_s_per_sr);
     assert!((camera - DVec3::new(2e5, 3e5, 1e5)).abs().max_element() < 1e-6);
-    // A value's relative noise goes through the colour matrix: with every camera channel at
-    // 1 unit of 0.01 standard deviation, red is 1.1 - 0.1 = 1 with sqrt(1.1^2 + 0.1^2) times
-    // 0.01, the largest of the three.
+    // A value's relative noise goes through the colour matrix, channel by channel: with
+    // every camera channel at 1 unit of 0.01 standard deviation, red is 1.1 - 0.1 = 1 with
+    // sqrt(1.1^2 + 0.1^2) times 0.01, green 1 with 0.01, blue 1.05 - 0.05 = 1 with
+    // sqrt(1.05^2 + 0.05^2) times 0.01.
     let rate = [1e6, 2e6, 3e6];
     let relative = cal.relative_sigma(rate, [1e4, 2e4, 3e4]);
+    let expected = DVec3::new(1.22f64.sqrt(), 1.0, 1.105f64.sqrt()) * 0.01;
     assert!(
-        (relative - 0.01 * 1.22f64.sqrt()).abs() < 1e-12,
-        "{relative}"
+        (relative - expected).abs().max_element() < 1e-12,
+        "{relative} {expected}"
     );
+    // A camera channel saturated in every capture leaves a lower bound in every channel it
+    // mixes into (green into all three here).
     assert_eq!(
         cal.relative_sigma(rate, [1e4, f64::INFINITY, 3e4]),
-        f64::INFINITY
+        DVec3::splat(f64::INFINITY)
     );
 
     std::fs::write(&path, "gain_dn_s_per_sr = 3\n").unwrap();

@@ -64,8 +64,8 @@ class Samples(TypedDict, total=False):
     theta_d_deg: FloatArray
     phi_d_deg: FloatArray
     rgb: FloatArray
-    # Each value's relative standard deviation from the camera's noise (a measured
-    # session's samples have it; the lobe method smooths the residual within it).
+    # Each value's relative standard deviation per channel (N, 3) from the camera's noise (a
+    # measured session's samples have it; the lobe method smooths the residual within it).
     noise_rel: FloatArray
 
 class Evaluation(TypedDict):
