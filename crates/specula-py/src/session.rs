@@ -177,7 +177,7 @@ fn summary_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict
 /// "done", "device_s_done", "predicted_s_left", "captures"}}, "events": {kind: count}, "fit":
 /// {"k", "family", "error"} or None, "probe":
 /// {"theta_h_deg", "rgb"} or None, "samples"}` (the main stage's measured samples in plan
-/// order with each value's relative noise, `noise_rel`: a dict for `reconstruct`). A file that is not a journal raises `SpeculaError`.
+/// order with each value's relative noise per channel, `noise_rel` (N, 3): a dict for `reconstruct`). A file that is not a journal raises `SpeculaError`.
 #[pyfunction]
 pub(crate) fn read_session(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     let journal = Journal::open_read_only(&path).or_raise()?;

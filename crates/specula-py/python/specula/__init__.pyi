@@ -262,7 +262,7 @@ def measure(
 
 def read_session(path: Path) -> dict[str, Any]:
     """A session journal read-only: its grid, stages, events, fit, probe and the main
-    samples (with each value's relative noise, "noise_rel", which `reconstruct` smooths the
+    samples (with each value's relative noise per channel, "noise_rel" (N, 3), which `reconstruct` smooths the
     residual within)."""
 
 __all__: list[str]
