@@ -12,8 +12,10 @@
 //! cosine of incidence the value is divided by ([`incidence_sigma`]): both are independent from
 //! sample to sample, and both are what averaging takes out. Each channel is smoothed within its
 //! own noise: a strongly coloured paint's bright channels are several times less noisy than
-//! its dark one, and smoothed within the dark one's noise they would lose real structure. Among the residuals that depart
-//! from the measured values by what that noise explains, this takes the smoothest. The node values `v` minimise
+//! its dark one, and smoothed within the dark one's noise they would lose real structure.
+//!
+//! Among the residuals that depart from the measured values by what that noise explains, this
+//! takes the smoothest. In each channel the node values `v` minimise
 //!
 //! `sum_i (v_i - y_i)^2 / sigma_i^2 + lambda sum_t (v_t - lin_t(v))^2`
 //!
