@@ -80,15 +80,18 @@ pub(crate) fn smoothed(samples: &[Sample], values: &[[f64; 3]]) -> Vec<[f64; 3]>
         .collect()
 }
 
-/// The relative standard deviation of a sample's value in `channel` from its camera noise and
+/// The relative standard deviation of a sample's value per channel from its camera noise and
 /// the light's positioning ([`incidence_sigma`]), independent from sample to sample; `None`
-/// where the camera noise is not known or not finite (a lower bound).
-pub(crate) fn value_sigma(sample: &Sample, channel: usize) -> Option<f64> {
-    let camera = sample
-        .noise_rel
-        .map(|n| n[channel])
-        .filter(|n| *n > 0.0 && n.is_finite())?;
-    Some(camera.hypot(incidence_sigma(sample)))
+/// in a channel whose camera noise is not known or not finite (a lower bound).
+pub(crate) fn value_sigma(sample: &Sample) -> [Option<f64>; 3] {
+    let Some(camera) = sample.noise_rel else {
+        return [None; 3];
+    };
+    let incidence = incidence_sigma(sample);
+    std::array::from_fn(|c| {
+        let n = camera[c];
+        (n > 0.0 && n.is_finite()).then(|| n.hypot(incidence))
+    })
 }
 
 /// The relative standard deviation of a sample's value from the light's positioning: the
@@ -144,8 +147,8 @@ impl MeasuredNodes {
         let mut count = vec![0usize; index.len()];
         for s in samples {
             let k = position[lattice.node_of(s)];
-            for (c, sum) in variance_sum[k].iter_mut().enumerate() {
-                *sum += value_sigma(s, c).unwrap_or(f64::INFINITY).powi(2);
+            for (sum, sigma) in variance_sum[k].iter_mut().zip(value_sigma(s)) {
+                *sum += sigma.unwrap_or(f64::INFINITY).powi(2);
             }
             count[k] += 1;
         }
@@ -401,7 +404,7 @@ mod tests {
 
     /// The samples' standard deviations, camera noise and incidence together.
     fn sigmas(samples: &[Sample]) -> Vec<f64> {
-        samples.iter().map(|s| value_sigma(s, 0).unwrap()).collect()
+        samples.iter().map(|s| value_sigma(s)[0].unwrap()).collect()
     }
 
     #[test]
@@ -520,7 +523,7 @@ mod tests {
         // node moves by at most 2 of its sigmas, a fraction of what red's move.
         assert!(rms(0, &out) < 0.5 * rms(0, &values));
         for (s, (o, v)) in samples.iter().zip(out.iter().zip(&values)) {
-            let sigma = value_sigma(s, 1).unwrap();
+            let sigma = value_sigma(s)[1].unwrap();
             assert!((o[1] - v[1]).abs() <= MAX_MOVE_SIGMAS * sigma + 1e-12);
         }
         let moved = |c: usize| -> f64 {

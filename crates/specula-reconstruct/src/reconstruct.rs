@@ -220,7 +220,7 @@ fn corrected_through(
     let positioning = positioning_log_uncertainty(&chosen, &lobe.tabulated, floor.table, nodes);
     let noise: Vec<[f64; 3]> = chosen
         .iter()
-        .map(|s| std::array::from_fn(|c| crate::denoise::value_sigma(s, c).unwrap_or(0.0)))
+        .map(|s| crate::denoise::value_sigma(s).map(|n| n.unwrap_or(0.0)))
         .collect();
     let mut table = build(&values);
     let mut predictions = predict(samples, &blurred, &table.brdf, nodes);

@@ -554,10 +554,9 @@ pub fn measured_samples(
         .filter_map(|row| {
             samples.get(&row.seq).map(|s| {
                 let sample = Sample::new(row.hd, s.value);
-                match calibration {
-                    Some(c) => sample.with_noise_rel(c.relative_sigma(s.rate_dn_s, s.sigma_dn_s)),
-                    None => sample,
-                }
+                calibration.map_or(sample, |c| {
+                    sample.with_noise_rel(c.relative_sigma(s.rate_dn_s, s.sigma_dn_s))
+                })
             })
         })
         .collect()
