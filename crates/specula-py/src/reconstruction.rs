@@ -8,7 +8,7 @@ use crate::plan::{device, GridArgs};
 use crate::sampling::{rgb_array, rgb_rows};
 use crate::table::to_array;
 use numpy::ndarray::Array3;
-use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArray4, PyArrayLike1, PyArrayLike2};
+use numpy::{AllowTypeChange, IntoPyArray, PyArray3, PyArray4, PyArrayLike1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use specula_accuracy::merl_prior::basis_for;
@@ -67,14 +67,9 @@ pub(crate) fn samples_of(samples: &Bound<'_, PyMapping>) -> PyResult<Vec<Sample>
             "the sample columns {ANGLES:?} must have the same length"
         )));
     }
-    let rgb: PyArrayLike2<'_, f64, AllowTypeChange> = samples.get_item("rgb")?.extract()?;
-    let rgb = rgb_rows("rgb", &rgb, n)?;
+    let rgb = rgb_rows("rgb", &samples.get_item("rgb")?, n)?;
     let noise = match samples.contains(NOISE)? {
-        true => {
-            let column: PyArrayLike2<'_, f64, AllowTypeChange> =
-                samples.get_item(NOISE)?.extract()?;
-            Some(rgb_rows(NOISE, &column, n)?)
-        }
+        true => Some(rgb_rows(NOISE, &samples.get_item(NOISE)?, n)?),
         false => None,
     };
     Ok((0..n)

@@ -16,18 +16,17 @@ pub(crate) fn rgb_array<'py>(py: Python<'py>, rgb: &[Rgb]) -> Bound<'py, numpy::
     Array2::from_shape_fn((rgb.len(), 3), |(i, c)| rgb[i][c]).into_pyarray(py)
 }
 
-/// `(N, 3)` rows of R, G, B from an array-like of that shape.
-pub(crate) fn rgb_rows(
-    name: &str,
-    rgb: &PyArrayLike2<'_, f64, AllowTypeChange>,
-    rows: usize,
-) -> PyResult<Vec<Rgb>> {
+/// `(N, 3)` rows of R, G, B from the array-like `column` (named `name` in the error) of that
+/// shape; any other shape or dimension raises `SpeculaError`.
+pub(crate) fn rgb_rows(name: &str, column: &Bound<'_, PyAny>, rows: usize) -> PyResult<Vec<Rgb>> {
+    let wrong = |got: String| invalid(format!("{name} must have the shape ({rows}, 3), got {got}"));
+    let rgb: PyArrayLike2<'_, f64, AllowTypeChange> = column
+        .extract()
+        .map_err(|_| wrong("an array of another dimension".into()))?;
     let rgb = rgb.as_array();
     if rgb.shape() != [rows, 3] {
-        return Err(invalid(format!(
-            "{name} must have the shape ({rows}, 3), got {:?}",
-            rgb.shape()
-        )));
+        let [n, m] = [rgb.nrows(), rgb.ncols()];
+        return Err(wrong(format!("({n}, {m})")));
     }
     Ok(rgb
         .rows()
@@ -84,8 +83,7 @@ pub(crate) fn probe_of(probe: &Bound<'_, PyMapping>) -> PyResult<Probe> {
     let theta_h: PyArrayLike1<'_, f64, AllowTypeChange> =
         probe.get_item("theta_h_deg")?.extract()?;
     let theta_h = theta_h.as_array().to_vec();
-    let rgb: PyArrayLike2<'_, f64, AllowTypeChange> = probe.get_item("rgb")?.extract()?;
-    let rgb = rgb_rows("rgb", &rgb, theta_h.len())?;
+    let rgb = rgb_rows("rgb", &probe.get_item("rgb")?, theta_h.len())?;
     Probe::new(theta_h, rgb).or_raise()
 }
 

@@ -173,6 +173,16 @@ def test_a_session_s_samples_carry_their_noise_into_the_reconstruction(cli, tmp_
     np.testing.assert_allclose(again, specula.read_merl(blurred), rtol=1e-9)
 
 
+def test_a_noise_column_of_the_wrong_shape_is_refused_by_name():
+    samples = {"theta_h_deg": [1.0, 2.0], "phi_h_deg": [0.0, 0.0], "theta_d_deg": [30.0, 30.0],
+               "phi_d_deg": [90.0, 90.0], "rgb": np.ones((2, 3))}
+    for noise, got in [(np.full(2, 0.01), "an array of another dimension"),
+                       (np.full((2, 1), 0.01), "(2, 1)")]:
+        with pytest.raises(specula.SpeculaError) as caught:
+            specula.reconstruct({**samples, "noise_rel": noise})
+        assert str(caught.value) == f"noise_rel must have the shape (2, 3), got {got}"
+
+
 def test_read_session_rejects_a_file_that_is_not_a_journal(cli, tmp_path):
     bad = tmp_path / "bad.sqlite"
     bad.write_text("not a database")
