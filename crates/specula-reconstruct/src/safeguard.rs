@@ -82,6 +82,8 @@ use crate::energy::{self, max_albedo, EnergyScale};
 use crate::lobe::{Lobe, LobeOnGrid};
 use crate::phi_d_halves::in_second;
 use crate::response_nodes::FIT_RESPONSE_NODES;
+use crate::sample::reach_deg;
+use crate::uncertainty::REACH_MARGIN_DEG;
 use specula_core::capture::{CaptureNode, CaptureResponse};
 use specula_core::merl::{Bin, MerlBrdf};
 use specula_core::{Rgb, Sample};
@@ -285,7 +287,8 @@ pub(crate) fn safeguarded<R: CaptureResponse + ?Sized>(
     if guard.max_albedo <= energy::HELD_ALBEDO {
         return (kept, guard, replaced);
     }
-    let (kept, scale) = energy::conserve_energy(kept);
+    let reach = reach_deg(samples) + REACH_MARGIN_DEG;
+    let (kept, scale) = energy::conserve_energy(kept, reach);
     if let Some(scale) = &scale {
         guard.max_albedo = scale.albedo_after;
     }

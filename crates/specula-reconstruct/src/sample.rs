@@ -1,7 +1,10 @@
 //! The symmetries that fold a measured sample's phi_d ([`specula_core::Sample`]): the mirror
 //! of an isotropic BRDF alone, into `[0, pi]`, and with reciprocity, into the quarter of the
-//! phi_d range that an isotropic, reciprocal BRDF needs (paper 5.3).
+//! phi_d range that an isotropic, reciprocal BRDF needs (paper 5.3); and how far from the
+//! normal the samples reach.
 
+use specula_core::geometry::elevation_deg;
+use specula_core::Sample;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Folds phi_d (radians, any value) into `[0, pi/2]`.
@@ -26,6 +29,14 @@ pub(crate) fn mirror_fold_phi_d_rad(phi_d_rad: f64) -> f64 {
     } else {
         turn
     }
+}
+
+/// The samples' reach: the largest elevation of light or camera among `samples` (degrees).
+pub(crate) fn reach_deg(samples: &[Sample]) -> f64 {
+    samples
+        .iter()
+        .map(|s| elevation_deg(s.hd))
+        .fold(0.0, f64::max)
 }
 
 #[cfg(test)]

@@ -66,7 +66,7 @@ use crate::lattice::{coordinates, Lattice};
 use crate::phi_d_halves::{measures_both_halves, reconstruct_halves, reconstruct_halves_cells};
 use crate::provenance::Provenance;
 use crate::safeguard::Safeguard;
-use crate::sample::{fold_phi_d_rad, mirror_fold_phi_d_rad};
+use crate::sample::{fold_phi_d_rad, mirror_fold_phi_d_rad, reach_deg};
 use crate::{Method, PriorBasis, ReconstructError, Reconstruction, ResidualModel};
 use rayon::prelude::*;
 use rstar::primitives::GeomWithData;
@@ -538,14 +538,6 @@ impl CellUncertainty {
 /// (the elevations do not depend on phi_h).
 fn within_summary_elevation(index: usize) -> bool {
     within_elevation(Bin::from_index(index).centre(0.0), SUMMARY_ELEVATION_DEG)
-}
-
-/// The samples' reach: the largest elevation of light or camera among `samples` (degrees).
-fn reach_deg(samples: &[Sample]) -> f64 {
-    samples
-        .iter()
-        .map(|s| elevation_deg(s.hd))
-        .fold(0.0, f64::max)
 }
 
 /// The `q` quantile of sorted `values` (nearest rank).
