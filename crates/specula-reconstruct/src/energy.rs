@@ -105,7 +105,7 @@ pub fn conserve_energy(table: MerlBrdf, reach_deg: f64) -> (MerlBrdf, Option<Ene
     if albedo_before <= HELD_ALBEDO {
         return (table, None);
     }
-    let cells = cell_incidences_deg();
+    let cells = cell_incidences();
     let mut factors = vec![1.0_f64; cells.len()];
     let (table, albedo) = beyond_reach_first(table, albedo, &cells, reach_deg, &mut factors);
     let (table, albedo) = every_cell(table, albedo, &cells, &mut factors);
@@ -133,7 +133,7 @@ struct CellIncidence {
 }
 
 /// Each cell's [`CellIncidence`].
-fn cell_incidences_deg() -> Vec<CellIncidence> {
+fn cell_incidences() -> Vec<CellIncidence> {
     (0..specula_core::merl::CELLS)
         .map(|index| {
             let [h, d, p] = Bin::from_index(index).centre_deg();
@@ -298,10 +298,7 @@ mod tests {
         // albedo breaks 1 at 85 deg only. After scaling every incidence holds, and the cells
         // seen from within 75 deg on both sides keep their values exactly.
         let chrome = tabulate(&preset("chrome").unwrap(), 0.0);
-        let incidence: Vec<f64> = cell_incidences_deg()
-            .iter()
-            .map(|c| c.steeper_deg)
-            .collect();
+        let incidence: Vec<f64> = cell_incidences().iter().map(|c| c.steeper_deg).collect();
         let grazing = MerlBrdf::from_fn("grazing", |i| {
             let boost = if incidence[i] > 80.0 { 20.0 } else { 1.0 };
             chrome.cell(i).map(|v| v * boost)
@@ -327,10 +324,7 @@ mod tests {
         reach_deg: f64,
         boost: f64,
     ) -> (MerlBrdf, Vec<f64>) {
-        let steeper: Vec<f64> = cell_incidences_deg()
-            .iter()
-            .map(|c| c.steeper_deg)
-            .collect();
+        let steeper: Vec<f64> = cell_incidences().iter().map(|c| c.steeper_deg).collect();
         let value = albedo / std::f64::consts::PI;
         let table = MerlBrdf::from_fn("lambertian", |i| {
             let boost = if steeper[i] > reach_deg { boost } else { 1.0 };
