@@ -60,6 +60,10 @@ pub struct EnergyScale {
     /// The steepest incidence, degrees, whose cells kept their values: cells seen from
     /// beyond it were scaled.
     pub kept_up_to_deg: f64,
+    /// The largest directional albedo of the cells within the samples' reach alone, the
+    /// others taken as zero: above 1 (and [`HELD_ALBEDO`]) the measured cells were lowered
+    /// too (see the module documentation).
+    pub within_reach_albedo: f64,
 }
 
 impl std::fmt::Display for EnergyScale {
@@ -72,7 +76,20 @@ impl std::fmt::Display for EnergyScale {
             self.albedo_after,
             self.kept_up_to_deg,
             self.smallest_factor
-        )
+        )?;
+        if self.within_reach_albedo > HELD_ALBEDO {
+            write!(
+                f,
+                "; the cells within the samples' reach alone reflect up to {:.3}, more than arrives, so they were lowered too (a calibration off by that much, or a material that breaks the law)",
+                self.within_reach_albedo
+            )
+        } else {
+            write!(
+                f,
+                "; the cells within the samples' reach kept (alone they reflect up to {:.3})",
+                self.within_reach_albedo
+            )
+        }
     }
 }
 
@@ -107,7 +124,9 @@ pub fn conserve_energy(table: MerlBrdf, reach_deg: f64) -> (MerlBrdf, Option<Ene
     }
     let cells = cell_incidences();
     let mut factors = vec![1.0_f64; cells.len()];
-    let (table, albedo) = beyond_reach_first(table, albedo, &cells, reach_deg, &mut factors);
+    let within = within_reach_albedo(&table, &cells, reach_deg);
+    let (table, albedo) =
+        beyond_reach_first(table, albedo, &cells, &within, reach_deg, &mut factors);
     let (table, albedo) = every_cell(table, albedo, &cells, &mut factors);
     let kept_up_to_deg = cells
         .iter()
@@ -121,6 +140,7 @@ pub fn conserve_energy(table: MerlBrdf, reach_deg: f64) -> (MerlBrdf, Option<Ene
         albedo_after: argmax(&albedo).1,
         smallest_factor: factors.iter().copied().fold(1.0, f64::min),
         kept_up_to_deg,
+        within_reach_albedo: argmax(&within).1,
     };
     (table, Some(scale))
 }
@@ -147,34 +167,44 @@ fn cell_incidences() -> Vec<CellIncidence> {
         .collect()
 }
 
-/// Step 1 of the module documentation: `table` with the cells beyond `reach_deg` lowered
-/// until every incidence holds, and its albedo per incidence; unchanged when the cells
-/// within the reach alone reflect more than [`HELD_ALBEDO`]. Each cell's factor is
-/// multiplied into `factors`.
-fn beyond_reach_first(
-    table: MerlBrdf,
-    albedo: [f64; INCIDENCES_DEG.len()],
+/// The albedo per incidence of `table`'s cells within `reach_deg` alone (`F` of the module
+/// documentation), the cells with a direction beyond it taken as zero.
+fn within_reach_albedo(
+    table: &MerlBrdf,
     cells: &[CellIncidence],
     reach_deg: f64,
-    factors: &mut [f64],
-) -> (MerlBrdf, [f64; INCIDENCES_DEG.len()]) {
-    let beyond: Vec<bool> = cells.iter().map(|c| c.steeper_deg > reach_deg).collect();
-    let within = albedo_per_incidence(&MerlBrdf::from_fn("within the reach", |index| {
+) -> [f64; INCIDENCES_DEG.len()] {
+    albedo_per_incidence(&MerlBrdf::from_fn("within the reach", |index| {
         let value = table.cell(index);
-        if beyond[index] {
+        if cells[index].steeper_deg > reach_deg {
             value.map(|_| Rgb::ZERO)
         } else {
             value
         }
-    }));
-    if argmax(&within).1 > HELD_ALBEDO {
+    }))
+}
+
+/// Step 1 of the module documentation: `table` with the cells beyond `reach_deg` lowered
+/// until every incidence holds, and its albedo per incidence, given the albedo of the cells
+/// `within` the reach alone; unchanged when those reflect more than [`HELD_ALBEDO`]. Each
+/// cell's factor is multiplied into `factors`.
+fn beyond_reach_first(
+    table: MerlBrdf,
+    albedo: [f64; INCIDENCES_DEG.len()],
+    cells: &[CellIncidence],
+    within: &[f64; INCIDENCES_DEG.len()],
+    reach_deg: f64,
+    factors: &mut [f64],
+) -> (MerlBrdf, [f64; INCIDENCES_DEG.len()]) {
+    if argmax(within).1 > HELD_ALBEDO {
         return (table, albedo);
     }
+    let beyond: Vec<bool> = cells.iter().map(|c| c.steeper_deg > reach_deg).collect();
     scaled_in_rounds(table, albedo, factors, |albedo| {
         // g(t) of the module documentation: the share of the cells beyond that brings t to 1.
         let share: Vec<f64> = albedo
             .iter()
-            .zip(&within)
+            .zip(within)
             .map(|(&all, &within)| {
                 if all <= HELD_ALBEDO || all <= within {
                     1.0
@@ -349,6 +379,11 @@ mod tests {
         let scale = scale.expect("scaled");
         assert!(max_albedo(&held) <= HELD_ALBEDO, "{scale}");
         assert!(scale.kept_up_to_deg > reach, "{scale}");
+        assert!(scale.within_reach_albedo < 0.81, "{scale}");
+        assert!(
+            scale.to_string().contains("within the samples' reach kept"),
+            "{scale}"
+        );
         let within: Vec<usize> = (0..specula_core::merl::CELLS)
             .filter(|&i| steeper[i] <= reach)
             .collect();
@@ -381,6 +416,8 @@ mod tests {
         let i = (0..specula_core::merl::CELLS)
             .find(|&i| steeper[i] < 30.0)
             .unwrap();
+        assert!(scale.within_reach_albedo > 1.2, "{scale}");
+        assert!(scale.to_string().contains("lowered too"), "{scale}");
         let ratio = held.cell(i).unwrap().x / table.cell(i).unwrap().x;
         assert!(ratio < 0.8 && ratio > 0.7, "{ratio}");
     }
