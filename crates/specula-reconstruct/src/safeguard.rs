@@ -75,7 +75,7 @@
 //! Whatever table is kept, its directional albedo is then held to 1
 //! ([`energy::conserve_energy`]): a fallback removes an invented spike, but a lobe continued
 //! towards grazing incidence, where the device does not reach, can still reflect more than
-//! arrives, and such a table is scaled down where it does.
+//! arrives, and such a table is scaled down where it does, beyond the samples' reach first.
 
 use crate::consistency::{self, Consistency, Instrument, NormalSpread, NORMAL_SPREAD_LIMIT};
 use crate::energy::{self, max_albedo, EnergyScale};
