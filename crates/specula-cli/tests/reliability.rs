@@ -377,3 +377,25 @@ fn a_resume_with_another_grid_names_the_setting_and_both_values_in_words() {
         "no internal JSON: {error}"
     );
 }
+
+#[test]
+fn a_session_that_does_not_exist_is_named_in_one_line_by_every_reader() {
+    // reconstruct, report and session status read a journal; given a path where none is,
+    // each says so by name (not SQLite's "unable to open database file") and creates nothing.
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("never-measured.session.sqlite");
+    let missing_arg = missing.display().to_string();
+    let out = dir.path().join("t.binary").display().to_string();
+    let report = dir.path().join("r.html").display().to_string();
+    for args in [
+        vec!["reconstruct", "--session", &missing_arg, "--out", &out],
+        vec!["report", &missing_arg, "--out", &report],
+        vec!["session", "status", &missing_arg],
+    ] {
+        one_line_error(
+            &args,
+            &["never-measured.session.sqlite", "no such session journal"],
+        );
+        assert!(!missing.exists(), "{args:?} created the journal");
+    }
+}

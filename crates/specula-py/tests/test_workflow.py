@@ -193,6 +193,16 @@ def test_read_session_rejects_a_file_that_is_not_a_journal(cli, tmp_path):
     assert "error: " + str(caught.value) == err.strip()
 
 
+def test_read_session_names_a_journal_that_does_not_exist(cli, tmp_path):
+    missing = tmp_path / "never-measured.session.sqlite"
+    status, _, err = cli("session", "status", missing, check=False)
+    assert status == 1 and "no such session journal" in err
+    with pytest.raises(specula.SpeculaError) as caught:
+        specula.read_session(missing)
+    assert "error: " + str(caught.value) == err.strip()
+    assert not missing.exists()
+
+
 def test_measure_refuses_a_time_limit_out_of_range_with_the_clis_words(cli, tmp_path):
     status, _, err = cli("measure", "--truth", "silver-925", "--max-hours", "0",
                          "--out", tmp_path / "x.binary", check=False)

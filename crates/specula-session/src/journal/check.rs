@@ -40,6 +40,17 @@ pub(crate) fn refuse_directory(path: &Path) -> Result<(), JournalError> {
     Ok(())
 }
 
+/// A journal opened to be read must exist (SQLite's own message, "unable to open database
+/// file", does not say why).
+pub(crate) fn refuse_missing(path: &Path) -> Result<(), JournalError> {
+    if !path.exists() {
+        return Err(JournalError::Missing {
+            path: path.display().to_string(),
+        });
+    }
+    Ok(())
+}
+
 /// An existing file of 0 bytes is a journal truncated (SQLite would take it for a new one).
 pub(crate) fn refuse_empty_file(path: &Path) -> Result<(), JournalError> {
     match std::fs::metadata(path) {

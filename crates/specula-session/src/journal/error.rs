@@ -45,6 +45,12 @@ pub enum JournalError {
         /// The path given.
         path: String,
     },
+    /// A journal to read does not exist.
+    #[error("{path}: no such session journal (the .session.sqlite file `specula measure` writes)")]
+    Missing {
+        /// The path given.
+        path: String,
+    },
     /// The lock file could not be created.
     #[error("{path}: cannot create the lock file: {cause}")]
     Lock {

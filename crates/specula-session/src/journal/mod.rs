@@ -119,6 +119,7 @@ impl Journal {
     /// Opens an existing session read-only (for `specula session status`), even while
     /// another process measures into it.
     pub fn open_read_only(path: &Path) -> Result<Journal, JournalError> {
+        check::refuse_missing(path)?;
         check::refuse_directory(path)?;
         check::refuse_empty_file(path)?;
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
@@ -455,6 +456,17 @@ mod tests {
             .err()
             .expect("a directory refused");
         assert!(matches!(err, JournalError::Directory { .. }), "{err}");
+        let missing = dir.path().join("never-measured.sqlite");
+        let err = Journal::open_read_only(&missing)
+            .err()
+            .expect("a missing journal refused");
+        assert!(matches!(err, JournalError::Missing { .. }), "{err}");
+        assert!(
+            err.to_string()
+                .contains("never-measured.sqlite: no such session journal"),
+            "{err}"
+        );
+        assert!(!missing.exists(), "reading creates nothing");
     }
 
     #[test]
