@@ -124,9 +124,9 @@ pub fn conserve_energy(table: MerlBrdf, reach_deg: f64) -> (MerlBrdf, Option<Ene
     }
     let cells = cell_incidences();
     let mut factors = vec![1.0_f64; cells.len()];
-    let within = within_reach_albedo(&table, &cells, reach_deg);
-    let (table, albedo) =
-        beyond_reach_first(table, albedo, &cells, &within, reach_deg, &mut factors);
+    let beyond: Vec<bool> = cells.iter().map(|c| c.steeper_deg > reach_deg).collect();
+    let within = within_reach_albedo(&table, &beyond);
+    let (table, albedo) = beyond_reach_first(table, albedo, &cells, &beyond, &within, &mut factors);
     let (table, albedo) = every_cell(table, albedo, &cells, &mut factors);
     let kept_up_to_deg = cells
         .iter()
@@ -167,16 +167,12 @@ fn cell_incidences() -> Vec<CellIncidence> {
         .collect()
 }
 
-/// The albedo per incidence of `table`'s cells within `reach_deg` alone (`F` of the module
-/// documentation), the cells with a direction beyond it taken as zero.
-fn within_reach_albedo(
-    table: &MerlBrdf,
-    cells: &[CellIncidence],
-    reach_deg: f64,
-) -> [f64; INCIDENCES_DEG.len()] {
+/// The albedo per incidence of `table`'s cells within the reach alone (`F` of the module
+/// documentation), the cells `beyond` it taken as zero.
+fn within_reach_albedo(table: &MerlBrdf, beyond: &[bool]) -> [f64; INCIDENCES_DEG.len()] {
     albedo_per_incidence(&MerlBrdf::from_fn("within the reach", |index| {
         let value = table.cell(index);
-        if cells[index].steeper_deg > reach_deg {
+        if beyond[index] {
             value.map(|_| Rgb::ZERO)
         } else {
             value
@@ -184,7 +180,7 @@ fn within_reach_albedo(
     }))
 }
 
-/// Step 1 of the module documentation: `table` with the cells beyond `reach_deg` lowered
+/// Step 1 of the module documentation: `table` with the cells `beyond` the reach lowered
 /// until every incidence holds, and its albedo per incidence, given the albedo of the cells
 /// `within` the reach alone; unchanged when those reflect more than [`HELD_ALBEDO`]. Each
 /// cell's factor is multiplied into `factors`.
@@ -192,14 +188,13 @@ fn beyond_reach_first(
     table: MerlBrdf,
     albedo: [f64; INCIDENCES_DEG.len()],
     cells: &[CellIncidence],
+    beyond: &[bool],
     within: &[f64; INCIDENCES_DEG.len()],
-    reach_deg: f64,
     factors: &mut [f64],
 ) -> (MerlBrdf, [f64; INCIDENCES_DEG.len()]) {
     if argmax(within).1 > HELD_ALBEDO {
         return (table, albedo);
     }
-    let beyond: Vec<bool> = cells.iter().map(|c| c.steeper_deg > reach_deg).collect();
     scaled_in_rounds(table, albedo, factors, |albedo| {
         // g(t) of the module documentation: the share of the cells beyond that brings t to 1.
         let share: Vec<f64> = albedo
@@ -215,7 +210,7 @@ fn beyond_reach_first(
             .collect();
         cells
             .iter()
-            .zip(&beyond)
+            .zip(beyond)
             .map(|(c, &beyond)| {
                 if beyond {
                     interpolated(&share, c.steeper_deg).min(interpolated(&share, c.shallower_deg))
