@@ -7,7 +7,8 @@
 //!
 //! Per table, the median of each term over the measured and interpolated cells within
 //! 75 deg at the calibrated scales; `COV=1` adds the cell coverage at those scales or at
-//! `COV_RECONSTRUCTION` and `COV_DEBLUR` (a line `COV TABLE FRACTION`), `GRID=1` the coverage grid, `BANDS=1` the coverage and the terms'
+//! `COV_RECONSTRUCTION` and `COV_DEBLUR` (a line `COV TABLE FRACTION`), `GRID=1` the coverage grid (at
+//! `GRID_CORE`'s core term), `BANDS=1` the coverage and the terms'
 //! medians by theta_h band, `SCATTER=1` how far the samples lie from the truth in their noise.
 //! `WRITE=1` rewrites
 //! `T.uncertainty.binary` with the estimate of this build (as `specula measure` would write
@@ -87,6 +88,7 @@ fn main() -> anyhow::Result<()> {
         if std::env::var_os("GRID").is_none() {
             continue;
         }
+        let grid_scales = scales_from_env("GRID", Scales::default())?;
         print!("recon\\deblur");
         for d in DEBLUR {
             print!(" {d:>7}");
@@ -101,6 +103,7 @@ fn main() -> anyhow::Result<()> {
                     Scales {
                         reconstruction: r,
                         deblur: d,
+                        ..grid_scales
                     },
                 );
                 let c = cell_coverage(&table, &u.absolute(&table), &provenance, &truth, 75.0);
@@ -179,17 +182,18 @@ fn term_medians(table: &MerlBrdf, terms: &Terms, provenance: &Provenance) {
         100.0 * specula_core::statistics::median(&mut values)
     };
     println!(
-        "term medians (%): noise {:.3}, calibration {:.3}, reconstruction {:.3}, extrapolation {:.3}, deblurring {:.3}, combined {:.3}",
+        "term medians (%): noise {:.3}, calibration {:.3}, reconstruction {:.3}, extrapolation {:.3}, core {:.3}, deblurring {:.3}, combined {:.3}",
         median_of(|t| t.noise),
         median_of(|t| t.calibration),
         median_of(|t| t.reconstruction),
         median_of(|t| t.extrapolation),
+        median_of(|t| t.core),
         median_of(|t| t.deblurring),
         median_of(CellTerms::combined),
     );
 }
 
-/// The scales `{PREFIX}_RECONSTRUCTION` and `{PREFIX}_DEBLUR` where they are set, else
+/// The scales `{PREFIX}_RECONSTRUCTION`, `{PREFIX}_DEBLUR` and `{PREFIX}_CORE` where they are set, else
 /// `calibrated`'s; an error names a variable that is not a number.
 fn scales_from_env(prefix: &str, calibrated: Scales) -> anyhow::Result<Scales> {
     let scale = |name: &str, default: f64| -> anyhow::Result<f64> {
@@ -204,6 +208,7 @@ fn scales_from_env(prefix: &str, calibrated: Scales) -> anyhow::Result<Scales> {
     Ok(Scales {
         reconstruction: scale("RECONSTRUCTION", calibrated.reconstruction)?,
         deblur: scale("DEBLUR", calibrated.deblur)?,
+        core: scale("CORE", calibrated.core)?,
     })
 }
 

@@ -220,8 +220,9 @@ fn measured_coverage(truth: &str) -> f64 {
 #[test]
 #[ignore = "a full simulated measurement per truth, minutes each: cargo test --release -p specula-cli --test uncertainty -- --ignored"]
 fn measured_coverage_of_data_derived_truths_is_within_the_target() {
-    // sgd:red-metallic-paint is a training truth (0.910 measured), abc:polyethylene a
-    // held-out one (0.921).
+    // sgd:red-metallic-paint is a training truth (0.983 measured), abc:polyethylene a
+    // held-out one (0.990): 0.910 and 0.919 before the core term, the cells within 0.26 deg
+    // of the mirror direction holding the narrow spike their blurred samples do not show.
     for truth in ["sgd:red-metallic-paint", "abc:polyethylene"] {
         let fraction = measured_coverage(truth);
         assert!((0.90..=0.995).contains(&fraction), "{truth}: {fraction}");
@@ -232,7 +233,8 @@ fn measured_coverage_of_data_derived_truths_is_within_the_target() {
 #[ignore = "a full simulated measurement, minutes: cargo test --release -p specula-cli --test uncertainty -- --ignored"]
 fn measured_coverage_of_a_two_lobe_truth_is_within_the_target() {
     // 0.9955 when the deblurring term counted at every theta_h; 0.977 with it within the
-    // peak region, where the deblurred table's checks pass beyond it.
+    // peak region, where the deblurred table's checks pass beyond it; 0.958 with a covering
+    // factor per region of theta_h.
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../tools/instrument_truths/two-lobe-silver-haze.toml");
     let fraction = measured_coverage(text(&path));
@@ -244,7 +246,8 @@ fn measured_coverage_of_a_two_lobe_truth_is_within_the_target() {
 fn measured_coverage_of_an_analytic_truth_is_within_the_target() {
     // 1.0000 when the folds of the cross-validation refitted a lobe without the response and
     // the deblurring term counted at every theta_h; 0.991 with the folds over the deblurred
-    // lobe and the term within the peak region (with seed 2 0.995, at the target's edge).
+    // lobe and the term within the peak region (with seed 2 0.995, at the target's edge);
+    // 0.978 with a covering factor per region of theta_h.
     let fraction = measured_coverage("chrome");
     assert!((0.90..=0.995).contains(&fraction), "chrome: {fraction}");
 }
@@ -253,14 +256,18 @@ fn measured_coverage_of_an_analytic_truth_is_within_the_target() {
 #[ignore = "a full simulated measurement, minutes: cargo test --release -p specula-cli --test uncertainty -- --ignored"]
 fn measured_coverage_of_a_metal_sharper_than_the_resolution_is_within_the_target() {
     // 0.884 when a sample's local amplitude was the root mean square of its neighbours'
-    // differences, 0.911 with the scale of their median.
+    // differences, 0.911 with the scale of their median; 0.889 with a covering factor per
+    // region of theta_h alone, 0.921 with the core term too (its deblurred table is 80 %
+    // below the truth within 0.1 deg of the mirror direction).
     let fraction = measured_coverage("nbrdf:aluminium");
     assert!((0.90..=0.995).contains(&fraction), "aluminium: {fraction}");
 }
 
 #[test]
-#[ignore = "fails: green-paint's coverage is 0.9989 at k = 2, above 0.995: from theta_h 2 to 20 deg the reconstruction term is 3.7 to 4.7 % where the table errs by 0.1 to 0.6 %, and within 2 deg the deblurring term 161 % where the deblurred peak errs by 2.5 % (medians): folds with half the planes miss the coat's reflection by percents where the table resolves it"]
+#[ignore = "a full simulated measurement, minutes: cargo test --release -p specula-cli --test uncertainty -- --ignored"]
 fn measured_coverage_of_a_clear_coat_is_within_the_target() {
+    // 0.9985 with one covering factor per axis, set by the peak's tails, which covered the
+    // body several times over; 0.975 with one per region of theta_h.
     let fraction = measured_coverage("green-paint");
     assert!(
         (0.90..=0.995).contains(&fraction),

@@ -31,7 +31,9 @@
 //!   nearest left-out neighbours gives (itself excluded, and those of a plane at an edge of
 //!   the table, whose fold extrapolated: `local_amplitudes`); the axis's factor `c` is the
 //!   smallest with which [`CV_COVERAGE`] of its left-out samples' `r` lie within
-//!   `2 sqrt(a^2 + floor^2 + (c K w^beta)^2)` at their own `w`. A cell takes, from its nearest
+//!   `2 sqrt(a^2 + floor^2 + (c K w^beta)^2)` at their own `w`, fitted apart in each theta_h
+//!   [`Region`] (peak, flank, body: the tails of a peak's differences are not the body's,
+//!   and one factor over both covered the body several times over). A cell takes, from its nearest
 //!   sample ([`distance_coordinates`]), `s sqrt(sum over the axes of (c K w^beta)^2)` with
 //!   its own place `w` along each axis: zero on a plane, largest midway between two planes
 //!   far apart, growing beyond the ends. `s` = [`RECONSTRUCTION_SCALE`] is calibrated on
@@ -45,6 +47,13 @@
 //!   and 90 once folded: their folds extrapolate where no cell lies, and near a sharp peak a
 //!   fold's lobe can miss the peak's centre by orders of magnitude). No left-out difference
 //!   counts for more than `ln(1 + MAX_RELATIVE)`;
+//! - **core** [`CORE_REL`] on a deblurred table, in the cells whose half vector lies within
+//!   the captures' width detection limit of the mirror direction
+//!   ([`crate::safeguard::width_detection_limit_deg`], 0.26 deg on the default device): a
+//!   peak narrower than that limit is not told from one as wide as it, so the samples fix
+//!   the light reflected around the mirror direction, not how high it rises at its centre (a
+//!   narrow spike on a broader lobe, as measured metallic paints have, is blurred into the
+//!   lobe); calibrated on training truths;
 //! - **deblurring** [`DEBLUR_SENSITIVITY`] `* |deblurred - un-deblurred| / value` where the
 //!   table was deblurred through the instrument's response (where the safeguard put the
 //!   un-deblurred values in its place, the deblurred table it replaced is the other side):
@@ -94,6 +103,20 @@ pub const CALIBRATION_REL: f64 = 0.005;
 /// one.
 pub const DEBLUR_SENSITIVITY: f64 = 2.0;
 
+/// The relative standard uncertainty of a deblurred table's cells within the captures' width
+/// detection limit of the mirror direction (the module documentation's core term), calibrated
+/// on training truths (the guide's uncertainty page): there the samples do not decide the
+/// peak's height.
+pub const CORE_REL: f64 = 4.0;
+
+/// The theta_h (degrees) below which a sample lies in the peak [`Region`]: twice the default
+/// device's 1.09 deg resolution, where the consistency check's peak region ends.
+pub const PEAK_REGION_DEG: f64 = 2.0;
+
+/// The fewest left-out samples in a [`Region`] for its own covering factor;
+/// a region with fewer takes the axis's factor over all its left-out samples.
+const MIN_REGION_CASES: usize = 30;
+
 /// The quantile of the left-out samples' differences that an extrapolated cell adds.
 pub const EXTRAPOLATED_QUANTILE: f64 = 0.95;
 
@@ -117,7 +140,7 @@ pub const CV_COVERAGE: f64 = 0.95;
 
 /// The factor on the cross-validated reconstruction term, calibrated on training truths (the
 /// guide's uncertainty page).
-pub const RECONSTRUCTION_SCALE: f64 = 1.0;
+pub const RECONSTRUCTION_SCALE: f64 = 0.7;
 
 /// No relative uncertainty is larger than this: beyond it a value says only its order.
 pub const MAX_RELATIVE: f64 = 10.0;
@@ -141,6 +164,8 @@ pub struct Scales {
     pub reconstruction: f64,
     /// On the deblurring difference ([`DEBLUR_SENSITIVITY`]).
     pub deblur: f64,
+    /// The core term ([`CORE_REL`]).
+    pub core: f64,
 }
 
 impl Default for Scales {
@@ -148,6 +173,7 @@ impl Default for Scales {
         Self {
             reconstruction: RECONSTRUCTION_SCALE,
             deblur: DEBLUR_SENSITIVITY,
+            core: CORE_REL,
         }
     }
 }
@@ -156,9 +182,9 @@ impl Default for Scales {
 /// documentation).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ErrorModel {
-    /// `c` per axis (theta_h, theta_d, phi_d): the factor on the local amplitude that covers
-    /// the samples left out along that axis.
-    pub local_factors: [f64; AXES],
+    /// `c` per axis (theta_h, theta_d, phi_d) and [`Region`]: the factor on the local
+    /// amplitude that covers the samples left out along that axis in that region.
+    pub local_factors: [[f64; REGIONS]; AXES],
     /// `beta` per axis: the differences grow as the place between the planes to this power.
     pub growth_exponents: [f64; AXES],
     /// The median relative change (log) of the samples left out along each axis.
@@ -176,6 +202,9 @@ pub struct ErrorModel {
     /// The samples' reach: the largest elevation of light or camera among them (degrees);
     /// the cells beyond it by more than [`REACH_MARGIN_DEG`] have no uncertainty.
     pub reach_deg: f64,
+    /// Below which theta_h (degrees) the core term applies: the captures' width detection
+    /// limit, `None` when the table was not deblurred.
+    pub core_below_deg: Option<f64>,
 }
 
 /// Every cell's standard uncertainty and the model it came from.
@@ -280,10 +309,18 @@ impl Terms {
         let local: [Vec<[f64; 3]>; AXES] = std::array::from_fn(|a| {
             local_amplitudes(samples, &held_out[a], exponents[a], both_halves)
         });
-        let local_factors: [f64; AXES] =
-            std::array::from_fn(|a| covering_factor(&held_out[a], &local[a], exponents[a], &noise));
+        let region = |i: usize| Region::of(coords[i][0]);
+        let local_factors: [[f64; REGIONS]; AXES] = std::array::from_fn(|a| {
+            regional_factors(&held_out[a], region, |held| {
+                covering_factor(held, &local[a], exponents[a], &noise)
+            })
+        });
         let amplitude = (0..samples.len())
-            .map(|i| std::array::from_fn(|a| local[a][i].map(|k| local_factors[a] * k)))
+            .map(|i| {
+                std::array::from_fn(|a| {
+                    local[a][i].map(|k| local_factors[a][region(i) as usize] * k)
+                })
+            })
             .collect();
         let judged: [bool; AXES] =
             std::array::from_fn(|a| held_out[a].iter().any(|h| h.place_deg2 > 0.0));
@@ -301,6 +338,8 @@ impl Terms {
                     .map_or(f64::INFINITY, Safeguard::undecided_below_deg)
             }),
             reach_deg,
+            core_below_deg: (reconstruction.resolution_deg)
+                .map(crate::safeguard::width_detection_limit_deg),
         };
         let compared = undeblurred
             .into_iter()
@@ -356,10 +395,14 @@ impl Terms {
         } else {
             0.0
         };
-        let deblurring_here = self
-            .model
-            .deblurring_below_deg
-            .is_some_and(|below| theta_h_centre_deg(Bin::from_index(index).theta_h_i) < below);
+        let theta_h_deg = theta_h_centre_deg(Bin::from_index(index).theta_h_i);
+        let deblurring_here =
+            (self.model.deblurring_below_deg).is_some_and(|below| theta_h_deg < below);
+        let core = if (self.model.core_below_deg).is_some_and(|below| theta_h_deg < below) {
+            scales.core
+        } else {
+            0.0
+        };
         let others: Vec<Rgb> = (self.compared.iter())
             .filter(|_| deblurring_here)
             .filter_map(|t| t.cell(index))
@@ -376,6 +419,7 @@ impl Terms {
                         .sum::<f64>()
                         .sqrt(),
                 extrapolation,
+                core,
                 deblurring: scales.deblur * spread / v,
             }
         }))
@@ -394,6 +438,8 @@ pub struct CellTerms {
     pub reconstruction: f64,
     /// The extrapolation term (zero where the cell is not extrapolated).
     pub extrapolation: f64,
+    /// The core term (zero beyond the width detection limit of the mirror direction).
+    pub core: f64,
     /// The deblurring term.
     pub deblurring: f64,
 }
@@ -407,6 +453,7 @@ impl CellTerms {
             self.calibration,
             self.reconstruction,
             self.extrapolation,
+            self.core,
             self.deblurring,
         ]
         .iter()
@@ -497,13 +544,19 @@ impl CellUncertainty {
         let m = &self.model;
         let mut lines: Vec<String> = self.relative.line().into_iter().collect();
         let [h, d, p] = m.median_left_out_rel.map(|r| 100.0 * r);
-        let [ch, cd, cp] = m.local_factors;
+        let [ch, cd, cp] = m
+            .local_factors
+            .map(|f| f.map(|c| format!("{c:.2}")).join("/"));
         let [bh, bd, bp] = m.growth_exponents;
         lines.push(format!(
-            "uncertainty_model=noise median {:.2} %, calibration {:.2} %, reconstruction from every other plane left out: median change {h:.2} % (theta_h), {d:.2} % (theta_d), {p:.2} % (phi_d), factors {ch:.2}, {cd:.2}, {cp:.2}, times each cell's place between the planes to the powers {bh:.2}, {bd:.2}, {bp:.2}; extrapolated +{:.1} %, deblurring {}",
+            "uncertainty_model=noise median {:.2} %, calibration {:.2} %, reconstruction from every other plane left out: median change {h:.2} % (theta_h), {d:.2} % (theta_d), {p:.2} % (phi_d), factors (peak/flank/body) {ch}, {cd}, {cp}, times each cell's place between the planes to the powers {bh:.2}, {bd:.2}, {bp:.2}; extrapolated +{:.1} %, core {}, deblurring {}",
             100.0 * m.median_noise_rel,
             100.0 * CALIBRATION_REL,
             100.0 * m.extrapolated_rel,
+            match m.core_below_deg {
+                None => "none".to_string(),
+                Some(below) => format!("{:.0} % within theta_h {below:.2} deg", 100.0 * CORE_REL),
+            },
             match m.deblurring_below_deg {
                 None => "none".to_string(),
                 Some(below) if below.is_finite() => format!("within theta_h {below:.2} deg"),
@@ -913,6 +966,56 @@ fn local_amplitudes(
         .collect()
 }
 
+/// Where a sample lies along theta_h, for the reconstruction term's covering factor: the
+/// errors of a peak's interpolation have tails the body's do not.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Region {
+    /// theta_h below [`PEAK_REGION_DEG`].
+    Peak,
+    /// theta_h from there to [`crate::lobe::BLUR_THETA_H_DEG`], where the lobe's blur ends.
+    Flank,
+    /// theta_h beyond.
+    Body,
+}
+
+/// The number of [`Region`]s.
+pub const REGIONS: usize = 3;
+
+impl Region {
+    /// The region of a half vector `theta_h_deg` from the normal.
+    pub fn of(theta_h_deg: f64) -> Self {
+        if theta_h_deg < PEAK_REGION_DEG {
+            Self::Peak
+        } else if theta_h_deg < crate::lobe::BLUR_THETA_H_DEG {
+            Self::Flank
+        } else {
+            Self::Body
+        }
+    }
+}
+
+/// The covering factor (`factor` of the left-out samples it is given) in each [`Region`]
+/// of the `held_out` samples (`region` of a sample's index); a region with fewer than
+/// [`MIN_REGION_CASES`] left-out samples takes the factor of all of them.
+fn regional_factors(
+    held_out: &[HeldOut],
+    region: impl Fn(usize) -> Region,
+    factor: impl Fn(&[HeldOut]) -> f64,
+) -> [f64; REGIONS] {
+    let overall = factor(held_out);
+    [Region::Peak, Region::Flank, Region::Body].map(|r| {
+        let within: Vec<HeldOut> = (held_out.iter())
+            .filter(|h| region(h.sample) == r)
+            .copied()
+            .collect();
+        if within.len() < MIN_REGION_CASES {
+            overall
+        } else {
+            factor(&within)
+        }
+    })
+}
+
 /// The smallest factor `c` with which [`CV_COVERAGE`] of the left-out samples' differences
 /// lie within two uncertainties `sqrt(noise^2 + calibration^2 + (c K w^beta)^2)` of their own
 /// local amplitude `K` (which leaves them out) at their own place `w`; bisected in log between
@@ -1123,7 +1226,7 @@ mod tests {
         let truth = preset("green-paint").unwrap();
         let (_, provenance, u) = estimated(&samples_up_to(&truth, 45));
         assert!(
-            u.model.local_factors.iter().any(|&c| c > 0.0),
+            u.model.local_factors.iter().flatten().any(|&c| c > 0.0),
             "{:?}",
             u.model
         );
@@ -1425,6 +1528,81 @@ mod tests {
         assert!(deblurring_at(last_within) > 0.0);
         assert_eq!(deblurring_at(last_within + 1), 0.0);
         assert_eq!(deblurring_at(40), 0.0);
+
+        // The core term: CORE_REL within the captures' width detection limit of the mirror
+        // direction (0.26 deg: theta_h bins 0 to 4), nothing beyond, nothing on a table that
+        // was not deblurred.
+        let limit = crate::safeguard::width_detection_limit_deg(response.resolution_deg());
+        assert_eq!(over.model.core_below_deg, Some(limit));
+        let core_at = |terms: &Terms, table: &Reconstruction, theta_h_i: usize| {
+            let index = Bin {
+                theta_h_i,
+                theta_d_i: 30,
+                phi_d_i: 45,
+            }
+            .index();
+            (terms.cell_terms(index, &table.brdf, &table.provenance, Scales::default())).unwrap()[0]
+                .core
+        };
+        let last_core = (0..THETA_H_BINS)
+            .take_while(|&i| theta_h_centre_deg(i) < limit)
+            .last()
+            .unwrap();
+        assert_eq!(last_core, 4, "{limit}");
+        assert_eq!(core_at(&over, &r, 0), CORE_REL);
+        assert_eq!(core_at(&over, &r, last_core), CORE_REL);
+        assert_eq!(core_at(&over, &r, last_core + 1), 0.0);
+        let plain = reconstruct_halves(
+            &samples,
+            Method::Lobe,
+            "t",
+            None::<&dyn CaptureResponse>,
+            None,
+        )
+        .unwrap();
+        let plain_terms = Terms::of(&inputs, &plain).unwrap();
+        assert_eq!(plain_terms.model.core_below_deg, None);
+        assert_eq!(core_at(&plain_terms, &plain, 0), 0.0);
+    }
+
+    #[test]
+    fn each_region_of_theta_h_has_its_own_covering_factor_when_it_has_enough_samples() {
+        // Left-out samples of a peak region whose differences are ten times their local
+        // amplitude's share, of a flank region twice and of a body with too few samples to
+        // judge alone. Samples 0..40 peak, 40..80 flank, 80..90 body.
+        let region = |i: usize| match i {
+            0..40 => Region::Peak,
+            40..80 => Region::Flank,
+            _ => Region::Body,
+        };
+        let held_out: Vec<HeldOut> = (0..90)
+            .map(|k| HeldOut {
+                sample: k,
+                place_deg2: 1.0,
+                log_difference: [Some(match region(k) {
+                    Region::Peak => 1.0,
+                    Region::Flank => 0.2,
+                    Region::Body => 0.1,
+                }); 3],
+                at_an_edge: false,
+            })
+            .collect();
+        let local = vec![[0.1; 3]; 90];
+        let noise = vec![0.0; 90];
+        let factor = |held: &[HeldOut]| covering_factor(held, &local, 1.0, &noise);
+        let [peak, flank, body] = regional_factors(&held_out, region, factor);
+        // 2 c 0.1 covers a difference d when c >= d / 0.2 (the calibration floor aside).
+        assert!((peak - 5.0).abs() < 0.05, "{peak}");
+        assert!((flank - 1.0).abs() < 0.05, "{flank}");
+        assert_eq!(
+            body,
+            factor(&held_out),
+            "too few in the body: the axis's factor"
+        );
+        assert!(body > flank, "{body} {flank}");
+        assert_eq!(Region::of(1.9), Region::Peak);
+        assert_eq!(Region::of(PEAK_REGION_DEG), Region::Flank);
+        assert_eq!(Region::of(crate::lobe::BLUR_THETA_H_DEG), Region::Body);
     }
 
     #[test]
