@@ -1509,17 +1509,18 @@ mod tests {
         assert!(!guard.failed(), "{:?}", guard.reason);
         let below = over.model.deblurring_below_deg.unwrap();
         assert_eq!(below, guard.consistency.peak_limit_deg);
-        let deblurring_at = |theta_h_i: usize| {
+        // The red channel's terms of the cell at theta_h bin `theta_h_i`, theta_d 30.5 deg,
+        // phi_d 45.5 deg.
+        let terms_at = |terms: &Terms, table: &Reconstruction, theta_h_i: usize| {
             let index = Bin {
                 theta_h_i,
                 theta_d_i: 30,
                 phi_d_i: 45,
             }
             .index();
-            over.cell_terms(index, &r.brdf, &r.provenance, Scales::default())
-                .unwrap()[0]
-                .deblurring
+            (terms.cell_terms(index, &table.brdf, &table.provenance, Scales::default())).unwrap()[0]
         };
+        let deblurring_at = |theta_h_i: usize| terms_at(&over, &r, theta_h_i).deblurring;
         let last_within = (0..THETA_H_BINS)
             .take_while(|&i| theta_h_centre_deg(i) < below)
             .last()
@@ -1535,14 +1536,7 @@ mod tests {
         let limit = crate::safeguard::width_detection_limit_deg(response.resolution_deg());
         assert_eq!(over.model.core_below_deg, Some(limit));
         let core_at = |terms: &Terms, table: &Reconstruction, theta_h_i: usize| {
-            let index = Bin {
-                theta_h_i,
-                theta_d_i: 30,
-                phi_d_i: 45,
-            }
-            .index();
-            (terms.cell_terms(index, &table.brdf, &table.provenance, Scales::default())).unwrap()[0]
-                .core
+            terms_at(terms, table, theta_h_i).core
         };
         let last_core = (0..THETA_H_BINS)
             .take_while(|&i| theta_h_centre_deg(i) < limit)
