@@ -133,6 +133,20 @@ fn coverage_without_the_sidecar_names_it_once() {
 }
 
 #[test]
+fn info_with_a_truncated_sidecar_names_it_once_and_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = reconstructed(dir.path());
+    let sidecar = sidecar_path(&out);
+    let bytes = std::fs::read(&sidecar).unwrap();
+    std::fs::write(&sidecar, &bytes[..1000]).unwrap();
+    let output = specula().args(["info", text(&out)]).output().unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("truncated"), "{stderr}");
+    assert_eq!(stderr.matches(text(&sidecar)).count(), 1, "{stderr}");
+}
+
+#[test]
 fn appearance_csv_appends_the_figures_expanded_uncertainty() {
     let dir = tempfile::tempdir().unwrap();
     let out = reconstructed(dir.path());

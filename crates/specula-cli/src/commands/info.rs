@@ -1,6 +1,6 @@
 //! `specula info`: what a BRDF source holds.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use specula_core::merl::MerlBrdf;
 use specula_reconstruct::uncertainty::{sidecar_path, RelativeUncertainty};
 use std::path::Path;
@@ -32,6 +32,6 @@ fn uncertainty_line(path: &Path) -> Result<Option<String>> {
         return Ok(None);
     }
     let table = MerlBrdf::read(path)?;
-    let absolute = MerlBrdf::read(&sidecar).with_context(|| sidecar.display().to_string())?;
+    let absolute = MerlBrdf::read(&sidecar)?;
     Ok(RelativeUncertainty::of_tables(&table, &absolute).line())
 }
