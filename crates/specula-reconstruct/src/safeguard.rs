@@ -70,7 +70,14 @@
 //! its own way (on a neural fit of a measured material the deblurred table held five times
 //! the truth's peak in one half and varied 4.2 times over phi_d there, while the un-deblurred
 //! table varied 1.02 times), and both halves take them if that restores the identity; where
-//! even that does not, the table stays and the summary says the identity fails.
+//! even that does not, the table stays and the summary says the identity fails. Two more
+//! cases keep the table as it is, and the summary says why: a peak the checks bounded, whose
+//! height is undecided between its bounds and so is its spread over phi_d (the fallback would
+//! put the lower bound in its place: neural fits of measured paints vary 1.6 to 13 times over
+//! phi_d at the normal themselves, and on two of them the lower bound took a table from 0.62
+//! and 0.51 relative RMSE to 0.83 and 0.91); and a fallback that reproduces the samples worse
+//! than the table it would replace, since then the samples see what it would remove (on a
+//! third, 24.9 % against 7.7 %; kept, its table scores 0.94 relative RMSE against 0.98).
 //!
 //! Whatever table is kept, its directional albedo is then held to 1
 //! ([`energy::conserve_energy`]): a fallback removes an invented spike, but a lobe continued
@@ -129,6 +136,9 @@ pub struct Safeguard {
     /// The half of phi_d that took the un-deblurred values to restore the identity at the
     /// normal, if one did (see the module documentation).
     pub normal_fallback: Option<NormalFallback>,
+    /// Why a table that breaks the identity at the normal was kept as it is, when the
+    /// un-deblurred values would have restored it (see the module documentation).
+    pub normal_kept: Option<String>,
 }
 
 /// The halves of phi_d whose cells below `below_deg` in theta_h hold the un-deblurred values
@@ -244,6 +254,9 @@ impl Safeguard {
         if let Some(normal) = &self.normal_fallback {
             lines.push(format!("deblur_fallback_normal={normal}"));
         }
+        if let Some(why) = &self.normal_kept {
+            lines.push(format!("deblur_fallback_normal=none: {why}"));
+        }
         if let Some(d) = &self.deblurred {
             lines.extend(d.lines().into_iter().map(|l| format!("deblurred_{l}")));
         }
@@ -335,6 +348,7 @@ fn checked(
             max_albedo: albedo,
             energy: None,
             normal_fallback: None,
+            normal_kept: None,
         };
         return (deblurred, passed, None);
     };
@@ -355,6 +369,7 @@ fn checked(
                 max_albedo: max_albedo(&bounded),
                 energy: None,
                 normal_fallback: None,
+                normal_kept: None,
                 consistency: bounded_check,
                 deblurred: Some(check),
                 fallback_below_deg: None,
@@ -380,6 +395,7 @@ fn checked(
             max_albedo: albedo,
             energy: None,
             normal_fallback: None,
+            normal_kept: None,
         };
         return (deblurred, kept, None);
     }
@@ -392,6 +408,7 @@ fn checked(
         max_albedo: merged_albedo,
         energy: None,
         normal_fallback: None,
+        normal_kept: None,
     };
     (merged, replaced, Some(deblurred))
 }
@@ -495,6 +512,7 @@ fn unasked(
         max_albedo: max_albedo(&merged),
         energy: None,
         normal_fallback: None,
+        normal_kept: None,
     };
     (merged, guard)
 }
@@ -502,9 +520,10 @@ fn unasked(
 /// The `kept` table (with its `guard` and the deblurred table it `replaced`, if any), which
 /// breaks the identity at the normal, with the un-deblurred `plain` values in the half of
 /// phi_d where they restore it (see the module documentation); as it was when neither
-/// half's do. They replace the cells below the upper theta_h of the region the samples'
-/// checks failed in ([`failure`]: the flank's when the flank failed), else below the peak
-/// region's.
+/// half's do, when its peak is bounded, or when the values as measured would reproduce the
+/// samples worse (`normal_kept` says which). They replace the cells below the upper theta_h
+/// of the region the samples' checks failed in ([`failure`]: the flank's when the flank
+/// failed), else below the peak region's.
 fn normal_restored(
     checks: &Checks<'_>,
     kept: MerlBrdf,
@@ -536,7 +555,36 @@ fn normal_restored(
     let Some((halves, after, table)) = restored else {
         return (kept, guard, replaced);
     };
+    if let Some(limit_deg) = guard.bounded_below_deg {
+        let normal_kept = Some(format!(
+            "the peak below theta_h {limit_deg:.2} deg is bounded, not measured: its height over phi_d at the normal lies between its bounds, which the un-deblurred values would replace by the lower one"
+        ));
+        return (
+            kept,
+            Safeguard {
+                normal_kept,
+                ..guard
+            },
+            replaced,
+        );
+    }
     let consistency = checks.of(&table);
+    let reproduction = |c: &Consistency| c.region("all").map_or(0.0, |r| r.relative_error);
+    if reproduction(&consistency) > reproduction(&guard.consistency) {
+        let normal_kept = Some(format!(
+            "the un-deblurred values would restore it but reproduce the samples worse (reproduction error {:.2} % against {:.2} %)",
+            100.0 * reproduction(&consistency),
+            100.0 * reproduction(&guard.consistency)
+        ));
+        return (
+            kept,
+            Safeguard {
+                normal_kept,
+                ..guard
+            },
+            replaced,
+        );
+    }
     let guard = Safeguard {
         max_albedo: max_albedo(&table),
         deblurred: guard.deblurred.or(Some(guard.consistency.clone())),
@@ -1129,5 +1177,141 @@ mod tests {
         assert!(fallback.after.ratio < 1.01, "{fallback:?}");
         assert_eq!(kept.cell(at(45)), tabulated(&flat).cell(at(45)));
         assert_eq!(kept.cell(at(135)), tabulated(&flat).cell(at(135)));
+    }
+
+    /// A table whose first half of phi_d holds a sharp peak (alpha 0.02, albedo within 1) on a flat lobe from
+    /// theta_d 60, and the second half the flat lobe alone: at theta_h 0 the halves name the
+    /// same configurations and differ several times over.
+    fn peak_in_the_first_half() -> (Lobe, MerlBrdf) {
+        let flat = Lobe {
+            grazing: Rgb::ZERO,
+            specular: Rgb::splat(0.3),
+            ..lobe(0.4)
+        };
+        let peak = Lobe {
+            specular: Rgb::splat(0.6),
+            ..lobe(0.02)
+        };
+        let table = MerlBrdf::from_fn("t", |index| {
+            let [h, d, p] = Bin::from_index(index).centre_deg();
+            let g = Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p));
+            Some(if in_second(index) || d < 60.0 {
+                flat.eval(&g)
+            } else {
+                flat.eval(&g) + peak.eval(&g)
+            })
+        });
+        assert!(NormalSpread::of(&table).ratio > 2.0 * NORMAL_SPREAD_LIMIT);
+        (flat, table)
+    }
+
+    #[test]
+    fn a_feature_at_the_normal_the_samples_see_is_not_restored_away() {
+        // The samples measure the first half's peak (theta_d 70, phi_d 45) as the table holds
+        // it: the flat values would restore the identity at the normal but miss those
+        // samples, so the table stays and the summary says why.
+        let response = Device::utia().response();
+        let (flat, table) = peak_in_the_first_half();
+        let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
+        let samples: Vec<Sample> = (0..40)
+            .map(|k| {
+                let h = (k as f64 * 1.5).powi(2) / 90.0;
+                let hd = HalfDiff::from_degrees(h, 45.0, 70.0, 45.0);
+                Sample::new(hd, consistency::predicted(&table, &nodes, hd))
+            })
+            .collect();
+        let (kept, guard, replaced) = safeguarded(
+            &samples,
+            table.clone(),
+            Some(&flat),
+            &response,
+            &tabulated(&flat),
+        );
+        assert_eq!(guard.normal_fallback, None, "{:#?}", guard.lines());
+        assert_eq!(guard.energy, None, "{:#?}", guard.lines());
+        assert!(replaced.is_none());
+        assert_eq!(
+            kept.cell(peak_cell_at(70, 45)),
+            table.cell(peak_cell_at(70, 45))
+        );
+        assert!(
+            guard
+                .lines()
+                .iter()
+                .any(|l| l.starts_with("deblur_fallback_normal=none: the un-deblurred values would restore it but reproduce the samples worse")),
+            "{:#?}",
+            guard.lines()
+        );
+    }
+
+    #[test]
+    fn a_bounded_peak_keeps_its_spread_over_phi_d_at_the_normal() {
+        // The same table, its peak bounded by the checks (its height undecided between its
+        // bounds): the identity's fallback would put the lower bound in the first half, so the
+        // table stays and the summary says why. The samples (theta_d 40, the second half)
+        // do not see the first half's peak.
+        let response = Device::utia().response();
+        let (flat, table) = peak_in_the_first_half();
+        let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
+        let samples: Vec<Sample> = (0..40)
+            .map(|k| {
+                let h = (k as f64 * 1.5).powi(2) / 90.0;
+                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 135.0);
+                Sample::new(hd, flat.measured(&nodes, hd))
+            })
+            .collect();
+        let checks = Checks {
+            samples: &samples,
+            u: prediction_uncertainty(&samples, Some(&flat), &table, &nodes),
+            instrument: Instrument {
+                nodes: &nodes,
+                resolution_deg: Some(response.resolution_deg()),
+            },
+        };
+        let bounded = Safeguard {
+            consistency: checks.of(&table),
+            deblurred: None,
+            fallback_below_deg: None,
+            bounded_below_deg: Some(2.0),
+            reason: Some("bounded".into()),
+            max_albedo: max_albedo(&table),
+            energy: None,
+            normal_fallback: None,
+            normal_kept: None,
+        };
+        let plain = tabulated(&flat);
+        let (kept, guard, _) =
+            normal_restored(&checks, table.clone(), bounded.clone(), None, &plain);
+        assert_eq!(guard.normal_fallback, None, "{:#?}", guard.lines());
+        assert_eq!(
+            kept.cell(peak_cell_at(70, 45)),
+            table.cell(peak_cell_at(70, 45))
+        );
+        assert!(guard
+            .normal_kept
+            .as_deref()
+            .is_some_and(|w| w.contains("is bounded")));
+
+        // Not bounded, the first half takes the flat values, as for any invented peak.
+        let unbounded = Safeguard {
+            bounded_below_deg: None,
+            ..bounded
+        };
+        let (kept, guard, _) = normal_restored(&checks, table, unbounded, None, &plain);
+        assert_eq!(guard.normal_fallback.map(|f| f.halves), Some(Halves::First));
+        assert_eq!(
+            kept.cell(peak_cell_at(70, 45)),
+            plain.cell(peak_cell_at(70, 45))
+        );
+    }
+
+    /// The cell at theta_h 0 of theta_d bin `theta_d_i` and phi_d bin `phi_d_i`.
+    fn peak_cell_at(theta_d_i: usize, phi_d_i: usize) -> usize {
+        Bin {
+            theta_h_i: 0,
+            theta_d_i,
+            phi_d_i,
+        }
+        .index()
     }
 }

@@ -476,13 +476,24 @@ fn checks_table(guard: &Safeguard) -> TableSection {
         }
         _ => "Every region passes: the deblurred table reproduces its samples.".into(),
     };
-    let normal = guard.normal_fallback.map(|n| {
-        format!(
-            "At theta_h 0 every phi_d is one configuration, and the deblurred table varied \
-             {:.2} times over phi_d there: {n}.",
-            n.before.ratio
-        )
-    });
+    let normal = guard
+        .normal_fallback
+        .map(|n| {
+            format!(
+                "At theta_h 0 every phi_d is one configuration, and the deblurred table varied \
+                 {:.2} times over phi_d there: {n}.",
+                n.before.ratio
+            )
+        })
+        .or_else(|| {
+            guard.normal_kept.as_ref().map(|why| {
+                format!(
+                    "At theta_h 0 every phi_d is one configuration, and the table varies {:.2} \
+                     times over phi_d there; it is kept as it is: {why}.",
+                    guard.consistency.normal_spread.ratio
+                )
+            })
+        });
     let energy = guard.energy.map_or_else(
         || format!("Largest directional albedo {:.3}.", guard.max_albedo),
         |e| format!("Energy held: {e}."),
@@ -941,6 +952,7 @@ mod tests {
                 before: spread(7.764, 74.5),
                 after: spread(1.05, 0.5),
             }),
+            normal_kept: None,
         };
         let table = checks_table(&guard);
         let normal = table
@@ -953,6 +965,26 @@ mod tests {
             "{normal}"
         );
         assert!(table.notes.last().is_some_and(|n| n.contains("albedo")));
+
+        // Kept as it is: the note gives the spread and why.
+        let kept = Safeguard {
+            consistency: Consistency {
+                normal_spread: spread(2.535, 74.5),
+                ..guard.consistency.clone()
+            },
+            normal_fallback: None,
+            normal_kept: Some("the peak below theta_h 2.17 deg is bounded, not measured".into()),
+            ..guard
+        };
+        let table = checks_table(&kept);
+        assert!(
+            table.notes.iter().any(|n| n.contains("varies 2.54 times")
+                && n.ends_with(
+                    "kept as it is: the peak below theta_h 2.17 deg is bounded, not measured."
+                )),
+            "{:?}",
+            table.notes
+        );
     }
 
     #[test]
