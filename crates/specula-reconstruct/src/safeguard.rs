@@ -556,34 +556,20 @@ fn normal_restored(
         return (kept, guard, replaced);
     };
     if let Some(limit_deg) = guard.bounded_below_deg {
-        let normal_kept = Some(format!(
+        return kept_as_is(kept, guard, replaced, format!(
             "the peak below theta_h {limit_deg:.2} deg is bounded, not measured: its height over phi_d at the normal lies between its bounds, which the un-deblurred values would replace by the lower one"
         ));
-        return (
-            kept,
-            Safeguard {
-                normal_kept,
-                ..guard
-            },
-            replaced,
-        );
     }
     let consistency = checks.of(&table);
     let reproduction = |c: &Consistency| c.region("all").map_or(0.0, |r| r.relative_error);
-    if reproduction(&consistency) > reproduction(&guard.consistency) {
-        let normal_kept = Some(format!(
+    let (restored_error, kept_error) =
+        (reproduction(&consistency), reproduction(&guard.consistency));
+    if restored_error > kept_error {
+        return kept_as_is(kept, guard, replaced, format!(
             "the un-deblurred values would restore it but reproduce the samples worse (reproduction error {:.2} % against {:.2} %)",
-            100.0 * reproduction(&consistency),
-            100.0 * reproduction(&guard.consistency)
+            100.0 * restored_error,
+            100.0 * kept_error
         ));
-        return (
-            kept,
-            Safeguard {
-                normal_kept,
-                ..guard
-            },
-            replaced,
-        );
     }
     let guard = Safeguard {
         max_albedo: max_albedo(&table),
@@ -598,6 +584,20 @@ fn normal_restored(
         ..guard
     };
     (table, guard, replaced.or(Some(kept)))
+}
+
+/// The `kept` table as it is, its `guard` saying `why` the identity's fallback was not taken.
+fn kept_as_is(
+    kept: MerlBrdf,
+    guard: Safeguard,
+    replaced: Option<MerlBrdf>,
+    why: String,
+) -> (MerlBrdf, Safeguard, Option<MerlBrdf>) {
+    let guard = Safeguard {
+        normal_kept: Some(why),
+        ..guard
+    };
+    (kept, guard, replaced)
 }
 
 /// Whether a table reproduces every region's samples within what their uncertainties
@@ -1179,9 +1179,9 @@ mod tests {
         assert_eq!(kept.cell(at(135)), tabulated(&flat).cell(at(135)));
     }
 
-    /// A table whose first half of phi_d holds a sharp peak (alpha 0.02, albedo within 1) on a flat lobe from
-    /// theta_d 60, and the second half the flat lobe alone: at theta_h 0 the halves name the
-    /// same configurations and differ several times over.
+    /// A table whose first half of phi_d holds a sharp peak (alpha 0.02, albedo within 1) on a
+    /// flat lobe from theta_d 60, and the second half the flat lobe alone: at theta_h 0 the
+    /// halves name the same configurations and differ several times over.
     fn peak_in_the_first_half() -> (Lobe, MerlBrdf) {
         let flat = Lobe {
             grazing: Rgb::ZERO,
