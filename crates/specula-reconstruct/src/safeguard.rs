@@ -1091,33 +1091,14 @@ mod tests {
         // configurations and differ several times over. The first half takes the
         // un-deblurred values; the second half stays.
         let response = Device::utia().response();
-        let flat = Lobe {
-            grazing: Rgb::ZERO,
-            specular: Rgb::splat(0.3),
-            ..lobe(0.4)
-        };
+        let flat = flat_top();
         let invented = Lobe {
             specular: Rgb::splat(5.0),
             ..lobe(0.02)
         };
-        let table = MerlBrdf::from_fn("t", |index| {
-            let [h, d, p] = Bin::from_index(index).centre_deg();
-            let wide = flat.eval(&Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p)));
-            let peak = invented.eval(&Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p)));
-            Some(if in_second(index) || d < 60.0 {
-                wide
-            } else {
-                wide + peak
-            })
-        });
+        let table = with_peaks([Some(&invented), None]);
         let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
-        let samples: Vec<Sample> = (0..40)
-            .map(|k| {
-                let h = (k as f64 * 1.5).powi(2) / 90.0;
-                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 135.0);
-                Sample::new(hd, flat.measured(&nodes, hd))
-            })
-            .collect();
+        let samples = column(40.0, 135.0, |hd| flat.measured(&nodes, hd));
         let before = NormalSpread::of(&table);
         assert!(before.ratio > 2.0 * NORMAL_SPREAD_LIMIT, "{before:?}");
         let (kept, guard, replaced) = safeguarded(
@@ -1127,14 +1108,7 @@ mod tests {
             &response,
             &tabulated(&flat),
         );
-        let at = |phi_d_i| {
-            Bin {
-                theta_h_i: 0,
-                theta_d_i: 70,
-                phi_d_i,
-            }
-            .index()
-        };
+        let at = |phi_d_i| peak_cell_at(70, phi_d_i);
         let Some(fallback) = guard.normal_fallback else {
             panic!("the first half falls back: {:#?}", guard.lines());
         };
@@ -1162,12 +1136,7 @@ mod tests {
             specular: Rgb::splat(2.0),
             ..lobe(0.02)
         };
-        let two = MerlBrdf::from_fn("two", |index| {
-            let [h, d, p] = Bin::from_index(index).centre_deg();
-            let g = Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p));
-            let peak = if in_second(index) { &weaker } else { &invented };
-            Some(flat.eval(&g) + if d < 60.0 { Rgb::ZERO } else { peak.eval(&g) })
-        });
+        let two = with_peaks([Some(&invented), Some(&weaker)]);
         let (kept, guard, _) =
             safeguarded(&samples, two, Some(&flat), &response, &tabulated(&flat));
         let Some(fallback) = guard.normal_fallback else {
@@ -1179,30 +1148,37 @@ mod tests {
         assert_eq!(kept.cell(at(135)), tabulated(&flat).cell(at(135)));
     }
 
-    /// A table whose first half of phi_d holds a sharp peak (alpha 0.02, albedo within 1) on a
-    /// flat lobe from theta_d 60, and the second half the flat lobe alone: at theta_h 0 the
-    /// halves name the same configurations and differ several times over.
-    fn peak_in_the_first_half() -> (Lobe, MerlBrdf) {
-        let flat = Lobe {
+    /// A flat-topped material: a wide lobe.
+    fn flat_top() -> Lobe {
+        Lobe {
             grazing: Rgb::ZERO,
             specular: Rgb::splat(0.3),
             ..lobe(0.4)
-        };
+        }
+    }
+
+    /// [`flat_top`] with, from theta_d 60 deg, each half of phi_d's peak on top (`[first,
+    /// second]`, `None` for none): where the halves' peaks differ, the table breaks the
+    /// identity at the normal.
+    fn with_peaks(peaks: [Option<&Lobe>; 2]) -> MerlBrdf {
+        let flat = flat_top();
+        MerlBrdf::from_fn("t", |index| {
+            let [h, d, p] = Bin::from_index(index).centre_deg();
+            let g = Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p));
+            let peak = peaks[usize::from(in_second(index))].filter(|_| d >= 60.0);
+            Some(flat.eval(&g) + peak.map_or(Rgb::ZERO, |peak| peak.eval(&g)))
+        })
+    }
+
+    /// [`with_peaks`] with a sharp peak (alpha 0.02, albedo within 1) in the first half only.
+    fn peak_in_the_first_half() -> (Lobe, MerlBrdf) {
         let peak = Lobe {
             specular: Rgb::splat(0.6),
             ..lobe(0.02)
         };
-        let table = MerlBrdf::from_fn("t", |index| {
-            let [h, d, p] = Bin::from_index(index).centre_deg();
-            let g = Geometry::of(HalfDiff::from_degrees(h, 0.0, d, p));
-            Some(if in_second(index) || d < 60.0 {
-                flat.eval(&g)
-            } else {
-                flat.eval(&g) + peak.eval(&g)
-            })
-        });
+        let table = with_peaks([Some(&peak), None]);
         assert!(NormalSpread::of(&table).ratio > 2.0 * NORMAL_SPREAD_LIMIT);
-        (flat, table)
+        (flat_top(), table)
     }
 
     #[test]
@@ -1213,13 +1189,7 @@ mod tests {
         let response = Device::utia().response();
         let (flat, table) = peak_in_the_first_half();
         let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
-        let samples: Vec<Sample> = (0..40)
-            .map(|k| {
-                let h = (k as f64 * 1.5).powi(2) / 90.0;
-                let hd = HalfDiff::from_degrees(h, 45.0, 70.0, 45.0);
-                Sample::new(hd, consistency::predicted(&table, &nodes, hd))
-            })
-            .collect();
+        let samples = column(70.0, 45.0, |hd| consistency::predicted(&table, &nodes, hd));
         let (kept, guard, replaced) = safeguarded(
             &samples,
             table.clone(),
@@ -1253,13 +1223,7 @@ mod tests {
         let response = Device::utia().response();
         let (flat, table) = peak_in_the_first_half();
         let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
-        let samples: Vec<Sample> = (0..40)
-            .map(|k| {
-                let h = (k as f64 * 1.5).powi(2) / 90.0;
-                let hd = HalfDiff::from_degrees(h, 45.0, 40.0, 135.0);
-                Sample::new(hd, flat.measured(&nodes, hd))
-            })
-            .collect();
+        let samples = column(40.0, 135.0, |hd| flat.measured(&nodes, hd));
         let checks = Checks {
             samples: &samples,
             u: prediction_uncertainty(&samples, Some(&flat), &table, &nodes),
@@ -1303,6 +1267,18 @@ mod tests {
             kept.cell(peak_cell_at(70, 45)),
             plain.cell(peak_cell_at(70, 45))
         );
+    }
+
+    /// Forty samples along theta_h (0 to 38 deg, closer near the peak) at `theta_d_deg`,
+    /// `phi_d_deg` and phi_h 45 deg, each `capture` of its configuration.
+    fn column(theta_d_deg: f64, phi_d_deg: f64, capture: impl Fn(HalfDiff) -> Rgb) -> Vec<Sample> {
+        (0..40)
+            .map(|k| {
+                let h = (k as f64 * 1.5).powi(2) / 90.0;
+                let hd = HalfDiff::from_degrees(h, 45.0, theta_d_deg, phi_d_deg);
+                Sample::new(hd, capture(hd))
+            })
+            .collect()
     }
 
     /// The cell at theta_h 0 of theta_d bin `theta_d_i` and phi_d bin `phi_d_i`.
