@@ -1101,13 +1101,7 @@ mod tests {
         let samples = column(40.0, 135.0, |hd| flat.measured(&nodes, hd));
         let before = NormalSpread::of(&table);
         assert!(before.ratio > 2.0 * NORMAL_SPREAD_LIMIT, "{before:?}");
-        let (kept, guard, replaced) = safeguarded(
-            &samples,
-            table.clone(),
-            Some(&flat),
-            &response,
-            &tabulated(&flat),
-        );
+        let (kept, guard, replaced) = safeguarded_over(&flat, &samples, table.clone(), &response);
         let at = |phi_d_i| peak_cell_at(70, phi_d_i);
         let Some(fallback) = guard.normal_fallback else {
             panic!("the first half falls back: {:#?}", guard.lines());
@@ -1127,7 +1121,7 @@ mod tests {
 
         // The same peak in both halves is one material's: nothing to restore.
         let both = MerlBrdf::from_fn("b", |index| table.cell(index - index % PHI_D_BINS + 45));
-        let (_, guard, _) = safeguarded(&samples, both, Some(&flat), &response, &tabulated(&flat));
+        let (_, guard, _) = safeguarded_over(&flat, &samples, both, &response);
         assert_eq!(guard.normal_fallback, None, "{guard:?}");
 
         // Different peaks in the two halves: neither half's values as measured restore the
@@ -1137,8 +1131,7 @@ mod tests {
             ..lobe(0.02)
         };
         let two = with_peaks([Some(&invented), Some(&weaker)]);
-        let (kept, guard, _) =
-            safeguarded(&samples, two, Some(&flat), &response, &tabulated(&flat));
+        let (kept, guard, _) = safeguarded_over(&flat, &samples, two, &response);
         let Some(fallback) = guard.normal_fallback else {
             panic!("both halves fall back: {:#?}", guard.lines());
         };
@@ -1155,6 +1148,17 @@ mod tests {
             specular: Rgb::splat(0.3),
             ..lobe(0.4)
         }
+    }
+
+    /// [`safeguarded`] as the identity's tests call it: `table` deblurred over the `flat`
+    /// lobe's fit, whose tabulation is the values as measured.
+    fn safeguarded_over<R: CaptureResponse + ?Sized>(
+        flat: &Lobe,
+        samples: &[Sample],
+        table: MerlBrdf,
+        response: &R,
+    ) -> (MerlBrdf, Safeguard, Option<MerlBrdf>) {
+        safeguarded(samples, table, Some(flat), response, &tabulated(flat))
     }
 
     /// [`flat_top`] with, from theta_d 60 deg, each half of phi_d's peak on top (`[first,
@@ -1190,13 +1194,7 @@ mod tests {
         let (flat, table) = peak_in_the_first_half();
         let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
         let samples = column(70.0, 45.0, |hd| consistency::predicted(&table, &nodes, hd));
-        let (kept, guard, replaced) = safeguarded(
-            &samples,
-            table.clone(),
-            Some(&flat),
-            &response,
-            &tabulated(&flat),
-        );
+        let (kept, guard, replaced) = safeguarded_over(&flat, &samples, table.clone(), &response);
         assert_eq!(guard.normal_fallback, None, "{:#?}", guard.lines());
         assert_eq!(guard.energy, None, "{:#?}", guard.lines());
         assert!(replaced.is_none());
