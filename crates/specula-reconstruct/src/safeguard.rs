@@ -133,12 +133,30 @@ pub struct Safeguard {
     pub max_albedo: f64,
     /// How the table was scaled to conserve energy ([`energy::conserve_energy`]), if it was.
     pub energy: Option<EnergyScale>,
-    /// The half of phi_d that took the un-deblurred values to restore the identity at the
-    /// normal, if one did (see the module documentation).
-    pub normal_fallback: Option<NormalFallback>,
-    /// Why a table that breaks the identity at the normal was kept as it is, when the
-    /// un-deblurred values would have restored it (see the module documentation).
-    pub normal_kept: Option<String>,
+    /// What the identity at the normal did to the table (see the module documentation).
+    pub at_normal: AtNormal,
+}
+
+/// What the identity at the normal did to a deblurred table (see the module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub enum AtNormal {
+    /// Nothing: the table holds the identity, or no half's un-deblurred values restore it.
+    Untouched,
+    /// A half of phi_d (or both) took the un-deblurred values to restore it.
+    Restored(NormalFallback),
+    /// The table breaks it and stays as it is, though the un-deblurred values would restore
+    /// it: why, in words.
+    Kept(String),
+}
+
+impl AtNormal {
+    /// The halves that took the un-deblurred values, if any did.
+    pub fn restored(&self) -> Option<&NormalFallback> {
+        match self {
+            AtNormal::Restored(fallback) => Some(fallback),
+            AtNormal::Untouched | AtNormal::Kept(_) => None,
+        }
+    }
 }
 
 /// The halves of phi_d whose cells below `below_deg` in theta_h hold the un-deblurred values
@@ -218,7 +236,7 @@ impl Safeguard {
         [
             self.fallback_below_deg,
             self.bounded_below_deg,
-            self.normal_fallback.map(|n| n.below_deg),
+            self.at_normal.restored().map(|n| n.below_deg),
         ]
         .into_iter()
         .flatten()
@@ -228,7 +246,7 @@ impl Safeguard {
     /// True when the deblurred table failed a check or was not asked for by the data
     /// (whether or not it was replaced).
     pub fn failed(&self) -> bool {
-        self.reason.is_some() || self.normal_fallback.is_some()
+        self.reason.is_some() || self.at_normal.restored().is_some()
     }
 
     /// The summary's lines: the consistency per region, the albedo and any fallback.
@@ -246,16 +264,15 @@ impl Safeguard {
                 "deblur_fallback=theta_h below {limit:.2} deg holds the geometric mean of the deblurred and the un-deblurred values, a bounded peak ({reason})"
             ),
             (None, None, Some(reason)) => format!("deblur_fallback=none, check failed: {reason}"),
-            _ if self.normal_fallback.is_some() => {
+            _ if self.at_normal.restored().is_some() => {
                 "deblur_fallback=none beyond one half of phi_d: the samples' checks passed, the identity at the normal did not".into()
             }
             _ => "deblur_fallback=none, checks passed".into(),
         });
-        if let Some(normal) = &self.normal_fallback {
-            lines.push(format!("deblur_fallback_normal={normal}"));
-        }
-        if let Some(why) = &self.normal_kept {
-            lines.push(format!("deblur_fallback_normal=none: {why}"));
+        match &self.at_normal {
+            AtNormal::Restored(normal) => lines.push(format!("deblur_fallback_normal={normal}")),
+            AtNormal::Kept(why) => lines.push(format!("deblur_fallback_normal=none: {why}")),
+            AtNormal::Untouched => {}
         }
         if let Some(d) = &self.deblurred {
             lines.extend(d.lines().into_iter().map(|l| format!("deblurred_{l}")));
@@ -347,8 +364,7 @@ fn checked(
             reason: None,
             max_albedo: albedo,
             energy: None,
-            normal_fallback: None,
-            normal_kept: None,
+            at_normal: AtNormal::Untouched,
         };
         return (deblurred, passed, None);
     };
@@ -368,8 +384,7 @@ fn checked(
             let guard = Safeguard {
                 max_albedo: max_albedo(&bounded),
                 energy: None,
-                normal_fallback: None,
-                normal_kept: None,
+                at_normal: AtNormal::Untouched,
                 consistency: bounded_check,
                 deblurred: Some(check),
                 fallback_below_deg: None,
@@ -394,8 +409,7 @@ fn checked(
             )),
             max_albedo: albedo,
             energy: None,
-            normal_fallback: None,
-            normal_kept: None,
+            at_normal: AtNormal::Untouched,
         };
         return (deblurred, kept, None);
     }
@@ -407,8 +421,7 @@ fn checked(
         reason: Some(reason),
         max_albedo: merged_albedo,
         energy: None,
-        normal_fallback: None,
-        normal_kept: None,
+        at_normal: AtNormal::Untouched,
     };
     (merged, replaced, Some(deblurred))
 }
@@ -511,8 +524,7 @@ fn unasked(
         )),
         max_albedo: max_albedo(&merged),
         energy: None,
-        normal_fallback: None,
-        normal_kept: None,
+        at_normal: AtNormal::Untouched,
     };
     (merged, guard)
 }
@@ -521,7 +533,7 @@ fn unasked(
 /// breaks the identity at the normal, with the un-deblurred `plain` values in the half of
 /// phi_d where they restore it (see the module documentation); as it was when neither
 /// half's do, when its peak is bounded, or when the values as measured would reproduce the
-/// samples worse (`normal_kept` says which). They replace the cells below the upper theta_h
+/// samples worse ([`AtNormal::Kept`] says which). They replace the cells below the upper theta_h
 /// of the region the samples' checks failed in ([`failure`]: the flank's when the flank
 /// failed), else below the peak region's.
 fn normal_restored(
@@ -574,7 +586,7 @@ fn normal_restored(
     let guard = Safeguard {
         max_albedo: max_albedo(&table),
         deblurred: guard.deblurred.or(Some(guard.consistency.clone())),
-        normal_fallback: Some(NormalFallback {
+        at_normal: AtNormal::Restored(NormalFallback {
             halves,
             below_deg,
             before: guard.consistency.normal_spread,
@@ -594,7 +606,7 @@ fn kept_as_is(
     why: String,
 ) -> (MerlBrdf, Safeguard, Option<MerlBrdf>) {
     let guard = Safeguard {
-        normal_kept: Some(why),
+        at_normal: AtNormal::Kept(why),
         ..guard
     };
     (kept, guard, replaced)
@@ -1103,7 +1115,7 @@ mod tests {
         assert!(before.ratio > 2.0 * NORMAL_SPREAD_LIMIT, "{before:?}");
         let (kept, guard, replaced) = safeguarded_over(&flat, &samples, table.clone(), &response);
         let at = |phi_d_i| peak_cell_at(70, phi_d_i);
-        let Some(fallback) = guard.normal_fallback else {
+        let AtNormal::Restored(fallback) = guard.at_normal else {
             panic!("the first half falls back: {:#?}", guard.lines());
         };
         assert_eq!(fallback.halves, Halves::First, "{fallback:?}");
@@ -1122,7 +1134,7 @@ mod tests {
         // The same peak in both halves is one material's: nothing to restore.
         let both = MerlBrdf::from_fn("b", |index| table.cell(index - index % PHI_D_BINS + 45));
         let (_, guard, _) = safeguarded_over(&flat, &samples, both, &response);
-        assert_eq!(guard.normal_fallback, None, "{guard:?}");
+        assert_eq!(guard.at_normal.restored(), None, "{guard:?}");
 
         // Different peaks in the two halves: neither half's values as measured restore the
         // identity alone (each leaves the other's peak), both halves' do.
@@ -1132,7 +1144,7 @@ mod tests {
         };
         let two = with_peaks([Some(&invented), Some(&weaker)]);
         let (kept, guard, _) = safeguarded_over(&flat, &samples, two, &response);
-        let Some(fallback) = guard.normal_fallback else {
+        let AtNormal::Restored(fallback) = guard.at_normal else {
             panic!("both halves fall back: {:#?}", guard.lines());
         };
         assert_eq!(fallback.halves, Halves::Both, "{fallback:?}");
@@ -1195,7 +1207,7 @@ mod tests {
         let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
         let samples = column(70.0, 45.0, |hd| consistency::predicted(&table, &nodes, hd));
         let (kept, guard, replaced) = safeguarded_over(&flat, &samples, table.clone(), &response);
-        assert_eq!(guard.normal_fallback, None, "{:#?}", guard.lines());
+        assert_eq!(guard.at_normal.restored(), None, "{:#?}", guard.lines());
         assert_eq!(guard.energy, None, "{:#?}", guard.lines());
         assert!(replaced.is_none());
         assert_eq!(
@@ -1238,21 +1250,21 @@ mod tests {
             reason: Some("bounded".into()),
             max_albedo: max_albedo(&table),
             energy: None,
-            normal_fallback: None,
-            normal_kept: None,
+            at_normal: AtNormal::Untouched,
         };
         let plain = tabulated(&flat);
         let (kept, guard, _) =
             normal_restored(&checks, table.clone(), bounded.clone(), None, &plain);
-        assert_eq!(guard.normal_fallback, None, "{:#?}", guard.lines());
+        assert_eq!(guard.at_normal.restored(), None, "{:#?}", guard.lines());
         assert_eq!(
             kept.cell(peak_cell_at(70, 45)),
             table.cell(peak_cell_at(70, 45))
         );
-        assert!(guard
-            .normal_kept
-            .as_deref()
-            .is_some_and(|w| w.contains("is bounded")));
+        assert!(
+            matches!(&guard.at_normal, AtNormal::Kept(why) if why.contains("is bounded")),
+            "{:?}",
+            guard.at_normal
+        );
 
         // Not bounded, the first half takes the flat values, as for any invented peak.
         let unbounded = Safeguard {
@@ -1260,7 +1272,10 @@ mod tests {
             ..bounded
         };
         let (kept, guard, _) = normal_restored(&checks, table, unbounded, None, &plain);
-        assert_eq!(guard.normal_fallback.map(|f| f.halves), Some(Halves::First));
+        assert_eq!(
+            guard.at_normal.restored().map(|f| f.halves),
+            Some(Halves::First)
+        );
         assert_eq!(
             kept.cell(peak_cell_at(70, 45)),
             plain.cell(peak_cell_at(70, 45))

@@ -24,7 +24,7 @@ use specula_core::{Brdf, MerlBrdf, ProbePoint, Sample};
 use specula_formats::BrdfSource;
 use specula_reconstruct::phi_d_halves::{measures_both_halves, reconstruct_halves};
 use specula_reconstruct::provenance::Provenance;
-use specula_reconstruct::safeguard::{Safeguard, FAIL_FACTOR};
+use specula_reconstruct::safeguard::{AtNormal, Safeguard, FAIL_FACTOR};
 use specula_reconstruct::Method;
 use specula_session::journal::{
     Journal, JournalError, SequenceRecord, SessionRecord, SessionStatus, SourceRecord, Stage,
@@ -476,24 +476,19 @@ fn checks_table(guard: &Safeguard) -> TableSection {
         }
         _ => "Every region passes: the deblurred table reproduces its samples.".into(),
     };
-    let normal = guard
-        .normal_fallback
-        .map(|n| {
-            format!(
-                "At theta_h 0 every phi_d is one configuration, and the deblurred table varied \
-                 {:.2} times over phi_d there: {n}.",
-                n.before.ratio
-            )
-        })
-        .or_else(|| {
-            guard.normal_kept.as_ref().map(|why| {
-                format!(
-                    "At theta_h 0 every phi_d is one configuration, and the table varies {:.2} \
-                     times over phi_d there; it is kept as it is: {why}.",
-                    guard.consistency.normal_spread.ratio
-                )
-            })
-        });
+    let normal = match &guard.at_normal {
+        AtNormal::Restored(n) => Some(format!(
+            "At theta_h 0 every phi_d is one configuration, and the deblurred table varied \
+             {:.2} times over phi_d there: {n}.",
+            n.before.ratio
+        )),
+        AtNormal::Kept(why) => Some(format!(
+            "At theta_h 0 every phi_d is one configuration, and the table varies {:.2} \
+             times over phi_d there; it is kept as it is: {why}.",
+            guard.consistency.normal_spread.ratio
+        )),
+        AtNormal::Untouched => None,
+    };
     let energy = guard.energy.map_or_else(
         || format!("Largest directional albedo {:.3}.", guard.max_albedo),
         |e| format!("Energy held: {e}."),
@@ -946,13 +941,12 @@ mod tests {
             reason: None,
             max_albedo: 0.5,
             energy: None,
-            normal_fallback: Some(NormalFallback {
+            at_normal: AtNormal::Restored(NormalFallback {
                 halves: Halves::First,
                 below_deg: 20.0,
                 before: spread(7.764, 74.5),
                 after: spread(1.05, 0.5),
             }),
-            normal_kept: None,
         };
         let table = checks_table(&guard);
         let normal = table
@@ -972,8 +966,9 @@ mod tests {
                 normal_spread: spread(2.535, 74.5),
                 ..guard.consistency.clone()
             },
-            normal_fallback: None,
-            normal_kept: Some("the peak below theta_h 2.17 deg is bounded, not measured".into()),
+            at_normal: AtNormal::Kept(
+                "the peak below theta_h 2.17 deg is bounded, not measured".into(),
+            ),
             ..guard
         };
         let table = checks_table(&kept);
