@@ -1,5 +1,6 @@
 //! `specula compare`: error figures between two BRDFs.
 
+use crate::output::error_figure;
 use anyhow::Result;
 use specula_accuracy::{Accuracy, USED_ELEVATION_DEG};
 use specula_core::tabulate::tabulate;
@@ -25,10 +26,10 @@ pub(crate) fn run(args: Args) -> Result<()> {
     outln!("set,cells,relative_rmse,log_rmse,slice_mae");
     for (label, e) in [("within", accuracy.within), ("all", accuracy.all)] {
         outln!(
-            "{label},{},{:.6},{:.6},{:.6e}",
+            "{label},{},{},{},{:.6e}",
             e.cells,
-            e.relative_rmse,
-            e.log_rmse,
+            error_figure(e.relative_rmse),
+            error_figure(e.log_rmse),
             e.slice_mae
         );
     }

@@ -1,5 +1,6 @@
 //! `specula fit`: an analytic material for renderers, fitted to any BRDF.
 
+use crate::output::error_figure;
 use crate::range;
 use anyhow::Result;
 use specula_formats::material_fit::{FitChoice, MaterialFit};
@@ -85,11 +86,11 @@ fn print_errors(fit: &MaterialFit, max_elevation_deg: f64) {
         (format!("within {max_elevation_deg} deg"), fit.error_within),
     ] {
         outln!(
-            "{},{set},{},{:.6},{:.6},{:.6e}",
+            "{},{set},{},{},{},{:.6e}",
             fit.model.label(),
             e.cells,
-            e.relative_rmse,
-            e.log_rmse,
+            error_figure(e.relative_rmse),
+            error_figure(e.log_rmse),
             e.slice_mae
         );
     }
