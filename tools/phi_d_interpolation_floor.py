@@ -26,6 +26,7 @@ import sys
 import tempfile
 
 import numpy as np
+from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
 from merl_read_numpy import read_merl
 from resolution_floor import bin_geometry, figures
@@ -35,30 +36,13 @@ PHI_D_BINS = 180
 HALF_BINS = PHI_D_BINS // 2
 
 
-def monotone_slopes(x, y):
-    """Node slopes of the monotone cubic through (x, y) along y's last axis, zero at both
-    ends (phi_d 0 and 90 deg are symmetry points of a half) and wherever the secants
-    change sign; elsewhere the weighted harmonic mean of the neighbouring secants."""
-    h = np.diff(x)
-    delta = np.diff(y, axis=-1) / h
-    slopes = np.zeros_like(y)
-    for k in range(1, len(x) - 1):
-        d0, d1 = delta[..., k - 1], delta[..., k]
-        w1, w2 = 2 * h[k] + h[k - 1], h[k] + 2 * h[k - 1]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            mean = (w1 + w2) / (w1 / d0 + w2 / d1)
-        slopes[..., k] = np.where(d0 * d1 > 0, mean, 0.0)
-    return slopes
-
-
-def hermite(x, y, slopes, xq):
-    """The cubic Hermite interpolant of (x, y, slopes) at `xq`, along y's last axis."""
-    k = np.clip(np.searchsorted(x, xq, side="right") - 1, 0, len(x) - 2)
-    h = x[k + 1] - x[k]
-    t = (xq - x[k]) / h
-    t2, t3 = t * t, t * t * t
-    return ((2 * t3 - 3 * t2 + 1) * y[..., k] + (t3 - 2 * t2 + t) * h * slopes[..., k]
-            + (3 * t2 - 2 * t3) * y[..., k + 1] + (t3 - t2) * h * slopes[..., k + 1])
+def monotone_cubic(x, y, xq):
+    """The monotone cubic through (x, y) along y's last axis at `xq`: scipy's PCHIP (the
+    kernel's `MonotoneCubic`, Fritsch-Carlson) with the slopes at both ends set to zero, as
+    the kernel sets them on phi_d 0 and 90 deg, the symmetry points of a half."""
+    slopes = PchipInterpolator(x, y, axis=-1).derivative()(x)
+    slopes[..., [0, -1]] = 0.0
+    return CubicHermiteSpline(x, y, slopes, axis=-1)(xq)
 
 
 def interpolated_half(half, nodes_deg):
@@ -68,7 +52,7 @@ def interpolated_half(half, nodes_deg):
     bins = np.clip(np.floor(nodes_deg).astype(int), 0, HALF_BINS - 1)
     x = centres[bins]
     y = np.log(np.maximum(half[..., bins], 1e-12))
-    return np.exp(hermite(x, y, monotone_slopes(x, y), centres))
+    return np.exp(monotone_cubic(x, y, centres))
 
 
 def floor_table(truth, nodes_deg, folded):
