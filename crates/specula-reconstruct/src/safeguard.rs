@@ -66,7 +66,10 @@
 //! material's value at the normal while the second half's held it. The half whose
 //! un-deblurred values bring the spread within the limit takes them ([`NormalFallback`]), up
 //! to the upper theta_h of the region whose samples the table failed (the peak region's when
-//! none did). When neither half's alone do, both halves' lobes are off at the normal, each
+//! none did), or through the flank when that reproduces the samples better: a lobe that
+//! invents a peak at the normal can hold its tails beyond the peak region (on a neural fit of
+//! a measured silk, 606 times the other half's value at the normal: 0.038 relative RMSE with
+//! the peak region replaced, 0.031 through the flank). When neither half's alone do, both halves' lobes are off at the normal, each
 //! its own way (on a neural fit of a measured material the deblurred table held five times
 //! the truth's peak in one half and varied 4.2 times over phi_d there, while the un-deblurred
 //! table varied 1.02 times), and both halves take them if that restores the identity; where
@@ -86,7 +89,7 @@
 
 use crate::consistency::{self, Consistency, Instrument, NormalSpread, NORMAL_SPREAD_LIMIT};
 use crate::energy::{self, max_albedo, EnergyScale};
-use crate::lobe::{Lobe, LobeOnGrid};
+use crate::lobe::{Lobe, LobeOnGrid, BLUR_THETA_H_DEG};
 use crate::phi_d_halves::in_second;
 use crate::response_nodes::FIT_RESPONSE_NODES;
 use crate::sample::reach_deg;
@@ -535,7 +538,8 @@ fn unasked(
 /// half's do, when its peak is bounded, or when the values as measured would reproduce the
 /// samples worse ([`AtNormal::Kept`] says which). They replace the cells below the upper theta_h
 /// of the region the samples' checks failed in ([`failure`]: the flank's when the flank
-/// failed), else below the peak region's.
+/// failed), else below the peak region's, or below the flank's when that reproduces the
+/// samples better.
 fn normal_restored(
     checks: &Checks<'_>,
     kept: MerlBrdf,
@@ -543,28 +547,51 @@ fn normal_restored(
     replaced: Option<MerlBrdf>,
     plain: &MerlBrdf,
 ) -> (MerlBrdf, Safeguard, Option<MerlBrdf>) {
-    let below_deg = failure(&guard.consistency, guard.max_albedo)
+    let failed_below_deg = failure(&guard.consistency, guard.max_albedo)
         .map_or(guard.consistency.peak_limit_deg, |(limit_deg, _)| limit_deg);
-    let restored_by = |halves: Halves| {
+    let restored_below = |halves: Halves, below_deg: f64| {
         let table = combined_where(
             &kept,
             plain,
             |index| halves.hold(index) && Bin::from_index(index).centre_deg()[0] < below_deg,
             |_, p| p,
         );
-        (halves, NormalSpread::of(&table), table)
+        Restoration {
+            halves,
+            below_deg,
+            after: NormalSpread::of(&table),
+            table,
+        }
     };
-    let within =
-        |(_, after, _): &(Halves, NormalSpread, MerlBrdf)| after.ratio <= NORMAL_SPREAD_LIMIT;
+    let reproduction = |c: &Consistency| c.region("all").map_or(0.0, |r| r.relative_error);
+    // A lobe that invented a peak at the normal can hold its tails through the flank: the
+    // flank's limit is taken when that table restores the identity too and reproduces the
+    // samples better.
+    let restored_by = |halves: Halves| {
+        let near = restored_below(halves, failed_below_deg);
+        let through_flank = (near.within() && failed_below_deg < BLUR_THETA_H_DEG)
+            .then(|| restored_below(halves, BLUR_THETA_H_DEG))
+            .filter(|far| {
+                far.within()
+                    && reproduction(&checks.of(&far.table)) < reproduction(&checks.of(&near.table))
+            });
+        through_flank.unwrap_or(near)
+    };
     // One half when either restores the identity (the one that restores it more), both
     // when neither does alone.
     let restored = [Halves::First, Halves::Second]
         .map(restored_by)
         .into_iter()
-        .min_by(|a, b| a.1.ratio.total_cmp(&b.1.ratio))
-        .filter(within)
-        .or_else(|| Some(restored_by(Halves::Both)).filter(within));
-    let Some((halves, after, table)) = restored else {
+        .min_by(|a, b| a.after.ratio.total_cmp(&b.after.ratio))
+        .filter(Restoration::within)
+        .or_else(|| Some(restored_by(Halves::Both)).filter(Restoration::within));
+    let Some(Restoration {
+        halves,
+        below_deg,
+        after,
+        table,
+    }) = restored
+    else {
         return (kept, guard, replaced);
     };
     if let Some(limit_deg) = guard.bounded_below_deg {
@@ -573,7 +600,6 @@ fn normal_restored(
         ));
     }
     let consistency = checks.of(&table);
-    let reproduction = |c: &Consistency| c.region("all").map_or(0.0, |r| r.relative_error);
     let (restored_error, kept_error) =
         (reproduction(&consistency), reproduction(&guard.consistency));
     if restored_error > kept_error {
@@ -596,6 +622,22 @@ fn normal_restored(
         ..guard
     };
     (table, guard, replaced.or(Some(kept)))
+}
+
+/// A table whose cells of `halves` below `below_deg` in theta_h hold the un-deblurred values,
+/// and its spread over phi_d at the normal.
+struct Restoration {
+    halves: Halves,
+    below_deg: f64,
+    after: NormalSpread,
+    table: MerlBrdf,
+}
+
+impl Restoration {
+    /// Whether it holds the identity at the normal ([`NORMAL_SPREAD_LIMIT`]).
+    fn within(&self) -> bool {
+        self.after.ratio <= NORMAL_SPREAD_LIMIT
+    }
 }
 
 /// The `kept` table as it is, its `guard` saying `why` the identity's fallback was not taken.
@@ -1151,6 +1193,50 @@ mod tests {
         assert!(fallback.after.ratio < 1.01, "{fallback:?}");
         assert_eq!(kept.cell(at(45)), tabulated(&flat).cell(at(45)));
         assert_eq!(kept.cell(at(135)), tabulated(&flat).cell(at(135)));
+    }
+
+    /// A peak one half of phi_d invents at the normal, with tails beyond the peak region that
+    /// its samples' checks let pass: the fallback takes that half's values as measured
+    /// through the flank, which reproduces the samples better than the peak region alone.
+    #[test]
+    fn an_invented_peak_s_tails_fall_back_through_the_flank() {
+        let response = Device::utia().response();
+        let flat = flat_top();
+        // Beckmann-like tails: at the normal the table varies 2.4 times over phi_d, and the
+        // first half's flank samples, blurred by the light's disk, see 2.5 % of it: within
+        // what the checks let pass.
+        let invented = Lobe {
+            shape: Shape {
+                alpha: 0.024,
+                gamma: 50.0,
+            },
+            diffuse: Rgb::ZERO,
+            specular: Rgb::splat(0.0008),
+            grazing: Rgb::ZERO,
+        };
+        let table = with_peaks([Some(&invented), None]);
+        let nodes = response.capture_nodes(FIT_RESPONSE_NODES);
+        // The first half's samples start beyond the peak region: none sees the peak itself.
+        // They scatter by 1.5 %, above the 1 % their uncertainties explain, so that the values
+        // as measured do not replace the peak region for want of a peak in the data.
+        let samples: Vec<Sample> = column(70.0, 45.0, |hd| flat.measured(&nodes, hd))
+            .into_iter()
+            .filter(|s| s.hd.theta_h.to_degrees() > 2.4)
+            .enumerate()
+            .map(|(k, s)| Sample {
+                value: s.value * if k % 2 == 0 { 1.015 } else { 0.985 },
+                ..s
+            })
+            .collect();
+        let (kept, guard, _) = safeguarded_over(&flat, &samples, table.clone(), &response);
+        let AtNormal::Restored(fallback) = guard.at_normal else {
+            panic!("the first half falls back: {:#?}", guard.lines());
+        };
+        assert_eq!(fallback.halves, Halves::First, "{fallback:?}");
+        assert_eq!(fallback.below_deg, BLUR_THETA_H_DEG, "{fallback:?}");
+        let tail = Bin::of_degrees(5.0, 70.0, 45.0).index();
+        assert_ne!(table.cell(tail), tabulated(&flat).cell(tail));
+        assert_eq!(kept.cell(tail), tabulated(&flat).cell(tail));
     }
 
     /// A flat-topped material: a wide lobe.
