@@ -67,9 +67,10 @@
 //! un-deblurred values bring the spread within the limit takes them ([`NormalFallback`]), up
 //! to the upper theta_h of the region whose samples the table failed (the peak region's when
 //! none did), or through the flank when that reproduces the samples better: a lobe that
-//! invents a peak at the normal can hold its tails beyond the peak region (on a neural fit of
-//! a measured silk, 606 times the other half's value at the normal: 0.038 relative RMSE with
-//! the peak region replaced, 0.031 through the flank). When neither half's alone do, both halves' lobes are off at the normal, each
+//! invents a peak at the normal can hold its tails beyond the peak region (a neural fit of a
+//! measured silk, measured on other planes than the default design takes, put 606 times the
+//! other half's value there: 0.038 relative RMSE with the peak region replaced, 0.031 through
+//! the flank). When neither half's alone do, both halves' lobes are off at the normal, each
 //! its own way (on a neural fit of a measured material the deblurred table held five times
 //! the truth's peak in one half and varied 4.2 times over phi_d there, while the un-deblurred
 //! table varied 1.02 times), and both halves take them if that restores the identity; where
