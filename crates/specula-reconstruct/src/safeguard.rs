@@ -562,6 +562,7 @@ fn normal_restored(
             below_deg,
             after: NormalSpread::of(&table),
             table,
+            consistency: None,
         }
     };
     let reproduction = |c: &Consistency| c.region("all").map_or(0.0, |r| r.relative_error);
@@ -570,13 +571,21 @@ fn normal_restored(
     // samples better.
     let restored_by = |halves: Halves| {
         let near = restored_below(halves, failed_below_deg);
-        let through_flank = (near.within() && failed_below_deg < BLUR_THETA_H_DEG)
-            .then(|| restored_below(halves, BLUR_THETA_H_DEG))
-            .filter(|far| {
-                far.within()
-                    && reproduction(&checks.of(&far.table)) < reproduction(&checks.of(&near.table))
-            });
-        through_flank.unwrap_or(near)
+        if !near.within() || failed_below_deg >= BLUR_THETA_H_DEG {
+            return near;
+        }
+        let far = restored_below(halves, BLUR_THETA_H_DEG);
+        if !far.within() {
+            return near;
+        }
+        let (near, far) = (near.checked(checks), far.checked(checks));
+        let [near_error, far_error] =
+            [&near, &far].map(|r| r.consistency.as_ref().map_or(0.0, reproduction));
+        if far_error < near_error {
+            far
+        } else {
+            near
+        }
     };
     // One half when either restores the identity (the one that restores it more), both
     // when neither does alone.
@@ -591,6 +600,7 @@ fn normal_restored(
         below_deg,
         after,
         table,
+        consistency,
     }) = restored
     else {
         return (kept, guard, replaced);
@@ -600,7 +610,7 @@ fn normal_restored(
             "the peak below theta_h {limit_deg:.2} deg is bounded, not measured: its height over phi_d at the normal lies between its bounds, which the un-deblurred values would replace by the lower one"
         ));
     }
-    let consistency = checks.of(&table);
+    let consistency = consistency.unwrap_or_else(|| checks.of(&table));
     let (restored_error, kept_error) =
         (reproduction(&consistency), reproduction(&guard.consistency));
     if restored_error > kept_error {
@@ -626,18 +636,28 @@ fn normal_restored(
 }
 
 /// A table whose cells of `halves` below `below_deg` in theta_h hold the un-deblurred values,
-/// and its spread over phi_d at the normal.
+/// its spread over phi_d at the normal and, once checked, how it reproduces the samples.
 struct Restoration {
     halves: Halves,
     below_deg: f64,
     after: NormalSpread,
     table: MerlBrdf,
+    consistency: Option<Consistency>,
 }
 
 impl Restoration {
     /// Whether it holds the identity at the normal ([`NORMAL_SPREAD_LIMIT`]).
     fn within(&self) -> bool {
         self.after.ratio <= NORMAL_SPREAD_LIMIT
+    }
+
+    /// The same with its check against the samples, made once.
+    fn checked(self, checks: &Checks<'_>) -> Self {
+        let consistency = Some(checks.of(&self.table));
+        Self {
+            consistency,
+            ..self
+        }
     }
 }
 
