@@ -21,7 +21,8 @@ const MAX_NODES_PER_AXIS: usize = 512;
 /// Where a node's value comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum NodeStatus {
-    /// The mean of the samples at the node.
+    /// The mean of the samples at the node (at the normal, of its theta_d; see
+    /// [`crate::extrapolate`]).
     Measured,
     /// Extrapolated from measured nodes (see [`crate::extrapolate`]).
     Filled,
@@ -42,6 +43,12 @@ pub(crate) struct Lattice {
     pub values: [Vec<f64>; 3],
     /// Where each node's value comes from, same index.
     pub status: Vec<NodeStatus>,
+}
+
+/// Whether a node at `theta_h_deg` is at the normal (theta_h 0), where every phi_d of a
+/// theta_d names one configuration of an isotropic surface ([`crate::extrapolate`]).
+pub(crate) fn at_the_normal(theta_h_deg: f64) -> bool {
+    theta_h_deg.abs() < NODE_TOLERANCE
 }
 
 /// The lattice coordinates of `hd`: theta_h, theta_d and folded phi_d in degrees.

@@ -71,7 +71,7 @@
 //! `OUT.uncertainty.binary` ([`sidecar_path`]), in the MERL layout and scale.
 
 use crate::axis::Axis;
-use crate::lattice::{coordinates, Lattice};
+use crate::lattice::{at_the_normal, coordinates, Lattice};
 use crate::phi_d_halves::{measures_both_halves, reconstruct_halves, reconstruct_halves_cells};
 use crate::provenance::Provenance;
 use crate::safeguard::Safeguard;
@@ -638,6 +638,8 @@ pub fn distance_coordinates(hd: HalfDiff, both_halves: bool) -> [f64; 3] {
 
 /// The axes of the sample lattice: theta_h, theta_d and folded phi_d.
 const AXES: usize = 3;
+/// The phi_d axis's index among the lattice's axes (theta_h, theta_d, phi_d).
+const PHI_D_AXIS: usize = 2;
 
 /// The axes' names, in the summary.
 const AXIS_NAMES: [&str; AXES] = ["theta_h", "theta_d", "phi_d"];
@@ -855,8 +857,11 @@ fn cross_validate_along(
                 .map(|(_, &x)| x)
                 .collect(),
         };
-        let (left_out, kept): (Vec<usize>, Vec<usize>) =
-            (0..samples.len()).partition(|&i| plane[i] % 2 == parity);
+        // At the normal every phi_d is one configuration (`crate::extrapolate`): those
+        // samples measure no phi_d plane, and a phi_d fold keeps them.
+        let (left_out, kept): (Vec<usize>, Vec<usize>) = (0..samples.len()).partition(|&i| {
+            plane[i] % 2 == parity && !(a == PHI_D_AXIS && at_the_normal(coords[i][0]))
+        });
         if kept_planes.len() < min_kept || left_out.is_empty() {
             continue;
         }
@@ -1160,7 +1165,8 @@ mod tests {
     /// A fold that leaves out theta_h 0 extrapolates to the centre of the peak, which the
     /// table never does: those samples are marked as at an edge, and so are phi_d 0 and 90,
     /// not the planes between; an axis of two planes marks neither. The differences are
-    /// capped, and the extrapolation term leaves the edges' out.
+    /// capped, and the extrapolation term leaves the edges' out. A phi_d fold keeps the
+    /// samples at the normal, where every phi_d is one configuration.
     #[test]
     fn the_planes_at_an_edge_of_the_table_do_not_price_its_extrapolation() {
         assert!((MAX_LOG_DIFFERENCE - (1.0 + MAX_RELATIVE).ln()).abs() < 1e-12);
@@ -1217,7 +1223,10 @@ mod tests {
         let coords_two: Vec<[f64; 3]> = at_two.iter().map(|s| coordinates(s.hd)).collect();
         let held =
             cross_validate_along(&inputs_two, &[], &reference, &coords_two, &two, 2).unwrap();
-        assert_eq!(held.len(), at_two.len());
+        // Every sample but those at the normal, which measure no phi_d plane.
+        let off_the_normal = coords_two.iter().filter(|c| !at_the_normal(c[0])).count();
+        assert!(off_the_normal < at_two.len());
+        assert_eq!(held.len(), off_the_normal);
         assert!(held.iter().all(|h| !h.at_an_edge));
     }
 

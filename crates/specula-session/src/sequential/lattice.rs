@@ -8,6 +8,15 @@
 //! (one theta_h, theta_d or phi_d node of the candidates) and measures every reachable
 //! position of the product of the chosen nodes. An isolated sample would open a lattice line
 //! that the rest of the lattice fills by nearest-node continuation.
+//!
+//! One product node is left out of every plane: theta_h 0 at a phi_d other than 90 deg. At
+//! theta_h 0 the half vector is the normal, and turning the pair of directions about it
+//! (phi_d) changes nothing for an isotropic surface, so each theta_d there is one
+//! configuration whatever phi_d names it; the reconstruction gives the one measured to every
+//! phi_d (`specula_reconstruct`'s extrapolation). phi_d 90 deg is where the two halves of
+//! phi_d meet (both take its samples), and a first design always measures it
+//! ([`CandidateLattice::choose_initial`]). On a near-diffuse fabric the normal at five phi_d
+//! was a fifth of the first design's samples.
 
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::Plan;
@@ -55,13 +64,23 @@ impl CandidateLattice {
         for (sample, _) in plan.measured() {
             reachable[sample.index] = true;
         }
-        let chosen = nodes_deg.clone().map(|n| vec![false; n.len()]);
-        Self {
+        let normal_once = normal_phi_d(&nodes_deg);
+        let mut lattice = Self {
             nodes_deg,
             phi_h_deg,
             reachable,
-            chosen,
+            chosen: Default::default(),
+        };
+        if let Some(kept) = normal_once {
+            for d in 0..lattice.nodes_deg[1].len() {
+                for p in (0..lattice.nodes_deg[2].len()).filter(|&p| p != kept) {
+                    let node = lattice.flat([0, d, p]);
+                    lattice.reachable[node] = false;
+                }
+            }
         }
+        lattice.chosen = lattice.nodes_deg.clone().map(|n| vec![false; n.len()]);
+        lattice
     }
 
     /// The index of the product node `(h, d, p)` (theta_h outermost, as `Plan::from_grid`).
@@ -213,6 +232,15 @@ impl CandidateLattice {
     }
 }
 
+/// The phi_d node at which the normal is measured, when the candidates start at theta_h 0
+/// and hold phi_d 90 deg: the node at 90 deg (see the module documentation). `None` measures
+/// the normal at every phi_d.
+fn normal_phi_d(nodes_deg: &[Vec<f64>; AXES]) -> Option<usize> {
+    let starts_at_the_normal = nodes_deg[0].first().is_some_and(|&h| h.abs() < 1e-9);
+    let at_90 = nodes_deg[2].iter().position(|&p| (p - 90.0).abs() < 1e-9);
+    at_90.filter(|_| starts_at_the_normal && nodes_deg[2].len() > 1)
+}
+
 /// A first design takes theta_h nodes no finer than this many: the recommended grid's theta_h
 /// count, every node of its axis ([`CandidateLattice::choose_initial`]).
 const FIRST_THETA_H_NODES: usize = GridSpec::recommended().theta_h_samples;
@@ -266,11 +294,49 @@ mod tests {
             45.0,
             &device,
         );
-        assert_eq!(all.len(), plan.measured().count());
+        // The plan's positions, but the normal (theta_h 0) at phi_d 90 deg only.
+        let off_the_normal_or_at_90 = plan
+            .measured()
+            .filter(|(s, _)| s.hd.theta_h > 1e-9 || (s.hd.phi_d.to_degrees() - 90.0).abs() < 1e-6)
+            .count();
+        assert_eq!(all.len(), off_the_normal_or_at_90);
+        assert!(plan.measured().count() > all.len());
         assert!(
             all.len() < 4 * 5 * 3,
             "theta_d 85 is beyond the camera's 75 deg"
         );
+    }
+
+    /// At theta_h 0 every phi_d is one configuration: a phi_d plane adds no position there
+    /// but at 90 deg, and without phi_d 90 deg among the candidates the normal is measured at
+    /// every phi_d.
+    #[test]
+    fn the_normal_is_measured_at_phi_d_90_only() {
+        let device = utia();
+        let candidates = |phi_d: Vec<f64>| {
+            let mut lattice =
+                CandidateLattice::new(vec![0.0, 2.0, 8.0], vec![20.0, 40.0], phi_d, 45.0, &device);
+            lattice.chosen = lattice.nodes_deg.each_ref().map(|n| vec![true; n.len()]);
+            lattice
+        };
+        let with_90 = candidates(vec![0.0, 60.0, 90.0, 120.0, 180.0]);
+        let at_the_normal = |l: &CandidateLattice| -> Vec<usize> {
+            l.chosen_product()
+                .iter()
+                .filter(|n| n[0] == 0)
+                .map(|n| n[2])
+                .collect()
+        };
+        assert_eq!(at_the_normal(&with_90), vec![2, 2]);
+        let mut without = with_90.chosen.clone();
+        without[2][0] = false;
+        assert_eq!(
+            with_90.added_by(&without, 2, 0),
+            2 * 2,
+            "theta_h 2 and 8 deg only"
+        );
+        let without_90 = candidates(vec![0.0, 60.0, 120.0, 180.0]);
+        assert_eq!(at_the_normal(&without_90).len(), 2 * 4);
     }
 
     #[test]
