@@ -16,7 +16,7 @@
 //! phi_d (`specula_reconstruct`'s extrapolation). phi_d 90 deg is where the two halves of
 //! phi_d meet (both take its samples), and a first design always measures it
 //! ([`CandidateLattice::choose_initial`]). On a near-diffuse fabric the normal at five phi_d
-//! was a fifth of the first design's samples.
+//! was a ninth of the first design's samples.
 
 use specula_acquisition::device::Device;
 use specula_acquisition::plan::Plan;
@@ -64,23 +64,21 @@ impl CandidateLattice {
         for (sample, _) in plan.measured() {
             reachable[sample.index] = true;
         }
-        let normal_once = normal_phi_d(&nodes_deg);
-        let mut lattice = Self {
+        if let Some(kept) = normal_phi_d(&nodes_deg) {
+            // theta_h is outermost: the normal's nodes are the first theta_d x phi_d.
+            let np = nodes_deg[2].len();
+            let at_the_normal = reachable.iter_mut().take(nodes_deg[1].len() * np);
+            for (i, reaches) in at_the_normal.enumerate() {
+                *reaches &= i % np == kept;
+            }
+        }
+        let chosen = nodes_deg.clone().map(|n| vec![false; n.len()]);
+        Self {
             nodes_deg,
             phi_h_deg,
             reachable,
-            chosen: Default::default(),
-        };
-        if let Some(kept) = normal_once {
-            for d in 0..lattice.nodes_deg[1].len() {
-                for p in (0..lattice.nodes_deg[2].len()).filter(|&p| p != kept) {
-                    let node = lattice.flat([0, d, p]);
-                    lattice.reachable[node] = false;
-                }
-            }
+            chosen,
         }
-        lattice.chosen = lattice.nodes_deg.clone().map(|n| vec![false; n.len()]);
-        lattice
     }
 
     /// The index of the product node `(h, d, p)` (theta_h outermost, as `Plan::from_grid`).
