@@ -155,7 +155,8 @@ impl CandidateLattice {
             if let Some(i) = meeting {
                 chosen[2][i] = true;
             }
-            (self.product(&chosen).len(), stride, chosen)
+            let bends = each_half_bends(&chosen[2], meeting);
+            (self.product(&chosen).len(), stride, chosen, bends)
         });
         let (fitting, too_large): (Vec<_>, Vec<_>) =
             designs.partition(|(count, ..)| *count <= max_samples);
@@ -166,11 +167,12 @@ impl CandidateLattice {
             .unwrap_or(1);
         // Strides at or above the finest allowed first, the finest of them first; finer ones last.
         let theta_h_rank = |stride: usize| (stride >= finest_theta_h, Reverse(stride));
+        // Then those whose halves of phi_d each hold a plane between their ends.
         let best = fitting
             .into_iter()
-            .max_by_key(|(count, stride, _)| (theta_h_rank(stride[0]), *count))
+            .max_by_key(|(count, stride, _, bends)| (theta_h_rank(stride[0]), *bends, *count))
             .or_else(|| too_large.into_iter().min_by_key(|d| d.0));
-        if let Some((_, _, chosen)) = best {
+        if let Some((_, _, chosen, _)) = best {
             self.chosen = chosen;
         }
     }
@@ -242,6 +244,20 @@ fn normal_phi_d(nodes_deg: &[Vec<f64>; AXES]) -> Option<usize> {
 /// A first design takes theta_h nodes no finer than this many: the recommended grid's theta_h
 /// count, every node of its axis ([`CandidateLattice::choose_initial`]).
 const FIRST_THETA_H_NODES: usize = GridSpec::recommended().theta_h_samples;
+
+/// Whether each half of phi_d (from its first node to `meeting`, and from there to its last;
+/// the whole axis without a meeting node) holds a chosen node strictly between its ends: the
+/// interpolation of a half with its ends only is a straight line, which no batch would bend
+/// if it never took a phi_d plane.
+fn each_half_bends(chosen: &[bool], meeting: Option<usize>) -> bool {
+    let last = chosen.len().saturating_sub(1);
+    let ends: Vec<usize> = std::iter::once(0)
+        .chain(meeting)
+        .chain(std::iter::once(last))
+        .collect();
+    ends.windows(2)
+        .all(|w| w[1] <= w[0] + 1 || (w[0] + 1..w[1]).any(|i| chosen[i]))
+}
 
 /// Every `stride`-th of `len` nodes, and the last.
 fn every(len: usize, stride: usize) -> Vec<bool> {
@@ -395,6 +411,41 @@ mod tests {
         let every_second: Vec<bool> = (0..16).map(|i| i % 2 == 0 || i == 15).collect();
         assert_eq!(tight.chosen[0], every_second, "{}", tight.design_text());
         assert!(tight.chosen_product().len() <= 100);
+    }
+
+    /// Among the designs with the finest theta_h that fits, one whose halves of phi_d each
+    /// hold a plane between their ends comes before a larger one that keeps each half its
+    /// ends only (0, 90 and 180 deg): at these budgets the largest design alone keeps three
+    /// phi_d planes.
+    #[test]
+    fn a_first_design_bends_each_half_of_phi_d_before_it_takes_more_theta_d() {
+        let device = utia();
+        for max_samples in [260, 350, 500] {
+            let mut lattice = CandidateLattice::new(
+                (0..16).map(|i| (i * i) as f64 * 0.2).collect(),
+                (0..25).map(|i| 3.0 * (1 + i) as f64).collect(),
+                (0..7).map(|i| 30.0 * i as f64).collect(),
+                45.0,
+                &device,
+            );
+            lattice.choose_initial(max_samples);
+            let phi_d = &lattice.chosen[2];
+            assert!(
+                phi_d[1..3].iter().any(|&c| c) && phi_d[4..6].iter().any(|&c| c),
+                "{max_samples}: {}",
+                lattice.design_text()
+            );
+        }
+        assert!(each_half_bends(
+            &[true, false, true, true, false, true, true],
+            Some(3)
+        ));
+        assert!(!each_half_bends(
+            &[true, false, false, true, false, true, true],
+            Some(3)
+        ));
+        assert!(each_half_bends(&[true, true], None));
+        assert!(!each_half_bends(&[true, false, true], None));
     }
 
     /// The grid for a peak the instrument does not resolve has 28 theta_h nodes, most of
