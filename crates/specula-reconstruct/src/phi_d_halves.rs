@@ -24,6 +24,7 @@ use crate::{reconstruct_through, ReconstructError, Reconstruction, ResidualModel
 use specula_core::capture::CaptureResponse;
 use specula_core::merl::{MerlBrdf, CELLS, PHI_D_BINS};
 use specula_core::{HalfDiff, Rgb, Sample};
+use std::collections::{BTreeMap, BTreeSet};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Angles closer than this (radians) to 90 deg belong to both halves.
@@ -32,6 +33,44 @@ const SEAM_TOLERANCE_RAD: f64 = 1e-6;
 /// The samples of each half: `[0, 90]` deg as they are, `[90, 180]` deg with phi_d mapped
 /// to `180 - phi_d` (see the module documentation).
 fn halves(samples: &[Sample]) -> [Vec<Sample>; 2] {
+    let [first, second] = split(samples);
+    [normal_on_every_plane(first), normal_on_every_plane(second)]
+}
+
+/// The key of an angle in radians for telling planes apart.
+fn plane_key(rad: f64) -> i64 {
+    (rad * 1e6).round() as i64
+}
+
+/// `samples` with each sample at the normal (theta_h 0) repeated at every other phi_d plane
+/// they hold where its theta_d has none: at the normal every phi_d of a theta_d is one
+/// configuration, so one sample there measures every plane, and the fit and the lattice take
+/// it at each.
+fn normal_on_every_plane(mut samples: Vec<Sample>) -> Vec<Sample> {
+    let at_normal = |s: &Sample| s.hd.theta_h.abs() < 1e-9;
+    let planes: BTreeMap<i64, f64> = samples
+        .iter()
+        .map(|s| (plane_key(s.hd.phi_d), s.hd.phi_d))
+        .collect();
+    let mut held: BTreeSet<(i64, i64)> = samples
+        .iter()
+        .filter(|s| at_normal(s))
+        .map(|s| (plane_key(s.hd.theta_d), plane_key(s.hd.phi_d)))
+        .collect();
+    let normal: Vec<Sample> = samples.iter().filter(|s| at_normal(s)).cloned().collect();
+    for s in normal {
+        for (&key, &phi_d) in &planes {
+            if held.insert((plane_key(s.hd.theta_d), key)) {
+                let hd = HalfDiff { phi_d, ..s.hd };
+                samples.push(Sample { hd, ..s });
+            }
+        }
+    }
+    samples
+}
+
+/// The samples of each half of phi_d, the second mirrored onto the first.
+fn split(samples: &[Sample]) -> [Vec<Sample>; 2] {
     let mut first = Vec::new();
     let mut second = Vec::new();
     for s in samples {
@@ -56,7 +95,7 @@ fn halves(samples: &[Sample]) -> [Vec<Sample>; 2] {
 /// Whether each half of phi_d holds samples at two phi_d positions at least (one of them may
 /// be the seam at 90 deg): then [`reconstruct_halves`] reconstructs the halves apart.
 pub fn measures_both_halves(samples: &[Sample]) -> bool {
-    halves(samples).iter().all(|half| {
+    split(samples).iter().all(|half| {
         let mut phi_d: Vec<f64> = half.iter().map(|s| s.hd.phi_d).collect();
         phi_d.sort_by(f64::total_cmp);
         phi_d.dedup_by(|a, b| (*a - *b).abs() < SEAM_TOLERANCE_RAD);
@@ -89,7 +128,7 @@ pub fn reconstruct_halves<R: CaptureResponse + ?Sized>(
             })?
             .brdf;
             let (brdf, safeguard, replaced) = crate::safeguard::safeguarded(
-                samples,
+                &normal_on_every_plane(samples.to_vec()),
                 table.brdf,
                 table.lobe.as_ref(),
                 response,
@@ -115,7 +154,7 @@ pub fn reconstruct_halves_with<E>(
     reconstruct_half: impl Fn(&[Sample]) -> Result<Reconstruction, E>,
 ) -> Result<Reconstruction, E> {
     if !measures_both_halves(samples) {
-        return reconstruct_half(samples);
+        return reconstruct_half(&normal_on_every_plane(samples.to_vec()));
     }
     let [first, second] = halves(samples);
     let first = reconstruct_half(&first)?;
@@ -142,7 +181,11 @@ pub fn reconstruct_halves_cells(
         )
     };
     if !measures_both_halves(samples) {
-        return cells(samples, indices, over.first());
+        return cells(
+            &normal_on_every_plane(samples.to_vec()),
+            indices,
+            over.first(),
+        );
     }
     let [first, second] = halves(samples);
     let (of_second, of_first): (Vec<usize>, Vec<usize>) =
