@@ -21,8 +21,7 @@ const MAX_NODES_PER_AXIS: usize = 512;
 /// Where a node's value comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum NodeStatus {
-    /// The mean of the samples at the node (at the normal, of its theta_d; see
-    /// [`crate::extrapolate`]).
+    /// The mean of the samples at the node.
     Measured,
     /// Extrapolated from measured nodes (see [`crate::extrapolate`]).
     Filled,
@@ -46,7 +45,8 @@ pub(crate) struct Lattice {
 }
 
 /// Whether a node at `theta_h_deg` is at the normal (theta_h 0), where every phi_d of a
-/// theta_d names one configuration of an isotropic surface ([`crate::extrapolate`]).
+/// theta_d names one configuration of an isotropic surface
+/// ([`crate::phi_d_halves`]'s samples at the normal).
 pub(crate) fn at_the_normal(theta_h_deg: f64) -> bool {
     theta_h_deg.abs() < NODE_TOLERANCE
 }

@@ -857,8 +857,9 @@ fn cross_validate_along(
                 .map(|(_, &x)| x)
                 .collect(),
         };
-        // At the normal every phi_d is one configuration (`crate::extrapolate`): those
-        // samples measure no phi_d plane, and a phi_d fold keeps them.
+        // At the normal every phi_d is one configuration (`crate::phi_d_halves` gives a
+        // sample there to every plane): those samples measure no phi_d plane of their own,
+        // and a phi_d fold keeps them.
         let (left_out, kept): (Vec<usize>, Vec<usize>) = (0..samples.len()).partition(|&i| {
             plane[i] % 2 == parity && !(a == PHI_D_AXIS && at_the_normal(coords[i][0]))
         });
