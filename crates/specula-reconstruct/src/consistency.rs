@@ -45,7 +45,7 @@ const PEAK_WITHOUT_RESPONSE_DEG: f64 = 2.0;
 pub struct RegionFigures {
     /// The region's name: `peak`, `flank`, `body` or `all`.
     pub name: &'static str,
-    /// Its samples.
+    /// Its samples, one at the normal counted at every phi_d plane it stands for.
     pub samples: usize,
     /// `mean ((P - S) / u)^2` over its samples and channels.
     pub chi2_per_value: f64,
@@ -209,7 +209,8 @@ impl Consistency {
     }
 
     /// One line per region: `consistency_NAME=chi2 per value X, reproduction error Y % (Z %
-    /// expected), N samples`; then the identity at the normal ([`NormalSpread::line`]).
+    /// expected), N samples`, a sample at the normal counted at every phi_d plane it stands
+    /// for (`crate::phi_d_halves`); then the identity at the normal ([`NormalSpread::line`]).
     pub fn lines(&self) -> Vec<String> {
         let regions = self.regions.iter().map(|r| {
                 format!(
