@@ -13,7 +13,7 @@
 //! theta_h 0 the half vector is the normal, and turning the pair of directions about it
 //! (phi_d) changes nothing for an isotropic surface, so each theta_d there is one
 //! configuration whatever phi_d names it; the reconstruction gives the one measured to every
-//! phi_d (`specula_reconstruct`'s extrapolation). phi_d 90 deg is where the two halves of
+//! phi_d plane (`specula_reconstruct::phi_d_halves`). phi_d 90 deg is where the two halves of
 //! phi_d meet (both take its samples), and a first design always measures it
 //! ([`CandidateLattice::choose_initial`]). On a near-diffuse fabric the normal at five phi_d
 //! was a ninth of the first design's samples.
