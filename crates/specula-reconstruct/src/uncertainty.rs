@@ -26,7 +26,8 @@
 //!   differences grow as `w^beta`, `beta` the least-squares slope of `ln r` against `ln w`
 //!   within `[MIN_GROWTH_EXPONENT, 1]` ([`growth_exponent`]: 1 for pure interpolation, less
 //!   where refitting the table changes it whatever the gap, but never less than the growth of
-//!   a continuous function's interpolation error with the gap). A sample's local amplitude
+//!   a continuous function's interpolation error with the gap; that least where the left-out
+//!   places lie too close together to fix a slope, [`MIN_PLACE_SPREAD`]). A sample's local amplitude
 //!   `K` is the standard deviation that the median of `r / w^beta` over its [`NEIGHBOURS`]
 //!   nearest left-out neighbours gives (itself excluded, and those of a plane at an edge of
 //!   the table, whose fold extrapolated: `local_amplitudes`); the axis's factor `c` is the
@@ -129,6 +130,14 @@ pub const EXTRAPOLATED_QUANTILE: f64 = 0.95;
 /// shows (on paper_white the theta_h folds change the table by 1.6 % at the median, the table
 /// errs by 0.4 %).
 pub const MIN_GROWTH_EXPONENT: f64 = 0.5;
+
+/// The least spread (the 90th percentile over the 10th) of the left-out samples' places over
+/// which their slope is taken as the growth exponent. Places closer together than that (gaps
+/// less than twice as far apart; an axis whose folds all leave out planes midway between two
+/// kept ones 60 deg apart has one place) do not fix how the differences grow: the smallest
+/// exponent is taken, which gives the cells, nearer to the planes than any left-out sample,
+/// the largest share of the folds' differences.
+pub const MIN_PLACE_SPREAD: f64 = 4.0;
 
 /// How far beyond the samples' reach (the largest elevation of light or camera among them) a
 /// cell's centre may lie and still be given an uncertainty, degrees: one theta_d bin, so that
@@ -893,7 +902,8 @@ fn cross_validate_along(
 /// `beta`, the power of the place with which the left-out samples' differences grow: the
 /// least-squares slope of `ln r` against `ln place` over the samples left out along an axis,
 /// within `[MIN_GROWTH_EXPONENT, 1]` (1 for the interpolation of a smooth function, less
-/// where refitting the table changes it wherever the gap; 1 when the places do not vary).
+/// where refitting the table changes it wherever the gap); the least when the places do not
+/// fix a slope (fewer than two, or spread less than [`MIN_PLACE_SPREAD`] times).
 fn growth_exponent(held_out: &[HeldOut]) -> f64 {
     let points: Vec<(f64, f64)> = held_out
         .iter()
@@ -908,7 +918,12 @@ fn growth_exponent(held_out: &[HeldOut]) -> f64 {
         })
         .collect();
     if points.len() < 2 {
-        return 1.0;
+        return MIN_GROWTH_EXPONENT;
+    }
+    let mut ln_places: Vec<f64> = points.iter().map(|&(x, _)| x).collect();
+    ln_places.sort_by(f64::total_cmp);
+    if quantile(&ln_places, 0.9) - quantile(&ln_places, 0.1) < MIN_PLACE_SPREAD.ln() {
+        return MIN_GROWTH_EXPONENT;
     }
     let n = points.len() as f64;
     let (mx, my) = points
@@ -916,9 +931,6 @@ fn growth_exponent(held_out: &[HeldOut]) -> f64 {
         .fold((0.0, 0.0), |(sx, sy), (x, y)| (sx + x / n, sy + y / n));
     let sxx: f64 = points.iter().map(|(x, _)| (x - mx).powi(2)).sum();
     let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
-    if sxx <= 1e-12 {
-        return 1.0;
-    }
     (sxy / sxx).clamp(MIN_GROWTH_EXPONENT, 1.0)
 }
 
@@ -1652,7 +1664,30 @@ mod tests {
             MIN_GROWTH_EXPONENT,
             "differences that do not grow with the place"
         );
-        assert_eq!(growth_exponent(&[]), 1.0);
+        assert_eq!(growth_exponent(&[]), MIN_GROWTH_EXPONENT);
+    }
+
+    /// Left-out samples all at one place (every fold leaves out planes midway between two kept
+    /// ones equally far apart) say nothing of how the differences grow, however they scatter:
+    /// the exponent is the least, which gives the cells nearer to the planes the largest share.
+    #[test]
+    fn places_too_close_together_fix_no_growth() {
+        let growing = held_out_growing_as(1.0);
+        let one_place: Vec<HeldOut> = (growing.iter())
+            .map(|h| HeldOut {
+                place_deg2: 1800.0 + (h.sample % 3) as f64,
+                ..*h
+            })
+            .collect();
+        assert_eq!(growth_exponent(&one_place), MIN_GROWTH_EXPONENT);
+        // Places spread twice as far as the least spread that fixes a slope: the slope.
+        let spread: Vec<HeldOut> = (growing.iter().take(2 * 8))
+            .map(|h| HeldOut {
+                place_deg2: 1.2f64.powi(h.sample as i32),
+                ..*h
+            })
+            .collect();
+        assert!((growth_exponent(&spread) - 1.0).abs() < 1e-9);
     }
 
     /// A sequential design's lattice (paper 5.3 measures a tensor grid; the sequential design
