@@ -258,6 +258,10 @@ fn joined(first: Reconstruction, second: Reconstruction) -> Reconstruction {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use crate::Method;
+    use specula_core::merl::Bin;
+    use specula_core::Rgb;
 
     /// A sample at the normal measured at one phi_d stands at every other plane the samples
     /// hold, with its value; one off the normal does not, nor is a plane that has its own
@@ -291,11 +295,6 @@ mod tests {
         // Three planes (0, 60, 90 deg) at two theta_d: six at the normal, two off it.
         assert_eq!(all.len(), 8);
     }
-
-    use super::*;
-    use crate::Method;
-    use specula_core::merl::Bin;
-    use specula_core::Rgb;
 
     /// A surface that is not reciprocal: f rises with cos(phi_d) from 1 to 3, so a
     /// configuration and its partner at 180 - phi_d differ, and f(phi_d) = f(-phi_d).
