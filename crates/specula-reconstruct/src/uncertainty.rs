@@ -1205,6 +1205,22 @@ mod tests {
     /// not the planes between; an axis of two planes marks neither. The differences are
     /// capped, and the extrapolation term leaves the edges' out. A phi_d fold keeps the
     /// samples at the normal, where every phi_d is one configuration.
+    /// What a cross-validation of `samples` takes: its inputs (the lobe method, no prior), the
+    /// lobe table of all of them without a response and their lattice coordinates.
+    fn cross_validation_of(samples: &[Sample]) -> (UncertaintyInputs<'_>, MerlBrdf, Vec<[f64; 3]>) {
+        let inputs = UncertaintyInputs {
+            samples,
+            method: Method::Lobe,
+            prior: None,
+        };
+        let none = None::<&dyn CaptureResponse>;
+        let reference = reconstruct_halves(samples, Method::Lobe, "t", none, None)
+            .unwrap()
+            .brdf;
+        let coords = samples.iter().map(|s| coordinates(s.hd)).collect();
+        (inputs, reference, coords)
+    }
+
     /// A phi_d fold keeps the samples at the normal, but not on the planes it leaves out: there
     /// they would open the plane in the fold's lattice with the normal alone, and the rest of it
     /// would be filled by continuation rather than interpolated across. On chrome, whose ratio
@@ -1221,16 +1237,7 @@ mod tests {
             .collect();
         assert!(at_90.len() < every.len());
         for samples in [every, at_90] {
-            let inputs = UncertaintyInputs {
-                samples: &samples,
-                method: Method::Lobe,
-                prior: None,
-            };
-            let none = None::<&dyn CaptureResponse>;
-            let reference = reconstruct_halves(&samples, Method::Lobe, "t", none, None)
-                .unwrap()
-                .brdf;
-            let coords: Vec<[f64; 3]> = samples.iter().map(|s| coordinates(s.hd)).collect();
+            let (inputs, reference, coords) = cross_validation_of(&samples);
             let phi_d = Lattice::spanned_by(&samples).phi_d;
             let held = cross_validate_along(&inputs, &[], &reference, &coords, &phi_d, 2).unwrap();
             let inside: Vec<HeldOut> = held.into_iter().filter(|h| !h.at_an_edge).collect();
@@ -1245,16 +1252,7 @@ mod tests {
         assert!((MAX_LOG_DIFFERENCE - (1.0 + MAX_RELATIVE).ln()).abs() < 1e-12);
         let truth = preset("chrome").unwrap();
         let samples = samples_of(&truth);
-        let inputs = UncertaintyInputs {
-            samples: &samples,
-            method: Method::Lobe,
-            prior: None,
-        };
-        let none = None::<&dyn CaptureResponse>;
-        let reference = reconstruct_halves(&samples, Method::Lobe, "t", none, None)
-            .unwrap()
-            .brdf;
-        let coords: Vec<[f64; 3]> = samples.iter().map(|s| coordinates(s.hd)).collect();
+        let (inputs, reference, coords) = cross_validation_of(&samples);
         let lattice = Lattice::spanned_by(&samples);
         let at_edge = |axis: &Axis, a: usize| -> (BTreeSet<u64>, Vec<HeldOut>) {
             let held = cross_validate_along(&inputs, &[], &reference, &coords, axis, a).unwrap();
