@@ -1200,11 +1200,6 @@ mod tests {
         assert!(nothing_beyond(&folded, 0, &phi_d) && nothing_beyond(&folded, 3, &phi_d));
     }
 
-    /// A fold that leaves out theta_h 0 extrapolates to the centre of the peak, which the
-    /// table never does: those samples are marked as at an edge, and so are phi_d 0 and 90,
-    /// not the planes between; an axis of two planes marks neither. The differences are
-    /// capped, and the extrapolation term leaves the edges' out. A phi_d fold keeps the
-    /// samples at the normal, where every phi_d is one configuration.
     /// What a cross-validation of `samples` takes: its inputs (the lobe method, no prior), the
     /// lobe table of all of them without a response and their lattice coordinates.
     fn cross_validation_of(samples: &[Sample]) -> (UncertaintyInputs<'_>, MerlBrdf, Vec<[f64; 3]>) {
@@ -1247,6 +1242,11 @@ mod tests {
         }
     }
 
+    /// A fold that leaves out theta_h 0 extrapolates to the centre of the peak, which the
+    /// table never does: those samples are marked as at an edge, and so are phi_d 0 and 90,
+    /// not the planes between; an axis of two planes marks neither. The differences are
+    /// capped, and the extrapolation term leaves the edges' out. A phi_d fold keeps the
+    /// samples at the normal, where every phi_d is one configuration.
     #[test]
     fn the_planes_at_an_edge_of_the_table_do_not_price_its_extrapolation() {
         assert!((MAX_LOG_DIFFERENCE - (1.0 + MAX_RELATIVE).ln()).abs() < 1e-12);
